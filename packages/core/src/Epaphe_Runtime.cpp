@@ -1,0 +1,54 @@
+#include "Epaphe_Runtime.hpp"
+
+#include <Kokkos_Core.hpp>
+#include <Teuchos_DefaultComm.hpp>
+#include <Teuchos_GlobalMPISession.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+namespace epaphe {
+namespace {
+class NullBuffer : public std::streambuf {
+protected:
+  int overflow(int c) override { return c; }
+};
+NullBuffer nullBuffer;
+std::ostream nullStream(&nullBuffer);
+}  // namespace
+
+Runtime::Runtime(int* argc, char*** argv)
+    : mpi_(std::make_unique<Teuchos::GlobalMPISession>(argc, argv, nullptr)) {}
+
+Runtime::~Runtime() {
+  if (kokkos_ && Kokkos::is_initialized()) Kokkos::finalize();
+}
+
+void Runtime::initializeKokkos(int threads) {
+  if (Kokkos::is_initialized()) return;
+  Kokkos::InitArguments args;
+  args.num_threads = threads > 0 ? threads : -1;
+  args.disable_warnings = true;
+  Kokkos::initialize(args);
+  kokkos_ = true;
+}
+
+int Runtime::threads() const {
+  return Kokkos::is_initialized() ? Kokkos::DefaultHostExecutionSpace::concurrency() : 0;
+}
+int Runtime::rank() const { return Teuchos::GlobalMPISession::getRank(); }
+int Runtime::size() const { return Teuchos::GlobalMPISession::getNProc(); }
+Teuchos::RCP<const Teuchos::Comm<int>> Runtime::comm() const { return Teuchos::DefaultComm<int>::getComm(); }
+std::ostream& Runtime::out() const { return rank() == 0 ? std::cout : nullStream; }
+
+std::string formatDuration(double s) {
+  char buf[64];
+  if (s >= 3600) std::snprintf(buf, sizeof buf, "%d h %02d min", int(s / 3600), int(s / 60) % 60);
+  else if (s >= 60) std::snprintf(buf, sizeof buf, "%d min %02d s", int(s / 60), int(s) % 60);
+  else if (s >= 1) std::snprintf(buf, sizeof buf, "%.2f s", s);
+  else if (s >= 1e-3) std::snprintf(buf, sizeof buf, "%.2f ms", s * 1e3);
+  else std::snprintf(buf, sizeof buf, "%.1f us", s * 1e6);
+  return buf;
+}
+
+}  // namespace epaphe

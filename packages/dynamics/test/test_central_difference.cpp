@@ -1,0 +1,163 @@
+// Central difference and contact correction on models small enough to solve by hand.
+#include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_CentralDifference.hpp"
+#include "Epaphe_SurfaceContact.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace epaphe;
+
+namespace {
+
+/// One node of mass m on a spring k in each direction (3 DOFs, all retained).
+ReducedModel oscillator(double m, double k) {
+  ReducedModel r;
+  r.name = "oscillator";
+  r.method = "None";
+  r.size = 3;
+  r.K.assign(9, 0.0);
+  r.M.assign(9, 0.0);
+  for (int i = 0; i < 3; ++i) {
+    r.K[4 * i] = k;
+    r.M[4 * i] = m;
+  }
+  r.nodeDof = {0, 1, 2};
+  r.recovery = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  r.coords = {{0, 0, 0}};
+  r.nodeSets["all"] = {0};
+  r.retainedNodes = {0};
+  return r;
+}
+
+void set(const DenseVector& v, double a, double b, double c) {
+  auto h = Kokkos::create_mirror_view(v);
+  h(0) = a;
+  h(1) = b;
+  h(2) = c;
+  Kokkos::deep_copy(v, h);
+}
+double at(const DenseVector& v, int i) {
+  auto h = Kokkos::create_mirror_view(v);
+  Kokkos::deep_copy(h, v);
+  return h(i);
+}
+
+}  // namespace
+
+TEST(CentralDifference, MatchesTheExactDiscreteSolution) {
+  // q_n = cos(Omega n h) with cos(Omega h) = 1 - (omega h)^2 / 2 solves the undamped recurrence.
+  const double m = 2.0, k = 800.0, w = std::sqrt(k / m), h = 0.05;
+  const ReducedModel r = oscillator(m, k);
+  CentralDifference cd(r, h, {});
+  const double Om = std::acos(1 - 0.5 * w * w * h * h) / h;
+  DenseVector qm("qm", 3), q("q", 3), qp("qp", 3);
+  set(qm, std::cos(-Om * h), 0, 0);
+  set(q, 1.0, 0, 0);
+  const double e0 = cd.halfStepEnergy(qm, q);
+  for (int n = 1; n <= 500; ++n) {
+    cd.predict(q, qm, qp);
+    std::swap(qm, q);
+    std::swap(q, qp);
+    EXPECT_NEAR(at(q, 0), std::cos(Om * n * h), 1e-10) << "step " << n;
+  }
+  EXPECT_NEAR(cd.halfStepEnergy(qm, q), e0, 1e-10 * e0);  // the discrete energy is conserved
+}
+
+TEST(CentralDifference, CriticalStepIsTwoOverOmega) {
+  const ReducedModel r = oscillator(2.0, 800.0);
+  EXPECT_NEAR(criticalTimeStep(r, {}, 0.0, {}).critical, 2.0 / 20.0, 1e-12);
+  // a penalty spring of 1000 on the 3 DOFs: omega^2 = 1800 / 2
+  EXPECT_NEAR(criticalTimeStep(r, {0, 1, 2}, 1000.0, {}).critical, 2.0 / 30.0, 1e-12);
+}
+
+TEST(CentralDifference, RayleighEnergyBalanceIsExact) {
+  const ReducedModel r = oscillator(1.0, 100.0);
+  DampingOptions d;
+  d.type = DampingType::Rayleigh;
+  d.alpha = 0.5;
+  d.beta = 1e-3;
+  CentralDifference cd(r, 0.01, d);
+  DenseVector qm("qm", 3), q("q", 3), qp("qp", 3);
+  set(qm, 0.0, 0.0, 0.0);
+  set(q, 0.01, 0.02, -0.01);
+  const double e0 = cd.halfStepEnergy(qm, q);
+  double diss = 0;
+  for (int n = 0; n < 2000; ++n) {
+    cd.predict(q, qm, qp);
+    diss += cd.dampingIncrement(qp, qm);
+    std::swap(qm, q);
+    std::swap(q, qp);
+  }
+  const double e = cd.halfStepEnergy(qm, q);
+  EXPECT_LT(e, 0.01 * e0);                     // it decays
+  EXPECT_NEAR(e + diss, e0, 1e-12 * e0);       // and every joule is accounted for
+}
+
+namespace {
+/// The plane x = 0 as a 4 x 4 grid, normal -x (bodies live at x < 0).
+BSplineSurface wall() {
+  std::vector<double> g;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) g.insert(g.end(), {0.0, -1.0 + 2.0 * j / 3.0, -1.0 + 2.0 * i / 3.0});
+  SurfaceOptions o;
+  o.closureU = o.closureV = Closure::Open;
+  BSplineSurface s("wall", 4, 4, g, o);
+  // S_u along z, S_v along y: S_u x S_v = -x
+  return s;
+}
+}  // namespace
+
+TEST(SurfaceContact, LagrangeClosesTheGapExactly) {
+  const double m = 3.0, h = 1e-3, v = 2.0;
+  ReducedModel r = oscillator(m, 0.0);
+  r.coords = {{-0.5 * h * v, 0.1, 0.2}};
+  const BSplineSurface s = wall();
+  CentralDifference cd(r, h, {});
+  SurfaceContact c(r, {0}, {&s}, {}, cd.flexibility());
+  DenseVector qm("qm", 3), q("q", 3), qp("qp", 3);
+  set(qm, -h * v, 0, 0);  // moving at +v
+  cd.predict(q, qm, qp);
+  CostSplit cost;
+  c.correct(qp, cost);
+  EXPECT_EQ(c.numActive(), 1);
+  EXPECT_NEAR(c.gap()(0), -0.5 * h * v, 1e-12);                 // predicted penetration
+  EXPECT_NEAR(r.coords[0][0] + at(qp, 0), 0.0, 1e-12);          // corrected onto the wall
+  EXPECT_NEAR(c.force()(0), 0.5 * m * v / h, 1e-6 * m * v / h);  // lambda = -g* / (h^2/m)
+  EXPECT_NEAR(at(qp, 1), 0.0, 1e-15);                           // frictionless: no tangential push
+}
+
+TEST(SurfaceContact, PenaltyForceIsKpTimesPenetration) {
+  const double m = 3.0, h = 1e-3, v = 2.0, kp = 1e5;
+  ReducedModel r = oscillator(m, 0.0);
+  r.coords = {{-0.5 * h * v, 0.1, 0.2}};
+  const BSplineSurface s = wall();
+  CentralDifference cd(r, h, {});
+  ContactOptions o;
+  o.method = ContactMethod::Penalty;
+  o.penaltyStiffness = kp;
+  SurfaceContact c(r, {0}, {&s}, o, cd.flexibility());
+  DenseVector qm("qm", 3), q("q", 3), qp("qp", 3);
+  set(qm, -h * v, 0, 0);
+  cd.predict(q, qm, qp);
+  CostSplit cost;
+  c.correct(qp, cost);
+  const double pen = 0.5 * h * v;
+  EXPECT_NEAR(c.force()(0), kp * pen, 1e-9 * kp * pen);                       // eq. 2.34
+  EXPECT_NEAR(at(qp, 0), h * v - h * h / m * kp * pen, 1e-12);                // eq. 2.35
+}
+
+TEST(SurfaceContact, SeparatedNodeFeelsNothing) {
+  ReducedModel r = oscillator(1.0, 0.0);
+  r.coords = {{-0.1, 0.0, 0.0}};
+  const BSplineSurface s = wall();
+  CentralDifference cd(r, 1e-3, {});
+  SurfaceContact c(r, {0}, {&s}, {}, cd.flexibility());
+  DenseVector q("q", 3);
+  CostSplit cost;
+  c.correct(q, cost);
+  EXPECT_EQ(c.numActive(), 0);
+  EXPECT_NEAR(c.gap()(0), 0.1, 1e-12);
+  EXPECT_EQ(c.force()(0), 0.0);
+}

@@ -1,0 +1,92 @@
+#include "Epaphe_EigenSolver.hpp"
+
+#include "Epaphe_Error.hpp"
+
+#include <AnasaziBasicEigenproblem.hpp>
+#include <AnasaziBlockKrylovSchurSolMgr.hpp>
+#include <AnasaziTpetraAdapter.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include <algorithm>
+#include <numeric>
+
+namespace epaphe {
+namespace {
+
+/// Y = (K - sigma M)^{-1} M X.
+class ShiftInvertOperator final : public Operator {
+public:
+  ShiftInvertOperator(Teuchos::RCP<const CrsMatrix> M, const SparseSolver& solver) : M_(std::move(M)), solver_(solver) {}
+  Teuchos::RCP<const Map> getDomainMap() const override { return M_->getDomainMap(); }
+  Teuchos::RCP<const Map> getRangeMap() const override { return M_->getRangeMap(); }
+  void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp = Teuchos::NO_TRANS, double alpha = 1.0,
+             double beta = 0.0) const override {
+    MultiVector MX(M_->getRangeMap(), X.getNumVectors());
+    M_->apply(X, MX);
+    if (alpha == 1.0 && beta == 0.0) {
+      solver_.solve(MX, Y);
+      return;
+    }
+    MultiVector Z(Y.getMap(), Y.getNumVectors());
+    solver_.solve(MX, Z);
+    Y.update(alpha, Z, beta);
+  }
+
+private:
+  Teuchos::RCP<const CrsMatrix> M_;
+  const SparseSolver& solver_;
+};
+
+}  // namespace
+
+EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuchos::RCP<const CrsMatrix>& M,
+                             const SparseSolver& factorOfShifted, const EigenOptions& opt) {
+  using OP = Operator;
+  using MV = MultiVector;
+  const int n = static_cast<int>(K->getGlobalNumRows());
+  EPAPHE_REQUIRE(opt.count >= 1 && opt.count < n,
+                 "asked for " << opt.count << " eigenpairs of a system with " << n << " DOFs; ask for 1 to " << n - 1);
+  auto op = Teuchos::rcp(new ShiftInvertOperator(M, factorOfShifted));
+  // A block of several vectors: a single-vector Krylov space holds one vector per distinct
+  // eigenvalue, and structures have repeated ones (6 rigid-body modes, bending pairs of symmetric
+  // sections).
+  const int blockSize = std::min(6, opt.count);
+  auto x0 = Teuchos::rcp(new MV(K->getDomainMap(), blockSize));
+  x0->randomize();
+  auto problem = Teuchos::rcp(new Anasazi::BasicEigenproblem<double, MV, OP>(op, M, x0));
+  problem->setHermitian(true);
+  problem->setNEV(opt.count);
+  EPAPHE_REQUIRE(problem->setProblem(), "Anasazi could not set up the eigenvalue problem");
+
+  Teuchos::ParameterList pl;
+  pl.set("Which", "LM");
+  pl.set("Block Size", blockSize);
+  pl.set("Num Blocks", std::max(3, std::min((n - 1) / blockSize, (2 * opt.count + 10) / blockSize + 2)));
+  pl.set("Maximum Restarts", opt.maxRestarts);
+  pl.set("Convergence Tolerance", opt.tolerance);
+  pl.set("Verbosity", Anasazi::Errors);
+  Anasazi::BlockKrylovSchurSolMgr<double, MV, OP> mgr(problem, pl);
+  const Anasazi::ReturnType ret = mgr.solve();
+  const auto& sol = problem->getSolution();
+  EPAPHE_REQUIRE(ret == Anasazi::Converged && sol.numVecs >= opt.count,
+                 "Anasazi found " << sol.numVecs << " of " << opt.count << " eigenpairs after "
+                                  << mgr.getNumIters() << " iterations; try fewer modes or a larger tolerance");
+  // theta = 1 / (lambda - sigma)  ->  lambda = sigma + 1/theta; sort ascending.
+  std::vector<double> lambda(static_cast<std::size_t>(sol.numVecs));
+  for (int i = 0; i < sol.numVecs; ++i) lambda[i] = opt.shift + 1.0 / sol.Evals[i].realpart;
+  std::vector<int> order(lambda.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return lambda[a] < lambda[b]; });
+  EigenResult r;
+  r.vectors = Teuchos::rcp(new MV(K->getDomainMap(), opt.count));
+  for (int i = 0; i < opt.count; ++i) {
+    const int src = order[i];  // Evecs column i belongs to Evals[i] (real symmetric problem)
+    r.lambda.push_back(lambda[order[i]]);
+    r.vectors->getVectorNonConst(i)->update(1.0, *sol.Evecs->getVector(src), 0.0);
+  }
+  r.restarts = mgr.getNumIters();
+  return r;
+}
+
+}  // namespace epaphe

@@ -1,0 +1,32 @@
+#pragma once
+// Lowest eigenpairs of K x = lambda M x by Anasazi's block Krylov-Schur on the shift-invert
+// operator (K - sigma M)^{-1} M, which is self-adjoint in the M inner product; the factorization
+// of K - sigma M is supplied by the caller so that it can be the one already used elsewhere
+// (Craig-Bampton: K_CC, sigma = 0).
+#include "Epaphe_SparseSolver.hpp"
+#include "Epaphe_TpetraTypes.hpp"
+
+#include <Teuchos_RCP.hpp>
+
+#include <vector>
+
+namespace epaphe {
+
+struct EigenOptions {
+  int count = 10;              // eigenpairs wanted
+  double shift = 0.0;          // sigma
+  double tolerance = 1e-10;    // Anasazi relative residual tolerance
+  int maxRestarts = 500;
+};
+
+struct EigenResult {
+  std::vector<double> lambda;               // ascending eigenvalues (omega^2)
+  Teuchos::RCP<MultiVector> vectors;        // M-orthonormal eigenvectors, same order
+  int restarts = 0;
+};
+
+/// `factorOfShifted` must solve with K - shift * M.
+EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuchos::RCP<const CrsMatrix>& M,
+                             const SparseSolver& factorOfShifted, const EigenOptions& options);
+
+}  // namespace epaphe

@@ -1,0 +1,62 @@
+#include "Epaphe_ReducedModel.hpp"
+
+#include "Epaphe_Error.hpp"
+#include "Epaphe_FullModel.hpp"
+
+#include <Teuchos_LAPACK.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace epaphe {
+
+const std::vector<int>& ReducedModel::nodeSet(const std::string& setName, const std::string& context) const {
+  auto it = nodeSets.find(setName);
+  if (it == nodeSets.end()) {
+    ErrorBuilder eb;
+    eb << context << ": unknown node set '" << setName << "' in body '" << name << "'; it has:";
+    for (const auto& [n, s] : nodeSets) eb << " '" << n << "' (" << s.size() << " nodes)";
+    eb.raise();
+  }
+  return it->second;
+}
+
+std::vector<double> ReducedModel::rigidTranslation(int direction) const {
+  std::vector<double> t(static_cast<std::size_t>(size), 0.0);
+  for (int n = 0; n < numNodes(); ++n)
+    if (int i = nodeDof[3 * n + direction]; i >= 0) t[i] = 1.0;
+  return t;
+}
+
+ReducedModel unreducedModel(const FullModel& full) {
+  ReducedModel r;
+  r.name = full.name;
+  r.method = "None";
+  r.size = full.numFree;
+  r.K = gatherDense(*full.K);
+  r.M = gatherDense(*full.M);
+  r.nodeDof = full.eq;
+  r.coords = full.mesh.coords;
+  r.nodeSets = full.mesh.nodeSets;
+  r.recovery.assign(3 * static_cast<std::size_t>(full.numNodes()) * r.size, 0.0);
+  for (std::size_t i = 0; i < full.eq.size(); ++i)
+    if (full.eq[i] >= 0) r.recovery[i * r.size + full.eq[i]] = 1.0;
+  for (int n = 0; n < full.numNodes(); ++n) r.retainedNodes.push_back(n);
+  return r;
+}
+
+std::vector<double> denseFrequencies(const std::vector<double>& K, const std::vector<double>& M, int n) {
+  std::vector<double> A(K), B(M), w(static_cast<std::size_t>(n));
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  double query = 0;
+  lapack.SYGV(1, 'N', 'U', n, A.data(), n, B.data(), n, w.data(), &query, -1, &info);
+  std::vector<double> work(static_cast<std::size_t>(query));
+  lapack.SYGV(1, 'N', 'U', n, A.data(), n, B.data(), n, w.data(), work.data(), static_cast<int>(work.size()), &info);
+  EPAPHE_REQUIRE(info == 0, "dense eigenvalue problem of size " << n << " failed (LAPACK dsygv info = " << info
+                                << "): the mass matrix is not positive definite");
+  for (double& x : w) x = std::sqrt(std::max(x, 0.0)) / (2 * M_PI);
+  return w;
+}
+
+}  // namespace epaphe

@@ -1,0 +1,51 @@
+#pragma once
+// The reduced model: plain data (dense matrices and recovery rows), produced by the reduction
+// package and consumed by the online loop, which never sees Tpetra.
+//
+// Reduced coordinates q (size n): for Craig-Bampton, the physical DOFs of the retained nodes
+// (3 per node) followed by the amplitudes of the fixed-interface modes (thesis eq. 2.12); for the
+// unreduced model, every free DOF. Physical displacements are u = R q (eq. 2.5).
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace epaphe {
+
+struct FullModel;
+
+struct ReducedModel {
+  std::string name;
+  std::string method;                 // "Craig-Bampton", "Guyan" or "None"
+  int size = 0;
+  int numModes = 0;                   // fixed-interface modes kept
+  std::vector<double> K, M;           // size x size, column-major, symmetric
+  std::vector<int> nodeDof;           // 3 * node + d -> index in q equal to that DOF, or -1
+  std::vector<double> recovery;       // (3 * numNodes) x size, row-major: u = R q
+  std::vector<std::array<double, 3>> coords;
+  std::map<std::string, std::vector<int>> nodeSets;
+  std::vector<int> retainedNodes;
+  std::vector<double> modeFrequencies;  // fixed-interface modes (Hz)
+  std::vector<double> fullFrequencies;  // lowest frequencies of the full model it came from (Hz), if computed
+
+  int numNodes() const { return static_cast<int>(coords.size()); }
+  double k(int i, int j) const { return K[static_cast<std::size_t>(j) * size + i]; }
+  double m(int i, int j) const { return M[static_cast<std::size_t>(j) * size + i]; }
+  const double* recoveryRow(int node, int d) const {
+    return recovery.data() + (3 * static_cast<std::size_t>(node) + d) * size;
+  }
+  const std::vector<int>& nodeSet(const std::string& setName, const std::string& context) const;
+  /// The reduced coordinates of a rigid translation along `direction` (unit displacement of every
+  /// retained DOF along it, zero modal amplitudes). Exact for Craig-Bampton and Guyan, whose
+  /// constraint modes reproduce rigid-body motion.
+  std::vector<double> rigidTranslation(int direction) const;
+};
+
+/// The unreduced model as a ReducedModel with R = I (dense; for small models and references).
+ReducedModel unreducedModel(const FullModel& full);
+
+/// Natural frequencies (Hz, ascending) of a dense model: the generalized problem K x = w^2 M x
+/// solved by LAPACK (dsygv). Negative round-off eigenvalues are returned as 0.
+std::vector<double> denseFrequencies(const std::vector<double>& K, const std::vector<double>& M, int n);
+
+}  // namespace epaphe

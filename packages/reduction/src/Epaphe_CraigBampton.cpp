@@ -1,0 +1,248 @@
+#include "Epaphe_CraigBampton.hpp"
+
+#include "Epaphe_EigenSolver.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_Runtime.hpp"
+#include "Epaphe_SparseSolver.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace epaphe {
+namespace {
+
+/// A^T B as a dense column-major (colsA x colsB) array on every rank.
+std::vector<double> transposeProduct(const MultiVector& A, const MultiVector& B) {
+  const int m = static_cast<int>(A.getNumVectors()), n = static_cast<int>(B.getNumVectors());
+  std::vector<double> out(static_cast<std::size_t>(m) * n, 0.0);
+  if (m == 0 || n == 0) return out;
+  auto local = Tpetra::createLocalMap<LO, GO>(m, A.getMap()->getComm());
+  MultiVector C(local, n);
+  C.multiply(Teuchos::TRANS, Teuchos::NO_TRANS, 1.0, A, B, 0.0);
+  auto h = C.getLocalViewHost(Tpetra::Access::ReadOnly);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < m; ++i) out[static_cast<std::size_t>(j) * m + i] = h(i, j);
+  return out;
+}
+
+/// The blocks of one matrix X (K or M) split by retained (R) and condensed (C) DOFs.
+struct Blocks {
+  Teuchos::RCP<CrsMatrix> CC;
+  Teuchos::RCP<MultiVector> CR;   // nC x nR, dense columns
+  std::vector<double> RR;         // nR x nR, column-major, replicated
+};
+
+Blocks split(const CrsMatrix& X, const std::vector<int>& rIndex, const std::vector<int>& cIndex,
+             const Teuchos::RCP<const Map>& cMap, int nR) {
+  Blocks b;
+  b.CC = Teuchos::rcp(new CrsMatrix(cMap, static_cast<std::size_t>(X.getNodeMaxNumRowEntries())));
+  b.CR = Teuchos::rcp(new MultiVector(cMap, static_cast<std::size_t>(nR)));
+  std::vector<double> rrLocal(static_cast<std::size_t>(nR) * nR, 0.0);
+  b.RR.assign(rrLocal.size(), 0.0);
+  const auto rowMap = X.getRowMap();
+  const auto colMap = X.getColMap();
+  typename CrsMatrix::local_inds_host_view_type idx;
+  typename CrsMatrix::values_host_view_type val;
+  std::vector<GO> cols;
+  std::vector<double> vals;
+  auto cr = b.CR->getLocalViewHost(Tpetra::Access::ReadWrite);
+  for (LO lr = 0; lr < static_cast<LO>(X.getNodeNumRows()); ++lr) {
+    const GO g = rowMap->getGlobalElement(lr);
+    X.getLocalRowView(lr, idx, val);
+    if (rIndex[g] >= 0) {
+      for (std::size_t k = 0; k < idx.extent(0); ++k) {
+        const GO gc = colMap->getGlobalElement(idx(k));
+        if (rIndex[gc] >= 0) rrLocal[static_cast<std::size_t>(rIndex[gc]) * nR + rIndex[g]] += val(k);
+      }
+      continue;
+    }
+    const LO lc = cMap->getLocalElement(cIndex[g]);
+    cols.clear();
+    vals.clear();
+    for (std::size_t k = 0; k < idx.extent(0); ++k) {
+      const GO gc = colMap->getGlobalElement(idx(k));
+      if (rIndex[gc] >= 0) cr(lc, rIndex[gc]) += val(k);
+      else { cols.push_back(cIndex[gc]); vals.push_back(val(k)); }
+    }
+    b.CC->insertGlobalValues(cIndex[g], Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
+  }
+  b.CC->fillComplete();
+  Teuchos::reduceAll(*X.getComm(), Teuchos::REDUCE_SUM, static_cast<int>(rrLocal.size()), rrLocal.data(), b.RR.data());
+  return b;
+}
+
+/// X_red = R^T X R in the ordering [retained DOFs, modes] (eqs. 2.6-2.7 with R of eq. 2.12).
+std::vector<double> project(const Blocks& X, const MultiVector& Psi, const MultiVector* Phi, int nR, int nM) {
+  const int n = nR + nM;
+  std::vector<double> red(static_cast<std::size_t>(n) * n, 0.0);
+  auto at = [&](int i, int j) -> double& { return red[static_cast<std::size_t>(j) * n + i]; };
+  MultiVector XPsi(Psi.getMap(), Psi.getNumVectors());
+  X.CC->apply(Psi, XPsi);
+  const auto a = transposeProduct(Psi, *X.CR);   // Psi^T X_CR
+  const auto b = transposeProduct(Psi, XPsi);    // Psi^T X_CC Psi
+  for (int j = 0; j < nR; ++j)
+    for (int i = 0; i < nR; ++i)
+      at(i, j) = X.RR[static_cast<std::size_t>(j) * nR + i] + a[static_cast<std::size_t>(j) * nR + i] +
+                 a[static_cast<std::size_t>(i) * nR + j] + b[static_cast<std::size_t>(j) * nR + i];
+  if (Phi && nM > 0) {
+    MultiVector XPhi(Phi->getMap(), Phi->getNumVectors());
+    X.CC->apply(*Phi, XPhi);
+    const auto c = transposeProduct(*X.CR, *Phi);  // X_RC Phi
+    const auto d = transposeProduct(Psi, XPhi);    // Psi^T X_CC Phi
+    const auto e = transposeProduct(*Phi, XPhi);   // Phi^T X_CC Phi
+    for (int j = 0; j < nM; ++j) {
+      for (int i = 0; i < nR; ++i) {
+        const double v = c[static_cast<std::size_t>(j) * nR + i] + d[static_cast<std::size_t>(j) * nR + i];
+        at(i, nR + j) = v;
+        at(nR + j, i) = v;
+      }
+      for (int i = 0; i < nM; ++i) at(nR + i, nR + j) = e[static_cast<std::size_t>(j) * nM + i];
+    }
+  }
+  for (int j = 0; j < n; ++j)  // exact symmetry (round-off)
+    for (int i = j + 1; i < n; ++i) at(i, j) = at(j, i) = 0.5 * (at(i, j) + at(j, i));
+  return red;
+}
+
+}  // namespace
+
+ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
+                          ReductionReport* report) {
+  Stopwatch total;
+  ReductionReport rep;
+  const auto comm = full.K->getComm();
+  const int nFree = full.numFree;
+  EPAPHE_REQUIRE(opt.modes >= 0, "body '" << full.name << "': " << opt.modes << " fixed-interface modes asked; use 0 or more");
+
+  // Retained DOFs in the order (retained node, direction): q = [x_R, eta].
+  ReducedModel red;
+  red.name = full.name;
+  red.method = opt.modes > 0 ? "Craig-Bampton" : "Guyan";
+  red.coords = full.mesh.coords;
+  red.nodeSets = full.mesh.nodeSets;
+  red.retainedNodes = retained;
+  red.nodeDof.assign(full.eq.size(), -1);
+  std::vector<int> rIndex(static_cast<std::size_t>(nFree), -1), cIndex(static_cast<std::size_t>(nFree), -1);
+  int nR = 0;
+  for (int node : retained) {
+    EPAPHE_REQUIRE(node >= 0 && node < full.numNodes(),
+                   "body '" << full.name << "': retained node " << node << " is not in the model (0.." << full.numNodes() - 1 << ")");
+    for (int d = 0; d < 3; ++d) {
+      const int g = full.eq[3 * node + d];
+      if (g < 0) continue;
+      EPAPHE_REQUIRE(rIndex[g] < 0, "body '" << full.name << "': node " << node << " is retained twice");
+      rIndex[g] = nR;
+      red.nodeDof[3 * node + d] = nR;
+      ++nR;
+    }
+  }
+  EPAPHE_REQUIRE(nR > 0, "body '" << full.name << "': no free DOF is retained; name a retained node set with free nodes");
+  int nC = 0;
+  for (int g = 0; g < nFree; ++g)
+    if (rIndex[g] < 0) cIndex[g] = nC++;
+  EPAPHE_REQUIRE(nC > opt.modes, "body '" << full.name << "': " << opt.modes << " fixed-interface modes asked but only "
+                                          << nC << " condensed DOFs exist");
+  rep.retainedDofs = nR;
+  rep.condensedDofs = nC;
+
+  std::vector<GO> myC;
+  const auto rowMap = full.K->getRowMap();
+  for (LO l = 0; l < static_cast<LO>(rowMap->getNodeNumElements()); ++l) {
+    const GO g = rowMap->getGlobalElement(l);
+    if (rIndex[g] < 0) myC.push_back(cIndex[g]);
+  }
+  auto cMap = Teuchos::rcp(new Map(nC, Teuchos::ArrayView<const GO>(myC), 0, comm));
+  const Blocks Kb = split(*full.K, rIndex, cIndex, cMap, nR);
+  const Blocks Mb = split(*full.M, rIndex, cIndex, cMap, nR);
+
+  // Constraint modes: K_CC Psi = -K_CR, one factorization, nR right-hand sides (eq. 2.10).
+  Stopwatch sw;
+  auto factor = makeDirectSolver(Kb.CC, opt.solver, "K_CC of body '" + full.name + "'");
+  rep.factorSeconds = sw.seconds();
+  sw.restart();
+  MultiVector Psi(cMap, static_cast<std::size_t>(nR));
+  factor->solve(*Kb.CR, Psi);
+  Psi.scale(-1.0);
+  rep.constraintSeconds = sw.seconds();
+
+  // Fixed-interface modes: K_CC phi = w^2 M_CC phi, shift-invert through the same factor (eq. 2.13).
+  sw.restart();
+  Teuchos::RCP<MultiVector> Phi;
+  if (opt.modes > 0) {
+    EigenOptions eo;
+    eo.count = opt.modes;
+    eo.shift = 0.0;
+    eo.tolerance = opt.eigenTolerance;
+    EigenResult er = lowestEigenpairs(Kb.CC, Mb.CC, *factor, eo);
+    Phi = er.vectors;
+    for (double l : er.lambda) red.modeFrequencies.push_back(std::sqrt(std::max(l, 0.0)) / (2 * M_PI));
+  }
+  rep.eigenSeconds = sw.seconds();
+
+  sw.restart();
+  red.numModes = opt.modes;
+  red.size = nR + opt.modes;
+  red.K = project(Kb, Psi, Phi.get(), nR, opt.modes);
+  red.M = project(Mb, Psi, Phi.get(), nR, opt.modes);
+
+  // Recovery rows u = R q for every node: unit rows for retained DOFs, [Psi, Phi] rows otherwise.
+  const std::size_t n = static_cast<std::size_t>(red.size);
+  std::vector<double> local(full.eq.size() * n, 0.0);
+  red.recovery.assign(local.size(), 0.0);
+  {
+    auto psi = Psi.getLocalViewHost(Tpetra::Access::ReadOnly);
+    decltype(psi) phi;
+    if (Phi) phi = Phi->getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (std::size_t i = 0; i < full.eq.size(); ++i) {
+      const int g = full.eq[i];
+      if (g < 0) continue;
+      if (rIndex[g] >= 0) {
+        if (comm->getRank() == 0) local[i * n + rIndex[g]] = 1.0;
+        continue;
+      }
+      const LO lc = cMap->getLocalElement(cIndex[g]);
+      if (lc == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+      for (int j = 0; j < nR; ++j) local[i * n + j] = psi(lc, j);
+      for (int j = 0; j < opt.modes; ++j) local[i * n + nR + j] = phi(lc, j);
+    }
+  }
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), red.recovery.data());
+  rep.projectSeconds = sw.seconds();
+  rep.seconds = total.seconds();
+  if (report) *report = rep;
+  return red;
+}
+
+std::vector<double> fullModelFrequencies(const FullModel& full, int count, const std::string& solver) {
+  // Shift below zero so that K - sigma M is positive definite even with rigid-body modes:
+  // sigma = -1e-4 * max_i K_ii / M_ii, far below the highest and well below typical low modes.
+  double ratio = 0;
+  {
+    Tpetra::Vector<double, LO, GO> dk(full.K->getRowMap()), dm(full.M->getRowMap());
+    full.K->getLocalDiagCopy(dk);
+    full.M->getLocalDiagCopy(dm);
+    auto k = dk.getLocalViewHost(Tpetra::Access::ReadOnly);
+    auto m = dm.getLocalViewHost(Tpetra::Access::ReadOnly);
+    double local = 0;
+    for (std::size_t i = 0; i < k.extent(0); ++i) local = std::max(local, k(i, 0) / m(i, 0));
+    Teuchos::reduceAll(*full.K->getComm(), Teuchos::REDUCE_MAX, local, Teuchos::outArg(ratio));
+  }
+  const double sigma = -1e-4 * ratio;
+  auto shifted = Tpetra::MatrixMatrix::add(1.0, false, *full.K, -sigma, false, *full.M);
+  auto factor = makeDirectSolver(shifted, solver, "K - sigma M of body '" + full.name + "'");
+  EigenOptions eo;
+  eo.count = count;
+  eo.shift = sigma;
+  EigenResult er = lowestEigenpairs(full.K, full.M, *factor, eo);
+  std::vector<double> f;
+  for (double l : er.lambda) f.push_back(std::sqrt(std::max(l, 0.0)) / (2 * M_PI));
+  return f;
+}
+
+}  // namespace epaphe

@@ -1,0 +1,40 @@
+#pragma once
+// Craig-Bampton reduction (thesis section 2.3.3, eq. 2.12):
+//
+//   x = R q,   R = [ I      0   ]     Psi = -K_CC^{-1} K_CR   (constraint modes, eq. 2.10)
+//                  [ Psi   Phi  ]     K_CC Phi = M_CC Phi Omega^2 (fixed-interface modes, eq. 2.13)
+//
+// with K_red = R^T K R and M_red = R^T M R (eqs. 2.6-2.7). K_CC is factored once by Amesos2
+// (MUMPS by default); the constraint modes are one multi-RHS solve with that factor, and the
+// fixed-interface modes come from Anasazi with shift-invert through the same factor. Guyan is
+// Craig-Bampton with zero modes (eq. 2.11).
+#include "Epaphe_FullModel.hpp"
+#include "Epaphe_ReducedModel.hpp"
+
+#include <string>
+#include <vector>
+
+namespace epaphe {
+
+struct CraigBamptonOptions {
+  int modes = 0;                       // fixed-interface modes kept
+  std::string solver = "MUMPS";        // Amesos2 solver for K_CC
+  double eigenTolerance = 1e-10;
+};
+
+struct ReductionReport {
+  double seconds = 0;                  // wall time of the whole reduction
+  double factorSeconds = 0, constraintSeconds = 0, eigenSeconds = 0, projectSeconds = 0;
+  int retainedDofs = 0, condensedDofs = 0;
+};
+
+/// `retained`: nodes whose DOFs stay physical (interface, contact nodes). Runs on every rank of
+/// the model's communicator; the result is replicated on every rank.
+ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
+                          ReductionReport* report = nullptr);
+
+/// The lowest `count` natural frequencies (Hz) of the full model, by Anasazi on (K, M) with a
+/// small negative shift so that free-free models (rigid-body modes) are handled.
+std::vector<double> fullModelFrequencies(const FullModel& full, int count, const std::string& solver = "MUMPS");
+
+}  // namespace epaphe

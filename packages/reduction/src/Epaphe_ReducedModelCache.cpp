@@ -1,0 +1,82 @@
+#include "Epaphe_ReducedModelCache.hpp"
+
+#include "Epaphe_Error.hpp"
+#include "Epaphe_Hdf5File.hpp"
+#include "Epaphe_Version.hpp"
+
+#include <cstdio>
+#include <fstream>
+
+namespace epaphe {
+
+std::string contentKey(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text + "|epaphe " + version) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+void saveReducedModel(const ReducedModel& r, const std::string& path, const std::string& key) {
+  const std::string tmp = path + ".tmp";
+  {
+    io::Hdf5File f(tmp, io::Hdf5File::Mode::Create);
+    const auto n = static_cast<std::uint64_t>(r.size);
+    const auto nn = static_cast<std::uint64_t>(r.numNodes());
+    f.setAttribute("/", "key", key);
+    f.setAttribute("/", "name", r.name);
+    f.setAttribute("/", "method", r.method);
+    f.setAttribute("/", "size", static_cast<long long>(r.size));
+    f.setAttribute("/", "modes", static_cast<long long>(r.numModes));
+    f.writeDoubles("/K", {n, n}, r.K.data());
+    f.writeDoubles("/M", {n, n}, r.M.data());
+    f.writeDoubles("/recovery", {3 * nn, n}, r.recovery.data());
+    f.writeDoubles("/coordinates", {nn, 3}, r.coords.empty() ? nullptr : r.coords[0].data());
+    f.writeInts("/nodeDof", std::vector<long long>(r.nodeDof.begin(), r.nodeDof.end()));
+    f.writeInts("/retainedNodes", std::vector<long long>(r.retainedNodes.begin(), r.retainedNodes.end()));
+    f.writeDoubles("/modeFrequencies", r.modeFrequencies);
+    f.writeDoubles("/fullFrequencies", r.fullFrequencies);
+    std::string names;
+    for (const auto& [name, nodes] : r.nodeSets) {
+      f.writeInts("/nodeSets/" + name, std::vector<long long>(nodes.begin(), nodes.end()));
+      names += name + "\n";
+    }
+    f.setAttribute("/", "nodeSetNames", names);
+    f.close();
+  }
+  EPAPHE_REQUIRE(std::rename(tmp.c_str(), path.c_str()) == 0,
+                 "cannot move the reduced-model cache " << tmp << " to " << path << ": check the directory's permissions");
+}
+
+bool loadReducedModel(const std::string& path, const std::string& key, ReducedModel& r) {
+  if (!std::ifstream(path)) return false;
+  io::Hdf5File f(path, io::Hdf5File::Mode::ReadOnly);
+  if (!f.hasAttribute("/", "key") || f.stringAttribute("/", "key") != key) return false;
+  auto toInts = [](const std::vector<long long>& v) { return std::vector<int>(v.begin(), v.end()); };
+  r.name = f.stringAttribute("/", "name");
+  r.method = f.stringAttribute("/", "method");
+  r.size = static_cast<int>(f.intAttribute("/", "size"));
+  r.numModes = static_cast<int>(f.intAttribute("/", "modes"));
+  r.K = f.readDoubles("/K");
+  r.M = f.readDoubles("/M");
+  r.recovery = f.readDoubles("/recovery");
+  const auto xyz = f.readDoubles("/coordinates");
+  r.coords.resize(xyz.size() / 3);
+  for (std::size_t i = 0; i < r.coords.size(); ++i) r.coords[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  r.nodeDof = toInts(f.readInts("/nodeDof"));
+  r.retainedNodes = toInts(f.readInts("/retainedNodes"));
+  r.modeFrequencies = f.readDoubles("/modeFrequencies");
+  r.fullFrequencies = f.readDoubles("/fullFrequencies");
+  r.nodeSets.clear();
+  const std::string names = f.stringAttribute("/", "nodeSetNames");
+  for (std::size_t b = 0, e; (e = names.find('\n', b)) != std::string::npos; b = e + 1) {
+    const std::string name = names.substr(b, e - b);
+    r.nodeSets[name] = toInts(f.readInts("/nodeSets/" + name));
+  }
+  return true;
+}
+
+}  // namespace epaphe

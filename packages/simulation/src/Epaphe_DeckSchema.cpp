@@ -1,0 +1,116 @@
+#include "Epaphe_DeckSchema.hpp"
+
+#include "Epaphe_Deck.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_SurfaceContact.hpp"
+#include "Epaphe_CentralDifference.hpp"
+
+#include <fstream>
+#include <sstream>
+
+namespace epaphe {
+
+using namespace deck;
+
+Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
+  static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
+    auto pl = Teuchos::rcp(new Teuchos::ParameterList("Epaphe"));
+
+    auto& run = pl->sublist("Run", false, "What the run is called and how it uses the machine");
+    addString(run, "Name", "epaphe", "Name of the run, printed and stored in the output");
+    addInt(run, "Threads", 0, "OpenMP threads of the Kokkos kernels (0: OMP_NUM_THREADS, else all cores); "
+                              "the command line option --threads overrides it", 0, 1024);
+    addDouble(run, "Progress interval", 2.0, "Wall-clock seconds between progress lines (0: none)", 0.0);
+
+    auto& body = pl->sublist("Bodies", false, "One sublist per flexible body, named by the user").sublist(
+        "*", false, "A flexible body: mesh, material, reduction, contact nodes");
+    auto& mesh = body.sublist("Mesh", false, "The body's finite-element mesh");
+    addEnum(mesh, "Type", "Box", {"Box"}, {int(MeshType::Box)},
+            "Box: structured 8-node hexahedra; node sets all, x-, x+, y-, y+, z-, z+");
+    addDoubleArray(mesh, "Origin", {0, 0, 0}, "Box: corner with the smallest coordinates (m)");
+    addDoubleArray(mesh, "Lengths", {0.2, 0.02, 0.02}, "Box: edge lengths along x, y, z (m)");
+    addIntArray(mesh, "Elements", {100, 1, 1}, "Box: number of hexahedra along x, y, z");
+    auto& mat = body.sublist("Material", false, "Isotropic linear elastic material");
+    addDouble(mat, "Density", 7800, "Mass density (kg/m^3)", 1e-300);
+    addDouble(mat, "Young's modulus", 2.1e11, "Young's modulus (Pa)", 1e-300);
+    addDouble(mat, "Poisson's ratio", 0.3, "Poisson's ratio", -0.999999, 0.499999);
+    addString(body, "Clamped node set", "", "Node set fixed in all directions (empty: none)");
+    addDoubleArray(body, "Initial velocity", {0, 0, 0}, "Uniform initial velocity of the body (m/s)");
+    addString(body, "Contact node set", "", "Nodes checked against every surface (empty: no contact)");
+    addStringArray(body, "Watched node sets", {}, "Node sets whose displacement and velocity are written");
+    auto& red = body.sublist("Reduction", false, "Model reduction (thesis section 2.3)");
+    addEnum(red, "Method", "Craig-Bampton", {"Craig-Bampton", "Guyan", "None"},
+            {int(ReductionMethod::CraigBampton), int(ReductionMethod::Guyan), int(ReductionMethod::None)},
+            "Craig-Bampton (eq. 2.12), Guyan (eq. 2.11, no modes) or None (the full model, dense: small models only)");
+    addInt(red, "Fixed-interface modes", 20, "Craig-Bampton: number of fixed-interface modes kept", 0, 100000);
+    addString(red, "Retained node set", "", "Nodes kept as physical DOFs (empty: the contact node set)");
+    addEnum(red, "Linear solver", "MUMPS", {"MUMPS", "KLU2"}, {0, 1},
+            "Amesos2 direct solver for K_CC (KLU2: one MPI rank only)");
+    addBool(red, "Cache", true, "Store the reduced model in HDF5 and reuse it while the model and reduction "
+                                "parameters are unchanged");
+    addString(red, "Cache file", "", "Cache path (empty: <output file stem>.<body>.rom.h5)");
+    addInt(red, "Frequency check", 10, "Compare this many frequencies of the reduced model with the full "
+                                       "model's (Anasazi); 0: skip", 0, 1000);
+
+    auto& surf = pl->sublist("Surfaces", false, "One sublist per rigid surface, named by the user").sublist(
+        "*", false, "A rigid surface: bicubic B-spline through a grid of points (thesis section 2.4)");
+    addEnum(surf, "Type", "Plane", {"Plane"}, {int(SurfaceType::Plane)},
+            "Plane: a grid of points Origin + i/(nu-1) U + j/(nv-1) V, interpolated by the general B-spline code");
+    addDoubleArray(surf, "Origin", {0, 0, 0}, "Plane: corner of the grid (m)");
+    addDoubleArray(surf, "U", {0, 1, 0}, "Plane: first edge vector of the grid (m)");
+    addDoubleArray(surf, "V", {0, 0, 1}, "Plane: second edge vector of the grid (m)");
+    addIntArray(surf, "Points", {5, 5}, "Plane: grid points along U and V (at least 4 each)");
+    addBool(surf, "Flip normal", false, "The contact side is where U x V points; set true for the other side");
+
+    auto& contact = pl->sublist("Contact", false, "Contact treatment (thesis section 2.5)");
+    addEnum(contact, "Method", "Lagrange", {"Lagrange", "Penalty"},
+            {int(ContactMethod::Lagrange), int(ContactMethod::Penalty)},
+            "Lagrange: forward-increment multipliers (eqs. 2.30-2.33); Penalty: lambda = kp * penetration (eq. 2.34)");
+    addDouble(contact, "Penalty stiffness", 1e10, "kp (N/m) of the penalty method", 1e-300);
+    addDouble(contact, "Newton tolerance", 1e-8, "crit_NR: closest-point Newton stops when the parameter step is "
+                                                 "below it", 1e-300, 1.0);
+    addInt(contact, "Newton max iterations", 50, "Closest-point Newton iterations at most", 1, 10000);
+    addBool(contact, "Lump contact matrix", false, "Lump the Lagrange contact matrix MC (section 2.5.2)");
+
+    auto& time = pl->sublist("Time", false, "Explicit central difference (thesis eq. 2.2)");
+    addDouble(time, "Time step", 1e-7, "h (s)", 1e-300);
+    addDouble(time, "End time", 1e-4, "Simulated duration (s)", 1e-300);
+    addBool(time, "Allow unstable time step", false, "Run even when h exceeds the estimated critical step "
+                                                     "(a warning instead of an error)");
+    auto& damp = time.sublist("Damping", false, "Damping matrix D");
+    addEnum(damp, "Type", "None", {"None", "Rayleigh"}, {int(DampingType::None), int(DampingType::Rayleigh)},
+            "None, or Rayleigh D = alpha M + beta K (eqs. 4.1-4.3)");
+    addDouble(damp, "Alpha", 0.0, "Rayleigh mass coefficient (1/s)", 0.0);
+    addDouble(damp, "Beta", 0.0, "Rayleigh stiffness coefficient (s)", 0.0);
+
+    auto& out = pl->sublist("Output", false, "HDF5 history");
+    addString(out, "File", "epaphe.h5", "HDF5 output file (relative paths: from the working directory)");
+    addInt(out, "Every", 10, "Steps between two records", 1);
+    addDouble(out, "Energy balance tolerance", 1e-6,
+              "The run stops when |energy balance error| / largest energy exceeds it", 0.0);
+    return Teuchos::RCP<const Teuchos::ParameterList>(pl);
+  }();
+  return valid;
+}
+
+Deck readDeckFromString(const std::string& xml, const std::string& origin) {
+  Deck d;
+  d.text = xml;
+  d.origin = origin;
+  d.params = readXmlString(xml, origin);
+  EPAPHE_REQUIRE(d.params->name() == "Epaphe" || d.params->name() == "ANONYMOUS",
+                 origin << ": the top list is named '" << d.params->name() << "'; name it \"Epaphe\"");
+  d.params->setName("Epaphe");
+  validateAndSetDefaults(*d.params, *validDeckParameters(), origin, xml);
+  return d;
+}
+
+Deck readDeck(const std::string& path) {
+  std::ifstream in(path);
+  EPAPHE_REQUIRE(in, "deck '" << path << "' cannot be opened: check the path and its permissions");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return readDeckFromString(ss.str(), path);
+}
+
+}  // namespace epaphe

@@ -1,0 +1,27 @@
+#pragma once
+// The valid parameters of an Epaphe deck, with documentation, defaults and validators.
+#include <Teuchos_ParameterList.hpp>
+#include <Teuchos_RCP.hpp>
+
+#include <string>
+
+namespace epaphe {
+
+enum class MeshType { Box = 0 };
+enum class ReductionMethod { CraigBampton = 0, Guyan = 1, None = 2 };
+enum class SurfaceType { Plane = 0 };
+
+/// The whole deck: lists Run, Bodies (one sublist per body), Surfaces (one per surface),
+/// Contact, Time, Output.
+Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters();
+
+/// Reads, validates and completes a deck with defaults. Errors name the file, line and key.
+struct Deck {
+  Teuchos::RCP<Teuchos::ParameterList> params;
+  std::string text;      // the file as read, stored in the output
+  std::string origin;    // its path
+};
+Deck readDeck(const std::string& path);
+Deck readDeckFromString(const std::string& xml, const std::string& origin);
+
+}  // namespace epaphe

@@ -1,0 +1,580 @@
+#include "Epaphe_Simulation.hpp"
+
+#include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_Deck.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_FullModel.hpp"
+#include "Epaphe_Hdf5File.hpp"
+#include "Epaphe_ReducedModelCache.hpp"
+#include "Epaphe_Version.hpp"
+
+#include <KokkosBlas1_axpby.hpp>
+#include <KokkosBlas1_dot.hpp>
+#include <KokkosBlas2_gemv.hpp>
+#include <Teuchos_CommHelpers.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+namespace epaphe {
+
+using Teuchos::ParameterList;
+
+struct Simulation::Body {
+  std::string name;
+  ReducedModel rom;
+  bool fromCache = false;
+  ReductionReport report;
+  std::vector<double> fullFrequencies, reducedFrequencies;
+  std::vector<int> contactNodes;
+  std::string contactSet;
+  std::vector<double> v0;
+  std::vector<std::pair<std::string, std::vector<int>>> watched;
+  DenseMatrix recoveryWatched;  // (3 * watched nodes) x size
+  StableStep stable;
+  std::unique_ptr<CentralDifference> integrator;
+  std::unique_ptr<SurfaceContact> contact;
+};
+
+namespace {
+
+std::array<double, 3> vec3(const ParameterList& pl, const std::string& key, const std::string& origin) {
+  const auto v = deck::getDoubles(pl, key);
+  EPAPHE_REQUIRE(v.size() == 3, origin << ": '" << deck::pathOf(pl, key) << "' has " << v.size()
+                                       << " values, 3 are expected, e.g. {0, 0, 0}");
+  for (double x : v) EPAPHE_REQUIRE(std::isfinite(x), origin << ": '" << deck::pathOf(pl, key) << "' holds " << x);
+  return {v[0], v[1], v[2]};
+}
+
+std::string canonical(const ParameterList& pl) {
+  std::ostringstream os;
+  pl.print(os, Teuchos::ParameterList::PrintOptions().showTypes(true).showDoc(false).indent(0));
+  return os.str();
+}
+
+std::string stem(const std::string& path) {
+  const auto dot = path.rfind('.');
+  const auto slash = path.rfind('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path;
+  return path.substr(0, dot);
+}
+
+/// Rank 0 builds or loads; the result is broadcast so every rank holds the same reduced model.
+void broadcast(ReducedModel& r, const Teuchos::Comm<int>& comm) {
+  if (comm.getSize() == 1) return;
+  auto bcastVec = [&](auto& v) {
+    int n = static_cast<int>(v.size());
+    Teuchos::broadcast(comm, 0, Teuchos::outArg(n));
+    v.resize(static_cast<std::size_t>(n));
+    if (n > 0) Teuchos::broadcast(comm, 0, n, v.data());
+  };
+  int header[2] = {r.size, r.numModes};
+  Teuchos::broadcast(comm, 0, 2, header);
+  r.size = header[0];
+  r.numModes = header[1];
+  bcastVec(r.K);
+  bcastVec(r.M);
+  bcastVec(r.recovery);
+  bcastVec(r.nodeDof);
+  bcastVec(r.retainedNodes);
+  bcastVec(r.modeFrequencies);
+  bcastVec(r.fullFrequencies);
+  std::vector<double> xyz;
+  if (comm.getRank() == 0)
+    for (const auto& c : r.coords) xyz.insert(xyz.end(), c.begin(), c.end());
+  bcastVec(xyz);
+  r.coords.resize(xyz.size() / 3);
+  for (std::size_t i = 0; i < r.coords.size(); ++i) r.coords[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  // node sets: names as one text, then each set
+  std::string names;
+  for (const auto& kv : r.nodeSets) names += kv.first + "\n";
+  std::vector<char> chars(names.begin(), names.end());
+  bcastVec(chars);
+  names.assign(chars.begin(), chars.end());
+  std::map<std::string, std::vector<int>> sets;
+  for (std::size_t b = 0, e; (e = names.find('\n', b)) != std::string::npos; b = e + 1) {
+    const std::string name = names.substr(b, e - b);
+    std::vector<int> nodes = comm.getRank() == 0 ? r.nodeSets[name] : std::vector<int>();
+    bcastVec(nodes);
+    sets[name] = nodes;
+  }
+  r.nodeSets = sets;
+}
+
+}  // namespace
+
+Simulation::Simulation(Deck deck, const Runtime& runtime, std::string outputOverride)
+    : deck_(std::move(deck)), rt_(runtime) {
+  output_ = outputOverride.empty() ? deck_.params->sublist("Output").get<std::string>("File") : outputOverride;
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::setup() {
+  Stopwatch watch;
+  const ParameterList& P = *deck_.params;
+  const std::string& origin = deck_.origin;
+  auto comm = rt_.comm();
+  std::ostream& out = rt_.out();
+
+  // ---- rigid surfaces ------------------------------------------------------------------------
+  const ParameterList& surfs = P.sublist("Surfaces");
+  for (auto it = surfs.begin(); it != surfs.end(); ++it) {
+    const std::string name = surfs.name(it);
+    const ParameterList& s = surfs.sublist(name);
+    const auto o = vec3(s, "Origin", origin), U = vec3(s, "U", origin), V = vec3(s, "V", origin);
+    const auto pts = deck::getInts(s, "Points");
+    EPAPHE_REQUIRE(pts.size() == 2, origin << ": '" << deck::pathOf(s, "Points") << "' has " << pts.size()
+                                           << " values; give the grid size as {nu, nv}");
+    EPAPHE_REQUIRE(pts[0] >= 4 && pts[1] >= 4, origin << ": '" << deck::pathOf(s, "Points") << "' = {" << pts[0]
+                                                      << ", " << pts[1] << "}; a bicubic surface needs at least 4 points "
+                                                      "in each direction");
+    std::vector<double> grid;
+    for (int i = 0; i < pts[0]; ++i)
+      for (int j = 0; j < pts[1]; ++j)
+        for (int d = 0; d < 3; ++d)
+          grid.push_back(o[d] + U[d] * i / (pts[0] - 1) + V[d] * j / (pts[1] - 1));
+    SurfaceOptions so;
+    so.closureU = so.closureV = Closure::Open;
+    so.orientation = s.get<bool>("Flip normal") ? -1 : 1;
+    so.id = static_cast<int>(surfaces_.size());
+    surfaces_.push_back(std::make_unique<BSplineSurface>(name, pts[0], pts[1], grid, so));
+  }
+
+  // ---- bodies -------------------------------------------------------------------------------
+  const ParameterList& bl = P.sublist("Bodies");
+  EPAPHE_REQUIRE(bl.numParams() > 0, origin << ": 'Epaphe->Bodies' is empty; add a <ParameterList name=\"MyBody\">");
+  const ParameterList& tp = P.sublist("Time");
+  const double h = tp.get<double>("Time step");
+  DampingOptions damping;
+  damping.type = deck::getEnum<DampingType>(tp.sublist("Damping"), "Type");
+  damping.alpha = tp.sublist("Damping").get<double>("Alpha");
+  damping.beta = tp.sublist("Damping").get<double>("Beta");
+  const ParameterList& cp = P.sublist("Contact");
+  ContactOptions copt;
+  copt.method = deck::getEnum<ContactMethod>(cp, "Method");
+  copt.penaltyStiffness = cp.get<double>("Penalty stiffness");
+  copt.nrTolerance = cp.get<double>("Newton tolerance");
+  copt.nrMaxIterations = cp.get<int>("Newton max iterations");
+  copt.lumped = cp.get<bool>("Lump contact matrix");
+
+  for (auto it = bl.begin(); it != bl.end(); ++it) {
+    auto b = std::make_unique<Body>();
+    b->name = bl.name(it);
+    const ParameterList& bp = bl.sublist(b->name);
+    const ParameterList& rp = bp.sublist("Reduction");
+    const std::string ctx = origin + ": body '" + b->name + "'";
+    b->contactSet = bp.get<std::string>("Contact node set");
+    std::string retainedSet = rp.get<std::string>("Retained node set");
+    if (retainedSet.empty()) retainedSet = b->contactSet;
+    const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
+    const int checkCount = rp.get<int>("Frequency check");
+
+    // Cache key: everything the reduced model depends on.
+    std::string keyText = canonical(bp.sublist("Mesh")) + canonical(bp.sublist("Material")) +
+                          "clamped=" + bp.get<std::string>("Clamped node set") + "\nretained=" + retainedSet +
+                          "\nmethod=" + rp.get<std::string>("Method") +
+                          "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
+                          "\ncheck=" + std::to_string(checkCount) + "\nsolver=" + rp.get<std::string>("Linear solver");
+    const std::string key = contentKey(keyText);
+    std::string cacheFile = rp.get<std::string>("Cache file");
+    if (cacheFile.empty()) cacheFile = stem(output_) + "." + b->name + ".rom.h5";
+    const bool useCache = rp.get<bool>("Cache");
+
+    int cached = 0;
+    if (useCache && comm->getRank() == 0) cached = loadReducedModel(cacheFile, key, b->rom) ? 1 : 0;
+    Teuchos::broadcast(*comm, 0, Teuchos::outArg(cached));
+    if (cached) {
+      broadcast(b->rom, *comm);
+      b->rom.name = b->name;
+      b->fromCache = true;
+    } else {
+      const ParameterList& mp = bp.sublist("Mesh");
+      const auto el = deck::getInts(mp, "Elements");
+      EPAPHE_REQUIRE(el.size() == 3, ctx << ": 'Mesh->Elements' has " << el.size() << " values; give {nx, ny, nz}");
+      Mesh mesh = makeBoxMesh(vec3(mp, "Origin", origin), vec3(mp, "Lengths", origin), {el[0], el[1], el[2]});
+      Material mat;
+      mat.density = bp.sublist("Material").get<double>("Density");
+      mat.young = bp.sublist("Material").get<double>("Young's modulus");
+      mat.poisson = bp.sublist("Material").get<double>("Poisson's ratio");
+      std::vector<int> clamped;
+      if (const std::string cs = bp.get<std::string>("Clamped node set"); !cs.empty())
+        clamped = mesh.nodeSet(cs, ctx + ", 'Clamped node set'");
+      FullModel full = assembleHexModel(b->name, std::move(mesh), mat, clamped, comm);
+      out << "[" << b->name << "] full model: " << full.numNodes() << " nodes, " << full.numFree << " free DOFs, "
+          << full.mesh.hexes.size() << " hexahedra\n";
+      if (method == ReductionMethod::None) {
+        b->rom = unreducedModel(full);
+      } else {
+        EPAPHE_REQUIRE(!retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
+                                                 << " needs a 'Retained node set' (or a 'Contact node set')");
+        CraigBamptonOptions cbo;
+        cbo.modes = method == ReductionMethod::Guyan ? 0 : rp.get<int>("Fixed-interface modes");
+        cbo.solver = rp.get<std::string>("Linear solver");
+        b->rom = craigBampton(full, full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'"), cbo,
+                              &b->report);
+        out << "[" << b->name << "] " << b->rom.method << ": " << b->report.retainedDofs << " retained DOFs + "
+            << cbo.modes << " modes = " << b->rom.size << " reduced DOFs in " << formatDuration(b->report.seconds)
+            << " on " << comm->getSize() << " rank(s) (factor " << formatDuration(b->report.factorSeconds)
+            << ", constraint modes " << formatDuration(b->report.constraintSeconds) << ", eigenmodes "
+            << formatDuration(b->report.eigenSeconds) << ")\n";
+      }
+      if (checkCount > 0)
+        b->rom.fullFrequencies = fullModelFrequencies(full, std::min(checkCount, full.numFree - 1), rp.get<std::string>("Linear solver"));
+      if (useCache && comm->getRank() == 0) saveReducedModel(b->rom, cacheFile, key);
+    }
+    if (b->fromCache) out << "[" << b->name << "] reduced model (" << b->rom.method << ", " << b->rom.size
+                          << " DOFs) reused from " << cacheFile << "\n";
+    b->fullFrequencies = b->rom.fullFrequencies;
+    b->reducedFrequencies = denseFrequencies(b->rom.K, b->rom.M, b->rom.size);
+
+    // Initial velocity: uniform translation, exact in reduced coordinates (retained DOFs).
+    const auto v0 = vec3(bp, "Initial velocity", origin);
+    b->v0.assign(static_cast<std::size_t>(b->rom.size), 0.0);
+    for (int d = 0; d < 3; ++d) {
+      const auto t = b->rom.rigidTranslation(d);
+      for (int i = 0; i < b->rom.size; ++i) b->v0[i] += v0[d] * t[i];
+    }
+    for (const std::string& ws : deck::getStrings(bp, "Watched node sets"))
+      b->watched.emplace_back(ws, b->rom.nodeSet(ws, ctx + ", 'Watched node sets'"));
+
+    // Stable step, including the penalty springs on the contact DOFs.
+    std::vector<int> contactDofs;
+    if (!b->contactSet.empty()) {
+      b->contactNodes = b->rom.nodeSet(b->contactSet, ctx + ", 'Contact node set'");
+      for (int n : b->contactNodes)
+        for (int d = 0; d < 3; ++d)
+          if (b->rom.nodeDof[3 * n + d] >= 0) contactDofs.push_back(b->rom.nodeDof[3 * n + d]);
+    }
+    const double kAdded = (!surfaces_.empty() && copt.method == ContactMethod::Penalty) ? copt.penaltyStiffness : 0.0;
+    b->stable = criticalTimeStep(b->rom, contactDofs, kAdded, damping);
+    if (h > b->stable.critical) {
+      std::ostringstream os;
+      os << origin << ": 'Time->Time step' = " << h << " s exceeds the critical step " << b->stable.critical
+         << " s of body '" << b->name << "' (highest frequency " << b->stable.omegaMax / (2 * M_PI) << " Hz"
+         << (kAdded > 0 ? ", penalty springs included" : "") << "); the central difference would blow up. Use "
+         << "'Time step' <= " << 0.9 * b->stable.critical << " s";
+      if (kAdded > 0) os << " or a smaller 'Penalty stiffness'";
+      if (!tp.get<bool>("Allow unstable time step")) throw Error(os.str() + ", or set 'Allow unstable time step'.");
+      out << "warning: " << os.str() << "\n";
+    }
+    b->integrator = std::make_unique<CentralDifference>(b->rom, h, damping);
+    if (!b->contactNodes.empty() && !surfaces_.empty()) {
+      std::vector<const BSplineSurface*> sp;
+      for (const auto& s : surfaces_) sp.push_back(s.get());
+      b->contact = std::make_unique<SurfaceContact>(b->rom, b->contactNodes, sp, copt, b->integrator->flexibility());
+    }
+    // Recovery rows of the watched nodes.
+    int nw = 0;
+    for (const auto& w : b->watched) nw += static_cast<int>(w.second.size());
+    b->recoveryWatched = DenseMatrix("epaphe::watched::R", 3 * nw, b->rom.size);
+    auto Rh = Kokkos::create_mirror_view(b->recoveryWatched);
+    int row = 0;
+    for (const auto& w : b->watched)
+      for (int n : w.second)
+        for (int d = 0; d < 3; ++d, ++row)
+          for (int j = 0; j < b->rom.size; ++j) Rh(row, j) = b->rom.recoveryRow(n, d)[j];
+    Kokkos::deep_copy(b->recoveryWatched, Rh);
+    bodies_.push_back(std::move(b));
+  }
+  summary_.timeStep = h;
+  summary_.criticalStep = 1e300;
+  for (const auto& b : bodies_) summary_.criticalStep = std::min(summary_.criticalStep, b->stable.critical);
+  summary_.setupSeconds = watch.seconds();
+}
+
+const RunSummary& Simulation::run() {
+  auto comm = rt_.comm();
+  if (comm->getRank() != 0) {
+    summary_.status = "idle";
+    return summary_;
+  }
+  const ParameterList& P = *deck_.params;
+  const double h = P.sublist("Time").get<double>("Time step");
+  const double endTime = P.sublist("Time").get<double>("End time");
+  const int every = P.sublist("Output").get<int>("Every");
+  const double tolBalance = P.sublist("Output").get<double>("Energy balance tolerance");
+  const double progressInterval = P.sublist("Run").get<double>("Progress interval");
+  const long long nSteps = std::max(1LL, static_cast<long long>(std::ceil(endTime / h - 1e-9)));
+  std::ostream& out = rt_.out();
+
+  // ---- output ---------------------------------------------------------------------------------
+  io::Hdf5File file(output_, io::Hdf5File::Mode::Create);
+  file.setAttribute("/", "epaphe_version", version);
+  file.setAttribute("/", "name", P.sublist("Run").get<std::string>("Name"));
+  file.setAttribute("/", "status", "running");
+  file.writeString("/run/deck", deck_.text);
+  file.setAttribute("/run", "time_step", h);
+  file.setAttribute("/run", "critical_time_step", summary_.criticalStep);
+  file.setAttribute("/run", "threads", static_cast<long long>(rt_.threads()));
+  file.setAttribute("/run", "mpi_ranks", static_cast<long long>(comm->getSize()));
+  io::Series sTime(file, "/time", {});
+  io::Series sKin(file, "/energy/kinetic", {}), sStrain(file, "/energy/strain", {}),
+      sTotal(file, "/energy/total", {}), sWork(file, "/energy/contact_work", {}),
+      sExt(file, "/energy/external_work", {}), sDamp(file, "/energy/damping", {}),
+      sBal(file, "/energy/balance_error", {});
+
+  struct BodyRun {
+    DenseVector qPrev, q, qNext, v, uw, vw;
+    std::vector<std::unique_ptr<io::Series>> disp, vel;
+    std::unique_ptr<io::Series> gap, force, totalForce, momentum;
+    std::vector<DenseVector> Mt;  // M t_d: rigid translations through the mass matrix
+    std::vector<double> gapRec, forceRec;
+    double work = 0, ext = 0, diss = 0, e0 = 0;
+  };
+  std::vector<BodyRun> runs(bodies_.size());
+  double energyRef = 0;
+  for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+    Body& b = *bodies_[ib];
+    BodyRun& r = runs[ib];
+    const int n = b.rom.size;
+    const std::string g = "/bodies/" + b.name;
+    file.writeDoubles(g + "/frequencies/reduced", b.reducedFrequencies);
+    file.writeDoubles(g + "/frequencies/full", b.fullFrequencies);
+    file.writeDoubles(g + "/frequencies/fixed_interface", b.rom.modeFrequencies);
+    file.setAttribute(g, "reduction", b.rom.method);
+    file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
+    r.qPrev = DenseVector("qPrev", n);
+    r.q = DenseVector("q", n);
+    r.qNext = DenseVector("qNext", n);
+    r.v = DenseVector("v", n);
+    r.uw = DenseVector("uw", b.recoveryWatched.extent(0));
+    r.vw = DenseVector("vw", b.recoveryWatched.extent(0));
+    // q_0 = 0, q_{-1} = q_0 - h v_0 (no force at rest: a_0 = 0)
+    auto qp = Kokkos::create_mirror_view(r.qPrev);
+    for (int i = 0; i < n; ++i) qp(i) = -h * b.v0[i];
+    Kokkos::deep_copy(r.qPrev, qp);
+    r.e0 = b.integrator->halfStepEnergy(r.qPrev, r.q);
+    // Linear momentum p_d = t_d^T M v and rigid mass m = t_x^T M t_x (rebound velocity = p / m).
+    for (int d = 0; d < 3; ++d) {
+      const auto t = b.rom.rigidTranslation(d);
+      DenseVector Mt("Mt", n);
+      auto h2 = Kokkos::create_mirror_view(Mt);
+      for (int i = 0; i < n; ++i) {
+        double s = 0;
+        for (int j = 0; j < n; ++j) s += b.rom.m(i, j) * t[j];
+        h2(i) = s;
+      }
+      Kokkos::deep_copy(Mt, h2);
+      r.Mt.push_back(Mt);
+      if (d == 0) {
+        double m = 0;
+        for (int i = 0; i < n; ++i) m += t[i] * h2(i);
+        file.setAttribute(g, "rigid_mass", m);
+      }
+    }
+    r.momentum = std::make_unique<io::Series>(file, g + "/momentum", std::vector<std::uint64_t>{3});
+    energyRef += std::abs(r.e0);
+    for (const auto& [setName, nodes] : b.watched) {
+      file.writeInts(g + "/nodesets/" + setName + "/nodes", std::vector<long long>(nodes.begin(), nodes.end()));
+      const std::uint64_t nn = nodes.size();
+      r.disp.push_back(std::make_unique<io::Series>(file, g + "/nodesets/" + setName + "/displacement",
+                                                    std::vector<std::uint64_t>{nn, 3}));
+      r.vel.push_back(std::make_unique<io::Series>(file, g + "/nodesets/" + setName + "/velocity",
+                                                   std::vector<std::uint64_t>{nn, 3}));
+    }
+    if (b.contact) {
+      const auto& cn = b.contact->nodes();
+      file.writeInts(g + "/contact/nodes", std::vector<long long>(cn.begin(), cn.end()));
+      const std::uint64_t nc = cn.size();
+      r.gap = std::make_unique<io::Series>(file, g + "/contact/gap", std::vector<std::uint64_t>{nc});
+      r.force = std::make_unique<io::Series>(file, g + "/contact/force", std::vector<std::uint64_t>{nc});
+      r.totalForce = std::make_unique<io::Series>(file, g + "/contact/total_force", std::vector<std::uint64_t>{});
+      r.gapRec.resize(nc);
+      r.forceRec.resize(nc);
+    }
+  }
+  energyRef = std::max(energyRef, 1e-300);
+
+  // ---- the explicit loop -------------------------------------------------------------------------
+  Stopwatch loop, sinceProgress;
+  CostSplit& cost = summary_.cost;
+  summary_.status = "complete";
+  bool contactBefore = false;
+  long long n = 0;
+  auto fail = [&](const std::string& why) {
+    summary_.status = "stopped: " + why;
+    file.setAttribute("/", "status", summary_.status);
+    file.flush();
+    throw Error(why);
+  };
+  for (n = 0; n < nSteps; ++n) {
+    const double t = n * h;
+    double totalForce = 0;
+    int active = 0;
+    for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+      Body& b = *bodies_[ib];
+      BodyRun& r = runs[ib];
+      {
+        ScopedPhase phase(cost, "integration");
+        b.integrator->predict(r.q, r.qPrev, r.qNext);  // eq. 2.2
+      }
+      if (b.contact) {
+        b.contact->correct(r.qNext, cost);  // eqs. 2.28-2.36
+        ScopedPhase phase(cost, "energy");
+        r.work += b.contact->workIncrement(r.qNext, r.qPrev);
+        totalForce += b.contact->totalForce();
+        active += b.contact->numActive();
+      }
+      {
+        ScopedPhase phase(cost, "energy");
+        r.diss += b.integrator->dampingIncrement(r.qNext, r.qPrev);
+        r.ext += b.integrator->externalWorkIncrement(r.qNext, r.qPrev);
+      }
+    }
+    if (totalForce > 0) {
+      if (!contactBefore && summary_.firstContact < 0) summary_.firstContact = t;
+      summary_.lastContact = t;
+      summary_.impulse += totalForce * h;
+      summary_.maxForce = std::max(summary_.maxForce, totalForce);
+    }
+    contactBefore = totalForce > 0;
+
+    if (n % every == 0 || n == nSteps - 1) {
+      ScopedPhase phase(cost, "output");
+      double kin = 0, strain = 0, total = 0, work = 0, ext = 0, diss = 0, e0 = 0;
+      for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+        Body& b = *bodies_[ib];
+        BodyRun& r = runs[ib];
+        // v_n = (q_{n+1} - q_{n-1}) / 2h
+        Kokkos::deep_copy(r.v, r.qNext);
+        KokkosBlas::axpby(-0.5 / h, r.qPrev, 0.5 / h, r.v);
+        kin += b.integrator->kinetic(r.v);
+        const double p[3] = {KokkosBlas::dot(r.Mt[0], r.v), KokkosBlas::dot(r.Mt[1], r.v), KokkosBlas::dot(r.Mt[2], r.v)};
+        r.momentum->append(p);
+        total += b.integrator->halfStepEnergy(r.q, r.qNext);
+        strain += b.integrator->halfStepEnergy(r.q, r.q);  // 1/2 q^T K q (zero velocity term)
+        work += r.work;
+        ext += r.ext;
+        diss += r.diss;
+        e0 += r.e0;
+        if (!r.disp.empty()) {
+          KokkosBlas::gemv("N", 1.0, b.recoveryWatched, r.q, 0.0, r.uw);
+          KokkosBlas::gemv("N", 1.0, b.recoveryWatched, r.v, 0.0, r.vw);
+          auto uh = Kokkos::create_mirror_view(r.uw);
+          auto vh = Kokkos::create_mirror_view(r.vw);
+          Kokkos::deep_copy(uh, r.uw);
+          Kokkos::deep_copy(vh, r.vw);
+          std::size_t off = 0;
+          for (std::size_t w = 0; w < r.disp.size(); ++w) {
+            r.disp[w]->append(uh.data() + off);
+            r.vel[w]->append(vh.data() + off);
+            off += r.disp[w]->recordSize();
+          }
+        }
+        if (b.contact) {
+          const auto f = b.contact->force();
+          for (std::size_t k = 0; k < r.forceRec.size(); ++k) r.forceRec[k] = f(k);
+          b.contact->measureGaps(r.q, cost);
+          const auto gp = b.contact->gap();
+          for (std::size_t k = 0; k < r.gapRec.size(); ++k) r.gapRec[k] = gp(k);
+          r.gap->append(r.gapRec.data());
+          r.force->append(r.forceRec.data());
+          const double tf = b.contact->totalForce();
+          r.totalForce->append(&tf);
+        }
+      }
+      const double balance = (total + diss - work - ext - e0) / std::max(energyRef, std::abs(total));
+      sTime.append(&t);
+      sKin.append(&kin);
+      sStrain.append(&strain);
+      sTotal.append(&total);
+      sWork.append(&work);
+      sExt.append(&ext);
+      sDamp.append(&diss);
+      sBal.append(&balance);
+      summary_.maxBalanceError = std::max(summary_.maxBalanceError, std::abs(balance));
+      if (!std::isfinite(total)) {
+        std::ostringstream os;
+        os << "the solution is no longer finite at t = " << t << " s (step " << n
+           << "): the time step is probably too large for the contact stiffness";
+        fail(os.str());
+      }
+      if (std::abs(balance) > tolBalance) {
+        std::ostringstream os;
+        os << "energy balance error " << balance << " at t = " << t << " s exceeds 'Output->Energy balance tolerance' = "
+           << tolBalance << " (total " << total << " J, contact work " << work << " J, damping " << diss
+           << " J, initial " << e0 << " J)";
+        fail(os.str());
+      }
+    }
+    for (auto& r : runs) {  // q_{n-1} <- q_n <- q_{n+1}
+      std::swap(r.qPrev, r.q);
+      std::swap(r.q, r.qNext);
+    }
+    if (progressInterval > 0 && (n & 255) == 0 && sinceProgress.seconds() > progressInterval) {
+      sinceProgress.restart();
+      const double rate = (n + 1) / loop.seconds();
+      char line[200];
+      std::snprintf(line, sizeof line, "  t = %.4e s (%3.0f %%)  %.0f steps/s  %s left  active contacts %d\n", t,
+                    100.0 * (n + 1) / nSteps, rate, formatDuration((nSteps - n - 1) / rate).c_str(), active);
+      out << line << std::flush;
+    }
+  }
+  summary_.steps = nSteps;
+  summary_.loopSeconds = loop.seconds();
+  summary_.stepsPerSecond = nSteps / summary_.loopSeconds;
+  file.setAttribute("/run", "steps", static_cast<long long>(nSteps));
+  file.setAttribute("/run", "loop_time", summary_.loopSeconds);
+  file.setAttribute("/run", "setup_time", summary_.setupSeconds);
+  file.setAttribute("/run", "wall_time", summary_.loopSeconds + summary_.setupSeconds);
+  file.setAttribute("/run", "steps_per_second", summary_.stepsPerSecond);
+  for (const auto& [phase, s] : cost.all()) file.setAttribute("/run/cost", phase, s);
+  file.setAttribute("/", "status", "complete");
+  file.close();
+  return summary_;
+}
+
+void Simulation::printSummary(std::ostream& os) const {
+  if (rt_.rank() != 0) return;
+  char buf[256];
+  os << "\n==== Epaphe summary: " << deck_.params->sublist("Run").get<std::string>("Name") << " ("
+     << deck_.origin << ") ====\n";
+  for (const auto& b : bodies_) {
+    os << "body '" << b->name << "': " << b->rom.method << ", " << b->rom.size << " reduced DOFs ("
+       << b->rom.numModes << " modes)" << (b->fromCache ? ", from cache" : "") << "\n";
+    const std::size_t nf = std::min(b->fullFrequencies.size(), b->reducedFrequencies.size());
+    if (nf > 0) {
+      os << "   mode   full (Hz)    reduced (Hz)   rel. error\n";
+      for (std::size_t i = 0; i < nf; ++i) {
+        const double ff = b->fullFrequencies[i], fr = b->reducedFrequencies[i];
+        const double err = ff > 1e-6 * b->fullFrequencies.back() ? (fr - ff) / ff : fr - ff;
+        std::snprintf(buf, sizeof buf, "   %4zu  %11.4f  %13.4f   %10.3e%s\n", i + 1, ff, fr, err,
+                      ff > 1e-6 * b->fullFrequencies.back() ? "" : " (rigid: absolute Hz)");
+        os << buf;
+      }
+    }
+    std::snprintf(buf, sizeof buf, "   stable step %.4e s (f_max %.4g Hz)\n", b->stable.critical,
+                  b->stable.omegaMax / (2 * M_PI));
+    os << buf;
+  }
+  std::snprintf(buf, sizeof buf, "time step %.4e s (%.1f %% of critical), %lld steps\n", summary_.timeStep,
+                100 * summary_.timeStep / summary_.criticalStep, summary_.steps);
+  os << buf;
+  std::snprintf(buf, sizeof buf, "wall time: setup %s, loop %s, %.0f steps/s on %d thread(s), %d MPI rank(s)\n",
+                formatDuration(summary_.setupSeconds).c_str(), formatDuration(summary_.loopSeconds).c_str(),
+                summary_.stepsPerSecond, rt_.threads(), rt_.size());
+  os << buf;
+  os << "per-step cost:";
+  for (const auto& [phase, s] : summary_.cost.all()) {
+    std::snprintf(buf, sizeof buf, " %s %.3g us", phase.c_str(), 1e6 * s / std::max(1LL, summary_.steps));
+    os << buf;
+  }
+  os << "\n";
+  if (summary_.firstContact >= 0) {
+    std::snprintf(buf, sizeof buf, "contact: first %.6e s, last %.6e s, max force %.6e N, impulse %.6e N s\n",
+                  summary_.firstContact, summary_.lastContact, summary_.maxForce, summary_.impulse);
+    os << buf;
+  } else {
+    os << "contact: none\n";
+  }
+  std::snprintf(buf, sizeof buf, "energy balance: max relative error %.3e\n", summary_.maxBalanceError);
+  os << buf;
+  os << "status: " << summary_.status << "; output " << output_ << "\n";
+}
+
+}  // namespace epaphe

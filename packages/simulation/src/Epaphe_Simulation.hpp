@@ -1,0 +1,65 @@
+#pragma once
+// A run described by a deck: bodies built and reduced (on every MPI rank), rigid surfaces, the
+// explicit loop with contact (on rank 0), monitors and the HDF5 history.
+//
+// Output layout (HDF5), one record every `Output->Every` steps, record k at time t_k:
+//   /                      attributes: epaphe_version, name, status ("running", "complete",
+//                          or "stopped: <why>") -- only "complete" is a finished result
+//   /run/deck              the deck text;  /run attributes: time_step, critical_time_step,
+//                          steps, wall_time, loop_time, steps_per_second, threads, mpi_ranks
+//   /time                  (records)
+//   /energy/{kinetic, strain, total, contact_work, external_work, damping, balance_error} (records)
+//   /bodies/<b>/frequencies/{reduced, full, fixed_interface} (Hz); attributes reduction,
+//                          reduced_dofs, rigid_mass (kg)
+//   /bodies/<b>/momentum   linear momentum t_d^T M v (records x 3), kg m/s
+//   /bodies/<b>/nodesets/<set>/{nodes, displacement (records x n x 3), velocity (records x n x 3)}
+//   /bodies/<b>/contact/{nodes, gap (records x n), force (records x n), total_force (records)}
+#include "Epaphe_CentralDifference.hpp"
+#include "Epaphe_CraigBampton.hpp"
+#include "Epaphe_DeckSchema.hpp"
+#include "Epaphe_Runtime.hpp"
+#include "Epaphe_SurfaceContact.hpp"
+
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace epaphe {
+
+struct RunSummary {
+  std::string status = "not run";
+  long long steps = 0;
+  double setupSeconds = 0, loopSeconds = 0, stepsPerSecond = 0;
+  double timeStep = 0, criticalStep = 0;
+  double maxBalanceError = 0;        // relative to the largest energy
+  double firstContact = -1, lastContact = -1, maxForce = 0, impulse = 0;
+  CostSplit cost;
+};
+
+class Simulation {
+public:
+  /// `outputOverride` replaces Output->File when not empty.
+  Simulation(Deck deck, const Runtime& runtime, std::string outputOverride = "");
+  ~Simulation();
+
+  /// Builds and reduces the bodies (collective over MPI), builds the surfaces, estimates the
+  /// stable step and refuses an unstable one.
+  void setup();
+  /// The explicit loop on rank 0; writes the history. Returns its summary (also on other ranks,
+  /// with status "idle").
+  const RunSummary& run();
+  void printSummary(std::ostream& os) const;
+  const std::string& outputFile() const { return output_; }
+
+private:
+  struct Body;
+  Deck deck_;
+  const Runtime& rt_;
+  std::string output_;
+  std::vector<std::unique_ptr<Body>> bodies_;
+  std::vector<std::unique_ptr<BSplineSurface>> surfaces_;
+  RunSummary summary_;
+};
+
+}  // namespace epaphe

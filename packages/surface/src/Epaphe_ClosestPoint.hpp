@@ -1,0 +1,217 @@
+#pragma once
+// Closest point of a bicubic B-spline surface to a node (thesis Leclere 2018, section 2.5.1):
+// Newton-Raphson on f(u,v) = |S(u,v) - x|^2 / 2 in the global parameters, so the foot point moves
+// from patch to patch by itself (clamped in open directions, wrapped in closed ones).
+#include <Kokkos_Core.hpp>
+#include <cmath>
+
+#include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_Error.hpp"
+
+namespace epaphe {
+
+struct Projection {
+  double u, v;       ///< global parameters of the foot point
+  double point[3];   ///< foot point S(u,v)
+  double normal[3];  ///< unit normal at the foot point (orientation applied)
+  double gap;        ///< (x - S) . normal; negative = penetration
+  int iterations;    ///< Newton iterations performed
+  bool converged;    ///< parameter step < tol, or zero (projected) gradient
+  bool outside;      ///< foot point on the edge of an open direction with x beyond that edge
+};
+
+namespace surface_detail {
+
+KOKKOS_INLINE_FUNCTION double dot3(const double a[3], const double b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/// One Newton iterate: parameters, surface point and derivatives, d = S - x, f = |d|^2 / 2.
+struct FootState {
+  double u, v, S[3], Su[3], Sv[3], Suu[3], Suv[3], Svv[3], d[3], f;
+};
+
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION void evalFoot(const BasicSurfaceView<MemorySpace>& s, const double x[3],
+                                     double u, double v, FootState& st) {
+  st.u = u;
+  st.v = v;
+  evaluate(s, u, v, st.S, st.Su, st.Sv, st.Suu, st.Suv, st.Svv);
+  for (int c = 0; c < 3; ++c) st.d[c] = st.S[c] - x[c];
+  st.f = 0.5 * dot3(st.d, st.d);
+}
+
+}  // namespace surface_detail
+
+/// Initial guess: parameters (i, j) of the nearest grid node (brute force over the nodes).
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>& s,
+                                             const double x[3], double& u, double& v) {
+  double best = -1.0;
+  u = v = 0.0;
+  for (int i = 0; i < s.nu; ++i)
+    for (int j = 0; j < s.nv; ++j) {
+      const double dx = s.grid(i, j, 0) - x[0], dy = s.grid(i, j, 1) - x[1],
+                   dz = s.grid(i, j, 2) - x[2];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      if (best < 0.0 || d2 < best) {
+        best = d2;
+        u = double(i);
+        v = double(j);
+      }
+    }
+}
+
+/// Newton-Raphson closest point (eq. of section 2.5.1), warm-started from (u0, v0).
+///  - gradient g = ((S-x).S_u, (S-x).S_v), Hessian H = [S_u.S_u + (S-x).S_uu, ...];
+///  - H not positive definite: Gauss-Newton step (second-derivative terms dropped), lengthened by
+///    doubling while f decreases (flat or concave model far from the surface);
+///  - open directions are box constraints [0, n-1]: a bound whose gradient pushes outwards is held
+///    fixed (1-D Newton in the other parameter), steps are clamped to the domain;
+///  - steps are capped at one patch and halved (at most 30 times) until f does not increase;
+///  - converged when the parameter step norm < tol (thesis crit_NR) or the projected gradient is
+///    ~0 relative to |S_u||S_v|.
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpace>& s,
+                                               const double x[3], double u0, double v0, double tol,
+                                               int maxIter) {
+  using surface_detail::dot3;
+  using surface_detail::evalFoot;
+  using surface_detail::toDomain;
+  const double umax = s.uMax(), vmax = s.vMax();
+  const bool openU = !s.periodicU, openV = !s.periodicV;
+  surface_detail::FootState cur, trial;
+  evalFoot(s, x, toDomain(u0, s.nu, s.periodicU), toDomain(v0, s.nv, s.periodicV), cur);
+  // Parameter step actually taken from cur to (un, vn) (clamped in open directions).
+  auto stepLength = [&](double un, double vn, double du, double dv) {
+    const double su = openU ? un - cur.u : du, sv = openV ? vn - cur.v : dv;
+    return ::sqrt(su * su + sv * sv);
+  };
+
+  Projection p;
+  p.iterations = 0;
+  p.converged = false;
+  for (int it = 0; it < maxIter; ++it) {
+    p.iterations = it + 1;
+    const double gu = dot3(cur.d, cur.Su), gv = dot3(cur.d, cur.Sv);
+    const double a = dot3(cur.Su, cur.Su), b = dot3(cur.Su, cur.Sv), c = dot3(cur.Sv, cur.Sv);
+    double Huu = a + dot3(cur.d, cur.Suu), Huv = b + dot3(cur.d, cur.Suv),
+           Hvv = c + dot3(cur.d, cur.Svv);
+    const bool gaussNewton = !(Huu > 0.0 && Hvv > 0.0 && Huu * Hvv - Huv * Huv > 1e-12 * Huu * Hvv);
+    if (gaussNewton) {  // drop the second-derivative terms: J^T J, positive definite
+      Huu = a;
+      Huv = b;
+      Hvv = c;
+    }
+    // Active bounds of the open directions (KKT: the gradient pushes out of the domain).
+    const bool fixU = openU && ((cur.u <= 0.0 && gu > 0.0) || (cur.u >= umax && gu < 0.0));
+    const bool fixV = openV && ((cur.v <= 0.0 && gv > 0.0) || (cur.v >= vmax && gv < 0.0));
+    const double pgu = fixU ? 0.0 : gu, pgv = fixV ? 0.0 : gv;
+    if (::sqrt(pgu * pgu + pgv * pgv) <= 1e-14 * ::sqrt(a * c)) {
+      p.converged = true;
+      break;
+    }
+    double du = 0.0, dv = 0.0;
+    if (fixU) {
+      dv = -gv / (Hvv > 0.0 ? Hvv : c + 1e-300);
+    } else if (fixV) {
+      du = -gu / (Huu > 0.0 ? Huu : a + 1e-300);
+    } else {
+      const double det = Huu * Hvv - Huv * Huv;
+      if (det > 1e-14 * Huu * Hvv) {
+        du = -(Hvv * gu - Huv * gv) / det;
+        dv = -(Huu * gv - Huv * gu) / det;
+      } else {  // degenerate metric (S_u // S_v): steepest descent
+        const double m = a + c + 1e-300;
+        du = -gu / m;
+        dv = -gv / m;
+      }
+    }
+    double big = ::fabs(du) > ::fabs(dv) ? ::fabs(du) : ::fabs(dv);
+    if (big > 1.0) {  // at most one patch per iteration
+      du /= big;
+      dv /= big;
+      big = 1.0;
+    }
+    // Line search: halve (at most 30 times) until f does not increase, with a slack for round-off.
+    const double slack =
+        8.0 * 2.2e-16 *
+        (cur.f + ::sqrt(2.0 * cur.f) * (::sqrt(dot3(x, x)) + ::sqrt(dot3(cur.S, cur.S))));
+    double alpha = 1.0, stepNorm = 0.0;
+    bool accepted = false;
+    for (int ls = 0; ls <= 30; ++ls) {
+      const double un = toDomain(cur.u + alpha * du, s.nu, s.periodicU);
+      const double vn = toDomain(cur.v + alpha * dv, s.nv, s.periodicV);
+      stepNorm = stepLength(un, vn, alpha * du, alpha * dv);
+      evalFoot(s, x, un, vn, trial);
+      if (trial.f <= cur.f + slack || (ls == 0 && stepNorm < tol)) {
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    if (!accepted) break;  // no decrease along a descent direction: stuck, not converged
+    // Gauss-Newton on a flat or concave model (node beyond the centres of curvature): the step is
+    // too short; extrapolate by doubling while f keeps decreasing, up to one patch.
+    if (gaussNewton && alpha == 1.0 && stepNorm >= tol) {
+      surface_detail::FootState ext;
+      for (double beta = 2.0; beta * big <= 1.0; beta *= 2.0) {
+        const double un = toDomain(cur.u + beta * du, s.nu, s.periodicU);
+        const double vn = toDomain(cur.v + beta * dv, s.nv, s.periodicV);
+        evalFoot(s, x, un, vn, ext);
+        if (!(ext.f < trial.f)) break;
+        trial = ext;
+        stepNorm = stepLength(un, vn, beta * du, beta * dv);
+      }
+    }
+    cur = trial;
+    if (stepNorm < tol) {
+      p.converged = true;
+      break;
+    }
+  }
+
+  p.u = cur.u;
+  p.v = cur.v;
+  unitNormal(s, cur.Su, cur.Sv, p.normal);
+  for (int k = 0; k < 3; ++k) p.point[k] = cur.S[k];
+  p.gap = -dot3(cur.d, p.normal);  // (x - S) . n
+  // Beyond an open edge: on the bound, and the unconstrained (Gauss-Newton) step would leave the
+  // domain by more than tol.
+  const double gu = dot3(cur.d, cur.Su), gv = dot3(cur.d, cur.Sv);
+  const double a = dot3(cur.Su, cur.Su), c = dot3(cur.Sv, cur.Sv);
+  const bool outU = openU && ((cur.u <= 0.0 && gu > tol * a) || (cur.u >= umax && gu < -tol * a));
+  const bool outV = openV && ((cur.v <= 0.0 && gv > tol * c) || (cur.v >= vmax && gv < -tol * c));
+  p.outside = outU || outV;
+  return p;
+}
+
+/// Projects every node x(k) on the surface in one named kernel on the default execution space.
+/// uv(k) is the warm start on input (NaN = cold start from nearestGridPoint) and the foot point
+/// parameters on output. Asynchronous like any Kokkos kernel: fence before reading on the host.
+inline void projectNodes(const SurfaceView& surface, Kokkos::View<const double* [3]> x,
+                         Kokkos::View<double* [2]> uv, Kokkos::View<Projection*> out, double tol,
+                         int maxIter) {
+  EPAPHE_REQUIRE(uv.extent(0) == x.extent(0) && out.extent(0) == x.extent(0),
+                 "surface projection: " << x.extent(0) << " nodes but " << uv.extent(0)
+                                        << " warm starts and " << out.extent(0)
+                                        << " results; size uv and out like x");
+  EPAPHE_REQUIRE(tol > 0.0 && maxIter > 0, "surface projection: tol = " << tol
+                                                                        << ", maxIter = " << maxIter
+                                                                        << "; both must be > 0");
+  const SurfaceView s = surface;
+  Kokkos::parallel_for(
+      "epaphe::surface::project",
+      Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(0, x.extent(0)),
+      KOKKOS_LAMBDA(const int k) {
+        const double xk[3] = {x(k, 0), x(k, 1), x(k, 2)};
+        double u0 = uv(k, 0), v0 = uv(k, 1);
+        if (!(u0 == u0) || !(v0 == v0)) nearestGridPoint(s, xk, u0, v0);
+        const Projection p = closestPoint(s, xk, u0, v0, tol, maxIter);
+        uv(k, 0) = p.u;
+        uv(k, 1) = p.v;
+        out(k) = p;
+      });
+}
+
+}  // namespace epaphe

@@ -1,0 +1,62 @@
+"""Helpers for Epaphe's verification tests: write deck variants, run them, read histories."""
+import os
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+import h5py
+import numpy as np
+
+
+def variant(base_deck, out_path, overrides):
+    """Writes a copy of base_deck with overrides {"Time->Time step": "5e-8", ...}.
+
+    A path names nested ParameterLists and ends with a Parameter; the value replaces the old one
+    (the parameter is created with `type` when absent: pass (value, type))."""
+    tree = ET.parse(base_deck)
+    root = tree.getroot()
+    for path, value in overrides.items():
+        ptype = None
+        if isinstance(value, tuple):
+            value, ptype = value
+        *lists, name = path.split("->")
+        node = root
+        for l in lists:
+            child = node.find(f"./ParameterList[@name='{l}']")
+            if child is None:
+                child = ET.SubElement(node, "ParameterList", name=l)
+            node = child
+        p = node.find(f"./Parameter[@name='{name}']")
+        if p is None:
+            p = ET.SubElement(node, "Parameter", name=name, type=ptype or "string", value=str(value))
+        p.set("value", str(value))
+        if ptype:
+            p.set("type", ptype)
+    tree.write(out_path)
+    return out_path
+
+
+def run(cmd, cwd, expect_ok=True):
+    os.makedirs(cwd, exist_ok=True)
+    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
+    if expect_ok and proc.returncode != 0:
+        sys.stderr.write(proc.stdout + proc.stderr)
+        raise SystemExit(f"command failed ({proc.returncode}): {' '.join(cmd)}")
+    return proc
+
+
+def history(path):
+    """The arrays of an Epaphe HDF5 output, as a dict of numpy arrays (plus attributes)."""
+    out = {}
+    with h5py.File(path, "r") as f:
+        assert f.attrs["status"] in ("complete", b"complete"), f"{path}: status {f.attrs['status']}"
+
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset) and obj.dtype.kind in "fi":
+                out[name] = obj[()]
+
+        f.visititems(visit)
+        out["attrs"] = {k: v for k, v in f["/run"].attrs.items()}
+        for b in f["/bodies"]:
+            out[f"bodies/{b}/attrs"] = {k: v for k, v in f[f"/bodies/{b}"].attrs.items()}
+    return out

@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+"""V1 (VERIFICATION.md): elastic bar on a rigid wall, the setting of code_aster's SDNV100.
+
+Exact 1-D solution: contact from t0 = U0/v0 = 2.0e-5 s to t1 = t0 + 2L/c = 1.0e-4 s, force plateau
+F = rho c S v0 = 1.6e6 N, contact-face velocity zero during contact, rebound at v0 = 100 m/s.
+
+Checked here, for the Lagrange and the penalty method:
+  contact start and end within 1 % of t0 and t1, mean plateau force (impulse / measured duration)
+  within 2 % of F, rebound velocity (linear momentum / rigid mass after release) within 2 % of v0;
+and that the error falls when fixed-interface modes are added and when h shrinks.
+"""
+import argparse
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from epaphe_testing import history, run, variant  # noqa: E402
+
+T0, T1, F, V0 = 2.0e-5, 1.0e-4, 1.6e6, 100.0
+TOL_TIME, TOL_FORCE, TOL_VEL = 0.01, 0.02, 0.02
+# Penalty stiffness per contact node. The bar face (4 nodes) carries 1.6 MN: 4e5 N per node, so
+# kp = 1e10 N/m lets the face penetrate 40 um (0.2 % of the 2 mm gap), and its spring stays below
+# the stable-step limit at h = 1e-7 s (Epaphe checks that before running).
+KP = 1e10
+
+
+def measure(path):
+    h = history(path)
+    t = h["time"]
+    dt = t[1] - t[0]
+    f = h["bodies/Bar/contact/total_force"]
+    on = np.nonzero(f > 0)[0]
+    assert on.size > 0, f"{path}: no contact at all"
+    start = t[on[0]]
+    end = t[on[-1]] + dt                  # first record without force
+    impulse = f.sum() * dt
+    plateau = impulse / (end - start)
+    m = h["bodies/Bar/attrs"]["rigid_mass"]
+    p = h["bodies/Bar/momentum"][:, 0]
+    after = t > end + 5e-6
+    rebound = -p[after].mean() / m
+    face_v = h["bodies/Bar/nodesets/x+/velocity"][:, :, 0].mean(axis=1)
+    during = (t > start + 2e-6) & (t < end - 2e-6)
+    face_mean = face_v[during].mean()
+    balance = np.abs(h["energy/balance_error"]).max()
+    sps = h["attrs"]["steps_per_second"]
+    errs = {
+        "start": abs(start - T0) / T0,
+        "end": abs(end - T1) / T1,
+        "force": abs(plateau - F) / F,
+        "rebound": abs(rebound - V0) / V0,
+    }
+    return dict(start=start, end=end, plateau=plateau, rebound=rebound, face=face_mean, balance=balance,
+                sps=sps, errs=errs, total=sum(errs.values()))
+
+
+def report(label, m):
+    e = m["errs"]
+    print(f"{label:34s} start {m['start']:.4e} ({e['start']:.2%})  end {m['end']:.4e} ({e['end']:.2%})  "
+          f"plateau {m['plateau']:.4e} N ({e['force']:.2%})  rebound {m['rebound']:.3f} m/s ({e['rebound']:.2%})  "
+          f"face v {m['face']:+.3f} m/s  balance {m['balance']:.1e}  {m['sps']:.0f} steps/s")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--run", required=True)
+    ap.add_argument("--deck", required=True)
+    ap.add_argument("--workdir", required=True)
+    a = ap.parse_args()
+    os.makedirs(a.workdir, exist_ok=True)
+    failures = []
+
+    def case(name, overrides):
+        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"),
+                       dict({"Output->File": name + ".h5", "Run->Progress interval": ("0", "double")}, **overrides))
+        run([a.run, deck, "--threads", "2"], a.workdir)
+        return measure(os.path.join(a.workdir, name + ".h5"))
+
+    def check(label, m):
+        report(label, m)
+        e = m["errs"]
+        for key, tol in (("start", TOL_TIME), ("end", TOL_TIME), ("force", TOL_FORCE), ("rebound", TOL_VEL)):
+            if not e[key] <= tol:
+                failures.append(f"{label}: {key} error {e[key]:.3%} > {tol:.0%}")
+        if not abs(m["face"]) <= 0.02 * V0:
+            failures.append(f"{label}: contact-face mean velocity {m['face']:.3f} m/s during contact, expected ~0")
+
+    print("V1 bar on a rigid wall: exact start 2.0e-5 s, end 1.0e-4 s, plateau 1.6e6 N, rebound 100 m/s")
+    check("Lagrange, CB 60 modes, h=1e-7", case("lagrange", {}))
+    check(f"Penalty kp={KP:g}, CB 60 modes, h=1e-7",
+          case("penalty", {"Contact->Method": "Penalty", "Contact->Penalty stiffness": (f"{KP:g}", "double")}))
+
+    # Convergence in the number of fixed-interface modes (h = 5e-8 s), towards the full model.
+    modes = [5, 20, 60]
+    totals = []
+    for nm in modes:
+        m = case(f"modes{nm}", {"Bodies->Bar->Reduction->Fixed-interface modes": (str(nm), "int"),
+                                "Time->Time step": ("5e-8", "double")})
+        report(f"Lagrange, CB {nm} modes, h=5e-8", m)
+        totals.append(m["total"])
+    full = case("full", {"Bodies->Bar->Reduction->Method": "None", "Time->Time step": ("5e-8", "double")})
+    report("Lagrange, full model, h=5e-8", full)
+    print("sum of relative errors vs modes:", ", ".join(f"{n}: {t:.4f}" for n, t in zip(modes, totals)),
+          f", full: {full['total']:.4f}")
+    if not all(totals[i + 1] < totals[i] for i in range(len(totals) - 1)):
+        failures.append(f"error does not fall as modes are added: {totals}")
+
+    # Convergence in the time step (CB 60 modes).
+    steps = [2e-7, 1e-7, 5e-8]
+    totals = []
+    for h in steps:
+        m = case(f"h{h:g}", {"Time->Time step": (f"{h:g}", "double")})
+        report(f"Lagrange, CB 60 modes, h={h:g}", m)
+        totals.append(m["total"])
+    print("sum of relative errors vs h:", ", ".join(f"{h:g}: {t:.4f}" for h, t in zip(steps, totals)))
+    if not all(totals[i + 1] < totals[i] for i in range(len(totals) - 1)):
+        failures.append(f"error does not fall as h shrinks: {totals}")
+
+    if failures:
+        print("FAILED:\n  " + "\n  ".join(failures))
+        return 1
+    print("PASSED")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
