@@ -9,6 +9,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace epaphe {
@@ -47,13 +48,14 @@ EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuch
   const int n = static_cast<int>(K->getGlobalNumRows());
   EPAPHE_REQUIRE(opt.count >= 1 && opt.count < n,
                  "asked for " << opt.count << " eigenpairs of a system with " << n << " DOFs; ask for 1 to " << n - 1);
-  auto op = Teuchos::rcp(new ShiftInvertOperator(M, factorOfShifted));
-  // A block of several vectors: a single-vector Krylov space holds one vector per distinct
-  // eigenvalue, and structures have repeated ones (6 rigid-body modes, bending pairs of symmetric
-  // sections).
+  // Block Krylov-Schur on (K - sigma M)^{-1} M, self-adjoint in the M inner product; its largest
+  // eigenvalues theta = 1 / (lambda - sigma) are the lowest lambda. A block of several vectors:
+  // structures have repeated eigenvalues (6 rigid-body modes, bending pairs of symmetric
+  // sections) and a single-vector Krylov space holds one vector per distinct eigenvalue.
   const int blockSize = std::min(6, opt.count);
   auto x0 = Teuchos::rcp(new MV(K->getDomainMap(), blockSize));
   x0->randomize();
+  auto op = Teuchos::rcp(new ShiftInvertOperator(M, factorOfShifted));
   auto problem = Teuchos::rcp(new Anasazi::BasicEigenproblem<double, MV, OP>(op, M, x0));
   problem->setHermitian(true);
   problem->setNEV(opt.count);
@@ -62,7 +64,10 @@ EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuch
   Teuchos::ParameterList pl;
   pl.set("Which", "LM");
   pl.set("Block Size", blockSize);
-  pl.set("Num Blocks", std::max(3, std::min((n - 1) / blockSize, (2 * opt.count + 10) / blockSize + 2)));
+  // A search space of 3 nev (at least nev + 60) vectors: restarts are rare, and a restart that
+  // splits a cluster of (numerically) repeated eigenvalues is what trips Krylov-Schur.
+  const int wanted = std::max(3 * opt.count, opt.count + 60);
+  pl.set("Num Blocks", std::max(3, std::min((n - 1) / blockSize, wanted / blockSize + 1)));
   pl.set("Maximum Restarts", opt.maxRestarts);
   pl.set("Convergence Tolerance", opt.tolerance);
   pl.set("Verbosity", Anasazi::Errors);

@@ -1,7 +1,7 @@
 #pragma once
 // Lowest eigenpairs of K x = lambda M x by Anasazi's block Krylov-Schur on the shift-invert
-// operator (K - sigma M)^{-1} M, which is self-adjoint in the M inner product; the factorization
-// of K - sigma M is supplied by the caller so that it can be the one already used elsewhere
+// operator (K - sigma M)^{-1} M, self-adjoint in the M inner product; the factorization of
+// K - sigma M is supplied by the caller so that it can be the one already used elsewhere
 // (Craig-Bampton: K_CC, sigma = 0).
 #include "Epaphe_SparseSolver.hpp"
 #include "Epaphe_TpetraTypes.hpp"
@@ -25,7 +25,7 @@ struct EigenResult {
   int restarts = 0;
 };
 
-/// `factorOfShifted` must solve with K - shift * M.
+/// `factorOfShifted` solves with K - shift * M (K itself when shift = 0).
 EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuchos::RCP<const CrsMatrix>& M,
                              const SparseSolver& factorOfShifted, const EigenOptions& options);
 
