@@ -19,6 +19,7 @@ function(epaphe_add_package)
     set(_scope INTERFACE)
   endif()
   add_library(Epaphe::${P_NAME} ALIAS ${_t})
+  set_target_properties(${_t} PROPERTIES EXPORT_NAME ${P_NAME})
   target_include_directories(${_t} ${_scope}
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/src>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/epaphe>)

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
     for (int i = 0; i < 5; ++i)
       for (int j = 0; j < 5; ++j) grid.insert(grid.end(), {double(i), double(j), 1.0});
     epaphe::BSplineSurface plane("plane", 5, 5, grid);
-    const double x[3] = {1.3, 2.7, 0.5};
+    const double x[3] = {1.3, 2.7, 1.5};  // 0.5 above the plane z = 1 (S_u x S_v = +z)
     const auto p = epaphe::closestPoint(plane.hostView(), x, 2.0, 2.0, 1e-12, 20);
     ok = ok && std::abs(p.gap - 0.5) < 1e-12 && std::abs(p.point[0] - 1.3) < 1e-12;
     std::cout << "gap " << p.gap << " at (" << p.point[0] << ", " << p.point[1] << ", " << p.point[2] << ")\n";

@@ -6,6 +6,10 @@
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <regex>
 #include <cctype>
 #include <fstream>
 #include <iomanip>
@@ -195,6 +199,52 @@ void validateList(ParameterList& user, const ParameterList& valid, const std::st
   }
 }
 
+/// Teuchos reads "1e-5x" as 1e-5 and "{nan, 0}" as {0, 0} without a word: check every numeric
+/// value of the text strictly first (whole token a number, and finite).
+void checkNumbers(const std::string& xml, const std::string& origin) {
+  static const std::regex tag(R"(<Parameter\s[^>]*>)");
+  static const std::regex attr(R"re((\w+)\s*=\s*"([^"]*)")re");
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), tag); it != std::sregex_iterator(); ++it) {
+    std::map<std::string, std::string> a;
+    const std::string t = it->str();
+    for (auto jt = std::sregex_iterator(t.begin(), t.end(), attr); jt != std::sregex_iterator(); ++jt)
+      a[(*jt)[1]] = (*jt)[2];
+    const std::string& type = a["type"];
+    const bool isInt = type == "int" || type == "Array(int)";
+    if (!(isInt || type == "double" || type == "Array(double)")) continue;
+    std::string v = a["value"];
+    const bool array = type.rfind("Array", 0) == 0;
+    if (array) {
+      const auto b = v.find('{'), e = v.rfind('}');
+      if (b == std::string::npos || e == std::string::npos || e < b) {
+        ErrorBuilder eb;
+        eb << origin << ":" << 1 + std::count(xml.begin(), xml.begin() + it->position(), '\n') << ": parameter '"
+           << a["name"] << "' of type " << type << " has value \"" << v << "\"; write it as {1, 2, 3}";
+        eb.raise();
+      }
+      v = v.substr(b + 1, e - b - 1);
+    }
+    std::stringstream ss(v);
+    std::string token;
+    while (std::getline(ss, token, array ? ',' : '\0')) {
+      const auto first = token.find_first_not_of(" \t\n");
+      if (first == std::string::npos) {
+        if (array) continue;
+      }
+      const std::string tk = first == std::string::npos ? "" : token.substr(first, token.find_last_not_of(" \t\n") - first + 1);
+      char* end = nullptr;
+      const double d = isInt ? double(std::strtol(tk.c_str(), &end, 10)) : std::strtod(tk.c_str(), &end);
+      if (tk.empty() || *end != '\0' || !std::isfinite(d)) {
+        ErrorBuilder eb;
+        eb << origin << ":" << 1 + std::count(xml.begin(), xml.begin() + it->position(), '\n') << ": parameter '"
+           << a["name"] << "' of type " << type << " has value \"" << a["value"] << "\": '" << tk << "' is not "
+           << (isInt ? "an integer" : "a finite number");
+        eb.raise();
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::string pathOf(const Teuchos::ParameterList& pl, const std::string& name) {
@@ -202,12 +252,13 @@ std::string pathOf(const Teuchos::ParameterList& pl, const std::string& name) {
 }
 
 Teuchos::RCP<Teuchos::ParameterList> readXmlString(const std::string& xml, const std::string& origin) {
+  checkNumbers(xml, origin);
   try {
     return Teuchos::getParametersFromXmlString(xml);
   } catch (const std::exception& e) {
     std::string what = e.what();
     // Keep the parser's own sentence; drop Teuchos' file/line of its source code.
-    auto pos = what.find("\n\n");
+    auto pos = what.rfind("\n\n");
     if (pos != std::string::npos) what = what.substr(pos + 2);
     while (!what.empty() && (what.back() == '\n' || what.back() == ' ')) what.pop_back();
     throw Error(origin + ": not a valid XML parameter list: " + what +

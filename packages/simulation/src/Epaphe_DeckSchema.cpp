@@ -98,8 +98,6 @@ Deck readDeckFromString(const std::string& xml, const std::string& origin) {
   d.text = xml;
   d.origin = origin;
   d.params = readXmlString(xml, origin);
-  EPAPHE_REQUIRE(d.params->name() == "Epaphe" || d.params->name() == "ANONYMOUS",
-                 origin << ": the top list is named '" << d.params->name() << "'; name it \"Epaphe\"");
   d.params->setName("Epaphe");
   validateAndSetDefaults(*d.params, *validDeckParameters(), origin, xml);
   return d;
