@@ -4,23 +4,17 @@
 Prints the reduction time, steps per second and the per-step cost split read from each run's HDF5
 output, and the speedup of 2 threads over 1. Output every 1000 steps so that the loop is measured.
 """
-import argparse
 import os
 import sys
 
 import h5py
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "verification"))
-from epaphe_testing import run, variant  # noqa: E402
+from epaphe_testing import parse_args, run, variant  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--run", required=True)
-    ap.add_argument("--deck", required=True)
-    ap.add_argument("--workdir", required=True)
-    a = ap.parse_args()
-    os.makedirs(a.workdir, exist_ok=True)
+    a = parse_args()
     rate = {}
     for threads in (1, 2):
         name = f"threads{threads}"

@@ -4,7 +4,6 @@
 Run 1 reduces and writes the cache; run 2 (same deck) must say it reused the cache and give a
 bit-identical history; run 3 (one more mode) must reduce again.
 """
-import argparse
 import os
 import sys
 
@@ -12,16 +11,11 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "verification"))
-from epaphe_testing import run, variant  # noqa: E402
+from epaphe_testing import parse_args, run, variant  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--run", required=True)
-    ap.add_argument("--deck", required=True)
-    ap.add_argument("--workdir", required=True)
-    a = ap.parse_args()
-    os.makedirs(a.workdir, exist_ok=True)
+    a = parse_args()
     for f in os.listdir(a.workdir):
         os.remove(os.path.join(a.workdir, f))
     common = {"Time->End time": ("3e-5", "double"), "Bodies->Bar->Reduction->Fixed-interface modes": ("20", "int"),

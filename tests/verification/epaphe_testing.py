@@ -8,6 +8,18 @@ import h5py
 import numpy as np
 
 
+def parse_args(*extra):
+    """The common command line of the test scripts: --run EPAPHE_RUN --deck DECK --workdir DIR
+    (plus `extra` option names); the work directory is created."""
+    import argparse
+    ap = argparse.ArgumentParser()
+    for name in ("--run", "--deck", "--workdir") + extra:
+        ap.add_argument(name, required=True)
+    a = ap.parse_args()
+    os.makedirs(a.workdir, exist_ok=True)
+    return a
+
+
 def variant(base_deck, out_path, overrides):
     """Writes a copy of base_deck with overrides {"Time->Time step": "5e-8", ...}.
 

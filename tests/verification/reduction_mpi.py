@@ -5,7 +5,6 @@ Runs the bar deck with the cache off and a few steps, on 1 and on 2 ranks (Tpetr
 model, MUMPS factors K_CC in parallel, Anasazi runs distributed), and compares the frequencies of
 the reduced models, the fixed-interface modes and the full-model check: 1e-8 relative.
 """
-import argparse
 import os
 import sys
 
@@ -13,19 +12,13 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import run, variant  # noqa: E402
+from epaphe_testing import parse_args, run, variant  # noqa: E402
 
 TOL = 1e-8
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--run", required=True)
-    ap.add_argument("--mpiexec", required=True)
-    ap.add_argument("--deck", required=True)
-    ap.add_argument("--workdir", required=True)
-    a = ap.parse_args()
-    os.makedirs(a.workdir, exist_ok=True)
+    a = parse_args("--mpiexec")
     freqs = {}
     for np_ in (1, 2):
         name = f"np{np_}"

@@ -9,14 +9,13 @@ Checked here, for the Lagrange and the penalty method:
   within 2 % of F, rebound velocity (linear momentum / rigid mass after release) within 2 % of v0;
 and that the error falls when fixed-interface modes are added and when h shrinks.
 """
-import argparse
 import os
 import sys
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import history, run, variant  # noqa: E402
+from epaphe_testing import history, parse_args, run, variant  # noqa: E402
 
 T0, T1, F, V0 = 2.0e-5, 1.0e-4, 1.6e6, 100.0
 TOL_TIME, TOL_FORCE, TOL_VEL = 0.01, 0.02, 0.02
@@ -64,12 +63,7 @@ def report(label, m):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--run", required=True)
-    ap.add_argument("--deck", required=True)
-    ap.add_argument("--workdir", required=True)
-    a = ap.parse_args()
-    os.makedirs(a.workdir, exist_ok=True)
+    a = parse_args()
     failures = []
 
     def case(name, overrides):

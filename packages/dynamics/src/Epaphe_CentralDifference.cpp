@@ -38,6 +38,34 @@ std::vector<double> spdInverse(std::vector<double> A, int n, const char* what) {
 
 }  // namespace
 
+std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOptions& damping) {
+  const int n = model.size;
+  std::vector<double> D(static_cast<std::size_t>(n) * n, 0.0);
+  if (damping.type == DampingType::Rayleigh) {
+    for (std::size_t k = 0; k < D.size(); ++k) D[k] = damping.alpha * model.M[k] + damping.beta * model.K[k];
+  } else if (damping.type == DampingType::Modal) {
+    std::vector<double> V(model.K), B(model.M), w(static_cast<std::size_t>(n));
+    Teuchos::LAPACK<int, double> lapack;
+    int info = 0;
+    double query = 0;
+    lapack.SYGV(1, 'V', 'U', n, V.data(), n, B.data(), n, w.data(), &query, -1, &info);
+    std::vector<double> work(static_cast<std::size_t>(query));
+    lapack.SYGV(1, 'V', 'U', n, V.data(), n, B.data(), n, w.data(), work.data(), static_cast<int>(work.size()), &info);
+    EPAPHE_REQUIRE(info == 0, "modal damping of body '" << model.name << "': the eigenvalue problem failed (LAPACK info "
+                                                         << info << ")");
+    // MV = M V; D = (MV) diag(2 xi omega) (MV)^T
+    std::vector<double> MV(D.size()), MVs(D.size());
+    Teuchos::BLAS<int, double> blas;
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, 1.0, model.M.data(), n, V.data(), n, 0.0, MV.data(), n);
+    for (int j = 0; j < n; ++j) {
+      const double c = 2 * damping.ratio * std::sqrt(std::max(w[j], 0.0));
+      for (int i = 0; i < n; ++i) MVs[static_cast<std::size_t>(j) * n + i] = c * MV[static_cast<std::size_t>(j) * n + i];
+    }
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::TRANS, n, n, n, 1.0, MVs.data(), n, MV.data(), n, 0.0, D.data(), n);
+  }
+  return D;
+}
+
 StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& stiffenedDofs, double addedStiffness,
                             const DampingOptions& damping) {
   const int n = model.size;
@@ -47,11 +75,10 @@ StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& s
   StableStep s;
   s.omegaMax = 2 * M_PI * f.back();
   s.critical = 2.0 / s.omegaMax;
-  if (damping.type == DampingType::Rayleigh) {
-    const double w = s.omegaMax;
-    const double xi = 0.5 * (damping.alpha / w + damping.beta * w);
-    s.critical *= std::sqrt(1 + xi * xi) - xi;
-  }
+  double xi = 0;
+  if (damping.type == DampingType::Rayleigh) xi = 0.5 * (damping.alpha / s.omegaMax + damping.beta * s.omegaMax);
+  if (damping.type == DampingType::Modal) xi = damping.ratio;
+  s.critical *= std::sqrt(1 + xi * xi) - xi;
   return s;
 }
 
@@ -59,9 +86,7 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
   const int n = model.size;
   EPAPHE_REQUIRE(h > 0 && std::isfinite(h), "time step = " << h << " s; it must be a finite value > 0");
   damped_ = damping.type != DampingType::None;
-  std::vector<double> D(static_cast<std::size_t>(n) * n, 0.0);
-  if (damping.type == DampingType::Rayleigh)
-    for (std::size_t k = 0; k < D.size(); ++k) D[k] = damping.alpha * model.M[k] + damping.beta * model.K[k];
+  const std::vector<double> D = dampingMatrix(model, damping);
   // P = [M/h^2 + D/2h]^{-1}
   std::vector<double> lhs(D.size());
   for (std::size_t k = 0; k < lhs.size(); ++k) lhs[k] = model.M[k] / (h * h) + D[k] / (2 * h);

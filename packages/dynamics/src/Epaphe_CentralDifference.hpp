@@ -27,21 +27,29 @@
 
 namespace epaphe {
 
-enum class DampingType { None = 0, Rayleigh = 1 };
+enum class DampingType { None = 0, Rayleigh = 1, Modal = 2 };
 
 struct DampingOptions {
   DampingType type = DampingType::None;
-  double alpha = 0.0;   // Rayleigh: D = alpha M + beta K (eqs. 4.1-4.3)
+  double alpha = 0.0;   // Rayleigh: D = alpha M + beta K (eq. 4.3)
   double beta = 0.0;
+  double ratio = 0.0;   // Modal: xi, the same on every mode (eqs. 4.4-4.5)
 };
+
+/// The damping matrix (dense, column-major). Modal (eqs. 4.4-4.5): with V the M-orthonormal modes
+/// of (K, M) (V^T M V = I, V^T K V = Omega^2), D = V^{-T} diag(2 xi omega_i) V^{-1}
+/// = M V diag(2 xi omega_i) V^T M, so that V^T D V = diag(2 xi omega_i): every mode of the
+/// reduced structure gets the ratio xi, rigid-body modes (omega = 0) none.
+std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOptions& damping);
 
 struct StableStep {
   double omegaMax = 0;      // highest circular frequency of (K + added stiffness, M), rad/s
   double critical = 0;      // largest stable step of the central difference, s
 };
 
-/// Central difference is stable for h <= 2/omega_max (thesis Table 2.1); with Rayleigh damping
-/// h <= 2/omega_max (sqrt(1 + xi^2) - xi), xi = (alpha/omega_max + beta omega_max)/2. `addedStiffness`
+/// Central difference is stable for h <= 2/omega_max (thesis Table 2.1); with damping ratio xi on
+/// the highest mode, h <= 2/omega_max (sqrt(1 + xi^2) - xi), xi = (alpha/omega_max + beta omega_max)/2
+/// for Rayleigh damping, xi for modal damping. `addedStiffness`
 /// is put on the diagonal of `stiffenedDofs` (penalty springs, conservatively on all 3 directions).
 StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& stiffenedDofs, double addedStiffness,
                             const DampingOptions& damping);

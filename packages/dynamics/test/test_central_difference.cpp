@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Teuchos_LAPACK.hpp>
+
 #include <cmath>
 
 using namespace epaphe;
@@ -160,4 +162,29 @@ TEST(SurfaceContact, SeparatedNodeFeelsNothing) {
   EXPECT_EQ(c.numActive(), 0);
   EXPECT_NEAR(c.gap()(0), 0.1, 1e-12);
   EXPECT_EQ(c.force()(0), 0.0);
+}
+
+TEST(CentralDifference, ModalDampingGivesTwoXiOmegaOnEveryMode) {
+  // Two masses and three springs (wall-k-m1-k-m2-k-wall) plus a third free DOF: modes with omega = 0
+  // and two elastic modes; V^T D V must be diag(2 xi omega).
+  ReducedModel r = oscillator(1.0, 0.0);
+  const double k = 100.0;
+  r.K = {2 * k, -k, 0, -k, 2 * k, 0, 0, 0, 0};
+  r.M = {1.0, 0, 0, 0, 2.0, 0, 0, 0, 3.0};
+  DampingOptions d;
+  d.type = DampingType::Modal;
+  d.ratio = 0.02;
+  const std::vector<double> D = dampingMatrix(r, d);
+  std::vector<double> V(r.K), B(r.M), w(3), work(64);
+  int info = 0;
+  Teuchos::LAPACK<int, double>().SYGV(1, 'V', 'U', 3, V.data(), 3, B.data(), 3, w.data(), work.data(), 64, &info);
+  ASSERT_EQ(info, 0);
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      double s = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) s += V[a * 3 + i] * D[j * 3 + i] * V[b * 3 + j];
+      const double expected = a == b ? 2 * d.ratio * std::sqrt(std::max(w[a], 0.0)) : 0.0;
+      EXPECT_NEAR(s, expected, 1e-12) << "mode pair " << a << ", " << b;
+    }
 }

@@ -78,10 +78,13 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addBool(time, "Allow unstable time step", false, "Run even when h exceeds the estimated critical step "
                                                      "(a warning instead of an error)");
     auto& damp = time.sublist("Damping", false, "Damping matrix D");
-    addEnum(damp, "Type", "None", {"None", "Rayleigh"}, {int(DampingType::None), int(DampingType::Rayleigh)},
-            "None, or Rayleigh D = alpha M + beta K (eqs. 4.1-4.3)");
+    addEnum(damp, "Type", "None", {"None", "Rayleigh", "Modal"},
+            {int(DampingType::None), int(DampingType::Rayleigh), int(DampingType::Modal)},
+            "None; Rayleigh D = alpha M + beta K (eq. 4.3); Modal: the same ratio on every mode of the reduced "
+            "model, D = M V diag(2 xi omega) V^T M (eqs. 4.4-4.5)");
     addDouble(damp, "Alpha", 0.0, "Rayleigh mass coefficient (1/s)", 0.0);
     addDouble(damp, "Beta", 0.0, "Rayleigh stiffness coefficient (s)", 0.0);
+    addDouble(damp, "Ratio", 0.0, "Modal damping ratio xi (0.005 is 0.5 %)", 0.0, 1.0);
 
     auto& out = pl->sublist("Output", false, "HDF5 history");
     addString(out, "File", "epaphe.h5", "HDF5 output file (relative paths: from the working directory)");

@@ -154,6 +154,7 @@ void Simulation::setup() {
   damping.type = deck::getEnum<DampingType>(tp.sublist("Damping"), "Type");
   damping.alpha = tp.sublist("Damping").get<double>("Alpha");
   damping.beta = tp.sublist("Damping").get<double>("Beta");
+  damping.ratio = tp.sublist("Damping").get<double>("Ratio");
   const ParameterList& cp = P.sublist("Contact");
   ContactOptions copt;
   copt.method = deck::getEnum<ContactMethod>(cp, "Method");
