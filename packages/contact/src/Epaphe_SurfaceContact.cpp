@@ -51,6 +51,11 @@ SurfaceContact::SurfaceContact(const ReducedModel& body, const std::vector<int>&
   gapH_ = Kokkos::create_mirror_view(gap_);
   forceH_ = Kokkos::create_mirror_view(force_);
   surfH_ = Kokkos::create_mirror_view(surf_);
+  activeH_.reserve(nc);
+  keep_.reserve(nc);
+  ipiv_.reserve(nc);
+  lambda_.reserve(nc);
+  denseMC_.reserve(static_cast<std::size_t>(nc) * nc);
   for (std::size_t s = 0; s < surfaces_.size(); ++s) {
     uv_.emplace_back("epaphe::contact::uv", nc);
     Kokkos::deep_copy(uv_.back(), std::nan(""));  // cold start from the nearest grid node
@@ -151,8 +156,7 @@ void SurfaceContact::correct(const DenseVector& q, CostSplit& cost) {
 void SurfaceContact::solveLagrange(int nA) {
   // Active set iteration: solve MC lambda = -g* (eq. 2.33), release nodes pulled by the surface.
   Teuchos::LAPACK<int, double> lapack;
-  std::vector<int> ipiv;
-  std::vector<double> lambda;
+  std::vector<double>& lambda = lambda_;
   for (int pass = 0; pass <= numNodes() && nA > 0; ++pass) {
     Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
     auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
@@ -176,7 +180,8 @@ void SurfaceContact::solveLagrange(int nA) {
     Kokkos::fence();
     auto MCH = Kokkos::create_mirror_view(MC_);
     Kokkos::deep_copy(MCH, MC_);
-    std::vector<double> A(static_cast<std::size_t>(nA) * nA);
+    std::vector<double>& A = denseMC_;
+    A.resize(static_cast<std::size_t>(nA) * nA);
     for (int b = 0; b < nA; ++b)
       for (int a = 0; a < nA; ++a) A[static_cast<std::size_t>(b) * nA + a] = MCH(a, b);
     if (opt_.lumped) {  // row sums on the diagonal (section 2.5.2)
@@ -188,17 +193,17 @@ void SurfaceContact::solveLagrange(int nA) {
     }
     lambda.assign(static_cast<std::size_t>(nA), 0.0);
     for (int a = 0; a < nA; ++a) lambda[a] = -gapH_(activeH_[a]);
-    ipiv.assign(static_cast<std::size_t>(nA), 0);
+    ipiv_.assign(static_cast<std::size_t>(nA), 0);
     int info = 0;
-    lapack.GESV(nA, 1, A.data(), nA, ipiv.data(), lambda.data(), nA, &info);
+    lapack.GESV(nA, 1, A.data(), nA, ipiv_.data(), lambda.data(), nA, &info);
     EPAPHE_REQUIRE(info == 0, "contact: the contact matrix of " << nA << " active nodes is singular (LAPACK info "
                                                                 << info << "); try lumping it ('Lump contact matrix')");
-    std::vector<int> keep;
+    keep_.clear();
     for (int a = 0; a < nA; ++a)
-      if (lambda[a] >= 0.0) keep.push_back(activeH_[a]);
-    if (static_cast<int>(keep.size()) == nA) break;
-    activeH_ = keep;
-    nA = static_cast<int>(keep.size());
+      if (lambda[a] >= 0.0) keep_.push_back(activeH_[a]);
+    if (static_cast<int>(keep_.size()) == nA) break;
+    activeH_.swap(keep_);
+    nA = static_cast<int>(activeH_.size());
   }
   numActive_ = nA;
   for (int a = 0; a < nA; ++a) forceH_(activeH_[a]) = lambda[a];

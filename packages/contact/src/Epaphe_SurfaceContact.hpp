@@ -93,7 +93,8 @@ private:
   Kokkos::View<int*>::HostMirror surfH_;
   Kokkos::View<int*> active_;             // indices of active nodes
   Kokkos::View<double**, Kokkos::LayoutLeft> MC_;
-  std::vector<int> activeH_;
+  std::vector<int> activeH_, keep_, ipiv_;
+  std::vector<double> lambda_, denseMC_;  // Lagrange solve work space, sized once
   int numActive_ = 0;
   int lastIterations_ = 0;
 };

@@ -44,15 +44,8 @@ std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOption
   if (damping.type == DampingType::Rayleigh) {
     for (std::size_t k = 0; k < D.size(); ++k) D[k] = damping.alpha * model.M[k] + damping.beta * model.K[k];
   } else if (damping.type == DampingType::Modal) {
-    std::vector<double> V(model.K), B(model.M), w(static_cast<std::size_t>(n));
-    Teuchos::LAPACK<int, double> lapack;
-    int info = 0;
-    double query = 0;
-    lapack.SYGV(1, 'V', 'U', n, V.data(), n, B.data(), n, w.data(), &query, -1, &info);
-    std::vector<double> work(static_cast<std::size_t>(query));
-    lapack.SYGV(1, 'V', 'U', n, V.data(), n, B.data(), n, w.data(), work.data(), static_cast<int>(work.size()), &info);
-    EPAPHE_REQUIRE(info == 0, "modal damping of body '" << model.name << "': the eigenvalue problem failed (LAPACK info "
-                                                         << info << ")");
+    std::vector<double> V;
+    const std::vector<double> w = denseEigenpairs(model.K, model.M, n, &V);
     // MV = M V; D = (MV) diag(2 xi omega) (MV)^T
     std::vector<double> MV(D.size()), MVs(D.size());
     Teuchos::BLAS<int, double> blas;
@@ -157,6 +150,11 @@ double CentralDifference::externalWorkIncrement(const DenseVector& qnp1, const D
   Kokkos::deep_copy(tmp2_, qnp1);
   KokkosBlas::axpy(-1.0, qnm1, tmp2_);
   return 0.5 * KokkosBlas::dot(f_, tmp2_);
+}
+
+double CentralDifference::strain(const DenseVector& q) const {
+  KokkosBlas::gemv("N", 1.0, K_, q, 0.0, tmp_);
+  return 0.5 * KokkosBlas::dot(q, tmp_);
 }
 
 double CentralDifference::kinetic(const DenseVector& v) const {

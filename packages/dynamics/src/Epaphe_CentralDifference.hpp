@@ -71,8 +71,9 @@ public:
   double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;   // E_{n+1/2}
   double dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
   double externalWorkIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
-  /// Kinetic energy 1/2 v^T M v.
+  /// Kinetic energy 1/2 v^T M v and strain energy 1/2 q^T K q.
   double kinetic(const DenseVector& v) const;
+  double strain(const DenseVector& q) const;
 
 private:
   double h_;

@@ -45,16 +45,24 @@ ReducedModel unreducedModel(const FullModel& full) {
   return r;
 }
 
-std::vector<double> denseFrequencies(const std::vector<double>& K, const std::vector<double>& M, int n) {
+std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vector<double>& M, int n,
+                                    std::vector<double>* vectors) {
   std::vector<double> A(K), B(M), w(static_cast<std::size_t>(n));
+  const char jobz = vectors ? 'V' : 'N';
   Teuchos::LAPACK<int, double> lapack;
   int info = 0;
   double query = 0;
-  lapack.SYGV(1, 'N', 'U', n, A.data(), n, B.data(), n, w.data(), &query, -1, &info);
+  lapack.SYGV(1, jobz, 'U', n, A.data(), n, B.data(), n, w.data(), &query, -1, &info);
   std::vector<double> work(static_cast<std::size_t>(query));
-  lapack.SYGV(1, 'N', 'U', n, A.data(), n, B.data(), n, w.data(), work.data(), static_cast<int>(work.size()), &info);
+  lapack.SYGV(1, jobz, 'U', n, A.data(), n, B.data(), n, w.data(), work.data(), static_cast<int>(work.size()), &info);
   EPAPHE_REQUIRE(info == 0, "dense eigenvalue problem of size " << n << " failed (LAPACK dsygv info = " << info
                                 << "): the mass matrix is not positive definite");
+  if (vectors) *vectors = std::move(A);
+  return w;
+}
+
+std::vector<double> denseFrequencies(const std::vector<double>& K, const std::vector<double>& M, int n) {
+  std::vector<double> w = denseEigenpairs(K, M, n);
   for (double& x : w) x = std::sqrt(std::max(x, 0.0)) / (2 * M_PI);
   return w;
 }

@@ -44,8 +44,12 @@ struct ReducedModel {
 /// The unreduced model as a ReducedModel with R = I (dense; for small models and references).
 ReducedModel unreducedModel(const FullModel& full);
 
-/// Natural frequencies (Hz, ascending) of a dense model: the generalized problem K x = w^2 M x
-/// solved by LAPACK (dsygv). Negative round-off eigenvalues are returned as 0.
+/// K x = lambda M x for dense symmetric K and positive definite M (n x n, column-major) by LAPACK
+/// dsygv: ascending eigenvalues; with `vectors`, the M-orthonormal eigenvectors (column-major).
+std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vector<double>& M, int n,
+                                    std::vector<double>* vectors = nullptr);
+
+/// Natural frequencies (Hz, ascending) of a dense model. Negative round-off eigenvalues give 0.
 std::vector<double> denseFrequencies(const std::vector<double>& K, const std::vector<double>& M, int n);
 
 }  // namespace epaphe
