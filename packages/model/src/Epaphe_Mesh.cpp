@@ -2,17 +2,33 @@
 
 #include "Epaphe_Error.hpp"
 
+#include <set>
+#include <sstream>
+
 namespace epaphe {
 
-const std::vector<int>& Mesh::nodeSet(const std::string& name, const std::string& context) const {
-  auto it = nodeSets.find(name);
-  if (it == nodeSets.end()) {
-    ErrorBuilder eb;
-    eb << context << ": unknown node set '" << name << "'; the model has:";
-    for (const auto& [n, s] : nodeSets) eb << " '" << n << "' (" << s.size() << " nodes)";
-    eb.raise();
+std::vector<int> resolveNodeSets(const std::map<std::string, std::vector<int>>& sets, const std::string& spec,
+                                 const std::string& context) {
+  std::set<int> nodes;
+  std::stringstream ss(spec);
+  std::string name;
+  while (std::getline(ss, name, ',')) {
+    const auto b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
+    name = b == std::string::npos ? "" : name.substr(b, e - b + 1);
+    auto it = sets.find(name);
+    if (it == sets.end()) {
+      ErrorBuilder eb;
+      eb << context << ": unknown node set '" << name << "'; the model has:";
+      for (const auto& [n, s] : sets) eb << " '" << n << "' (" << s.size() << " nodes)";
+      eb.raise();
+    }
+    nodes.insert(it->second.begin(), it->second.end());
   }
-  return it->second;
+  return std::vector<int>(nodes.begin(), nodes.end());
+}
+
+std::vector<int> Mesh::nodeSet(const std::string& spec, const std::string& context) const {
+  return resolveNodeSets(nodeSets, spec, context);
 }
 
 Mesh makeBoxMesh(const std::array<double, 3>& origin, const std::array<double, 3>& lengths,

@@ -2,6 +2,7 @@
 
 #include "Epaphe_Error.hpp"
 #include "Epaphe_FullModel.hpp"
+#include "Epaphe_Mesh.hpp"
 
 #include <Teuchos_LAPACK.hpp>
 
@@ -10,15 +11,8 @@
 
 namespace epaphe {
 
-const std::vector<int>& ReducedModel::nodeSet(const std::string& setName, const std::string& context) const {
-  auto it = nodeSets.find(setName);
-  if (it == nodeSets.end()) {
-    ErrorBuilder eb;
-    eb << context << ": unknown node set '" << setName << "' in body '" << name << "'; it has:";
-    for (const auto& [n, s] : nodeSets) eb << " '" << n << "' (" << s.size() << " nodes)";
-    eb.raise();
-  }
-  return it->second;
+std::vector<int> ReducedModel::nodeSet(const std::string& spec, const std::string& context) const {
+  return resolveNodeSets(nodeSets, spec, context + " (body '" + name + "')");
 }
 
 std::vector<double> ReducedModel::rigidTranslation(int direction) const {

@@ -34,7 +34,8 @@ struct ReducedModel {
   const double* recoveryRow(int node, int d) const {
     return recovery.data() + (3 * static_cast<std::size_t>(node) + d) * size;
   }
-  const std::vector<int>& nodeSet(const std::string& setName, const std::string& context) const;
+  /// A named node set or a union "a, b" of them (see Mesh::nodeSet).
+  std::vector<int> nodeSet(const std::string& spec, const std::string& context) const;
   /// The reduced coordinates of a rigid translation along `direction` (unit displacement of every
   /// retained DOF along it, zero modal amplitudes). Exact for Craig-Bampton and Guyan, whose
   /// constraint modes reproduce rigid-body motion.

@@ -93,6 +93,10 @@ TEST(Mesh, BoxNodeSets) {
   EXPECT_EQ(m.nodeSet("z-", "test").size(), 5u * 3);
   for (int n : m.nodeSet("x+", "test")) EXPECT_DOUBLE_EQ(m.coords[n][0], 1.0);
   EXPECT_THROW(m.nodeSet("tip", "test"), Error);
+  // unions: disjoint faces, and faces sharing an edge of 4 nodes
+  EXPECT_EQ(m.nodeSet("x+, x-", "test").size(), 2u * 12);
+  EXPECT_EQ(m.nodeSet("x+,y-", "test").size(), 12u + 20u - 4u);  // 5 x 4 nodes on y-, 4 on the shared edge
+  EXPECT_THROW(m.nodeSet("x+, tip", "test"), Error);
 }
 
 TEST(FullModel, MassAndFreeFreeFrequencies) {

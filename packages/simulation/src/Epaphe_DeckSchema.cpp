@@ -56,13 +56,23 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
 
     auto& surf = pl->sublist("Surfaces", false, "One sublist per rigid surface, named by the user").sublist(
         "*", false, "A rigid surface: bicubic B-spline through a grid of points (thesis section 2.4)");
-    addEnum(surf, "Type", "Plane", {"Plane"}, {int(SurfaceType::Plane)},
-            "Plane: a grid of points Origin + i/(nu-1) U + j/(nv-1) V, interpolated by the general B-spline code");
+    addEnum(surf, "Type", "Plane", {"Plane", "Cylinder arc"}, {int(SurfaceType::Plane), int(SurfaceType::CylinderArc)},
+            "Plane: a grid of points Origin + i/(nu-1) U + j/(nv-1) V; Cylinder arc: the grid Center + Radius "
+            "(cos a e1 + sin a e2) + s Axis over the Angles and the Axial range (e1 = Reference, e2 = Axis x e1). "
+            "Either grid is interpolated by the general bicubic B-spline code; an arc of 360 degrees is closed");
     addDoubleArray(surf, "Origin", {0, 0, 0}, "Plane: corner of the grid (m)");
     addDoubleArray(surf, "U", {0, 1, 0}, "Plane: first edge vector of the grid (m)");
     addDoubleArray(surf, "V", {0, 0, 1}, "Plane: second edge vector of the grid (m)");
-    addIntArray(surf, "Points", {5, 5}, "Plane: grid points along U and V (at least 4 each)");
-    addBool(surf, "Flip normal", false, "The contact side is where U x V points; set true for the other side");
+    addIntArray(surf, "Points", {5, 5}, "Grid points along U and V (Plane) or along the arc and the axis "
+                                        "(Cylinder arc); at least 4 each");
+    addDoubleArray(surf, "Center", {0, 0, 0}, "Cylinder arc: a point of the axis (m)");
+    addDoubleArray(surf, "Axis", {0, 0, 1}, "Cylinder arc: axis direction");
+    addDoubleArray(surf, "Reference", {1, 0, 0}, "Cylinder arc: direction of angle 0 (orthogonal to the axis)");
+    addDouble(surf, "Radius", 0.18, "Cylinder arc: radius (m)", 1e-300);
+    addDoubleArray(surf, "Angles", {-40, 40}, "Cylinder arc: first and last angle of the grid (degrees)");
+    addDoubleArray(surf, "Axial range", {-0.05, 0.05}, "Cylinder arc: first and last axial coordinate (m)");
+    addBool(surf, "Flip normal", false, "The contact side is where U x V points (Plane) or away from the axis "
+                                        "(Cylinder arc, the convex side); set true for the other side");
 
     auto& contact = pl->sublist("Contact", false, "Contact treatment (thesis section 2.5)");
     addEnum(contact, "Method", "Lagrange", {"Lagrange", "Penalty"},

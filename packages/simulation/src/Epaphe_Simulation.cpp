@@ -50,6 +50,37 @@ std::array<double, 3> vec3(const ParameterList& pl, const std::string& key, cons
   return {v[0], v[1], v[2]};
 }
 
+/// Grid (i along the arc, j along the axis) of a Cylinder arc surface: with e1 the reference
+/// direction and e2 = axis x e1, S_u x S_v points away from the axis.
+std::vector<double> cylinderArcGrid(const ParameterList& s, int na, int nz, const std::string& origin) {
+  const auto c = vec3(s, "Center", origin);
+  auto a = vec3(s, "Axis", origin), e1 = vec3(s, "Reference", origin);
+  const double R = s.get<double>("Radius");
+  const auto ang = deck::getDoubles(s, "Angles"), ax = deck::getDoubles(s, "Axial range");
+  EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2 && ang[1] > ang[0] && ax[1] > ax[0],
+                 origin << ": '" << deck::pathOf(s, "Angles") << "' and 'Axial range' must each be {first, last} with "
+                        "last > first");
+  auto norm = [](std::array<double, 3>& v) {
+    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (double& x : v) x /= l;
+    return l;
+  };
+  EPAPHE_REQUIRE(norm(a) > 0, origin << ": '" << deck::pathOf(s, "Axis") << "' is the zero vector");
+  const double along = e1[0] * a[0] + e1[1] * a[1] + e1[2] * a[2];
+  for (int d = 0; d < 3; ++d) e1[d] -= along * a[d];
+  EPAPHE_REQUIRE(norm(e1) > 1e-12, origin << ": '" << deck::pathOf(s, "Reference") << "' is parallel to the axis");
+  const std::array<double, 3> e2 = {a[1] * e1[2] - a[2] * e1[1], a[2] * e1[0] - a[0] * e1[2], a[0] * e1[1] - a[1] * e1[0]};
+  std::vector<double> grid;
+  for (int i = 0; i < na; ++i) {
+    const double t = (ang[0] + (ang[1] - ang[0]) * i / (na - 1)) * M_PI / 180.0;
+    for (int j = 0; j < nz; ++j) {
+      const double z = ax[0] + (ax[1] - ax[0]) * j / (nz - 1);
+      for (int d = 0; d < 3; ++d) grid.push_back(c[d] + R * (std::cos(t) * e1[d] + std::sin(t) * e2[d]) + z * a[d]);
+    }
+  }
+  return grid;
+}
+
 std::string canonical(const ParameterList& pl) {
   std::ostringstream os;
   pl.print(os, Teuchos::ParameterList::PrintOptions().showTypes(true).showDoc(false).indent(0));
@@ -126,7 +157,6 @@ void Simulation::setup() {
   for (auto it = surfs.begin(); it != surfs.end(); ++it) {
     const std::string name = surfs.name(it);
     const ParameterList& s = surfs.sublist(name);
-    const auto o = vec3(s, "Origin", origin), U = vec3(s, "U", origin), V = vec3(s, "V", origin);
     const auto pts = deck::getInts(s, "Points");
     EPAPHE_REQUIRE(pts.size() == 2, origin << ": '" << deck::pathOf(s, "Points") << "' has " << pts.size()
                                            << " values; give the grid size as {nu, nv}");
@@ -134,12 +164,15 @@ void Simulation::setup() {
                                                       << ", " << pts[1] << "}; a bicubic surface needs at least 4 points "
                                                       "in each direction");
     std::vector<double> grid;
-    for (int i = 0; i < pts[0]; ++i)
-      for (int j = 0; j < pts[1]; ++j)
-        for (int d = 0; d < 3; ++d)
-          grid.push_back(o[d] + U[d] * i / (pts[0] - 1) + V[d] * j / (pts[1] - 1));
-    SurfaceOptions so;
-    so.closureU = so.closureV = Closure::Open;
+    if (deck::getEnum<SurfaceType>(s, "Type") == SurfaceType::Plane) {
+      const auto o = vec3(s, "Origin", origin), U = vec3(s, "U", origin), V = vec3(s, "V", origin);
+      for (int i = 0; i < pts[0]; ++i)
+        for (int j = 0; j < pts[1]; ++j)
+          for (int d = 0; d < 3; ++d) grid.push_back(o[d] + U[d] * i / (pts[0] - 1) + V[d] * j / (pts[1] - 1));
+    } else {
+      grid = cylinderArcGrid(s, pts[0], pts[1], origin);
+    }
+    SurfaceOptions so;  // closed when the grid repeats its first row (an arc of 360 degrees)
     so.orientation = s.get<bool>("Flip normal") ? -1 : 1;
     so.id = static_cast<int>(surfaces_.size());
     surfaces_.push_back(std::make_unique<BSplineSurface>(name, pts[0], pts[1], grid, so));
