@@ -23,6 +23,7 @@ struct ReducedModel {
   std::vector<int> nodeDof;           // 3 * node + d -> index in q equal to that DOF, or -1
   std::vector<double> recovery;       // (3 * numNodes) x size, row-major: u = R q
   std::vector<std::array<double, 3>> coords;
+  std::vector<std::array<int, 8>> hexes;   // the mesh, for field output (ParaView)
   std::map<std::string, std::vector<int>> nodeSets;
   std::vector<int> retainedNodes;
   std::vector<double> modeFrequencies;  // fixed-interface modes (Hz)

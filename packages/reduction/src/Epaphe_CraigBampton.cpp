@@ -126,6 +126,7 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
   red.method = opt.modes > 0 ? "Craig-Bampton" : "Guyan";
   red.coords = full.mesh.coords;
   red.nodeSets = full.mesh.nodeSets;
+  red.hexes = full.mesh.hexes;
   red.retainedNodes = retained;
   red.nodeDof.assign(full.eq.size(), -1);
   std::vector<int> rIndex(static_cast<std::size_t>(nFree), -1), cIndex(static_cast<std::size_t>(nFree), -1);

@@ -9,9 +9,12 @@
 
 namespace epaphe {
 
+// Bump when the cache layout changes: older files then miss and are rebuilt.
+constexpr const char* cacheFormat = "2 (mesh hexahedra)";
+
 std::string contentKey(const std::string& text) {
   std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : text + "|epaphe " + version) {
+  for (unsigned char c : text + "|epaphe " + version + "|cache format " + cacheFormat) {
     h ^= c;
     h *= 1099511628211ull;
   }
@@ -36,6 +39,9 @@ void saveReducedModel(const ReducedModel& r, const std::string& path, const std:
     f.writeDoubles("/recovery", {3 * nn, n}, r.recovery.data());
     f.writeDoubles("/coordinates", {nn, 3}, r.coords.empty() ? nullptr : r.coords[0].data());
     f.writeInts("/nodeDof", std::vector<long long>(r.nodeDof.begin(), r.nodeDof.end()));
+    std::vector<long long> hex;
+    for (const auto& h : r.hexes) hex.insert(hex.end(), h.begin(), h.end());
+    f.writeInts("/hexahedra", {static_cast<std::uint64_t>(r.hexes.size()), 8}, hex.data());
     f.writeInts("/retainedNodes", std::vector<long long>(r.retainedNodes.begin(), r.retainedNodes.end()));
     f.writeDoubles("/modeFrequencies", r.modeFrequencies);
     f.writeDoubles("/fullFrequencies", r.fullFrequencies);
@@ -67,6 +73,10 @@ bool loadReducedModel(const std::string& path, const std::string& key, ReducedMo
   r.coords.resize(xyz.size() / 3);
   for (std::size_t i = 0; i < r.coords.size(); ++i) r.coords[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
   r.nodeDof = toInts(f.readInts("/nodeDof"));
+  const auto hex = f.readInts("/hexahedra");
+  r.hexes.resize(hex.size() / 8);
+  for (std::size_t e = 0; e < r.hexes.size(); ++e)
+    for (int a = 0; a < 8; ++a) r.hexes[e][a] = static_cast<int>(hex[8 * e + a]);
   r.retainedNodes = toInts(f.readInts("/retainedNodes"));
   r.modeFrequencies = f.readDoubles("/modeFrequencies");
   r.fullFrequencies = f.readDoubles("/fullFrequencies");

@@ -101,6 +101,9 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     auto& out = pl->sublist("Output", false, "HDF5 history");
     addString(out, "File", "epaphe.h5", "HDF5 output file (relative paths: from the working directory)");
     addInt(out, "Every", 10, "Steps between two records", 1);
+    addInt(out, "Fields every", 0, "Steps between two frames of the full displacement field of every body, "
+                                   "written to /bodies/<b>/fields with an XDMF file <output stem>.xmf that ParaView "
+                                   "opens (0: none)", 0);
     addDouble(out, "Energy balance tolerance", 1e-6,
               "The run stops when |energy balance error| / largest energy exceeds it", 0.0);
     return Teuchos::RCP<const Teuchos::ParameterList>(pl);

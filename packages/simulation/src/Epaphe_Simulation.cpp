@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -333,6 +334,7 @@ const RunSummary& Simulation::run() {
   const int every = P.sublist("Output").get<int>("Every");
   const double tolBalance = P.sublist("Output").get<double>("Energy balance tolerance");
   const double progressInterval = P.sublist("Run").get<double>("Progress interval");
+  const int fieldsEvery = P.sublist("Output").get<int>("Fields every");
   const long long nSteps = std::max(1LL, static_cast<long long>(std::ceil(endTime / h - 1e-9)));
   std::ostream& out = rt_.out();
 
@@ -357,6 +359,10 @@ const RunSummary& Simulation::run() {
     std::vector<std::unique_ptr<io::Series>> disp, vel;
     std::unique_ptr<io::Series> gap, force, totalForce, momentum;
     std::vector<DenseVector> Mt;  // M t_d: rigid translations through the mass matrix
+    DenseMatrix R;                // full recovery u = R q, only when fields are written
+    DenseVector uAll;
+    std::vector<double> frame;
+    std::unique_ptr<io::Series> position, displacement;
     std::vector<double> gapRec, forceRec;
     double work = 0, ext = 0, diss = 0, e0 = 0;
   };
@@ -402,6 +408,22 @@ const RunSummary& Simulation::run() {
       }
     }
     r.momentum = std::make_unique<io::Series>(file, g + "/momentum", std::vector<std::uint64_t>{3});
+    if (fieldsEvery > 0) {
+      const std::uint64_t nn = static_cast<std::uint64_t>(b.rom.numNodes());
+      std::vector<long long> hex;
+      for (const auto& e : b.rom.hexes) hex.insert(hex.end(), e.begin(), e.end());
+      file.writeInts(g + "/mesh/hexahedra", {static_cast<std::uint64_t>(b.rom.hexes.size()), 8}, hex.data());
+      file.writeDoubles(g + "/mesh/coordinates", {nn, 3}, b.rom.coords.empty() ? nullptr : b.rom.coords[0].data());
+      r.R = DenseMatrix("epaphe::fields::R", 3 * nn, n);
+      auto Rh = Kokkos::create_mirror_view(r.R);
+      for (std::uint64_t i = 0; i < 3 * nn; ++i)
+        for (int j = 0; j < n; ++j) Rh(i, j) = b.rom.recovery[i * n + j];
+      Kokkos::deep_copy(r.R, Rh);
+      r.uAll = DenseVector("epaphe::fields::u", 3 * nn);
+      r.frame.resize(3 * nn);
+      r.position = std::make_unique<io::Series>(file, g + "/fields/position", std::vector<std::uint64_t>{nn, 3}, 16);
+      r.displacement = std::make_unique<io::Series>(file, g + "/fields/displacement", std::vector<std::uint64_t>{nn, 3}, 16);
+    }
     energyRef += std::abs(r.e0);
     for (const auto& [setName, nodes] : b.watched) {
       file.writeInts(g + "/nodesets/" + setName + "/nodes", std::vector<long long>(nodes.begin(), nodes.end()));
@@ -423,6 +445,21 @@ const RunSummary& Simulation::run() {
     }
   }
   energyRef = std::max(energyRef, 1e-300);
+  std::unique_ptr<io::Series> sFieldTime;
+  if (fieldsEvery > 0) {
+    sFieldTime = std::make_unique<io::Series>(file, "/fields/time", std::vector<std::uint64_t>{});
+    for (const auto& surf : surfaces_) {
+      std::vector<double> pts;
+      for (int i = 0; i < surf->nu(); ++i)
+        for (int j = 0; j < surf->nv(); ++j) {
+          const auto p = surf->gridPoint(i, j);
+          pts.insert(pts.end(), p.begin(), p.end());
+        }
+      file.writeDoubles("/surfaces/" + surf->name() + "/points",
+                        {static_cast<std::uint64_t>(surf->nu()) * static_cast<std::uint64_t>(surf->nv()), 3}, pts.data());
+    }
+  }
+  long long frames = 0;
 
   // ---- the explicit loop -------------------------------------------------------------------------
   Stopwatch loop, sinceProgress;
@@ -536,6 +573,21 @@ const RunSummary& Simulation::run() {
         fail(os.str());
       }
     }
+    if (fieldsEvery > 0 && (n % fieldsEvery == 0 || n == nSteps - 1)) {
+      ScopedPhase phase(cost, "output");
+      sFieldTime->append(&t);
+      ++frames;
+      for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+        BodyRun& r = runs[ib];
+        KokkosBlas::gemv("N", 1.0, r.R, r.q, 0.0, r.uAll);  // u = R q (eq. 2.5)
+        auto uh = Kokkos::create_mirror_view(r.uAll);
+        Kokkos::deep_copy(uh, r.uAll);
+        const auto& X = bodies_[ib]->rom.coords;
+        r.displacement->append(uh.data());
+        for (std::size_t k = 0; k < r.frame.size(); ++k) r.frame[k] = X[k / 3][k % 3] + uh(k);
+        r.position->append(r.frame.data());
+      }
+    }
     for (auto& r : runs) {  // q_{n-1} <- q_n <- q_{n+1}
       std::swap(r.qPrev, r.q);
       std::swap(r.q, r.qNext);
@@ -560,7 +612,62 @@ const RunSummary& Simulation::run() {
   for (const auto& [phase, s] : cost.all()) file.setAttribute("/run/cost", phase, s);
   file.setAttribute("/", "status", "complete");
   file.close();
+  if (fieldsEvery > 0) writeXdmf(frames);
   return summary_;
+}
+
+void Simulation::writeXdmf(long long frames) const {
+  // XDMF 2 for ParaView's Xdmf reader: a temporal collection per body whose frames pick one record
+  // of /bodies/<b>/fields/{position, displacement} by hyperslab, and the rigid surfaces as quads.
+  const std::string path = stem(output_) + ".xmf";
+  std::string h5 = output_;
+  if (const auto slash = h5.rfind('/'); slash != std::string::npos) h5 = h5.substr(slash + 1);
+  io::Hdf5File file(output_, io::Hdf5File::Mode::ReadOnly);
+  const auto times = file.readDoubles("/fields/time");
+  std::ostringstream x;
+  x << std::setprecision(17);
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"2.0\">\n <Domain>\n";
+  for (const auto& b : bodies_) {
+    const std::string g = "/bodies/" + b->name;
+    const long long nn = b->rom.numNodes(), ne = static_cast<long long>(b->rom.hexes.size());
+    auto slab = [&](long long k, const std::string& dataset) {
+      std::ostringstream s;
+      s << "<DataItem ItemType=\"HyperSlab\" Dimensions=\"" << nn << " 3\" Type=\"HyperSlab\">"
+        << "<DataItem Dimensions=\"3 3\" Format=\"XML\">" << k << " 0 0 1 1 1 1 " << nn << " 3</DataItem>"
+        << "<DataItem Dimensions=\"" << frames << " " << nn << " 3\" NumberType=\"Float\" Precision=\"8\" "
+        << "Format=\"HDF\">" << h5 << ":" << g << "/fields/" << dataset << "</DataItem></DataItem>";
+      return s.str();
+    };
+    x << "  <Grid Name=\"" << b->name << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (long long k = 0; k < frames; ++k) {
+      x << "   <Grid Name=\"" << b->name << "\" GridType=\"Uniform\"><Time Value=\"" << times[k] << "\"/>\n"
+        << "    <Topology TopologyType=\"Hexahedron\" NumberOfElements=\"" << ne << "\"><DataItem Dimensions=\"" << ne
+        << " 8\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" << h5 << ":" << g
+        << "/mesh/hexahedra</DataItem></Topology>\n"
+        << "    <Geometry GeometryType=\"XYZ\">" << slab(k, "position") << "</Geometry>\n"
+        << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">" << slab(k, "displacement")
+        << "</Attribute>\n   </Grid>\n";
+    }
+    x << "  </Grid>\n";
+  }
+  for (const auto& s : surfaces_) {
+    const int nu = s->nu(), nv = s->nv();
+    std::ostringstream quads;
+    for (int i = 0; i + 1 < nu; ++i)
+      for (int j = 0; j + 1 < nv; ++j)
+        quads << i * nv + j << " " << (i + 1) * nv + j << " " << (i + 1) * nv + j + 1 << " " << i * nv + j + 1 << " ";
+    x << "  <Grid Name=\"" << s->name() << "\" GridType=\"Uniform\">\n"
+      << "   <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << (nu - 1) * (nv - 1)
+      << "\"><DataItem Dimensions=\"" << (nu - 1) * (nv - 1) << " 4\" NumberType=\"Int\" Format=\"XML\">" << quads.str()
+      << "</DataItem></Topology>\n"
+      << "   <Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"" << nu * nv << " 3\" NumberType=\"Float\" "
+      << "Precision=\"8\" Format=\"HDF\">" << h5 << ":/surfaces/" << s->name() << "/points</DataItem></Geometry>\n"
+      << "  </Grid>\n";
+  }
+  x << " </Domain>\n</Xdmf>\n";
+  std::ofstream out(path);
+  EPAPHE_REQUIRE(out, "cannot write the XDMF file " << path << ": check the directory's permissions");
+  out << x.str();
 }
 
 void Simulation::printSummary(std::ostream& os) const {

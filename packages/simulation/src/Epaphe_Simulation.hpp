@@ -14,6 +14,10 @@
 //   /bodies/<b>/momentum   linear momentum t_d^T M v (records x 3), kg m/s
 //   /bodies/<b>/nodesets/<set>/{nodes, displacement (records x n x 3), velocity (records x n x 3)}
 //   /bodies/<b>/contact/{nodes, gap (records x n), force (records x n), total_force (records)}
+// and, with Output->Fields every > 0, frames of the whole bodies for ParaView (<stem>.xmf):
+//   /fields/time (frames);  /bodies/<b>/mesh/{coordinates, hexahedra};
+//   /bodies/<b>/fields/{position, displacement} (frames x nodes x 3);  /surfaces/<s>/points
+//   ((nu nv) x 3, grid node (i, j) at row i nv + j)
 #include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_DeckSchema.hpp"
@@ -54,6 +58,7 @@ public:
 
 private:
   struct Body;
+  void writeXdmf(long long frames) const;
   Deck deck_;
   const Runtime& rt_;
   std::string output_;
