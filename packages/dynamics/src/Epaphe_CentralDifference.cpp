@@ -38,6 +38,17 @@ std::vector<double> spdInverse(std::vector<double> A, int n, const char* what) {
 
 }  // namespace
 
+void rayleighFromRatios(double f1, double xi1, double f2, double xi2, double& alpha, double& beta) {
+  EPAPHE_REQUIRE(f1 > 0 && f2 > f1, "Rayleigh damping: frequencies " << f1 << " and " << f2
+                                                                      << " Hz; give 0 < f1 < f2");
+  const double w1 = 2 * M_PI * f1, w2 = 2 * M_PI * f2;
+  beta = 2 * (xi2 * w2 - xi1 * w1) / (w2 * w2 - w1 * w1);
+  alpha = 2 * w1 * w2 * (xi1 * w2 - xi2 * w1) / (w2 * w2 - w1 * w1);
+  EPAPHE_REQUIRE(alpha >= 0 && beta >= 0, "Rayleigh damping: ratios " << xi1 << " at " << f1 << " Hz and " << xi2
+                     << " at " << f2 << " Hz give alpha = " << alpha << ", beta = " << beta
+                     << "; a negative coefficient would feed energy into some modes: choose closer ratios");
+}
+
 std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOptions& damping) {
   const int n = model.size;
   std::vector<double> D(static_cast<std::size_t>(n) * n, 0.0);

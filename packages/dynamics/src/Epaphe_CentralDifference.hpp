@@ -36,6 +36,11 @@ struct DampingOptions {
   double ratio = 0.0;   // Modal: xi, the same on every mode (eqs. 4.4-4.5)
 };
 
+/// Rayleigh coefficients giving damping ratio xi1 at f1 and xi2 at f2 (Hz), from
+/// xi(omega) = alpha / (2 omega) + beta omega / 2 (the intent of thesis eqs. 4.1-4.2):
+///   beta = 2 (xi2 w2 - xi1 w1) / (w2^2 - w1^2),  alpha = 2 w1 w2 (xi1 w2 - xi2 w1) / (w2^2 - w1^2).
+void rayleighFromRatios(double f1, double xi1, double f2, double xi2, double& alpha, double& beta);
+
 /// The damping matrix (dense, column-major). Modal (eqs. 4.4-4.5): with V the M-orthonormal modes
 /// of (K, M) (V^T M V = I, V^T K V = Omega^2), D = V^{-T} diag(2 xi omega_i) V^{-1}
 /// = M V diag(2 xi omega_i) V^T M, so that V^T D V = diag(2 xi omega_i): every mode of the

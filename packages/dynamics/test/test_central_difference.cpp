@@ -1,5 +1,6 @@
 // Central difference and contact correction on models small enough to solve by hand.
 #include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_Error.hpp"
 #include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
@@ -187,4 +188,13 @@ TEST(CentralDifference, ModalDampingGivesTwoXiOmegaOnEveryMode) {
       const double expected = a == b ? 2 * d.ratio * std::sqrt(std::max(w[a], 0.0)) : 0.0;
       EXPECT_NEAR(s, expected, 1e-12) << "mode pair " << a << ", " << b;
     }
+}
+
+TEST(CentralDifference, RayleighFromTwoRatios) {
+  double a = 0, b = 0;
+  rayleighFromRatios(100.0, 0.01, 1000.0, 0.02, a, b);
+  auto xi = [&](double f) { const double w = 2 * M_PI * f; return a / (2 * w) + b * w / 2; };
+  EXPECT_NEAR(xi(100.0), 0.01, 1e-14);
+  EXPECT_NEAR(xi(1000.0), 0.02, 1e-14);
+  EXPECT_THROW(rayleighFromRatios(100.0, 0.05, 1000.0, 0.001, a, b), Error);  // would need alpha or beta < 0
 }

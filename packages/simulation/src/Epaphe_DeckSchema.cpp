@@ -96,6 +96,9 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
             "model, D = M V diag(2 xi omega) V^T M (eqs. 4.4-4.5)");
     addDouble(damp, "Alpha", 0.0, "Rayleigh mass coefficient (1/s)", 0.0);
     addDouble(damp, "Beta", 0.0, "Rayleigh stiffness coefficient (s)", 0.0);
+    addDoubleArray(damp, "Rayleigh frequencies", {}, "Rayleigh: {f1, f2} (Hz) where the ratios below are met; when "
+                                                     "given, Alpha and Beta are computed from them (eqs. 4.1-4.2)");
+    addDoubleArray(damp, "Rayleigh ratios", {}, "Rayleigh: damping ratios {xi1, xi2} at the two frequencies");
     addDouble(damp, "Ratio", 0.0, "Modal damping ratio xi (0.005 is 0.5 %)", 0.0, 1.0);
 
     auto& out = pl->sublist("Output", false, "HDF5 history");

@@ -189,6 +189,12 @@ void Simulation::setup() {
   damping.alpha = tp.sublist("Damping").get<double>("Alpha");
   damping.beta = tp.sublist("Damping").get<double>("Beta");
   damping.ratio = tp.sublist("Damping").get<double>("Ratio");
+  if (const auto f = deck::getDoubles(tp.sublist("Damping"), "Rayleigh frequencies"); !f.empty()) {
+    const auto xi = deck::getDoubles(tp.sublist("Damping"), "Rayleigh ratios");
+    EPAPHE_REQUIRE(f.size() == 2 && xi.size() == 2, origin << ": 'Time->Damping->Rayleigh frequencies' and "
+                                                            "'Rayleigh ratios' must both have 2 values");
+    rayleighFromRatios(f[0], xi[0], f[1], xi[1], damping.alpha, damping.beta);
+  }
   const ParameterList& cp = P.sublist("Contact");
   ContactOptions copt;
   copt.method = deck::getEnum<ContactMethod>(cp, "Method");
