@@ -83,6 +83,9 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
                                                  "below it", 1e-300, 1.0);
     addInt(contact, "Newton max iterations", 50, "Closest-point Newton iterations at most", 1, 10000);
     addBool(contact, "Lump contact matrix", false, "Lump the Lagrange contact matrix MC (section 2.5.2)");
+    addDouble(contact, "Friction coefficient", 0.0, "Coulomb mu: the correction acts along n + mu t, t opposing the "
+                                                    "sliding (eqs. 2.29, 2.31), capped so that a node sticks rather "
+                                                    "than slides back", 0.0);
 
     auto& time = pl->sublist("Time", false, "Explicit central difference (thesis eq. 2.2)");
     addDouble(time, "Time step", 1e-7, "h (s)", 1e-300);

@@ -202,6 +202,7 @@ void Simulation::setup() {
   copt.nrTolerance = cp.get<double>("Newton tolerance");
   copt.nrMaxIterations = cp.get<int>("Newton max iterations");
   copt.lumped = cp.get<bool>("Lump contact matrix");
+  copt.friction = cp.get<double>("Friction coefficient");
 
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     auto b = std::make_unique<Body>();
@@ -491,7 +492,7 @@ const RunSummary& Simulation::run() {
         b.integrator->predict(r.q, r.qPrev, r.qNext);  // eq. 2.2
       }
       if (b.contact) {
-        b.contact->correct(r.qNext, cost);  // eqs. 2.28-2.36
+        b.contact->correct(r.qNext, r.q, cost);  // eqs. 2.28-2.36, friction from the motion q_n -> q*
         ScopedPhase phase(cost, "energy");
         r.work += b.contact->workIncrement(r.qNext, r.qPrev);
         totalForce += b.contact->totalForce();

@@ -1,0 +1,386 @@
+// Coulomb friction in the contact correction (thesis section 2.5.2, eqs. 2.29-2.35): a point mass
+// sliding on a plane, where the central difference with Lagrange contact is solvable by hand,
+// and a two-node body with a full (coupled) flexibility, where MC is not symmetric.
+#include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_CentralDifference.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_SurfaceContact.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+using namespace epaphe;
+
+namespace {
+
+/// One free node of mass m (3 DOFs, all retained, K = 0) at the origin.
+ReducedModel pointMass(double m) {
+  ReducedModel r;
+  r.name = "point";
+  r.method = "None";
+  r.size = 3;
+  r.K.assign(9, 0.0);
+  r.M.assign(9, 0.0);
+  for (int i = 0; i < 3; ++i) r.M[4 * i] = m;
+  r.nodeDof = {0, 1, 2};
+  r.recovery = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  r.coords = {{0, 0, 0}};
+  r.nodeSets["all"] = {0};
+  r.retainedNodes = {0};
+  return r;
+}
+
+/// Two nodes on 6 DOFs with a full mass matrix (A A^T + 2 I) and springs of 50 N/m to the ground:
+/// every block of the flexibility couples every direction of both nodes.
+ReducedModel coupledPair() {
+  ReducedModel r;
+  r.name = "pair";
+  r.method = "None";
+  r.size = 6;
+  double A[36];
+  for (int i = 0; i < 36; ++i) A[i] = 0.1 * ((i * 7) % 11) - 0.4;
+  r.M.assign(36, 0.0);
+  r.K.assign(36, 0.0);
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      double s = 0;
+      for (int k = 0; k < 6; ++k) s += A[i * 6 + k] * A[j * 6 + k];
+      r.M[j * 6 + i] = s + (i == j ? 2.0 : 0.0);
+    }
+    r.K[i * 7] = 50.0;
+  }
+  r.nodeDof = {0, 1, 2, 3, 4, 5};
+  r.recovery.assign(36, 0.0);
+  for (int i = 0; i < 6; ++i) r.recovery[i * 7] = 1;
+  r.coords = {{0.1, 0.2, 0.0}, {-0.3, 0.1, 0.0}};
+  r.nodeSets["all"] = {0, 1};
+  r.retainedNodes = {0, 1};
+  return r;
+}
+
+/// The plane z = 0 over [-2, 2]^2 as a 4 x 4 grid: S_u along x, S_v along y, normal +z.
+BSplineSurface floorPlane() {
+  std::vector<double> g;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) g.insert(g.end(), {-2.0 + 4.0 * i / 3.0, -2.0 + 4.0 * j / 3.0, 0.0});
+  SurfaceOptions o;
+  o.closureU = o.closureV = Closure::Open;
+  return BSplineSurface("floor", 4, 4, g, o);
+}
+
+void set(const DenseVector& v, const std::vector<double>& a) {
+  auto h = Kokkos::create_mirror_view(v);
+  for (std::size_t i = 0; i < a.size(); ++i) h(i) = a[i];
+  Kokkos::deep_copy(v, h);
+}
+std::vector<double> get(const DenseVector& v) {
+  auto h = Kokkos::create_mirror_view(v);
+  Kokkos::deep_copy(h, v);
+  return std::vector<double>(h.data(), h.data() + h.extent(0));
+}
+
+constexpr double kMass = 2.0, kG = 9.81, kMu = 0.3, kH = 1e-3;
+constexpr double kVx = 0.6, kVy = -0.8;  // initial sliding velocity, speed 1 m/s
+
+/// The point mass on the floor, sliding at (kVx, kVy) and pressed by its weight.
+struct Slider {
+  ReducedModel r = pointMass(kMass);
+  BSplineSurface s = floorPlane();
+  CentralDifference cd{r, kH, {}};
+  SurfaceContact c;
+  DenseVector qm{"qm", 3}, q{"q", 3}, qp{"qp", 3};
+  CostSplit cost;
+
+  explicit Slider(const ContactOptions& o) : c(r, {0}, {&s}, o, cd.flexibility()) {
+    cd.setConstantForce({0, 0, -kMass * kG});  // its weight, on the floor z = 0
+    set(qm, {-kVx * kH, -kVy * kH, 0.0});      // q_{-1}: sliding at (kVx, kVy), q_0 = 0
+  }
+  /// One step: predict, correct with friction, advance. Returns the step's contact + external work.
+  double step() {
+    cd.predict(q, qm, qp);
+    c.correct(qp, q, cost);
+    const double w = c.workIncrement(qp, qm) + cd.externalWorkIncrement(qp, qm);
+    std::swap(qm, q);
+    std::swap(q, qp);
+    return w;
+  }
+};
+
+ContactOptions withFriction(double mu, ContactMethod method = ContactMethod::Lagrange, double kp = 1e10) {
+  ContactOptions o;
+  o.friction = mu;
+  o.method = method;
+  o.penaltyStiffness = kp;
+  return o;
+}
+
+}  // namespace
+
+TEST(Friction, SlidingNodeDeceleratesAtMuGThenSticks) {
+  Slider run(withFriction(kMu));
+  const double dv = kMu * kG * kH;  // velocity lost per step while sliding
+  const double v0 = std::hypot(kVx, kVy);
+  const int expectedStop = static_cast<int>(std::floor(v0 / dv));  // 339: the step that stops it
+  double vx = kVx, vy = kVy;
+  int stop = -1;
+  std::vector<double> xStop;
+  for (int n = 0; n < 1000; ++n) {
+    run.step();  // now q = q_{n+1}, qm = q_n
+    const std::vector<double> a = get(run.qm), b = get(run.q);
+    ASSERT_EQ(run.c.numActive(), 1) << "step " << n;
+    EXPECT_NEAR(b[2], 0.0, 1e-12) << "step " << n;  // held on the floor
+    EXPECT_NEAR(run.c.force()(0), kMass * kG, 1e-6 * kMass * kG) << "step " << n;  // lambda = m g
+    const double wx = (b[0] - a[0]) / kH, wy = (b[1] - a[1]) / kH;
+    const double speed = std::hypot(wx, wy), before = std::hypot(vx, vy);
+    if (stop < 0 && before > dv) {  // sliding: Coulomb deceleration mu g, along the sliding
+      EXPECT_NEAR(before - speed, dv, 0.01 * dv) << "step " << n;
+      EXPECT_NEAR(wx * kVy - wy * kVx, 0.0, 1e-12 * v0) << "step " << n;  // direction kept
+      EXPECT_EQ(run.c.appliedFriction()(0), kMu) << "step " << n;
+      // t opposes the sliding (to the digits left in x*_{n+1} - x_n once the node is slow)
+      EXPECT_NEAR(run.c.tangent()(0, 0), -kVx / v0, 1e-9) << "step " << n;
+      EXPECT_NEAR(run.c.tangent()(0, 1), -kVy / v0, 1e-9) << "step " << n;
+    } else {  // stopped at the step where mu g h exceeds the speed, and stays stuck
+      if (stop < 0) {
+        stop = n;
+        xStop = b;
+        EXPECT_LT(run.c.appliedFriction()(0), kMu);  // the stick limit capped the friction
+      }
+      EXPECT_LE(speed, 1e-12 * v0) << "step " << n;                  // at rest: no chattering
+      EXPECT_GE(wx * kVx + wy * kVy, -1e-12 * v0 * v0) << "step " << n;  // never reversed
+    }
+    vx = wx;
+    vy = wy;
+  }
+  EXPECT_EQ(stop, expectedStop);
+  ASSERT_FALSE(xStop.empty());
+  const std::vector<double> end = get(run.q);
+  EXPECT_NEAR(end[0], xStop[0], 1e-12);  // no drift once stuck
+  EXPECT_NEAR(end[1], xStop[1], 1e-12);
+  // distance slid from q_0 = 0: the sum over the sliding steps of h (v0 - (n+1) dv)
+  double dist = 0;
+  for (int n = 0; n < expectedStop; ++n) dist += kH * (v0 - (n + 1) * dv);
+  EXPECT_NEAR(std::hypot(xStop[0], xStop[1]), dist, 1e-9);
+}
+
+TEST(Friction, ZeroFrictionReproducesTheFrictionlessCorrection) {
+  // q after one step with the two-node coupled body, recorded with the contact code before
+  // friction existed (Lagrange, lumped Lagrange, penalty k_p = 1e5).
+  const double before[3][6] = {
+      {0.0010990697334369891, -0.00029295772333732612, 0, -0.00093992980401893785, 5.5411691718610181e-05, 0},
+      {0.0010943569748936724, -0.00028998151159553918, -6.4675115699110381e-05, -0.00092004762632299532,
+       4.4804936546428531e-05, 6.4675115699110164e-05},
+      {0.0010039329630326631, -0.00049058406060540672, -0.0019177597640822443, -0.00070873483805815058,
+       0.00028821496292463501, -0.0014277601110512714}};
+  const ReducedModel r = coupledPair();
+  const BSplineSurface s = floorPlane();
+  const double h = 1e-3;
+  const std::vector<double> v = {1.0, -0.5, -2.0, -0.7, 0.3, -1.5};
+  for (int variant = 0; variant < 3; ++variant) {
+    for (int api = 0; api < 3; ++api) {  // old signature, new with mu = 0, old with mu > 0
+      CentralDifference cd(r, h, {});
+      ContactOptions o;
+      if (variant == 1) o.lumped = true;
+      if (variant == 2) {
+        o.method = ContactMethod::Penalty;
+        o.penaltyStiffness = 1e5;
+      }
+      if (api == 2) o.friction = 0.5;  // without q_n there is no friction direction
+      SurfaceContact c(r, {0, 1}, {&s}, o, cd.flexibility());
+      DenseVector qm("qm", 6), q("q", 6), qp("qp", 6);
+      std::vector<double> m(6);
+      for (int i = 0; i < 6; ++i) m[i] = -h * v[i];
+      set(qm, m);
+      cd.predict(q, qm, qp);
+      CostSplit cost;
+      if (api == 1)
+        c.correct(qp, q, cost);
+      else
+        c.correct(qp, cost);
+      const std::vector<double> got = get(qp);
+      for (int i = 0; i < 6; ++i)
+        EXPECT_NEAR(got[i], before[variant][i], 1e-15 * std::fabs(before[variant][i]) + 1e-20)
+            << "variant " << variant << ", api " << api << ", q" << i;
+      EXPECT_EQ(c.numActive(), 2);
+    }
+  }
+  // and friction does change it
+  CentralDifference cd(r, h, {});
+  SurfaceContact c(r, {0, 1}, {&s}, withFriction(0.5), cd.flexibility());
+  DenseVector qm("qm", 6), q("q", 6), qp("qp", 6);
+  std::vector<double> m(6);
+  for (int i = 0; i < 6; ++i) m[i] = -h * v[i];
+  set(qm, m);
+  cd.predict(q, qm, qp);
+  CostSplit cost;
+  c.correct(qp, q, cost);
+  EXPECT_GT(std::fabs(get(qp)[0] - before[0][0]), 1e-6);
+}
+
+TEST(Friction, EnergyBalanceIsExactAndFrictionDissipates) {
+  for (const ContactMethod method : {ContactMethod::Lagrange, ContactMethod::Penalty}) {
+    const std::string which = method == ContactMethod::Lagrange ? "Lagrange" : "penalty";
+    Slider run(withFriction(kMu, method, 1e6));
+    const double e0 = run.cd.halfStepEnergy(run.qm, run.q);
+    double work = 0, contactWork = 0;
+    for (int n = 0; n < 1000; ++n) {
+      run.cd.predict(run.q, run.qm, run.qp);
+      run.c.correct(run.qp, run.q, run.cost);
+      const double wc = run.c.workIncrement(run.qp, run.qm);
+      contactWork += wc;
+      work += wc + run.cd.externalWorkIncrement(run.qp, run.qm);
+      std::swap(run.qm, run.q);
+      std::swap(run.q, run.qp);
+    }
+    const double e = run.cd.halfStepEnergy(run.qm, run.q);
+    EXPECT_NEAR(e - e0, work, 1e-10 * e0) << which;  // every joule accounted for
+    EXPECT_LT(contactWork, -0.9 * e0) << which;     // friction took the kinetic energy
+    if (method == ContactMethod::Lagrange) {
+      EXPECT_NEAR(contactWork, -e0, 1e-6 * e0);  // ... all of it: the node is at rest on the floor
+      EXPECT_NEAR(e, 0.0, 1e-6 * e0);
+    }
+  }
+  // the coupled pair: non-symmetric MC, springs, nodes sliding, sticking and bouncing
+  const ReducedModel r = coupledPair();
+  const BSplineSurface s = floorPlane();
+  const double h = 1e-3;
+  CentralDifference cd(r, h, {});
+  cd.setConstantForce({0, 0, -20.0, 0, 0, -20.0});
+  SurfaceContact c(r, {0, 1}, {&s}, withFriction(0.4), cd.flexibility());
+  DenseVector qm("qm", 6), q("q", 6), qp("qp", 6);
+  set(qm, {-h * 1.0, h * 0.5, 0.0, h * 0.7, -h * 0.3, 0.0});
+  const double e0 = cd.halfStepEnergy(qm, q);
+  double work = 0, contactWork = 0;
+  CostSplit cost;
+  for (int n = 0; n < 3000; ++n) {
+    cd.predict(q, qm, qp);
+    c.correct(qp, q, cost);
+    const double wc = c.workIncrement(qp, qm);
+    contactWork += wc;
+    work += wc + cd.externalWorkIncrement(qp, qm);
+    std::swap(qm, q);
+    std::swap(q, qp);
+  }
+  EXPECT_NEAR(cd.halfStepEnergy(qm, q) - e0, work, 1e-10 * e0);
+  EXPECT_LT(contactWork, 0.0);
+}
+
+TEST(Friction, PenaltyDecelerationIsMuKpPenetrationOverM) {
+  // First contact step: q* = (vx h, 0, -vz h), penetration vz h, lambda = kp vz h (eq. 2.34),
+  // correction F VCT lambda = h^2/m kp pen (n + mu t) (eq. 2.35): the tangential velocity drops by
+  // mu kp pen h / m, a deceleration mu kp pen / m.
+  const double m = 3.0, h = 1e-3, kp = 1e5, mu = 0.4, vz = 2.0;
+  const ReducedModel r = pointMass(m);
+  const BSplineSurface s = floorPlane();
+  for (const double vx : {1.0, 0.01}) {  // sliding on; stopped by the stick limit
+    CentralDifference cd(r, h, {});
+    SurfaceContact c(r, {0}, {&s}, withFriction(mu, ContactMethod::Penalty, kp), cd.flexibility());
+    DenseVector qm("qm", 3), q("q", 3), qp("qp", 3);
+    set(qm, {-vx * h, 0.0, vz * h});
+    cd.predict(q, qm, qp);
+    CostSplit cost;
+    c.correct(qp, q, cost);
+    const std::vector<double> got = get(qp);
+    const double pen = vz * h;
+    EXPECT_NEAR(c.force()(0), kp * pen, 1e-9 * kp * pen);
+    EXPECT_NEAR(got[2], -vz * h + h * h / m * kp * pen, 1e-12);  // normal part as without friction
+    EXPECT_EQ(got[1], 0.0);
+    const double decel = (vx - got[0] / h) / h;
+    if (vx * h > mu * kp * pen * h * h / m) {
+      EXPECT_NEAR(decel, mu * kp * pen / m, 1e-9 * mu * kp * pen / m);
+      EXPECT_EQ(c.appliedFriction()(0), mu);
+    } else {  // the full friction would reverse the sliding: it stops instead
+      EXPECT_NEAR(got[0], 0.0, 1e-15);
+      EXPECT_LT(c.appliedFriction()(0), mu);
+    }
+  }
+}
+
+TEST(Friction, NormalTangentCouplingSlidesSticksOrSlidesBack) {
+  // One node whose mass couples x and z (M_xz = 0.5): its normal force alone moves it along t by
+  // lambda t^T F n, here against the sliding. Hitting the floor at vz = 2 while sliding along +x at
+  // vx, it slides on with mu (fast), stops exactly (stick: friction impulse (s - lambda t^T F n) /
+  // t^T F t, within the cone), or, with little friction, is pushed back by the normal force and
+  // slides back with friction -mu along t opposing that.
+  const double h = 1e-3, vz = 2.0;
+  ReducedModel r = pointMass(1.0);
+  r.M[2] = r.M[6] = 0.5;
+  const BSplineSurface s = floorPlane();
+  enum Expect { Slide, Stick, Back };
+  const struct {
+    double vx, mu;
+    Expect expect;
+  } cases[] = {{3.0, 0.5, Slide}, {1.5, 0.5, Stick}, {0.5, 0.5, Stick}, {0.5, 0.1, Back}};
+  for (const auto& k : cases) {
+    std::vector<double> frictionless;
+    for (const double mu : {0.0, k.mu}) {
+      CentralDifference cd(r, h, {});
+      SurfaceContact c(r, {0}, {&s}, withFriction(mu), cd.flexibility());
+      DenseVector qm("qm", 3), q("q", 3), qp("qp", 3);
+      set(qm, {-k.vx * h, 0.0, vz * h});
+      cd.predict(q, qm, qp);
+      CostSplit cost;
+      c.correct(qp, q, cost);
+      ASSERT_EQ(c.numActive(), 1);
+      const std::vector<double> got = get(qp);
+      const std::string what = "vx " + std::to_string(k.vx) + ", mu " + std::to_string(mu);
+      EXPECT_NEAR(got[2], 0.0, 1e-15) << what;  // on the floor
+      if (mu == 0.0) {
+        frictionless = got;
+        continue;
+      }
+      const double applied = c.appliedFriction()(0);
+      if (k.expect == Slide) {  // slowed down by friction, still moving along +x
+        EXPECT_EQ(applied, mu) << what;
+        EXPECT_GT(got[0], 0.0) << what;
+        EXPECT_LT(got[0], frictionless[0] - 1e-6) << what;
+      } else if (k.expect == Stick) {  // no tangential motion over the step
+        EXPECT_LE(std::fabs(applied), mu) << what;
+        EXPECT_NEAR(got[0], 0.0, 1e-15) << what;
+      } else {  // the normal force pushes it back; friction slows that down
+        EXPECT_EQ(applied, -mu) << what;
+        EXPECT_LT(frictionless[0], got[0] - 1e-6) << what;
+        EXPECT_LT(got[0], 0.0) << what;
+      }
+    }
+    if (k.vx == 0.5 && k.expect == Stick) EXPECT_LT(frictionless[0], 0.0);  // held against a push back
+  }
+}
+
+TEST(Friction, NonSymmetricContactMatrixStillClosesTheGaps) {
+  const ReducedModel r = coupledPair();
+  const BSplineSurface s = floorPlane();
+  const double h = 1e-3;
+  for (const double mu : {0.0, 0.2, 1.0}) {
+    CentralDifference cd(r, h, {});
+    SurfaceContact c(r, {0, 1}, {&s}, withFriction(mu), cd.flexibility());
+    DenseVector qm("qm", 6), q("q", 6), qp("qp", 6);
+    set(qm, {-h * 1.0, h * 0.5, h * 2.0, h * 0.7, -h * 0.3, h * 1.5});
+    cd.predict(q, qm, qp);
+    CostSplit cost;
+    c.correct(qp, q, cost);
+    ASSERT_EQ(c.numActive(), 2) << "mu " << mu;
+    EXPECT_LT(c.gap()(0), -1e-4);
+    c.measureGaps(qp, cost);
+    EXPECT_NEAR(c.gap()(0), 0.0, 1e-15) << "mu " << mu;
+    EXPECT_NEAR(c.gap()(1), 0.0, 1e-15) << "mu " << mu;
+  }
+}
+
+TEST(Friction, NegativeOrNonFiniteCoefficientIsRejected) {
+  const ReducedModel r = pointMass(1.0);
+  const BSplineSurface s = floorPlane();
+  CentralDifference cd(r, 1e-3, {});
+  for (const double mu : {-0.1, std::nan("")}) {
+    try {
+      SurfaceContact c(r, {0}, {&s}, withFriction(mu), cd.flexibility());
+      ADD_FAILURE() << "mu = " << mu << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("friction"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(SurfaceContact(r, {0}, {&s}, withFriction(0.0), cd.flexibility()));
+}
