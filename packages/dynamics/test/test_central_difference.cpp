@@ -4,6 +4,8 @@
 #include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
+#include "TestModels.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Teuchos_LAPACK.hpp>
@@ -11,28 +13,9 @@
 #include <cmath>
 
 using namespace epaphe;
+using epaphe::test::oscillator;
 
 namespace {
-
-/// One node of mass m on a spring k in each direction (3 DOFs, all retained).
-ReducedModel oscillator(double m, double k) {
-  ReducedModel r;
-  r.name = "oscillator";
-  r.method = "None";
-  r.size = 3;
-  r.K.assign(9, 0.0);
-  r.M.assign(9, 0.0);
-  for (int i = 0; i < 3; ++i) {
-    r.K[4 * i] = k;
-    r.M[4 * i] = m;
-  }
-  r.nodeDof = {0, 1, 2};
-  r.recovery = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  r.coords = {{0, 0, 0}};
-  r.nodeSets["all"] = {0};
-  r.retainedNodes = {0};
-  return r;
-}
 
 void set(const DenseVector& v, double a, double b, double c) {
   auto h = Kokkos::create_mirror_view(v);

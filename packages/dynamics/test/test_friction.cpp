@@ -6,6 +6,8 @@
 #include "Epaphe_Error.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
+#include "TestModels.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,25 +16,9 @@
 #include <vector>
 
 using namespace epaphe;
+using epaphe::test::pointMass;
 
 namespace {
-
-/// One free node of mass m (3 DOFs, all retained, K = 0) at the origin.
-ReducedModel pointMass(double m) {
-  ReducedModel r;
-  r.name = "point";
-  r.method = "None";
-  r.size = 3;
-  r.K.assign(9, 0.0);
-  r.M.assign(9, 0.0);
-  for (int i = 0; i < 3; ++i) r.M[4 * i] = m;
-  r.nodeDof = {0, 1, 2};
-  r.recovery = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  r.coords = {{0, 0, 0}};
-  r.nodeSets["all"] = {0};
-  r.retainedNodes = {0};
-  return r;
-}
 
 /// Two nodes on 6 DOFs with a full mass matrix (A A^T + 2 I) and springs of 50 N/m to the ground:
 /// every block of the flexibility couples every direction of both nodes.
