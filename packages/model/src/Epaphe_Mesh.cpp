@@ -2,6 +2,8 @@
 
 #include "Epaphe_Error.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <set>
 #include <sstream>
 
@@ -65,6 +67,62 @@ Mesh makeBoxMesh(const std::array<double, 3>& origin, const std::array<double, 3
         if (k == 0) m.nodeSets["z-"].push_back(n);
         if (k == nz) m.nodeSets["z+"].push_back(n);
       }
+  return m;
+}
+
+Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius, double thickness,
+                         const std::array<double, 2>& angles, const std::array<double, 2>& axial,
+                         const std::array<int, 3>& elements) {
+  EPAPHE_REQUIRE(innerRadius > 0 && thickness > 0, "ring segment mesh: inner radius " << innerRadius << " m and thickness "
+                                                       << thickness << " m must both be > 0");
+  EPAPHE_REQUIRE(angles[1] > angles[0] && angles[1] - angles[0] < 360.0,
+                 "ring segment mesh: angles {" << angles[0] << ", " << angles[1]
+                                               << "} degrees; give {first, last} with 0 < last - first < 360");
+  EPAPHE_REQUIRE(axial[1] > axial[0], "ring segment mesh: axial range {" << axial[0] << ", " << axial[1]
+                                                                      << "}; give {first, last} with last > first");
+  for (int d = 0; d < 3; ++d)
+    EPAPHE_REQUIRE(elements[d] >= 1, "ring segment mesh: " << elements[d] << " elements "
+                                                           << (d == 0 ? "through the thickness" : d == 1 ? "along the arc" : "along the axis")
+                                                           << ", at least 1 is needed");
+  const int nr = elements[0], nt = elements[1], nz = elements[2];
+  const int pr = nr + 1, pt = nt + 1, pz = nz + 1;
+  // i radial, j angular, k axial: r x theta = z keeps every hexahedron right-handed.
+  auto id = [&](int i, int j, int k) { return i + pr * (j + pt * k); };
+  Mesh m;
+  m.coords.resize(static_cast<std::size_t>(pr) * pt * pz);
+  for (int k = 0; k < pz; ++k)
+    for (int j = 0; j < pt; ++j)
+      for (int i = 0; i < pr; ++i) {
+        const double r = innerRadius + thickness * i / nr;
+        const double a = (angles[0] + (angles[1] - angles[0]) * j / nt) * M_PI / 180.0;
+        m.coords[id(i, j, k)] = {center[0] + r * std::cos(a), center[1] + r * std::sin(a),
+                                 center[2] + axial[0] + (axial[1] - axial[0]) * k / nz};
+      }
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < nt; ++j)
+      for (int i = 0; i < nr; ++i)
+        m.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1),
+                           id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
+  auto& all = m.nodeSets["all"];
+  for (int n = 0; n < m.numNodes(); ++n) all.push_back(n);
+  for (int k = 0; k < pz; ++k)
+    for (int j = 0; j < pt; ++j)
+      for (int i = 0; i < pr; ++i) {
+        const int n = id(i, j, k);
+        if (i == 0) m.nodeSets["inner"].push_back(n);
+        if (i == nr) m.nodeSets["outer"].push_back(n);
+        if (j == 0) m.nodeSets["end-"].push_back(n);
+        if (j == nt) m.nodeSets["end+"].push_back(n);
+        if (k == 0) m.nodeSets["z-"].push_back(n);
+        if (k == nz) m.nodeSets["z+"].push_back(n);
+      }
+  for (auto& [name, nodes] : m.nodeSets) std::sort(nodes.begin(), nodes.end());
+  for (const auto& [name, i] : {std::pair<std::string, int>{"inner", 0}, {"outer", nr}}) {
+    NodeGrid g{pt, pz, {}};
+    for (int j = 0; j < pt; ++j)
+      for (int k = 0; k < pz; ++k) g.nodes.push_back(id(i, j, k));
+    m.nodeGrids[name] = g;
+  }
   return m;
 }
 

@@ -7,10 +7,18 @@
 
 namespace epaphe {
 
+/// Nodes of a structured face in grid order: node (i, j) is nodes[i * nv + j]; the order a
+/// B-spline surface is built from (i along u, j along v).
+struct NodeGrid {
+  int nu = 0, nv = 0;
+  std::vector<int> nodes;
+};
+
 struct Mesh {
   std::vector<std::array<double, 3>> coords;
   std::vector<std::array<int, 8>> hexes;              // node indices, VTK/Abaqus C3D8 order
   std::map<std::string, std::vector<int>> nodeSets;   // sorted node indices
+  std::map<std::string, NodeGrid> nodeGrids;          // ordered faces, for surfaces built on a body
 
   int numNodes() const { return static_cast<int>(coords.size()); }
   /// The named node set, or the union of several named "x-, x+, y-" (sorted, no repeats); an
@@ -26,5 +34,15 @@ std::vector<int> resolveNodeSets(const std::map<std::string, std::vector<int>>& 
 /// Node sets: "all", and the six faces "x-", "x+", "y-", "y+", "z-", "z+".
 Mesh makeBoxMesh(const std::array<double, 3>& origin, const std::array<double, 3>& lengths,
                  const std::array<int, 3>& elements);
+
+/// A segment of a thick cylindrical ring about the z axis through `center`: radii
+/// [innerRadius, innerRadius + thickness], angles [angles[0], angles[1]] (degrees, from +x towards
+/// +y), z in [center.z + axial[0], center.z + axial[1]]; elements = {radial, angular, axial}.
+/// Node sets: all, inner, outer (the two cylindrical faces), end- and end+ (the faces at the first
+/// and last angle, where a ring is clamped), z- and z+. Node grids "inner" and "outer": u along the
+/// angle, v along z, so that S_u x S_v points away from the axis.
+Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius, double thickness,
+                         const std::array<double, 2>& angles, const std::array<double, 2>& axial,
+                         const std::array<int, 3>& elements);
 
 }  // namespace epaphe
