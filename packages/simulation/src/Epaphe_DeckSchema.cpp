@@ -27,11 +27,18 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     auto& body = pl->sublist("Bodies", false, "One sublist per flexible body, named by the user").sublist(
         "*", false, "A flexible body: mesh, material, reduction, contact nodes");
     auto& mesh = body.sublist("Mesh", false, "The body's finite-element mesh");
-    addEnum(mesh, "Type", "Box", {"Box"}, {int(MeshType::Box)},
-            "Box: structured 8-node hexahedra; node sets all, x-, x+, y-, y+, z-, z+");
-    addDoubleArray(mesh, "Origin", {0, 0, 0}, "Box: corner with the smallest coordinates (m)");
+    addEnum(mesh, "Type", "Box", {"Box", "Ring segment"}, {int(MeshType::Box), int(MeshType::RingSegment)},
+            "Box: structured 8-node hexahedra, node sets all, x-, x+, y-, y+, z-, z+. Ring segment: a thick "
+            "cylindrical arc about the z axis through Origin, node sets all, inner, outer, end-, end+, z-, z+");
+    addDoubleArray(mesh, "Origin", {0, 0, 0}, "Box: corner with the smallest coordinates; Ring segment: a point of "
+                                              "its axis (m)");
     addDoubleArray(mesh, "Lengths", {0.2, 0.02, 0.02}, "Box: edge lengths along x, y, z (m)");
-    addIntArray(mesh, "Elements", {100, 1, 1}, "Box: number of hexahedra along x, y, z");
+    addIntArray(mesh, "Elements", {100, 1, 1}, "Box: hexahedra along x, y, z; Ring segment: through the "
+                                               "thickness, along the arc, along the axis");
+    addDouble(mesh, "Inner radius", 0.15, "Ring segment: inner radius (m)", 1e-300);
+    addDouble(mesh, "Thickness", 0.03, "Ring segment: radial thickness (m)", 1e-300);
+    addDoubleArray(mesh, "Angles", {135, 225}, "Ring segment: first and last angle (degrees, from +x to +y)");
+    addDoubleArray(mesh, "Axial range", {-0.05, 0.05}, "Ring segment: first and last z, from Origin (m)");
     auto& mat = body.sublist("Material", false, "Isotropic linear elastic material");
     addDouble(mat, "Density", 7800, "Mass density (kg/m^3)", 1e-300);
     addDouble(mat, "Young's modulus", 2.1e11, "Young's modulus (Pa)", 1e-300);

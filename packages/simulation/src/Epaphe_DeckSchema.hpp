@@ -7,7 +7,7 @@
 
 namespace epaphe {
 
-enum class MeshType { Box = 0 };
+enum class MeshType { Box = 0, RingSegment = 1 };
 enum class ReductionMethod { CraigBampton = 0, Guyan = 1, None = 2 };
 enum class SurfaceType { Plane = 0, CylinderArc = 1 };
 

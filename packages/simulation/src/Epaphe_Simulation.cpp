@@ -238,7 +238,16 @@ void Simulation::setup() {
       const ParameterList& mp = bp.sublist("Mesh");
       const auto el = deck::getInts(mp, "Elements");
       EPAPHE_REQUIRE(el.size() == 3, ctx << ": 'Mesh->Elements' has " << el.size() << " values; give {nx, ny, nz}");
-      Mesh mesh = makeBoxMesh(vec3(mp, "Origin", origin), vec3(mp, "Lengths", origin), {el[0], el[1], el[2]});
+      Mesh mesh;
+      if (deck::getEnum<MeshType>(mp, "Type") == MeshType::Box) {
+        mesh = makeBoxMesh(vec3(mp, "Origin", origin), vec3(mp, "Lengths", origin), {el[0], el[1], el[2]});
+      } else {
+        const auto ang = deck::getDoubles(mp, "Angles"), ax = deck::getDoubles(mp, "Axial range");
+        EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2, ctx << ": 'Mesh->Angles' and 'Mesh->Axial range' must each "
+                                                                 "be {first, last}");
+        mesh = makeRingSegmentMesh(vec3(mp, "Origin", origin), mp.get<double>("Inner radius"),
+                                   mp.get<double>("Thickness"), {ang[0], ang[1]}, {ax[0], ax[1]}, {el[0], el[1], el[2]});
+      }
       Material mat;
       mat.density = bp.sublist("Material").get<double>("Density");
       mat.young = bp.sublist("Material").get<double>("Young's modulus");
