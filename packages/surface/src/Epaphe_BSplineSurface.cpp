@@ -191,6 +191,7 @@ BSplineSurface::BSplineSurface(std::string name, int nu, int nv, const double* p
   hostGrid_ = Kokkos::create_mirror_view(view_.grid);
   loadGrid(points, "constructor");
   computeControlPoints();
+  buildBins();
 }
 
 void BSplineSurface::loadGrid(const double* points, const char* where) {
@@ -237,6 +238,83 @@ void BSplineSurface::computeControlPoints() {
 void BSplineSurface::update(const double* points) {
   loadGrid(points, "update");
   computeControlPoints();
+  buildBins();
+}
+
+void BSplineSurface::buildBins() {
+  const int mu = view_.nu, mv = view_.nv, n = mu * mv;
+  auto node = [&](int k, int c) { return hostGrid_(k / mv, k % mv, c); };
+  // Node box.
+  double lo[3], hi[3];
+  for (int c = 0; c < 3; ++c) lo[c] = hi[c] = node(0, c);
+  for (int k = 1; k < n; ++k)
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], node(k, c));
+      hi[c] = std::max(hi[c], node(k, c));
+    }
+  // Cell side: mean distance between neighbouring nodes (a cell holds O(1) nodes of the surface),
+  // enlarged if the box would need more than max(64, 2 nodes) cells (e.g. a large closed surface).
+  double sum = 0.0;
+  long edges = 0;
+  for (int i = 0; i < mu; ++i)
+    for (int j = 0; j < mv; ++j) {
+      const double* p = &hostGrid_(i, j, 0);
+      if (i + 1 < mu || view_.periodicU) {
+        sum += distance(p, &hostGrid_((i + 1) % mu, j, 0));
+        ++edges;
+      }
+      if (j + 1 < mv || view_.periodicV) {
+        sum += distance(p, &hostGrid_(i, (j + 1) % mv, 0));
+        ++edges;
+      }
+    }
+  double h = edges > 0 ? sum / double(edges) : 0.0;
+  const double diag = distance(lo, hi);
+  if (!(h > 0.0)) h = diag > 0.0 ? diag : 1.0;
+  const double maxCells = std::max(64.0, 2.0 * n);
+  double dims[3];
+  for (int pass = 0; pass < 64; ++pass) {
+    double cells = 1.0;
+    for (int c = 0; c < 3; ++c) {
+      dims[c] = std::max(1.0, std::ceil((hi[c] - lo[c]) / h));
+      cells *= dims[c];
+    }
+    if (cells <= maxCells) break;
+    h *= std::cbrt(cells / maxCells) * (1.0 + 1e-6);
+  }
+  double scale = h;
+  for (int c = 0; c < 3; ++c) {
+    view_.binOrigin[c] = lo[c];
+    view_.binUpper[c] = hi[c];
+    view_.binDims[c] = int(dims[c]);
+    scale = std::max({scale, std::fabs(lo[c]), std::fabs(hi[c])});
+  }
+  view_.binSize = h;
+  view_.binSlack = 1e-12 * scale;
+  const int cells = view_.binDims[0] * view_.binDims[1] * view_.binDims[2];
+
+  if (hostBinStart_.extent(0) != std::size_t(cells) + 1) {
+    view_.binStart = SurfaceView::Indices("epaphe::surface::" + name_ + "::binStart", cells + 1);
+    hostBinStart_ = Kokkos::create_mirror_view(view_.binStart);
+  }
+  if (hostBinNodes_.extent(0) != std::size_t(n)) {
+    view_.binNodes = SurfaceView::Indices("epaphe::surface::" + name_ + "::binNodes", n);
+    hostBinNodes_ = Kokkos::create_mirror_view(view_.binNodes);
+  }
+  // Counting sort by cell, stable: nodes ascending within a cell.
+  std::vector<int> cellOf(n);
+  for (int c = 0; c <= cells; ++c) hostBinStart_(c) = 0;
+  for (int k = 0; k < n; ++k) {
+    int a[3];
+    for (int c = 0; c < 3; ++c) a[c] = surface_detail::binCoord(view_, node(k, c), c);
+    cellOf[k] = (a[0] * view_.binDims[1] + a[1]) * view_.binDims[2] + a[2];
+    ++hostBinStart_(cellOf[k] + 1);
+  }
+  for (int c = 0; c < cells; ++c) hostBinStart_(c + 1) += hostBinStart_(c);
+  std::vector<int> fill(hostBinStart_.data(), hostBinStart_.data() + cells);
+  for (int k = 0; k < n; ++k) hostBinNodes_(fill[cellOf[k]]++) = k;
+  Kokkos::deep_copy(view_.binStart, hostBinStart_);
+  Kokkos::deep_copy(view_.binNodes, hostBinNodes_);
 }
 
 void BSplineSurface::update(const std::vector<double>& points) {
@@ -271,6 +349,15 @@ HostSurfaceView BSplineSurface::hostView() const {
   h.periodicV = view_.periodicV;
   h.orientation = view_.orientation;
   h.id = view_.id;
+  h.binStart = hostBinStart_;
+  h.binNodes = hostBinNodes_;
+  for (int c = 0; c < 3; ++c) {
+    h.binOrigin[c] = view_.binOrigin[c];
+    h.binUpper[c] = view_.binUpper[c];
+    h.binDims[c] = view_.binDims[c];
+  }
+  h.binSize = view_.binSize;
+  h.binSlack = view_.binSlack;
   return h;
 }
 

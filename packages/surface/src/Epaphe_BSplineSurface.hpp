@@ -31,6 +31,19 @@ struct BasicSurfaceView {
   int orientation = 1;     ///< unit normal = orientation * (S_u x S_v) / |S_u x S_v|
   int id = 0;              ///< user id of the surface
 
+  // Broad phase of the cold-start closest-point search: uniform bucket grid of cubic cells of side
+  // binSize over the grid nodes. Cell (a,b,c) (a along x) has flat index (a*binDims[1] + b) *
+  // binDims[2] + c and holds the nodes binNodes[binStart[cell] .. binStart[cell+1]), node (i,j)
+  // stored as i*nv + j, ascending within a cell. Empty views (hand-built view): no broad phase.
+  using Indices = Kokkos::View<int*, MemorySpace>;
+  Indices binStart;            ///< [cells + 1] offsets into binNodes
+  Indices binNodes;            ///< [nu*nv] node indices sorted by cell
+  double binOrigin[3] = {0.0, 0.0, 0.0};  ///< lower corner of cell (0,0,0) = min of the nodes
+  double binUpper[3] = {0.0, 0.0, 0.0};   ///< max of the nodes (node box = [binOrigin, binUpper])
+  double binSize = 1.0;                   ///< side of a cell
+  double binSlack = 0.0;                  ///< absolute round-off margin of the pruning bounds
+  int binDims[3] = {0, 0, 0};             ///< cells along x, y, z
+
   /// Upper end of the parameter range: n-1 (open) or N (closed, excluded).
   KOKKOS_INLINE_FUNCTION double uMax() const { return periodicU ? double(nu) : double(nu - 1); }
   KOKKOS_INLINE_FUNCTION double vMax() const { return periodicV ? double(nv) : double(nv - 1); }
@@ -82,6 +95,15 @@ KOKKOS_INLINE_FUNCTION void locate(double u, int n, bool periodic, int& i, doubl
     i = f < 0.0 ? 0 : (f > double(n - 2) ? n - 2 : int(f));
   }
   t = u - double(i);
+}
+
+/// Broad phase: cell coordinate of x along axis a, clamped to [0, binDims[a]-1] (NaN -> 0).
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION int binCoord(const BasicSurfaceView<MemorySpace>& s, double x, int a) {
+  const double t = (x - s.binOrigin[a]) / s.binSize;
+  if (!(t >= 0.0)) return 0;
+  if (t >= double(s.binDims[a] - 1)) return s.binDims[a] - 1;
+  return int(t);
 }
 
 }  // namespace surface_detail
@@ -210,6 +232,7 @@ class BSplineSurface {
  private:
   void loadGrid(const double* points, const char* where);
   void computeControlPoints();
+  void buildBins();  ///< (re)builds the broad-phase bucket grid from hostGrid_ (O(nodes))
 
   std::string name_;
   int inNu_ = 0, inNv_ = 0;
@@ -217,6 +240,7 @@ class BSplineSurface {
   std::vector<double> Bu_, Bv_;
   SurfaceView view_;
   SurfaceView::Points::HostMirror hostCtrl_, hostGrid_;
+  SurfaceView::Indices::HostMirror hostBinStart_, hostBinNodes_;
 };
 
 }  // namespace epaphe

@@ -43,10 +43,13 @@ KOKKOS_INLINE_FUNCTION void evalFoot(const BasicSurfaceView<MemorySpace>& s, con
 
 }  // namespace surface_detail
 
-/// Initial guess: parameters (i, j) of the nearest grid node (brute force over the nodes).
+/// Initial guess by brute force: parameters (i, j) of the nearest grid node, the lowest i*nv + j
+/// among equally near nodes. *evaluations (if given) receives the number of node distances
+/// computed (nu*nv). Reference for nearestGridPoint().
 template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>& s,
-                                             const double x[3], double& u, double& v) {
+KOKKOS_INLINE_FUNCTION void nearestGridPointBruteForce(const BasicSurfaceView<MemorySpace>& s,
+                                                       const double x[3], double& u, double& v,
+                                                       int* evaluations = nullptr) {
   double best = -1.0;
   u = v = 0.0;
   for (int i = 0; i < s.nu; ++i)
@@ -60,6 +63,113 @@ KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>
         v = double(j);
       }
     }
+  if (evaluations) *evaluations = s.nu * s.nv;
+}
+
+namespace surface_detail {
+
+/// Broad phase: tests the nodes of one bucket cell against the best node so far (ties: lowest
+/// node index, as the brute force).
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION void visitBin(const BasicSurfaceView<MemorySpace>& s, const double x[3],
+                                     int cell, double& best, int& bestK, int& count) {
+  const int end = s.binStart(cell + 1);
+  for (int e = s.binStart(cell); e < end; ++e) {
+    const int k = s.binNodes(e), i = k / s.nv, j = k - i * s.nv;
+    const double dx = s.grid(i, j, 0) - x[0], dy = s.grid(i, j, 1) - x[1],
+                 dz = s.grid(i, j, 2) - x[2];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    ++count;
+    if (bestK < 0 || d2 < best || (d2 == best && k < bestK)) {
+      best = d2;
+      bestK = k;
+    }
+  }
+}
+
+}  // namespace surface_detail
+
+/// Initial guess: parameters (i, j) of the nearest grid node, the lowest i*nv + j among equally
+/// near nodes: the same node as nearestGridPointBruteForce(), found with the bucket grid of the
+/// surface (broad phase). The search starts in the cell of x (clamped to the grid of cells) and
+/// visits shells of cells at Chebyshev cell distance r = 0, 1, 2, ... until the nearest node found
+/// is strictly nearer than any node of an unvisited cell (lower bound: distance from x to the parts
+/// of the node box beyond the faces of the visited block of cells). Falls back to the brute force
+/// when the view has no bucket grid or x is not finite (or huge). *evaluations (if given) receives
+/// the number of node distances computed.
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>& s,
+                                             const double x[3], double& u, double& v,
+                                             int* evaluations = nullptr) {
+  double xmax = 0.0;
+  for (int a = 0; a < 3; ++a) xmax = ::fabs(x[a]) > xmax ? ::fabs(x[a]) : xmax;
+  if (s.binStart.extent(0) == 0 || !(xmax <= 1e150)) {
+    nearestGridPointBruteForce(s, x, u, v, evaluations);
+    return;
+  }
+  const int* dims = s.binDims;
+  int c[3];
+  double out2[3];  // squared distance from x to the node box along each axis
+  int rmax = 0;
+  for (int a = 0; a < 3; ++a) {
+    c[a] = surface_detail::binCoord(s, x[a], a);
+    const double o = x[a] < s.binOrigin[a] ? s.binOrigin[a] - x[a]
+                                           : (x[a] > s.binUpper[a] ? x[a] - s.binUpper[a] : 0.0);
+    out2[a] = o * o;
+    const int reach = c[a] > dims[a] - 1 - c[a] ? c[a] : dims[a] - 1 - c[a];
+    rmax = reach > rmax ? reach : rmax;
+  }
+  const double slack = s.binSlack + 1e-12 * xmax;
+  double best = 0.0;
+  int bestK = -1, count = 0;
+  for (int r = 0; r <= rmax; ++r) {
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = c[a] - r > 0 ? c[a] - r : 0;
+      hi[a] = c[a] + r < dims[a] - 1 ? c[a] + r : dims[a] - 1;
+    }
+    // Cells of the shell: Chebyshev distance exactly r from c.
+    for (int a0 = lo[0]; a0 <= hi[0]; ++a0) {
+      const bool face0 = a0 == c[0] - r || a0 == c[0] + r;
+      for (int a1 = lo[1]; a1 <= hi[1]; ++a1) {
+        const int base = (a0 * dims[1] + a1) * dims[2];
+        if (face0 || a1 == c[1] - r || a1 == c[1] + r) {
+          for (int a2 = lo[2]; a2 <= hi[2]; ++a2)
+            surface_detail::visitBin(s, x, base + a2, best, bestK, count);
+        } else {
+          if (c[2] - r >= 0) surface_detail::visitBin(s, x, base + c[2] - r, best, bestK, count);
+          if (c[2] + r < dims[2])
+            surface_detail::visitBin(s, x, base + c[2] + r, best, bestK, count);
+        }
+      }
+    }
+    if (bestK < 0) continue;
+    // Lower bound of the distance to the nodes of the unvisited cells: they lie beyond one face
+    // of the visited block [lo, hi], inside the node box.
+    double bound2 = -1.0;
+    for (int a = 0; a < 3; ++a) {
+      const double side2 = out2[(a + 1) % 3] + out2[(a + 2) % 3];
+      for (int side = 0; side < 2; ++side) {
+        double gap;
+        if (side == 0) {
+          if (lo[a] == 0) continue;
+          gap = x[a] - (s.binOrigin[a] + double(lo[a]) * s.binSize);
+        } else {
+          if (hi[a] == dims[a] - 1) continue;
+          gap = s.binOrigin[a] + double(hi[a] + 1) * s.binSize - x[a];
+        }
+        gap = gap > 0.0 ? gap : 0.0;
+        const double b2 = gap * gap + side2;
+        if (bound2 < 0.0 || b2 < bound2) bound2 = b2;
+      }
+    }
+    if (bound2 < 0.0) break;  // every cell visited
+    const double bound = ::sqrt(bound2) * (1.0 - 1e-12) - slack;
+    if (bound > 0.0 && best < bound * bound) break;
+  }
+  if (evaluations) *evaluations = count;
+  u = double(bestK / s.nv);
+  v = double(bestK % s.nv);
 }
 
 /// Newton-Raphson closest point (eq. of section 2.5.1), warm-started from (u0, v0).

@@ -624,6 +624,195 @@ TEST(ClosestPoint, NodesBeyondAnOpenEdgeAreOutside) {
   EXPECT_FALSE(epaphe::closestPoint(c, within, u, v, 1e-10, 30).outside);
 }
 
+// ---- 7b. broad phase of the cold start (bucket grid) ------------------------------------------
+
+// Large open wavy grid, 200 x 50 nodes, and a closed cylinder 120 x 40.
+constexpr int kBigNu = 200, kBigNv = 50;
+Vec3 bigWaveNode(int i, int j) {
+  const double x = 0.1 * i, y = 0.12 * j;
+  return {x, y, 0.5 * std::sin(0.7 * x) * std::cos(1.3 * y) + 0.02 * x};
+}
+constexpr int kBigCylN = 120, kBigCylNv = 40;
+Vec3 bigCylNode(int i, int j) {
+  const double t = 2.0 * kPi * i / kBigCylN;
+  return {2.0 * std::cos(t), 2.0 * std::sin(t), 0.1 * j};
+}
+
+// Random points inside the node box, near the surface (within a few spacings), on the nodes and
+// far outside the box (up to 100 box sizes away).
+std::vector<Vec3> broadPhaseProbes(const HostSurfaceView& h, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), sym(-1.0, 1.0);
+  double lo[3] = {h.binOrigin[0], h.binOrigin[1], h.binOrigin[2]};
+  double hi[3] = {h.binUpper[0], h.binUpper[1], h.binUpper[2]};
+  const double size = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+                                (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  std::vector<Vec3> probes;
+  for (int k = 0; k < count; ++k) {
+    Vec3 x;
+    const int kind = k % 4;
+    if (kind == 0) {  // inside the box
+      for (int c = 0; c < 3; ++c) x[c] = lo[c] + (hi[c] - lo[c]) * unit(rng);
+    } else if (kind == 1 || kind == 2) {  // near the surface (kind 2: on a node)
+      double S[3];
+      epaphe::evaluatePoint(h, h.uMax() * unit(rng), h.vMax() * unit(rng), S);
+      if (kind == 2) {
+        const int i = int(unit(rng) * h.nu) % h.nu, j = int(unit(rng) * h.nv) % h.nv;
+        for (int c = 0; c < 3; ++c) x[c] = h.grid(i, j, c);
+      } else {
+        for (int c = 0; c < 3; ++c) x[c] = S[c] + 0.3 * sym(rng);
+      }
+    } else {  // outside the box, near or far
+      const double reach = size * std::pow(100.0, unit(rng));
+      for (int c = 0; c < 3; ++c) x[c] = 0.5 * (lo[c] + hi[c]) + 0.5 * reach * sym(rng);
+    }
+    probes.push_back(x);
+  }
+  return probes;
+}
+
+void expectSameNodeAsBruteForce(const HostSurfaceView& h, const std::vector<Vec3>& probes,
+                                const std::string& name) {
+  int mismatches = 0;
+  for (const Vec3& x : probes) {
+    double u, v, ub, vb;
+    epaphe::nearestGridPoint(h, x.data(), u, v);
+    epaphe::nearestGridPointBruteForce(h, x.data(), ub, vb);
+    if (u != ub || v != vb) {
+      if (++mismatches <= 5)
+        ADD_FAILURE() << name << ": x = " << x[0] << " " << x[1] << " " << x[2] << " bucket ("
+                      << u << "," << v << ") brute force (" << ub << "," << vb << ")";
+    }
+  }
+  EXPECT_EQ(mismatches, 0) << name;
+}
+
+TEST(BroadPhase, SameNodeAsBruteForceOnALargeOpenGridAndACylinder) {
+  BSplineSurface wave("bigwave", kBigNu, kBigNv, makeGrid(kBigNu, kBigNv, bigWaveNode));
+  const HostSurfaceView hw = wave.hostView();
+  EXPECT_GT(hw.binDims[0] * hw.binDims[1] * hw.binDims[2], 1);
+  expectSameNodeAsBruteForce(hw, broadPhaseProbes(hw, 4000, 31), "bigwave");
+
+  BSplineSurface cyl("bigcyl", kBigCylN + 1, kBigCylNv, makeGrid(kBigCylN + 1, kBigCylNv, bigCylNode));
+  ASSERT_TRUE(cyl.periodicU());
+  const HostSurfaceView hc = cyl.hostView();
+  expectSameNodeAsBruteForce(hc, broadPhaseProbes(hc, 4000, 32), "bigcyl");
+  // Near the axis: almost every node is nearly equidistant.
+  std::vector<Vec3> axis;
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> small(-1e-3, 1e-3), H(-0.5, 4.5);
+  for (int k = 0; k < 500; ++k) axis.push_back({small(rng), small(rng), H(rng)});
+  axis.push_back({0.0, 0.0, 1.0});  // exactly on the axis: ties
+  expectSameNodeAsBruteForce(hc, axis, "bigcyl axis");
+
+  // Flat regular grid, probes at cell centres and edge midpoints: exact ties, lowest index wins.
+  const auto P = makeGrid(30, 20, [](int i, int j) { return Vec3{0.5 * i, 0.25 * j, 0.0}; });
+  BSplineSurface flat("flat", 30, 20, P);
+  std::vector<Vec3> ties;
+  for (int i = 0; i < 29; ++i)
+    for (int j = 0; j < 19; ++j) {
+      ties.push_back({0.5 * i + 0.25, 0.25 * j + 0.125, 0.0});
+      ties.push_back({0.5 * i + 0.25, 0.25 * j, 0.3});
+      ties.push_back({0.5 * i, 0.25 * j + 0.125, -0.7});
+    }
+  expectSameNodeAsBruteForce(flat.hostView(), ties, "flat ties");
+}
+
+TEST(BroadPhase, RebuiltByUpdate) {
+  // Flexible surface: the grid moves far and changes its shape; the bucket grid follows.
+  BSplineSurface wave("bigwave", kBigNu, kBigNv, makeGrid(kBigNu, kBigNv, bigWaveNode));
+  const auto moved = makeGrid(kBigNu, kBigNv, [](int i, int j) {
+    const Vec3 p = bigWaveNode(i, j);
+    return Vec3{10.0 + 0.5 * p[0], -3.0 + 2.0 * p[1], 4.0 * p[2] + 0.3 * p[1]};
+  });
+  wave.update(moved);
+  const HostSurfaceView h = wave.hostView();
+  EXPECT_NEAR(h.binOrigin[0], 10.0, 1e-12);
+  EXPECT_NEAR(h.binOrigin[1], -3.0, 1e-12);
+  expectSameNodeAsBruteForce(h, broadPhaseProbes(h, 2000, 34), "moved bigwave");
+  // The device view sees the rebuilt bucket grid too.
+  EXPECT_EQ(wave.view().binOrigin[0], h.binOrigin[0]);
+  EXPECT_EQ(wave.view().binStart.extent(0), h.binStart.extent(0));
+}
+
+TEST(BroadPhase, TestsFewNodesNearTheSurface) {
+  BSplineSurface wave("bigwave", kBigNu, kBigNv, makeGrid(kBigNu, kBigNv, bigWaveNode));
+  const HostSurfaceView h = wave.hostView();
+  const std::vector<Probe> probes = probesNear(h, 2000, 35);
+  long total = 0;
+  int worst = 0;
+  for (const Probe& pr : probes) {
+    double u, v, ub, vb;
+    int count = 0, countBrute = 0;
+    epaphe::nearestGridPoint(h, pr.x, u, v, &count);
+    epaphe::nearestGridPointBruteForce(h, pr.x, ub, vb, &countBrute);
+    EXPECT_EQ(u, ub);
+    EXPECT_EQ(v, vb);
+    EXPECT_EQ(countBrute, kBigNu * kBigNv);
+    total += count;
+    worst = std::max(worst, count);
+  }
+  const double mean = double(total) / double(probes.size());
+  std::printf("[          ] broad phase, %d x %d grid, %d cells: %.1f node distances per point on "
+              "average (%.2f %%), at most %d\n",
+              kBigNu, kBigNv, h.binDims[0] * h.binDims[1] * h.binDims[2], mean,
+              100.0 * mean / (kBigNu * kBigNv), worst);
+  EXPECT_LT(mean, 0.05 * kBigNu * kBigNv);
+  EXPECT_LT(worst, 0.05 * kBigNu * kBigNv);
+  // A view without bucket grid (hand-built) falls back to the brute force.
+  HostSurfaceView bare = h;
+  bare.binStart = HostSurfaceView::Indices();
+  int count = 0;
+  double u, v;
+  epaphe::nearestGridPoint(bare, probes[0].x, u, v, &count);
+  EXPECT_EQ(count, kBigNu * kBigNv);
+}
+
+// Cold-start batch in a kernel, with the brute-force or the bucket initial guess.
+double coldBatchSeconds(const epaphe::SurfaceView& s, Kokkos::View<const double* [3]> x,
+                        Kokkos::View<Projection*> out, bool brute) {
+  Kokkos::fence();
+  Kokkos::Timer timer;
+  Kokkos::parallel_for(
+      "test::coldBatch", Kokkos::RangePolicy<>(0, x.extent(0)), KOKKOS_LAMBDA(const int k) {
+        const double xk[3] = {x(k, 0), x(k, 1), x(k, 2)};
+        double u0, v0;
+        if (brute)
+          epaphe::nearestGridPointBruteForce(s, xk, u0, v0);
+        else
+          epaphe::nearestGridPoint(s, xk, u0, v0);
+        out(k) = epaphe::closestPoint(s, xk, u0, v0, 1e-10, 50);
+      });
+  Kokkos::fence();
+  return timer.seconds();
+}
+
+TEST(BroadPhase, ColdStartBatchTiming) {
+  BSplineSurface wave("bigwave", kBigNu, kBigNv, makeGrid(kBigNu, kBigNv, bigWaveNode));
+  const std::vector<Probe> probes = probesNear(wave.hostView(), 20000, 36);
+  const int n = int(probes.size());
+  Kokkos::View<double* [3]> x("x", n);
+  auto xh = Kokkos::create_mirror_view(x);
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < 3; ++c) xh(k, c) = probes[k].x[c];
+  Kokkos::deep_copy(x, xh);
+  Kokkos::View<Projection*> a("brute", n), b("bucket", n);
+  double tBrute = 1e300, tBucket = 1e300;
+  for (int rep = 0; rep < 3; ++rep) {
+    tBrute = std::min(tBrute, coldBatchSeconds(wave.view(), x, a, true));
+    tBucket = std::min(tBucket, coldBatchSeconds(wave.view(), x, b, false));
+  }
+  auto ah = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
+  auto bh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+  for (int k = 0; k < n; ++k) {
+    EXPECT_EQ(ah(k).u, bh(k).u);
+    EXPECT_EQ(ah(k).v, bh(k).v);
+  }
+  std::printf("[          ] cold-start projection of %d points on the %d x %d grid: brute-force "
+              "guess %.4f s, bucket guess %.4f s\n",
+              n, kBigNu, kBigNv, tBrute, tBucket);
+}
+
 // ---- 8. user errors --------------------------------------------------------------------------
 
 TEST(BSplineSurface, RejectsBadGrids) {
