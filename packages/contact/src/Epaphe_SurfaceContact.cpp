@@ -48,11 +48,21 @@ SurfaceContact::SurfaceContact(const ReducedModel& body, const std::vector<int>&
   normal_ = Kokkos::View<double* [3]>("epaphe::contact::normal", nc);
   tangent_ = Kokkos::View<double* [3]>("epaphe::contact::tangent", nc);
   dir_ = Kokkos::View<double* [3]>("epaphe::contact::direction", nc);
-  slide_ = Kokkos::View<double*>("epaphe::contact::slide", nc);
   mu_ = Kokkos::View<double*>("epaphe::contact::friction", nc);
   push_ = Kokkos::View<double* [3]>("epaphe::contact::push", nc);
-  ftt_ = Kokkos::View<double*>("epaphe::contact::ftt", nc);
-  ftn_ = Kokkos::View<double*>("epaphe::contact::ftn", nc);
+  basis_ = Kokkos::View<double* [3][3]>("epaphe::contact::basis", nc);
+  disp_ = Kokkos::View<double* [3]>("epaphe::contact::motion", nc);
+  nextState_ = Kokkos::View<int*>("epaphe::contact::next_state", nc);
+  returns_ = Kokkos::View<int*>("epaphe::contact::slide_to_stick", nc);
+  bestState_ = Kokkos::View<int*>("epaphe::contact::best_state", nc);
+  nextTangent_ = Kokkos::View<double* [3]>("epaphe::contact::next_tangent", nc);
+  bestTangent_ = Kokkos::View<double* [3]>("epaphe::contact::best_tangent", nc);
+  if (opt_.friction > 0.0) {  // joint friction solve: up to 3 unknowns per contact node
+    MCf_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::friction_matrix", 3 * nc, 3 * nc);
+    sol_ = Kokkos::View<double*>("epaphe::contact::friction_solution", 3 * nc);
+    MCfH_ = Kokkos::create_mirror_view(MCf_);
+    solH_ = Kokkos::create_mirror_view(sol_);
+  }
   state_ = Kokkos::View<int*>("epaphe::contact::state", nc);
   rhs_ = Kokkos::View<double*>("epaphe::contact::rhs", nc);
   rhsH_ = Kokkos::create_mirror_view(rhs_);
@@ -70,7 +80,7 @@ SurfaceContact::SurfaceContact(const ReducedModel& body, const std::vector<int>&
   surfH_ = Kokkos::create_mirror_view(surf_);
   activeH_.reserve(nc);
   keep_.reserve(nc);
-  ipiv_.reserve(nc);
+  ipiv_.reserve(3 * static_cast<std::size_t>(nc));
   lambda_.reserve(nc);
   denseMC_.reserve(static_cast<std::size_t>(nc) * nc);
   for (std::size_t s = 0; s < surfaces_.size(); ++s) {
@@ -158,27 +168,19 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     }
     return;
   }
-  // t_a, and c_a = n_a + mu t_a (eq. 2.31) for every node: all start sliding. True when some node
-  // has a friction direction.
-  const bool sliding = setDirections(q, qCurrent);
-  if (opt_.method == ContactMethod::Penalty) {
-    for (int k : activeH_) forceH_(k) = opt_.penaltyStiffness * (-gapH_(k));  // eq. 2.34
-    Kokkos::deep_copy(force_, forceH_);
-    if (sliding) classifyFriction();  // lambda does not depend on the directions: one pass
-  } else {
-    // A stuck node's friction impulse is affine in its lambda, so a solve with a given slide /
-    // stick / slide-back state per node is exact; lambda decides the states: solve again while
-    // any changes (a few passes at most). The final solve is the one whose directions are used, so
-    // the gaps close exactly.
-    constexpr int maxPasses = 8;
-    for (int pass = 0;; ++pass) {
+  if (!friction || qCurrent == nullptr) {  // frictionless: c_a = n_a exactly (unchanged path)
+    setNormalDirections();
+    if (opt_.method == ContactMethod::Penalty) {
+      for (int k : activeH_) forceH_(k) = opt_.penaltyStiffness * (-gapH_(k));  // eq. 2.34
+      Kokkos::deep_copy(force_, forceH_);
+    } else {
       solveLagrange(numActive_);
       Kokkos::deep_copy(force_, forceH_);
-      if (!sliding || numActive_ == 0 || pass + 1 == maxPasses) break;
-      if (classifyFriction() == 0) break;
     }
+  } else {
+    prepareFriction(q, *qCurrent);
+    solveFriction();
   }
-  if (sliding) finalizeDirections();
   if (friction) {
     Kokkos::deep_copy(muH_, mu_);
     Kokkos::deep_copy(tangentH_, tangent_);
@@ -202,157 +204,327 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
   Kokkos::fence();
 }
 
-bool SurfaceContact::setDirections(const DenseVector& q, const DenseVector* qCurrent) {
-  const int nc = numNodes();
+void SurfaceContact::setNormalDirections() {
   const auto normal = normal_;
   const auto tangent = tangent_;
   const auto dir = dir_;
   const auto push = push_;
-  const auto slide = slide_;
-  const auto state = state_;
   const auto muA = mu_;
-  const double mu = opt_.friction;
-  if (mu == 0.0 || qCurrent == nullptr) {  // frictionless: c_a = n_a exactly
-    Kokkos::parallel_for(
-        "epaphe::contact::normal_direction", nc, KOKKOS_LAMBDA(const int k) {
-          for (int d = 0; d < 3; ++d) {
-            dir(k, d) = normal(k, d);
-            push(k, d) = 0.0;
-            tangent(k, d) = 0.0;
-          }
-          slide(k) = 0.0;
-          state(k) = kNoFriction;
-          muA(k) = 0.0;
-        });
-    Kokkos::fence();
-    return false;
-  }
-  const DenseVector qn = *qCurrent;
-  const auto F = F_;
+  Kokkos::parallel_for(
+      "epaphe::contact::normal_direction", numNodes(), KOKKOS_LAMBDA(const int k) {
+        for (int d = 0; d < 3; ++d) {
+          dir(k, d) = normal(k, d);
+          push(k, d) = 0.0;
+          tangent(k, d) = 0.0;
+        }
+        muA(k) = 0.0;
+      });
+  Kokkos::fence();
+}
+
+void SurfaceContact::prepareFriction(const DenseVector& q, const DenseVector& qn) {
+  // Per node: d_a = u_a(q*) - u_a(q_n), the tangent-plane basis (e1, e2) of n_a, and the initial
+  // state: sliding against the predicted tangential motion (t = -d_t / |d_t|) when there is one,
+  // stuck otherwise.
+  const auto normal = normal_;
+  const auto basis = basis_;
+  const auto disp = disp_;
+  const auto tangent = tangent_;
+  const auto state = state_;
+  const auto returns = returns_;
   const auto dof = dof_;
   const auto x = x_;
-  const auto ftt = ftt_;
-  const auto ftn = ftn_;
-  int withTangent = 0;
-  Kokkos::parallel_reduce(
-      "epaphe::contact::tangent", nc,
-      KOKKOS_LAMBDA(const int k, int& count) {
-        // d = x*_{n+1} - x_n = u(q*) - u(q_n); its tangential part d_t = d - (d.n) n;
-        // t = n x (n x d) / |d_t| = -d_t / |d_t| (eq. 2.29, normalised).
-        double dsp[3], dn = 0.0, dd = 0.0, xx = 0.0;
+  Kokkos::parallel_for(
+      "epaphe::contact::friction_prepare", numNodes(), KOKKOS_LAMBDA(const int k) {
+        double n[3], dsp[3], dn = 0.0, dd = 0.0, xx = 0.0;
         for (int e = 0; e < 3; ++e) {
+          n[e] = normal(k, e);
           dsp[e] = q(dof(k, e)) - qn(dof(k, e));
-          dn += dsp[e] * normal(k, e);
+          disp(k, e) = dsp[e];
+          dn += dsp[e] * n[e];
           dd += dsp[e] * dsp[e];
           xx += x(k, e) * x(k, e);
-          push(k, e) = 0.0;
+        }
+        // e1: the coordinate axis least aligned with n, made orthogonal to n; e2 = n x e1
+        const int ax = ::fabs(n[0]) <= ::fabs(n[1]) && ::fabs(n[0]) <= ::fabs(n[2]) ? 0 : (::fabs(n[1]) <= ::fabs(n[2]) ? 1 : 2);
+        double e1[3] = {0.0, 0.0, 0.0};
+        e1[ax] = 1.0;
+        double an = n[ax], l1 = 0.0;
+        for (int e = 0; e < 3; ++e) {
+          e1[e] -= an * n[e];
+          l1 += e1[e] * e1[e];
+        }
+        l1 = ::sqrt(l1);
+        for (int e = 0; e < 3; ++e) e1[e] /= l1;
+        const double e2[3] = {n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+        for (int e = 0; e < 3; ++e) {
+          basis(k, 0, e) = n[e];
+          basis(k, 1, e) = e1[e];
+          basis(k, 2, e) = e2[e];
         }
         double dt[3], tt = 0.0;
         for (int e = 0; e < 3; ++e) {
-          dt[e] = dsp[e] - dn * normal(k, e);
+          dt[e] = dsp[e] - dn * n[e];
           tt += dt[e] * dt[e];
         }
         const double len = ::sqrt(tt);
-        if (!(len > 1e-14 * (::sqrt(xx) + ::sqrt(dd)))) {  // no sliding: no direction
-          for (int e = 0; e < 3; ++e) {
-            tangent(k, e) = 0.0;
-            dir(k, e) = normal(k, e);
+        const bool moving = len > 1e-14 * (::sqrt(xx) + ::sqrt(dd));
+        for (int e = 0; e < 3; ++e) tangent(k, e) = moving ? -dt[e] / len : 0.0;
+        state(k) = moving ? kSlide : kStick;
+        returns(k) = 0;
+      });
+  Kokkos::fence();
+}
+
+namespace {
+/// Column vectors of node k's unknowns (lambda, s1, s2): stuck, force lambda n + s1 e1 + s2 e2;
+/// sliding, lambda (n + mu t) and no tangential unknowns (their rows are s1 = s2 = 0).
+template <class B, class T, class S>
+KOKKOS_INLINE_FUNCTION void frictionColumns(const B& basis, const T& tangent, const S& state, int k, double mu,
+                                            int slide, double c[3][3]) {
+  const bool sl = state(k) == slide;
+  for (int e = 0; e < 3; ++e) {
+    c[0][e] = basis(k, 0, e) + (sl ? mu * tangent(k, e) : 0.0);
+    c[1][e] = sl ? 0.0 : basis(k, 1, e);
+    c[2][e] = sl ? 0.0 : basis(k, 2, e);
+  }
+}
+}  // namespace
+
+void SurfaceContact::solveFriction() {
+  // Joint solve over the active set, 3 unknowns per active node a (lambda_a, s1_a, s2_a):
+  //   normal row:     g*_a + n_a^T sum_b F_ab f_b = 0, f_b the force on node b (the gap closes;
+  //                   penalty: lambda_a = k_p (-g*_a) instead);
+  //   stuck, rows i:  e_i,a^T (d_a + sum_b F_ab f_b) = 0  (no tangential motion over the step);
+  //   sliding:        s1_a = s2_a = 0, the node's force being lambda_a (n_a + mu t_a).
+  // Then classify: stuck -> sliding when |s_a| > mu lambda_a (t_a = s_a / |s_a|); sliding -> stuck
+  // when the corrected tangential motion w_a does not oppose t_a (w_a . t_a > 0), else t_a follows
+  // -w_a / |w_a|. Repeat while anything changes (at most kMaxFrictionPasses; then the pass with the
+  // fewest changes is solved again and kept). Lagrange nodes with lambda_a < 0 are released.
+  Teuchos::LAPACK<int, double> lapack;
+  const bool penalty = opt_.method == ContactMethod::Penalty;
+  const double mu = opt_.friction, kp = opt_.penaltyStiffness;
+  const int nc = numNodes();
+  const int ld = 3 * nc;
+  int bestChanges = -1, passes = 0, releases = 0;
+  bool restored = false;
+  int nA = numActive_;
+  for (;;) {
+    Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
+    auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
+    Kokkos::deep_copy(active, activeH);
+    const auto F = F_;
+    const auto dof = dof_;
+    const auto basis = basis_;
+    const auto tangent = tangent_;
+    const auto state = state_;
+    const auto disp = disp_;
+    const auto gap = gap_;
+    const auto A = MCf_;
+    const auto sol = sol_;
+    constexpr int slide = kSlide;
+    Kokkos::parallel_for(
+        "epaphe::contact::friction_matrix", nA, KOKKOS_LAMBDA(const int a) {
+          const int ka = active(a);
+          const bool sl = state(ka) == slide;
+          for (int b = 0; b < nA; ++b) {
+            const int kb = active(b);
+            double c[3][3];
+            frictionColumns(basis, tangent, state, kb, mu, slide, c);
+            double G[3][3];  // G[d][j] = (F_ab c_j)_d
+            for (int d = 0; d < 3; ++d)
+              for (int j = 0; j < 3; ++j) {
+                double s = 0.0;
+                for (int e = 0; e < 3; ++e) s += F(dof(ka, d), dof(kb, e)) * c[j][e];
+                G[d][j] = s;
+              }
+            for (int i = 0; i < 3; ++i) {
+              const bool identity = (i == 0 && penalty) || (i > 0 && sl);
+              for (int j = 0; j < 3; ++j) {
+                double s = 0.0;
+                if (identity)
+                  s = (a == b && i == j) ? 1.0 : 0.0;
+                else
+                  for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
+                A(3 * a + i, 3 * b + j) = s;
+              }
+            }
           }
-          slide(k) = 0.0;
-          state(k) = kNoFriction;
-          muA(k) = 0.0;
+          sol(3 * a) = penalty ? kp * (-gap(ka)) : -gap(ka);
+          for (int i = 1; i < 3; ++i) {
+            double s = 0.0;
+            if (!sl)
+              for (int d = 0; d < 3; ++d) s -= basis(ka, i, d) * disp(ka, d);
+            sol(3 * a + i) = s;
+          }
+        });
+    Kokkos::fence();
+    Kokkos::deep_copy(MCfH_, MCf_);
+    Kokkos::deep_copy(solH_, sol_);
+    const int m = 3 * nA;
+    ipiv_.assign(static_cast<std::size_t>(m), 0);
+    int info = 0;
+    lapack.GESV(m, 1, MCfH_.data(), ld, ipiv_.data(), solH_.data(), m, &info);
+    EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of " << nA << " active nodes is singular (LAPACK info "
+                                                                        << info << ")");
+    Kokkos::deep_copy(sol_, solH_);
+    if (!penalty) {  // release the nodes the surface would pull
+      keep_.clear();
+      for (int a = 0; a < nA; ++a)
+        if (solH_(3 * a) >= 0.0) keep_.push_back(activeH_[a]);
+      if (static_cast<int>(keep_.size()) < nA && releases < nc) {
+        ++releases;
+        activeH_.swap(keep_);
+        nA = static_cast<int>(activeH_.size());
+        if (nA == 0) break;
+        continue;
+      }
+    }
+    if (restored) break;
+    // classify: proposed next state and direction per active node
+    const auto nextState = nextState_;
+    const auto nextTangent = nextTangent_;
+    const auto returns = returns_;
+    int changes = 0;
+    Kokkos::parallel_reduce(
+        "epaphe::contact::friction_classify", nA,
+        KOKKOS_LAMBDA(const int a, int& count) {
+          const int ka = active(a);
+          const double lambda = sol(3 * a);
+          double t[3];
+          for (int e = 0; e < 3; ++e) t[e] = tangent(ka, e);
+          int next = state(ka);
+          if (state(ka) != slide) {
+            double s[3], ss = 0.0;
+            for (int e = 0; e < 3; ++e) {
+              s[e] = sol(3 * a + 1) * basis(ka, 1, e) + sol(3 * a + 2) * basis(ka, 2, e);
+              ss += s[e] * s[e];
+            }
+            ss = ::sqrt(ss);
+            if (ss > mu * lambda) {  // outside the cone: slide, friction along the sticking force
+              next = slide;
+              for (int e = 0; e < 3; ++e) t[e] = s[e] / ss;
+            }
+          } else {
+            // w = d_a + sum_b F_ab f_b, its tangential part
+            double w[3];
+            for (int e = 0; e < 3; ++e) w[e] = disp(ka, e);
+            for (int b = 0; b < nA; ++b) {
+              const int kb = active(b);
+              double c[3][3];
+              frictionColumns(basis, tangent, state, kb, mu, slide, c);
+              double f[3];
+              for (int e = 0; e < 3; ++e)
+                f[e] = sol(3 * b) * c[0][e] + sol(3 * b + 1) * c[1][e] + sol(3 * b + 2) * c[2][e];
+              for (int d = 0; d < 3; ++d)
+                for (int e = 0; e < 3; ++e) w[d] += F(dof(ka, d), dof(kb, e)) * f[e];
+            }
+            // radial return: the tangential force that would stop the node, the others' forces
+            // fixed, s_trial = mu lambda t - K^{-1} w_t, K_ij = e_i^T F_aa e_j (2 x 2); inside the
+            // cone it sticks, outside it slides along s_trial (stable when w is small)
+            double w1 = 0.0, w2 = 0.0, K[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+            for (int e = 0; e < 3; ++e) {
+              w1 += w[e] * basis(ka, 1, e);
+              w2 += w[e] * basis(ka, 2, e);
+            }
+            for (int i = 0; i < 2; ++i)
+              for (int j = 0; j < 2; ++j)
+                for (int d = 0; d < 3; ++d)
+                  for (int e = 0; e < 3; ++e) K[i][j] += basis(ka, 1 + i, d) * F(dof(ka, d), dof(ka, e)) * basis(ka, 1 + j, e);
+            const double det = K[0][0] * K[1][1] - K[0][1] * K[1][0];
+            const double d1 = -(K[1][1] * w1 - K[0][1] * w2) / det, d2 = -(-K[1][0] * w1 + K[0][0] * w2) / det;
+            double st[3], ss = 0.0;
+            for (int e = 0; e < 3; ++e) {
+              st[e] = mu * lambda * t[e] + d1 * basis(ka, 1, e) + d2 * basis(ka, 2, e);
+              ss += st[e] * st[e];
+            }
+            ss = ::sqrt(ss);
+            if (!(ss > mu * lambda) && returns(ka) < kMaxReturns) {
+              next = kStick;
+            } else if (ss > 0.0) {
+              for (int e = 0; e < 3; ++e) t[e] = st[e] / ss;
+            }
+          }
+          double dt = 0.0;
+          for (int e = 0; e < 3; ++e) {
+            dt += (t[e] - tangent(ka, e)) * (t[e] - tangent(ka, e));
+            nextTangent(ka, e) = t[e];
+          }
+          nextState(ka) = next;
+          if (next != state(ka) || (next == slide && dt > 1e-12)) ++count;  // |t change| > 1e-6
+        },
+        changes);
+    if (changes == 0) break;
+    if (bestChanges < 0 || changes < bestChanges) {
+      bestChanges = changes;
+      Kokkos::deep_copy(bestState_, state_);
+      Kokkos::deep_copy(bestTangent_, tangent_);
+    }
+    if (++passes == kMaxFrictionPasses) {  // not settled: solve again with the best pass's states
+      Kokkos::deep_copy(state_, bestState_);
+      Kokkos::deep_copy(tangent_, bestTangent_);
+      restored = true;
+      continue;
+    }
+    const auto returns2 = returns_;
+    Kokkos::parallel_for(
+        "epaphe::contact::friction_commit", nA, KOKKOS_LAMBDA(const int a) {
+          const int ka = active(a);
+          if (state(ka) == slide && nextState(ka) != slide) ++returns2(ka);
+          state(ka) = nextState(ka);
+          for (int e = 0; e < 3; ++e) tangent(ka, e) = nextTangent(ka, e);
+        });
+    Kokkos::fence();
+  }
+  numActive_ = nA;
+  lastFrictionPasses_ = passes + 1;
+  // forces: lambda_a, and the direction c_a = n_a + mu_a t_a with mu_a t_a = s_a / lambda_a
+  for (int k = 0; k < nc; ++k) forceH_(k) = 0.0;
+  for (int a = 0; a < nA; ++a) forceH_(activeH_[a]) = solH_(3 * a);
+  Kokkos::deep_copy(force_, forceH_);
+  Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
+  auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
+  Kokkos::deep_copy(active, activeH);
+  const auto normal = normal_;
+  const auto basis = basis_;
+  const auto tangent = tangent_;
+  const auto state = state_;
+  const auto dir = dir_;
+  const auto muA = mu_;
+  const auto sol = sol_;
+  const auto force = force_;
+  Kokkos::parallel_for(
+      "epaphe::contact::friction_reset", nc, KOKKOS_LAMBDA(const int k) {
+        for (int e = 0; e < 3; ++e) {
+          dir(k, e) = normal(k, e);
+          if (force(k) == 0.0) tangent(k, e) = 0.0;
+        }
+        muA(k) = 0.0;
+      });
+  Kokkos::fence();
+  Kokkos::parallel_for(
+      "epaphe::contact::friction_force", nA, KOKKOS_LAMBDA(const int a) {
+        const int ka = active(a);
+        const double l = sol(3 * a);
+        if (state(ka) == kSlide) {
+          muA(ka) = l > 0.0 ? mu : 0.0;
+          for (int e = 0; e < 3; ++e) dir(ka, e) = normal(ka, e) + mu * tangent(ka, e);
           return;
         }
+        double s[3], ss = 0.0;
         for (int e = 0; e < 3; ++e) {
-          tangent(k, e) = -dt[e] / len;
-          dir(k, e) = normal(k, e) + mu * tangent(k, e);
+          s[e] = sol(3 * a + 1) * basis(ka, 1, e) + sol(3 * a + 2) * basis(ka, 2, e);
+          ss += s[e] * s[e];
         }
-        // the node's own flexibility seen along t: t^T F_kk t (> 0) and t^T F_kk n
-        double stt = 0.0, stn = 0.0;
-        for (int d = 0; d < 3; ++d)
-          for (int e = 0; e < 3; ++e) {
-            const double f = F(dof(k, d), dof(k, e));
-            stt += tangent(k, d) * f * tangent(k, e);
-            stn += tangent(k, d) * f * normal(k, e);
-          }
-        ftt(k) = stt;
-        ftn(k) = stn;
-        slide(k) = len;
-        state(k) = kSlide;
-        muA(k) = mu;
-        ++count;
-      },
-      withTangent);
-  return withTangent > 0;
-}
-
-int SurfaceContact::classifyFriction() {
-  // The node's own correction moves it along t by lambda t^T F_kk n + phi t^T F_kk t (phi: the
-  // friction impulse along t). Stopping it (stick) takes phi = (s - lambda ftn) / ftt: the force
-  // lambda (n - ftn/ftt t) + (s/ftt) t, affine in lambda. Coulomb: stick while |phi| <= mu lambda;
-  // beyond, it slides with |phi| = mu lambda: forward (phi = mu lambda, friction against the
-  // predicted sliding), or back (phi = -mu lambda) when the normal force alone pushes the node back
-  // past rest (t^T F_kk n > 0 and large) and friction opposes that motion instead.
-  const auto normal = normal_;
-  const auto tangent = tangent_;
-  const auto dir = dir_;
-  const auto push = push_;
-  const auto slide = slide_;
-  const auto ftt = ftt_;
-  const auto ftn = ftn_;
-  const auto state = state_;
-  const auto force = force_;
-  const double mu = opt_.friction;
-  int changed = 0;
-  Kokkos::parallel_reduce(
-      "epaphe::contact::stick", numNodes(),
-      KOKKOS_LAMBDA(const int k, int& count) {
-        const double l = force(k);
-        if (!(l > 0.0) || state(k) == kNoFriction) return;
-        const double s = slide(k);
-        int next = kStick;
-        if (s > l * (ftn(k) + mu * ftt(k))) next = kSlide;      // phi_stick > mu lambda
-        if (s < l * (ftn(k) - mu * ftt(k))) next = kSlideBack;  // phi_stick < -mu lambda
-        if (next == state(k)) return;
-        state(k) = next;
-        const double mt = next == kSlide ? mu : (next == kSlideBack ? -mu : -ftn(k) / ftt(k));
-        const double pt = next == kStick ? s / ftt(k) : 0.0;
-        for (int e = 0; e < 3; ++e) {
-          dir(k, e) = normal(k, e) + mt * tangent(k, e);
-          push(k, e) = pt * tangent(k, e);
+        ss = ::sqrt(ss);
+        if (!(l > 0.0) || !(ss > 0.0)) {
+          for (int e = 0; e < 3; ++e) tangent(ka, e) = 0.0;
+          return;
         }
-        ++count;
-      },
-      changed);
-  return changed;
-}
-
-void SurfaceContact::finalizeDirections() {
-  // The force of each node as lambda_a c_a, c_a = n_a + mu_a t_a, mu_a = phi_a / lambda_a.
-  const auto normal = normal_;
-  const auto tangent = tangent_;
-  const auto dir = dir_;
-  const auto push = push_;
-  const auto slide = slide_;
-  const auto ftt = ftt_;
-  const auto ftn = ftn_;
-  const auto state = state_;
-  const auto muA = mu_;
-  const auto force = force_;
-  const double mu = opt_.friction;
-  Kokkos::parallel_for(
-      "epaphe::contact::friction", numNodes(), KOKKOS_LAMBDA(const int k) {
-        const double l = force(k);
-        const int st = state(k);
-        double m = 0.0;
-        if (l > 0.0 && st == kSlide) m = mu;
-        if (l > 0.0 && st == kSlideBack) m = -mu;
-        if (l > 0.0 && st == kStick) m = (slide(k) / l - ftn(k)) / ftt(k);
-        muA(k) = m;
-        if (st == kNoFriction) return;
+        muA(ka) = ss / l;
         for (int e = 0; e < 3; ++e) {
-          dir(k, e) = normal(k, e) + m * tangent(k, e);
-          push(k, e) = 0.0;
+          tangent(ka, e) = s[e] / ss;
+          dir(ka, e) = normal(ka, e) + s[e] / l;
         }
       });
   Kokkos::fence();

@@ -5,40 +5,39 @@
 //   1. positions of the contact nodes x_a = X_a + u_a(q*) (contact nodes are retained DOFs);
 //   2. closest point on each surface by Newton-Raphson, warm-started (section 2.5.1); the gap
 //      g*_a = (x_a - S(u_a, v_a)) . n_a, n_a the unit outward normal (eq. 2.28);
-//   3. the correction direction of each node (VCT, eq. 2.31): c_a = n_a + mu_a t_a, where t_a is
-//      the unit tangent opposing the node's predicted sliding over the step (eq. 2.29, normalised):
-//        d_a = x*_{n+1} - x_n = u_a(q*) - u_a(q_n),   t_a = -(d_a - (d_a.n_a) n_a) / |...|
-//      (t_a = 0 when that tangential motion is below 1e-14 of the node's scale |x*| + |d|), and
-//      mu_a = mu (Coulomb, ContactOptions::friction) while sliding, reduced by the stick limit
-//      below; mu = 0, or no q_n given, gives c_a = n_a exactly (frictionless);
+//   3. the correction direction of each node (VCT, eq. 2.31): c_a = n_a + mu_a t_a; frictionless
+//      (mu = 0, or no q_n given) c_a = n_a exactly;
 //   4. for the active nodes (g*_a < 0), the forces lambda >= 0:
 //        Lagrange (forward increment, Carpenter, Taylor & Katona 1991), eqs. 2.30-2.33:
-//          MC lambda = -g*,  MC_ab = n_a^T F_ab c_b,  F = (M/h^2 + D/2h)^{-1}
-//          (non-symmetric when mu > 0; optionally lumped: MC_aa = sum_b MC_ab), nodes with
-//          lambda_a < 0 released and the system solved again; the normal gap is closed exactly,
-//          since n_a measures it;
+//          MC lambda = -g*,  MC_ab = n_a^T F_ab n_b,  F = (M/h^2 + D/2h)^{-1}
+//          (optionally lumped: MC_aa = sum_b MC_ab), nodes with lambda_a < 0 released and the
+//          system solved again; the normal gap is closed exactly;
 //        penalty, eq. 2.34:  lambda_a = k_p (-g*_a);
 //   5. the correction q = q* + F G lambda (eqs. 2.35-2.36), G_a = c_a on node a's DOFs.
 //
-// Stick limit (Coulomb). Eq. 2.31 always slides: the friction impulse mu lambda_a along t_a may be
-// larger than what stops the node, and would then reverse its sliding. Per node, from the diagonal
-// block F_aa of the flexibility only (the node's own force), the correction moves the node along
-// t_a by lambda_a t_a^T F_aa n_a + phi_a t_a^T F_aa t_a, phi_a = mu_a lambda_a the friction impulse.
-// The impulse that stops the node over the step, phi_stick = (s_a - lambda_a t^T F_aa n) /
-// t^T F_aa t, s_a = |d_a - (d_a.n_a) n_a| the predicted sliding, is affine in lambda_a. Coulomb:
-//   phi_stick >  mu lambda_a: slide,      mu_a = mu   (c_a = n_a + mu t_a, eq. 2.31);
-//   |phi_stick| <= mu lambda_a: stick,    force lambda_a (n_a - (t^T F n / t^T F t) t_a) + (s_a / t^T F t) t_a,
-//                                         i.e. mu_a = phi_stick / lambda_a: no tangential motion;
-//   phi_stick < -mu lambda_a: slide back, mu_a = -mu (only when t^T F_aa n > 0: the normal force
-//                                         alone pushes the node back past rest; friction opposes that).
-// Penalty: lambda is known, the state follows. Lagrange: the state of each node is set from lambda
-// and the system (whose right-hand side then holds the stuck nodes' fixed impulses) is solved
-// again while any state changes (usually one extra solve); the forces used are always those of the
-// last solve, so the normal gaps still close exactly. Exact for one node, or for nodes whose
-// flexibility blocks do not couple; with coupled nodes the forces on the other nodes can still
-// move a stuck node a little (a slow creep, never a reversal by its own friction).
+// Coulomb friction (mu > 0 and q_n given): a joint solve over the active set. Per active node a,
+// 3 unknowns: lambda_a and the tangential force s_a = s1 e1_a + s2 e2_a in the tangent plane of n_a
+// (e1, e2: an orthonormal basis of it); the force on the node is f_a = lambda_a n_a + s_a, and the
+// correction moves node a by sum_b F_ab f_b. With d_a = u_a(q*) - u_a(q_n) the predicted motion:
+//   normal:   g*_a + n_a^T sum_b F_ab f_b = 0 (Lagrange; penalty: lambda_a = k_p (-g*_a) instead,
+//             the same tangential treatment with that known normal force);
+//   stuck:    e_i,a^T (d_a + sum_b F_ab f_b) = 0, i = 1, 2: no tangential motion over the step
+//             relative to q_n, whatever the coupling through F;
+//   sliding:  s_a = mu lambda_a t_a, t_a the unit friction direction (against the sliding).
+// The 3 nA x 3 nA system is solved by LAPACK (GESV). Classification, repeated while any node's
+// state or sliding direction changes (at most 20 passes, then the pass with the fewest changes is
+// solved again and kept): stuck -> sliding when |s_a| > mu lambda_a, with t_a = s_a / |s_a|;
+// sliding -> stuck when the radial-return trial force s_trial = mu lambda_a t_a - K_a^{-1} w_a
+// (w_a: tangential part of the corrected motion, K_a = [e_i^T F_aa e_j] the node's 2 x 2 tangential
+// flexibility: the force that would stop it, the others' forces held) lies in the cone
+// |s_trial| <= mu lambda_a, else t_a = s_trial / |s_trial| (for one node, t_a = -w_a / |w_a|). A node
+// switching sliding -> stuck more than twice in one solve keeps sliding (anti-cycling). The solve
+// starts with the nodes that move tangentially (|d_t| > 1e-14 of their scale) sliding against
+// that motion, the others stuck (so a node with no predicted motion still gets friction). After
+// the solve, the force of each node is stored as lambda_a c_a, c_a = n_a + mu_a t_a (t_a: unit
+// direction of s_a, mu_a = |s_a| / lambda_a <= mu), used by the correction and workIncrement().
 //
-// The per-node work (positions, projection, directions, stick limit, contact matrix rows,
+// The per-node work (positions, projection, directions, friction system, contact matrix rows,
 // correction) runs as named Kokkos kernels on the default execution space (OpenMP).
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ClosestPoint.hpp"
@@ -99,12 +98,14 @@ public:
   Kokkos::View<double*>::HostMirror force() const { return forceH_; }
   Kokkos::View<int*>::HostMirror surfaceIndex() const { return surfH_; }
   /// Per node, after correct(): the friction coefficient mu_a actually applied, c_a = n_a + mu_a t_a
-  /// (mu while sliding, |mu_a| <= mu when stuck, -mu sliding back, 0 without contact or friction
-  /// direction), and the unit friction direction t_a (zero when there is none); both stay zero
-  /// when ContactOptions::friction = 0.
+  /// (mu while sliding, 0 <= mu_a <= mu when stuck, 0 without contact or tangential force), and the
+  /// unit direction t_a of the friction force (zero when there is none); both stay zero when
+  /// ContactOptions::friction = 0.
   Kokkos::View<double*>::HostMirror appliedFriction() const { return muH_; }
   Kokkos::View<double* [3]>::HostMirror tangent() const { return tangentH_; }
   int lastIterations() const { return lastIterations_; }
+  /// Stick/slide classification passes of the last friction solve (0 without friction).
+  int lastFrictionPasses() const { return lastFrictionPasses_; }
   double totalForce() const;
   /// Diagonal stiffness the method adds at each contact DOF (k_p for penalty, 0 for Lagrange),
   /// for the stable-step estimate.
@@ -113,9 +114,9 @@ public:
 private:
   void detect(const DenseVector& q);
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
-  bool setDirections(const DenseVector& q, const DenseVector* qCurrent);
-  int classifyFriction();
-  void finalizeDirections();
+  void setNormalDirections();
+  void prepareFriction(const DenseVector& q, const DenseVector& qn);
+  void solveFriction();
   void solveLagrange(int nA);
 
   ContactOptions opt_;
@@ -129,15 +130,24 @@ private:
   std::vector<Kokkos::View<Projection*>> proj_;   // one per surface
   Kokkos::View<double* [3]> normal_;
   Kokkos::View<double* [3]> tangent_;     // t_a (unit, or zero)
-  Kokkos::View<double* [3]> dir_;         // c_a = n_a + mu_a t_a (VCT, eq. 2.31); while solving,
-  Kokkos::View<double* [3]> push_;        //   a stuck node's force is lambda_a dir_a + push_a
-  Kokkos::View<double*> slide_;           // |tangential part of d_a| (0 when t_a = 0)
-  Kokkos::View<double*> ftt_, ftn_;       // t_a^T F_aa t_a, t_a^T F_aa n_a
-  Kokkos::View<int*> state_;              // kNoFriction, kSlide, kStick, kSlideBack
+  Kokkos::View<double* [3]> dir_;         // c_a = n_a + mu_a t_a (VCT, eq. 2.31)
+  Kokkos::View<double* [3]> push_;        // zero: the frictionless Lagrange solve's fixed impulses
+  Kokkos::View<double* [3][3]> basis_;   // per node: rows n_a, e1_a, e2_a (tangent-plane basis)
+  Kokkos::View<double* [3]> disp_;        // d_a = u_a(q*) - u_a(q_n)
+  Kokkos::View<int*> state_, nextState_, bestState_;   // kStick, kSlide
+  Kokkos::View<double* [3]> nextTangent_, bestTangent_;
   Kokkos::View<double*> mu_;              // mu_a applied
-  Kokkos::View<double*> rhs_;             // n_a^T sum_b F_ab push_b (Lagrange)
+  Kokkos::View<double*> rhs_;             // n_a^T sum_b F_ab push_b (frictionless Lagrange: 0)
   Kokkos::View<double*>::HostMirror rhsH_;
-  static constexpr int kNoFriction = 0, kSlide = 1, kStick = 2, kSlideBack = 3;
+  Kokkos::View<double**, Kokkos::LayoutLeft> MCf_;   // friction system, 3 nc x 3 nc
+  Kokkos::View<double**, Kokkos::LayoutLeft>::HostMirror MCfH_;
+  Kokkos::View<double*> sol_;             // its right-hand side / solution (lambda, s1, s2 per active node)
+  Kokkos::View<double*>::HostMirror solH_;
+  static constexpr int kStick = 2, kSlide = 1;
+  static constexpr int kMaxFrictionPasses = 20;
+  static constexpr int kMaxReturns = 2;   // slide -> stick switches per node and solve, then it keeps sliding
+  Kokkos::View<int*> returns_;
+  int lastFrictionPasses_ = 0;  // passes of the last stick/slide classification
   Kokkos::View<double*>::HostMirror muH_;
   Kokkos::View<double* [3]>::HostMirror tangentH_;
   Kokkos::View<double*> gap_, force_;
