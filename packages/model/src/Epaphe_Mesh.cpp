@@ -9,6 +9,38 @@
 
 namespace epaphe {
 
+namespace {
+
+/// A structured block of n0 x n1 x n2 hexahedra: node (i, j, k) is i + (n0+1) (j + (n1+1) k), at
+/// position(i, j, k); the face node sets are named faces[0..5] for i = 0, i = n0, j = 0, j = n1,
+/// k = 0, k = n2, plus "all". (i, j, k) must be a right-handed frame of the mapped block.
+template <class Position>
+Mesh structuredMesh(const std::array<int, 3>& n, Position position, const std::array<const char*, 6>& faces) {
+  const int p0 = n[0] + 1, p1 = n[1] + 1, p2 = n[2] + 1;
+  auto id = [&](int i, int j, int k) { return i + p0 * (j + p1 * k); };
+  Mesh m;
+  m.coords.resize(static_cast<std::size_t>(p0) * p1 * p2);
+  auto& all = m.nodeSets["all"];
+  for (int k = 0; k < p2; ++k)
+    for (int j = 0; j < p1; ++j)
+      for (int i = 0; i < p0; ++i) {
+        const int node = id(i, j, k);
+        m.coords[node] = position(i, j, k);
+        all.push_back(node);
+        const int on[6] = {i == 0, i == n[0], j == 0, j == n[1], k == 0, k == n[2]};
+        for (int f = 0; f < 6; ++f)
+          if (on[f]) m.nodeSets[faces[f]].push_back(node);
+      }
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        m.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1),
+                           id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
+  return m;  // node sets are sorted: nodes were visited in increasing id order
+}
+
+}  // namespace
+
 std::vector<int> resolveNodeSets(const std::map<std::string, std::vector<int>>& sets, const std::string& spec,
                                  const std::string& context) {
   std::set<int> nodes;
@@ -39,35 +71,13 @@ Mesh makeBoxMesh(const std::array<double, 3>& origin, const std::array<double, 3
     EPAPHE_REQUIRE(lengths[d] > 0, "box mesh: length along " << "xyz"[d] << " is " << lengths[d] << ", it must be > 0");
     EPAPHE_REQUIRE(elements[d] >= 1, "box mesh: " << elements[d] << " elements along " << "xyz"[d] << ", at least 1 is needed");
   }
-  const int nx = elements[0], ny = elements[1], nz = elements[2];
-  const int px = nx + 1, py = ny + 1, pz = nz + 1;
-  auto id = [&](int i, int j, int k) { return i + px * (j + py * k); };
-  Mesh m;
-  m.coords.resize(static_cast<std::size_t>(px) * py * pz);
-  for (int k = 0; k < pz; ++k)
-    for (int j = 0; j < py; ++j)
-      for (int i = 0; i < px; ++i)
-        m.coords[id(i, j, k)] = {origin[0] + lengths[0] * i / nx, origin[1] + lengths[1] * j / ny,
-                                 origin[2] + lengths[2] * k / nz};
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        m.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1),
-                           id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
-  auto& all = m.nodeSets["all"];
-  for (int n = 0; n < m.numNodes(); ++n) all.push_back(n);
-  for (int k = 0; k < pz; ++k)
-    for (int j = 0; j < py; ++j)
-      for (int i = 0; i < px; ++i) {
-        const int n = id(i, j, k);
-        if (i == 0) m.nodeSets["x-"].push_back(n);
-        if (i == nx) m.nodeSets["x+"].push_back(n);
-        if (j == 0) m.nodeSets["y-"].push_back(n);
-        if (j == ny) m.nodeSets["y+"].push_back(n);
-        if (k == 0) m.nodeSets["z-"].push_back(n);
-        if (k == nz) m.nodeSets["z+"].push_back(n);
-      }
-  return m;
+  return structuredMesh(
+      elements,
+      [&](int i, int j, int k) -> std::array<double, 3> {
+        return {origin[0] + lengths[0] * i / elements[0], origin[1] + lengths[1] * j / elements[1],
+                origin[2] + lengths[2] * k / elements[2]};
+      },
+      {"x-", "x+", "y-", "y+", "z-", "z+"});
 }
 
 Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius, double thickness,
@@ -85,42 +95,22 @@ Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius
                                                            << (d == 0 ? "through the thickness" : d == 1 ? "along the arc" : "along the axis")
                                                            << ", at least 1 is needed");
   const int nr = elements[0], nt = elements[1], nz = elements[2];
-  const int pr = nr + 1, pt = nt + 1, pz = nz + 1;
+  const int pr = nr + 1, pt = nt + 1;
   // i radial, j angular, k axial: r x theta = z keeps every hexahedron right-handed.
   auto id = [&](int i, int j, int k) { return i + pr * (j + pt * k); };
-  Mesh m;
-  m.coords.resize(static_cast<std::size_t>(pr) * pt * pz);
-  for (int k = 0; k < pz; ++k)
-    for (int j = 0; j < pt; ++j)
-      for (int i = 0; i < pr; ++i) {
+  Mesh m = structuredMesh(
+      elements,
+      [&](int i, int j, int k) -> std::array<double, 3> {
         const double r = innerRadius + thickness * i / nr;
         const double a = (angles[0] + (angles[1] - angles[0]) * j / nt) * M_PI / 180.0;
-        m.coords[id(i, j, k)] = {center[0] + r * std::cos(a), center[1] + r * std::sin(a),
-                                 center[2] + axial[0] + (axial[1] - axial[0]) * k / nz};
-      }
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < nt; ++j)
-      for (int i = 0; i < nr; ++i)
-        m.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1),
-                           id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
-  auto& all = m.nodeSets["all"];
-  for (int n = 0; n < m.numNodes(); ++n) all.push_back(n);
-  for (int k = 0; k < pz; ++k)
-    for (int j = 0; j < pt; ++j)
-      for (int i = 0; i < pr; ++i) {
-        const int n = id(i, j, k);
-        if (i == 0) m.nodeSets["inner"].push_back(n);
-        if (i == nr) m.nodeSets["outer"].push_back(n);
-        if (j == 0) m.nodeSets["end-"].push_back(n);
-        if (j == nt) m.nodeSets["end+"].push_back(n);
-        if (k == 0) m.nodeSets["z-"].push_back(n);
-        if (k == nz) m.nodeSets["z+"].push_back(n);
-      }
-  for (auto& [name, nodes] : m.nodeSets) std::sort(nodes.begin(), nodes.end());
+        return {center[0] + r * std::cos(a), center[1] + r * std::sin(a),
+                center[2] + axial[0] + (axial[1] - axial[0]) * k / nz};
+      },
+      {"inner", "outer", "end-", "end+", "z-", "z+"});
   for (const auto& [name, i] : {std::pair<std::string, int>{"inner", 0}, {"outer", nr}}) {
-    NodeGrid g{pt, pz, {}};
+    NodeGrid g{pt, nz + 1, {}};
     for (int j = 0; j < pt; ++j)
-      for (int k = 0; k < pz; ++k) g.nodes.push_back(id(i, j, k));
+      for (int k = 0; k <= nz; ++k) g.nodes.push_back(id(i, j, k));
     m.nodeGrids[name] = g;
   }
   return m;
