@@ -481,7 +481,6 @@ const RunSummary& Simulation::run() {
   Stopwatch loop, sinceProgress;
   CostSplit& cost = summary_.cost;
   summary_.status = "complete";
-  bool contactBefore = false;
   long long n = 0;
   auto fail = [&](const std::string& why) {
     summary_.status = "stopped: " + why;
@@ -514,12 +513,11 @@ const RunSummary& Simulation::run() {
       }
     }
     if (totalForce > 0) {
-      if (!contactBefore && summary_.firstContact < 0) summary_.firstContact = t;
+      if (summary_.firstContact < 0) summary_.firstContact = t;
       summary_.lastContact = t;
       summary_.impulse += totalForce * h;
       summary_.maxForce = std::max(summary_.maxForce, totalForce);
     }
-    contactBefore = totalForce > 0;
 
     if (n % every == 0 || n == nSteps - 1) {
       ScopedPhase phase(cost, "output");
