@@ -7,7 +7,8 @@ F = rho c S v0 = 1.6e6 N, contact-face velocity zero during contact, rebound at 
 Checked here, for the Lagrange and the penalty method:
   contact start and end within 1 % of t0 and t1, mean plateau force (impulse / measured duration)
   within 2 % of F, rebound velocity (linear momentum / rigid mass after release) within 2 % of v0;
-and that the error falls when fixed-interface modes are added and when h shrinks.
+and that the error falls when fixed-interface modes are added (against the exact solution) and when
+h shrinks (against the same model at a 16x smaller step: the time-discretization error alone).
 """
 import os
 import sys
@@ -30,7 +31,10 @@ def measure(path):
     t = h["time"]
     dt = t[1] - t[0]
     f = h["bodies/Bar/contact/total_force"]
-    on = np.nonzero(f > 0)[0]
+    # Contact is where the force is physical: above 1e-6 of the plateau. When a node reaches the wall
+    # exactly at a step (t0 is a multiple of h here), round-off alone can give a force of 1e-4 N
+    # one step early, whose sign depends on the last bits of the reduced model.
+    on = np.nonzero(f > 1e-6 * F)[0]
     assert on.size > 0, f"{path}: no contact at all"
     start = t[on[0]]
     end = t[on[-1]] + dt                  # first record without force
@@ -102,16 +106,35 @@ def main():
     if not all(totals[i + 1] < totals[i] for i in range(len(totals) - 1)):
         failures.append(f"error does not fall as modes are added: {totals}")
 
-    # Convergence in the time step (CB 100 modes).
-    steps = [2e-7, 1e-7, 5e-8]
-    totals = []
+    # Convergence in the time step (CB 100 modes). Against the exact solution the error here is the
+    # model's (modes, mesh), not the time step's; so the time discretization is measured against
+    # the same model run with a 16x smaller step: the largest difference of the free-end
+    # displacement over the run, at the instants the runs share. Central difference is second
+    # order: the difference must fall, by about 4 for each halving.
+    steps = [4e-7, 2e-7, 1e-7]
+    ref_h = 2.5e-8
+
+    def free_end(h):
+        name = f"h{h:g}"
+        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
+            "Output->File": name + ".h5", "Time->Time step": (f"{h:g}", "double"),
+            "Run->Progress interval": ("0", "double")})
+        run([a.run, deck, "--threads", "1"], a.workdir)
+        hist = history(os.path.join(a.workdir, name + ".h5"))
+        return hist["time"], hist["bodies/Bar/nodesets/x-/displacement"][:, :, 0].mean(axis=1)
+
+    t_ref, u_ref = free_end(ref_h)
+    diffs = []
     for h in steps:
-        m = case(f"h{h:g}", {"Time->Time step": (f"{h:g}", "double")})
-        report(f"Lagrange, CB 100 modes, h={h:g}", m)
-        totals.append(m["total"])
-    print("sum of relative errors vs h:", ", ".join(f"{h:g}: {t:.4f}" for h, t in zip(steps, totals)))
-    if not all(totals[i + 1] < totals[i] for i in range(len(totals) - 1)):
-        failures.append(f"error does not fall as h shrinks: {totals}")
+        t, u = free_end(h)
+        stride, ref_stride = int(round(steps[0] / h)), int(round(steps[0] / ref_h))
+        n = min(len(t[::stride]), len(t_ref[::ref_stride]))
+        diffs.append(np.abs(u[::stride][:n] - u_ref[::ref_stride][:n]).max())
+    print("largest free-end displacement difference to h = 2.5e-8:",
+          ", ".join(f"h={h:g}: {d:.3e} m" for h, d in zip(steps, diffs)),
+          "; ratios", ", ".join(f"{diffs[i] / diffs[i + 1]:.2f}" for i in range(len(diffs) - 1)))
+    if not all(diffs[i + 1] < 0.5 * diffs[i] for i in range(len(diffs) - 1)):
+        failures.append(f"time-step error does not fall (at least 2x per halving): {diffs}")
 
     if failures:
         print("FAILED:\n  " + "\n  ".join(failures))
