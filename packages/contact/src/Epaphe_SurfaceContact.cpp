@@ -49,7 +49,6 @@ SurfaceContact::SurfaceContact(const ReducedModel& body, const std::vector<int>&
   tangent_ = Kokkos::View<double* [3]>("epaphe::contact::tangent", nc);
   dir_ = Kokkos::View<double* [3]>("epaphe::contact::direction", nc);
   mu_ = Kokkos::View<double*>("epaphe::contact::friction", nc);
-  push_ = Kokkos::View<double* [3]>("epaphe::contact::push", nc);
   basis_ = Kokkos::View<double* [3][3]>("epaphe::contact::basis", nc);
   disp_ = Kokkos::View<double* [3]>("epaphe::contact::motion", nc);
   nextState_ = Kokkos::View<int*>("epaphe::contact::next_state", nc);
@@ -64,8 +63,6 @@ SurfaceContact::SurfaceContact(const ReducedModel& body, const std::vector<int>&
     solH_ = Kokkos::create_mirror_view(sol_);
   }
   state_ = Kokkos::View<int*>("epaphe::contact::state", nc);
-  rhs_ = Kokkos::View<double*>("epaphe::contact::rhs", nc);
-  rhsH_ = Kokkos::create_mirror_view(rhs_);
   muH_ = Kokkos::create_mirror_view(mu_);
   tangentH_ = Kokkos::create_mirror_view(tangent_);
   Kokkos::deep_copy(muH_, 0.0);
@@ -208,13 +205,11 @@ void SurfaceContact::setNormalDirections() {
   const auto normal = normal_;
   const auto tangent = tangent_;
   const auto dir = dir_;
-  const auto push = push_;
   const auto muA = mu_;
   Kokkos::parallel_for(
       "epaphe::contact::normal_direction", numNodes(), KOKKOS_LAMBDA(const int k) {
         for (int d = 0; d < 3; ++d) {
           dir(k, d) = normal(k, d);
-          push(k, d) = 0.0;
           tangent(k, d) = 0.0;
         }
         muA(k) = 0.0;
@@ -531,8 +526,8 @@ void SurfaceContact::solveFriction() {
 }
 
 void SurfaceContact::solveLagrange(int nA) {
-  // Active set iteration: solve MC lambda = -g* - n^T F p (eq. 2.33; p: the fixed part of the
-  // stuck nodes' friction), release nodes pulled by the surface.
+  // Active set iteration (frictionless: c_a = n_a): solve MC lambda = -g* (eq. 2.33), release
+  // nodes pulled by the surface.
   Teuchos::LAPACK<int, double> lapack;
   std::vector<double>& lambda = lambda_;
   for (int pass = 0; pass <= numNodes() && nA > 0; ++pass) {
@@ -543,32 +538,24 @@ void SurfaceContact::solveLagrange(int nA) {
     const auto dof = dof_;
     const auto normal = normal_;
     const auto dir = dir_;
-    const auto push = push_;
     const auto MC = MC_;
-    const auto rhs = rhs_;
-    // MC_ab = n_a^T F_ab c_b (eq. 2.32; VC^T F VCT, non-symmetric with friction), one row per
-    // active node, and rhs_a = n_a^T sum_b F_ab p_b.
+    // MC_ab = n_a^T F_ab c_b (eq. 2.32), one row per active node.
     Kokkos::parallel_for(
         "epaphe::contact::matrix", nA, KOKKOS_LAMBDA(const int a) {
           const int ka = active(a);
-          double r = 0.0;
           for (int b = 0; b < nA; ++b) {
             const int kb = active(b);
             double s = 0.0;
             for (int d = 0; d < 3; ++d)
               for (int e = 0; e < 3; ++e) {
-                const double f = normal(ka, d) * F(dof(ka, d), dof(kb, e));
-                s += f * dir(kb, e);
-                r += f * push(kb, e);
+                s += normal(ka, d) * F(dof(ka, d), dof(kb, e)) * dir(kb, e);
               }
             MC(a, b) = s;
           }
-          rhs(a) = r;
         });
     Kokkos::fence();
     auto MCH = Kokkos::create_mirror_view(MC_);
     Kokkos::deep_copy(MCH, MC_);
-    Kokkos::deep_copy(rhsH_, rhs_);
     std::vector<double>& A = denseMC_;
     A.resize(static_cast<std::size_t>(nA) * nA);
     for (int b = 0; b < nA; ++b)
@@ -581,7 +568,7 @@ void SurfaceContact::solveLagrange(int nA) {
       }
     }
     lambda.assign(static_cast<std::size_t>(nA), 0.0);
-    for (int a = 0; a < nA; ++a) lambda[a] = -gapH_(activeH_[a]) - rhsH_(a);
+    for (int a = 0; a < nA; ++a) lambda[a] = -gapH_(activeH_[a]);
     ipiv_.assign(static_cast<std::size_t>(nA), 0);
     int info = 0;
     lapack.GESV(nA, 1, A.data(), nA, ipiv_.data(), lambda.data(), nA, &info);

@@ -131,14 +131,11 @@ private:
   Kokkos::View<double* [3]> normal_;
   Kokkos::View<double* [3]> tangent_;     // t_a (unit, or zero)
   Kokkos::View<double* [3]> dir_;         // c_a = n_a + mu_a t_a (VCT, eq. 2.31)
-  Kokkos::View<double* [3]> push_;        // zero: the frictionless Lagrange solve's fixed impulses
   Kokkos::View<double* [3][3]> basis_;   // per node: rows n_a, e1_a, e2_a (tangent-plane basis)
   Kokkos::View<double* [3]> disp_;        // d_a = u_a(q*) - u_a(q_n)
   Kokkos::View<int*> state_, nextState_, bestState_;   // kStick, kSlide
   Kokkos::View<double* [3]> nextTangent_, bestTangent_;
   Kokkos::View<double*> mu_;              // mu_a applied
-  Kokkos::View<double*> rhs_;             // n_a^T sum_b F_ab push_b (frictionless Lagrange: 0)
-  Kokkos::View<double*>::HostMirror rhsH_;
   Kokkos::View<double**, Kokkos::LayoutLeft> MCf_;   // friction system, 3 nc x 3 nc
   Kokkos::View<double**, Kokkos::LayoutLeft>::HostMirror MCfH_;
   Kokkos::View<double*> sol_;             // its right-hand side / solution (lambda, s1, s2 per active node)
