@@ -2,48 +2,217 @@
 
 #include "Epaphe_Error.hpp"
 
+#include <KokkosBlas1_axpby.hpp>
 #include <Teuchos_LAPACK.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace epaphe {
 
+namespace {
+
+ContactNodes bodyNodes(const ReducedModel& body, const std::vector<int>& nodes) {
+  ContactNodes cn;
+  for (int node : nodes) {
+    EPAPHE_REQUIRE(node >= 0 && node < body.numNodes(),
+                   "body '" << body.name << "': contact node " << node << " is not in the model (0.." << body.numNodes() - 1 << ")");
+    int dof[3];
+    double x[3];
+    for (int d = 0; d < 3; ++d) {
+      dof[d] = body.nodeDof[3 * node + d];
+      EPAPHE_REQUIRE(dof[d] >= 0, "body '" << body.name << "': contact node " << node << " (direction " << "xyz"[d]
+                                           << ") is not a retained DOF of the reduced model; add it to the retained "
+                                              "node set, and do not clamp contact nodes");
+      x[d] = body.coords[node][d];
+    }
+    cn.add(node, 0, dof, x);
+  }
+  return cn;
+}
+
+std::vector<ContactSurface> rigidSurfaces(const std::vector<const BSplineSurface*>& surfaces) {
+  std::vector<ContactSurface> r;
+  for (const BSplineSurface* s : surfaces) r.push_back(ContactSurface{s, nullptr, -1, {}, {}});
+  return r;
+}
+
+/// Node k's motion relative to its surface, D_k v (see the header), as a list of entries
+/// (DOF triple, weight): the node itself with weight 1, then the grid nodes of a carried surface
+/// with weights -w_p w_q (DOF -1: clamped, fixed). Valid for the nodes relativeFlexibility() saw
+/// active. Copy into kernels by value.
+struct RelativeMotion {
+  Kokkos::View<int** [3]> dof;
+  Kokkos::View<double**> w;
+  Kokkos::View<int*> count;
+
+  /// (D_k v)_d for any accessor v(i) of the system coordinates.
+  template <class V>
+  KOKKOS_INLINE_FUNCTION double apply(int k, int d, const V& v) const {
+    double r = 0.0;
+    for (int m = 0; m < count(k); ++m) {
+      const int i = dof(k, m, d);
+      if (i >= 0) r += w(k, m) * v(i);
+    }
+    return r;
+  }
+};
+
+template <class Y>
+struct Column {
+  Y y;
+  int c;
+  KOKKOS_INLINE_FUNCTION double operator()(int i) const { return y(i, c); }
+};
+
+template <class V>
+struct Difference {
+  V a, b;
+  KOKKOS_INLINE_FUNCTION double operator()(int i) const { return a(i) - b(i); }
+};
+
+}  // namespace
+
 SurfaceContact::SurfaceContact(const ReducedModel& body, const std::vector<int>& nodes,
                                std::vector<const BSplineSurface*> surfaces, const ContactOptions& options,
                                const DenseMatrix& flexibility)
-    : opt_(options), nodes_(nodes), surfaces_(std::move(surfaces)), F_(flexibility) {
+    : SurfaceContact(bodyNodes(body, nodes), rigidSurfaces(surfaces), {ContactBlock{0, body.size}}, options,
+                     flexibility) {}
+
+SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> surfaces,
+                               std::vector<ContactBlock> blocks, const ContactOptions& options,
+                               const DenseMatrix& flexibility)
+    : opt_(options), nodes_(std::move(nodes.labels)), nodeBlock_(std::move(nodes.block)),
+      surfaces_(std::move(surfaces)), F_(flexibility) {
   const int nc = static_cast<int>(nodes_.size());
-  EPAPHE_REQUIRE(nc > 0, "body '" << body.name << "': the contact node set is empty");
-  EPAPHE_REQUIRE(!surfaces_.empty(), "body '" << body.name << "': no surface to contact");
-  EPAPHE_REQUIRE(F_.extent(0) == static_cast<std::size_t>(body.size) && F_.extent(1) == F_.extent(0),
-                 "contact: flexibility matrix is " << F_.extent(0) << " x " << F_.extent(1) << ", expected "
-                                                   << body.size << " x " << body.size);
-  EPAPHE_REQUIRE(surfaces_.size() <= 2, "body '" << body.name << "': " << surfaces_.size()
-                                                 << " surfaces on one contact node set; at most 2 are supported");
+  const int N = static_cast<int>(F_.extent(0));
+  EPAPHE_REQUIRE(nc > 0, "contact: the contact node set is empty");
+  EPAPHE_REQUIRE(!surfaces_.empty(), "contact: no surface to contact");
+  EPAPHE_REQUIRE(F_.extent(1) == F_.extent(0), "contact: flexibility matrix is " << F_.extent(0) << " x "
+                                                                                  << F_.extent(1) << ", not square");
+  EPAPHE_REQUIRE(surfaces_.size() <= 2, "contact: " << surfaces_.size() << " surfaces; at most 2 are supported");
   EPAPHE_REQUIRE(opt_.method != ContactMethod::Penalty || opt_.penaltyStiffness > 0,
                  "contact: penalty stiffness = " << opt_.penaltyStiffness << " N/m; it must be > 0");
   EPAPHE_REQUIRE(std::isfinite(opt_.friction) && opt_.friction >= 0.0,
-                 "body '" << body.name << "': friction coefficient mu = " << opt_.friction
-                          << "; it must be a finite value >= 0 (0: frictionless)");
+                 "contact: friction coefficient mu = " << opt_.friction
+                                                        << "; it must be a finite value >= 0 (0: frictionless)");
+  const int nb = static_cast<int>(blocks.size());
+  blocks_ = Kokkos::View<int* [2]>("epaphe::contact::blocks", nb);
+  auto bH = Kokkos::create_mirror_view(blocks_);
+  for (int b = 0; b < nb; ++b) {
+    EPAPHE_REQUIRE(blocks[b].offset >= 0 && blocks[b].size > 0 && blocks[b].offset + blocks[b].size <= N,
+                   "contact: block " << b << " [" << blocks[b].offset << ", " << blocks[b].offset + blocks[b].size
+                                     << ") does not fit the " << N << " system coordinates");
+    bH(b, 0) = blocks[b].offset;
+    bH(b, 1) = blocks[b].size;
+  }
+  Kokkos::deep_copy(blocks_, bH);
+  auto inBlock = [&](int dof, int b) { return b >= 0 && b < nb && dof >= bH(b, 0) && dof < bH(b, 0) + bH(b, 1); };
   dof_ = Kokkos::View<int* [3]>("epaphe::contact::dof", nc);
   X_ = Kokkos::View<double* [3]>("epaphe::contact::X", nc);
+  nodeBlk_ = Kokkos::View<int*>("epaphe::contact::node_block", nc);
   auto dofH = Kokkos::create_mirror_view(dof_);
   auto XH = Kokkos::create_mirror_view(X_);
+  auto blkH = Kokkos::create_mirror_view(nodeBlk_);
+  EPAPHE_REQUIRE(nodes.dofs.size() == 3 * std::size_t(nc) && nodes.X.size() == 3 * std::size_t(nc) &&
+                     nodeBlock_.size() == std::size_t(nc),
+                 "contact: the node arrays disagree in size");
   for (int k = 0; k < nc; ++k) {
-    const int node = nodes_[k];
-    EPAPHE_REQUIRE(node >= 0 && node < body.numNodes(),
-                   "body '" << body.name << "': contact node " << node << " is not in the model (0.." << body.numNodes() - 1 << ")");
+    blkH(k) = nodeBlock_[k];
     for (int d = 0; d < 3; ++d) {
-      const int i = body.nodeDof[3 * node + d];
-      EPAPHE_REQUIRE(i >= 0, "body '" << body.name << "': contact node " << node << " (direction " << "xyz"[d]
-                                      << ") is not a retained DOF of the reduced model; add it to the retained "
-                                         "node set, and do not clamp contact nodes");
-      dofH(k, d) = i;
-      XH(k, d) = body.coords[node][d];
+      dofH(k, d) = nodes.dofs[3 * k + d];
+      XH(k, d) = nodes.X[3 * k + d];
+      EPAPHE_REQUIRE(inBlock(dofH(k, d), blkH(k)), "contact: node " << nodes_[k] << " DOF " << dofH(k, d)
+                                                                    << " is outside its body's block " << blkH(k));
     }
   }
   Kokkos::deep_copy(dof_, dofH);
   Kokkos::deep_copy(X_, XH);
+  Kokkos::deep_copy(nodeBlk_, blkH);
+
+  // Carried surfaces: grid DOFs and interpolation operators, concatenated.
+  const int ns = static_cast<int>(surfaces_.size());
+  info_ = Kokkos::View<int* [6]>("epaphe::contact::surface_info", ns);
+  gridOff_ = Kokkos::View<int*>("epaphe::contact::grid_offset", ns);
+  opOff_ = Kokkos::View<int* [2]>("epaphe::contact::operator_offset", ns);
+  auto infoH = Kokkos::create_mirror_view(info_);
+  auto goH = Kokkos::create_mirror_view(gridOff_);
+  auto ooH = Kokkos::create_mirror_view(opOff_);
+  std::vector<int> gd;
+  std::vector<double> ops;
+  for (int s = 0; s < ns; ++s) {
+    ContactSurface& cs = surfaces_[s];
+    if (cs.moving) cs.surface = cs.moving;
+    EPAPHE_REQUIRE(cs.surface, "contact: surface " << s << " is null");
+    const BSplineSurface& S = *cs.surface;
+    infoH(s, 0) = cs.moving ? cs.block : -1;
+    infoH(s, 1) = S.nu();
+    infoH(s, 2) = S.nv();
+    infoH(s, 3) = S.inputNv();
+    infoH(s, 4) = S.periodicU();
+    infoH(s, 5) = S.periodicV();
+    goH(s) = static_cast<int>(gd.size() / 3);
+    ooH(s, 0) = static_cast<int>(ops.size());
+    ops.insert(ops.end(), S.operatorU().begin(), S.operatorU().end());
+    ooH(s, 1) = static_cast<int>(ops.size());
+    ops.insert(ops.end(), S.operatorV().begin(), S.operatorV().end());
+    gridX_.emplace_back();
+    gridPos_.emplace_back();
+    gridHost_.emplace_back();
+    if (!cs.moving) continue;
+    const std::size_t ng = std::size_t(S.inputNu()) * S.inputNv();
+    EPAPHE_REQUIRE(cs.gridDofs.size() == 3 * ng && cs.gridX.size() == 3 * ng,
+                   "contact: surface '" << S.name() << "' has " << ng << " grid nodes but " << cs.gridDofs.size() / 3
+                                        << " grid DOF triples and " << cs.gridX.size() / 3 << " positions");
+    for (std::size_t g = 0; g < 3 * ng; ++g)
+      EPAPHE_REQUIRE(cs.gridDofs[g] < 0 || inBlock(cs.gridDofs[g], cs.block), "contact: surface '" << S.name() << "' grid DOF "
+                                                                             << cs.gridDofs[g] << " is outside its body's block");
+    for (int k = 0; k < nc; ++k)
+      EPAPHE_REQUIRE(blkH(k) != cs.block, "contact: node " << nodes_[k] << " belongs to the body that carries surface '"
+                                                            << S.name() << "'; self-contact is not supported");
+    gd.insert(gd.end(), cs.gridDofs.begin(), cs.gridDofs.end());
+    gridX_.back() = Kokkos::View<double* [3]>("epaphe::contact::grid_X", ng);
+    gridPos_.back() = Kokkos::View<double* [3]>("epaphe::contact::grid_x", ng);
+    auto gxH = Kokkos::create_mirror_view(gridX_.back());
+    for (std::size_t g = 0; g < ng; ++g)
+      for (int d = 0; d < 3; ++d) gxH(g, d) = cs.gridX[3 * g + d];
+    Kokkos::deep_copy(gridX_.back(), gxH);
+    gridHost_.back().resize(3 * ng);
+    maxGrid_[0] = std::max(maxGrid_[0], S.nu());
+    maxGrid_[1] = std::max(maxGrid_[1], S.nv());
+  }
+  gridDof_ = Kokkos::View<int* [3]>("epaphe::contact::grid_dof", gd.size() / 3);
+  auto gdH = Kokkos::create_mirror_view(gridDof_);
+  for (std::size_t g = 0; g < gd.size() / 3; ++g)
+    for (int d = 0; d < 3; ++d) gdH(g, d) = gd[3 * g + d];
+  Kokkos::deep_copy(gridDof_, gdH);
+  ops_ = Kokkos::View<double*>("epaphe::contact::operators", ops.size());
+  Kokkos::deep_copy(ops_, Kokkos::View<const double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                              ops.data(), ops.size()));
+  Kokkos::deep_copy(info_, infoH);
+  Kokkos::deep_copy(gridOff_, goH);
+  gridOffH_.assign(goH.data(), goH.data() + ns);
+  Kokkos::deep_copy(opOff_, ooH);
+  foot_ = Kokkos::View<double* [2]>("epaphe::contact::foot", nc);
+  wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, maxGrid_[0]);
+  wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, maxGrid_[1]);
+  Y_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::FDt", N, 3 * nc);
+  dq_ = DenseVector("epaphe::contact::correction", N);
+  corrected_ = Kokkos::View<int*>("epaphe::contact::added", nc);
+  {  // nodes penetrating by less than 1e-12 of the model's size after the correction are not added
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    for (int k = 0; k < nc; ++k)
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], XH(k, d));
+        hi[d] = std::max(hi[d], XH(k, d));
+      }
+    gapTolerance_ = 1e-12 * std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300});
+  }
+  const int maxEntries = 1 + std::min(maxGrid_[0], 46) * std::min(maxGrid_[1], 46);
+  entDof_ = Kokkos::View<int** [3]>("epaphe::contact::entry_dof", nc, maxEntries);
+  entW_ = Kokkos::View<double**>("epaphe::contact::entry_weight", nc, maxEntries);
+  entN_ = Kokkos::View<int*>("epaphe::contact::entries", nc);
+  C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
   x_ = Kokkos::View<double* [3]>("epaphe::contact::x", nc);
   normal_ = Kokkos::View<double* [3]>("epaphe::contact::normal", nc);
   tangent_ = Kokkos::View<double* [3]>("epaphe::contact::tangent", nc);
@@ -94,6 +263,22 @@ void SurfaceContact::measureGaps(const DenseVector& q, CostSplit& cost) {
 
 void SurfaceContact::detect(const DenseVector& q) {
   const int nc = numNodes();
+  // Surfaces carried by a body: rebuilt from their moved grid nodes (operators reused).
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
+    if (!surfaces_[s].moving) continue;
+    const auto gX = gridX_[s];
+    const auto gx = gridPos_[s];
+    const auto gdof = gridDof_;
+    const int off = gridOffH_[s];
+    Kokkos::parallel_for(
+        "epaphe::contact::surface_nodes", gx.extent(0), KOKKOS_LAMBDA(const int g) {
+          for (int d = 0; d < 3; ++d) gx(g, d) = gX(g, d) + (gdof(off + g, d) >= 0 ? q(gdof(off + g, d)) : 0.0);
+        });
+    auto gxH = Kokkos::create_mirror_view(gx);
+    Kokkos::deep_copy(gxH, gx);
+    std::copy(gxH.data(), gxH.data() + gxH.size(), gridHost_[s].begin());
+    surfaces_[s].moving->update(gridHost_[s].data());
+  }
   const auto dof = dof_;
   const auto X = X_;
   const auto x = x_;
@@ -102,14 +287,16 @@ void SurfaceContact::detect(const DenseVector& q) {
         for (int d = 0; d < 3; ++d) x(k, d) = X(k, d) + q(dof(k, d));
       });
   for (std::size_t s = 0; s < surfaces_.size(); ++s)
-    projectNodes(surfaces_[s]->view(), x_, uv_[s], proj_[s], opt_.nrTolerance, opt_.nrMaxIterations);
+    projectNodes(surfaces_[s].surface->view(), x_, uv_[s], proj_[s], opt_.nrTolerance, opt_.nrMaxIterations);
   // Per node, the surface with the smallest gap among those the node is not beyond.
   const auto gap = gap_;
   const auto normal = normal_;
   const auto surf = surf_;
+  const auto foot = foot_;
   const auto p0 = proj_[0];
   const auto p1 = surfaces_.size() > 1 ? proj_[1] : proj_[0];
   const int ns = static_cast<int>(surfaces_.size());
+  const double edgeTol = opt_.edgeTolerance > opt_.nrTolerance ? opt_.edgeTolerance : opt_.nrTolerance;
   int iters = 0;
   Kokkos::parallel_reduce(
       "epaphe::contact::select", nc,
@@ -119,10 +306,12 @@ void SurfaceContact::detect(const DenseVector& q) {
         for (int s = 0; s < ns; ++s) {
           const Projection& p = s == 0 ? p0(k) : p1(k);
           if (p.iterations > maxIt) maxIt = p.iterations;
-          if (!p.outside && p.gap < g) {
+          if (!(p.beyond > edgeTol) && p.gap < g) {
             g = p.gap;
             best = s;
             for (int d = 0; d < 3; ++d) normal(k, d) = p.normal[d];
+            foot(k, 0) = p.u;
+            foot(k, 1) = p.v;
           }
         }
         gap(k) = g;
@@ -165,39 +354,75 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     }
     return;
   }
-  if (!friction || qCurrent == nullptr) {  // frictionless: c_a = n_a exactly (unchanged path)
-    setNormalDirections();
-    if (opt_.method == ContactMethod::Penalty) {
-      for (int k : activeH_) forceH_(k) = opt_.penaltyStiffness * (-gapH_(k));  // eq. 2.34
+  motionEntries();
+  // Active set (Lagrange): the nodes the predictor made penetrate, less those the surface would
+  // pull (lambda < 0, released inside the solves), plus those the correction of the others makes
+  // penetrate through the coupling of F (their corrected gap g*_a + n_a . D_a dq < 0): solved
+  // again until no node is added (at most kMaxAddPasses).
+  const auto dq = dq_;
+  for (int pass = 0;; ++pass) {
+    numActive_ = static_cast<int>(activeH_.size());
+    relativeColumns();
+    if (!friction || qCurrent == nullptr) {  // frictionless: c_a = n_a exactly
+      setNormalDirections();
+      if (opt_.method == ContactMethod::Penalty) {
+        for (int k : activeH_) forceH_(k) = opt_.penaltyStiffness * (-gapH_(k));  // eq. 2.34
+      } else {
+        solveLagrange(numActive_);
+      }
       Kokkos::deep_copy(force_, forceH_);
     } else {
-      solveLagrange(numActive_);
-      Kokkos::deep_copy(force_, forceH_);
+      prepareFriction(q, *qCurrent);
+      solveFriction();
     }
-  } else {
-    prepareFriction(q, *qCurrent);
-    solveFriction();
+    // dq = F G lambda (eqs. 2.35-2.36), G_a = D_a^T c_a, F D_a^T = Y: one pass over q.
+    const auto Y = Y_;
+    const auto dir = dir_;
+    const auto force = force_;
+    Kokkos::parallel_for(
+        "epaphe::contact::correction", q.extent(0), KOKKOS_LAMBDA(const int i) {
+          double s = 0.0;
+          for (std::size_t k = 0; k < force.extent(0); ++k) {
+            const double l = force(k);
+            if (l == 0.0) continue;
+            s += l * (Y(i, 3 * k) * dir(k, 0) + Y(i, 3 * k + 1) * dir(k, 1) + Y(i, 3 * k + 2) * dir(k, 2));
+          }
+          dq(i) = s;
+        });
+    if (opt_.method == ContactMethod::Penalty || pass == kMaxAddPasses) break;
+    // corrected gaps of the nodes outside the active set
+    const RelativeMotion D{entDof_, entW_, entN_};
+    const auto normal = normal_;
+    const auto gap = gap_;
+    const auto surf = surf_;
+    const auto corrected = corrected_;
+    const double eps = gapTolerance_;
+    int added = 0;
+    Kokkos::parallel_reduce(
+        "epaphe::contact::corrected_gaps", nc,
+        KOKKOS_LAMBDA(const int k, int& n) {
+          corrected(k) = 0;
+          if (surf(k) < 0 || force(k) != 0.0 || !(gap(k) < 1e300)) return;
+          double g = gap(k);
+          for (int d = 0; d < 3; ++d) g += normal(k, d) * D.apply(k, d, dq);
+          if (g < -eps) {
+            corrected(k) = 1;
+            ++n;
+          }
+        },
+        added);
+    if (added == 0) break;
+    auto addH = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), corrected_);
+    activeH_.clear();
+    for (int k = 0; k < nc; ++k)
+      if (forceH_(k) != 0.0 || addH(k)) activeH_.push_back(k);
+    lastAddPasses_ = pass + 1;
   }
   if (friction) {
     Kokkos::deep_copy(muH_, mu_);
     Kokkos::deep_copy(tangentH_, tangent_);
   }
-
-  // q += F G lambda (eqs. 2.35-2.36), G_a = c_a: one pass over the reduced coordinates.
-  const auto F = F_;
-  const auto dof = dof_;
-  const auto dir = dir_;
-  const auto force = force_;
-  Kokkos::parallel_for(
-      "epaphe::contact::correct", q.extent(0), KOKKOS_LAMBDA(const int i) {
-        double dq = 0.0;
-        for (std::size_t k = 0; k < force.extent(0); ++k) {
-          const double l = force(k);
-          if (l == 0.0) continue;
-          dq += l * (F(i, dof(k, 0)) * dir(k, 0) + F(i, dof(k, 1)) * dir(k, 1) + F(i, dof(k, 2)) * dir(k, 2));
-        }
-        q(i) += dq;
-      });
+  KokkosBlas::axpy(1.0, dq_, q);
   Kokkos::fence();
 }
 
@@ -227,14 +452,15 @@ void SurfaceContact::prepareFriction(const DenseVector& q, const DenseVector& qn
   const auto tangent = tangent_;
   const auto state = state_;
   const auto returns = returns_;
-  const auto dof = dof_;
   const auto x = x_;
+  const RelativeMotion D{entDof_, entW_, entN_};
+  const Difference<DenseVector> dq{q, qn};
   Kokkos::parallel_for(
       "epaphe::contact::friction_prepare", numNodes(), KOKKOS_LAMBDA(const int k) {
         double n[3], dsp[3], dn = 0.0, dd = 0.0, xx = 0.0;
         for (int e = 0; e < 3; ++e) {
           n[e] = normal(k, e);
-          dsp[e] = q(dof(k, e)) - qn(dof(k, e));
+          dsp[e] = D.apply(k, e, dq);  // relative motion d_a = D_a (q* - q_n)
           disp(k, e) = dsp[e];
           dn += dsp[e] * n[e];
           dd += dsp[e] * dsp[e];
@@ -267,6 +493,108 @@ void SurfaceContact::prepareFriction(const DenseVector& q, const DenseVector& qn
         for (int e = 0; e < 3; ++e) tangent(k, e) = moving ? -dt[e] / len : 0.0;
         state(k) = moving ? kSlide : kStick;
         returns(k) = 0;
+      });
+  Kokkos::fence();
+}
+
+void SurfaceContact::motionEntries() {
+  // For every node on a surface: the entries of D_k, i.e. the spline weights of its foot point on
+  // a carried surface.
+  const auto foot = foot_;
+  const auto ops = ops_;
+  const auto opOff = opOff_;
+  const auto info = info_;
+  const auto surf = surf_;
+  const auto gridOff = gridOff_;
+  const auto gridDof = gridDof_;
+  const auto dof = dof_;
+  const auto wu = wu_, wv = wv_;
+  const auto entDof = entDof_;
+  const auto entW = entW_;
+  const auto entN = entN_;
+  const int maxE = static_cast<int>(entW_.extent(1));
+  Kokkos::parallel_for(
+      "epaphe::contact::relative_motion", numNodes(), KOKKOS_LAMBDA(const int k) {
+        for (int d = 0; d < 3; ++d) entDof(k, 0, d) = dof(k, d);
+        entW(k, 0) = 1.0;
+        int m = 1;
+        const int s = surf(k);
+        if (s >= 0 && info(s, 0) >= 0) {
+          // w_p = sum_r b_r B(i + r, p): the cubic basis (eq. 2.22) contracted with the rows of the
+          // interpolation operator (eq. 2.26, row-major n_ext x n) the patch reads
+          for (int dir = 0; dir < 2; ++dir) {
+            const int n = info(s, 1 + dir);
+            const auto& wgt = dir == 0 ? wu : wv;
+            int i;
+            double t, bs[4], db[4], ddb[4], wmax = 0.0;
+            surface_detail::locate(foot(k, dir), n, info(s, 4 + dir) != 0, i, t);
+            surface_detail::cubicBasis(t, bs, db, ddb);
+            for (int p = 0; p < n; ++p) {
+              double x = 0.0;
+              for (int r = 0; r < 4; ++r) x += bs[r] * ops(opOff(s, dir) + (i + r) * n + p);
+              wgt(k, p) = x;
+              wmax = ::fabs(x) > wmax ? ::fabs(x) : wmax;
+            }
+            for (int p = 0; p < n; ++p)  // they decay like 0.27^distance: at most 46 are kept
+              if (::fabs(wgt(k, p)) < 1e-12 * wmax) wgt(k, p) = 0.0;
+          }
+          const int nu = info(s, 1), nv = info(s, 2), inNv = info(s, 3), off = gridOff(s);
+          for (int p = 0; p < nu; ++p) {
+            if (wu(k, p) == 0.0) continue;
+            for (int q = 0; q < nv && m < maxE; ++q) {
+              if (wv(k, q) == 0.0) continue;
+              const int g = off + p * inNv + q;
+              for (int d = 0; d < 3; ++d) entDof(k, m, d) = gridDof(g, d);
+              entW(k, m) = -wu(k, p) * wv(k, q);
+              ++m;
+            }
+          }
+        }
+        entN(k) = m;
+      });
+}
+
+void SurfaceContact::relativeColumns() {
+  // For the active nodes: Y_k = F D_k^T (N x 3; only the rows of the node's block and of the
+  // surface's block are not zero) and C_ab = D_a Y_b (3 x 3 per active pair).
+  const int nA = numActive_;
+  Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
+  auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
+  Kokkos::deep_copy(active, activeH);
+  const auto surf = surf_;
+  const auto info = info_;
+  const auto entDof = entDof_;
+  const auto entW = entW_;
+  const auto entN = entN_;
+  const auto F = F_;
+  const auto Y = Y_;
+  const auto blocks = blocks_;
+  const auto nodeBlk = nodeBlk_;
+  const int N = static_cast<int>(F.extent(0));
+  // Y(:, 3k + e) = sum_m w_m F(:, dof_m,e): axpys of contiguous columns over the entry's block
+  Kokkos::parallel_for(
+      "epaphe::contact::relative_columns", 3 * nA, KOKKOS_LAMBDA(const int ae) {
+        const int k = active(ae / 3), e = ae % 3, c = 3 * k + e;
+        for (int i = 0; i < N; ++i) Y(i, c) = 0.0;
+        const int s = surf(k);
+        for (int m = 0; m < entN(k); ++m) {
+          const int j = entDof(k, m, e);
+          if (j < 0) continue;
+          const int blk = m == 0 ? nodeBlk(k) : info(s, 0);
+          const int b0 = blocks(blk, 0), b1 = b0 + blocks(blk, 1);
+          const double w = entW(k, m);
+          for (int i = b0; i < b1; ++i) Y(i, c) += w * F(i, j);
+        }
+      });
+  const auto C = C_;
+  const RelativeMotion D{entDof_, entW_, entN_};
+  Kokkos::parallel_for(
+      "epaphe::contact::relative_flexibility", nA * nA, KOKKOS_LAMBDA(const int ab) {
+        const int ka = active(ab / nA), kb = active(ab % nA);
+        for (int e = 0; e < 3; ++e) {
+          const Column<decltype(Y)> col{Y, 3 * kb + e};
+          for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = D.apply(ka, d, col);
+        }
       });
   Kokkos::fence();
 }
@@ -308,8 +636,7 @@ void SurfaceContact::solveFriction() {
     Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
     auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
     Kokkos::deep_copy(active, activeH);
-    const auto F = F_;
-    const auto dof = dof_;
+    const auto C = C_;
     const auto basis = basis_;
     const auto tangent = tangent_;
     const auto state = state_;
@@ -330,7 +657,7 @@ void SurfaceContact::solveFriction() {
             for (int d = 0; d < 3; ++d)
               for (int j = 0; j < 3; ++j) {
                 double s = 0.0;
-                for (int e = 0; e < 3; ++e) s += F(dof(ka, d), dof(kb, e)) * c[j][e];
+                for (int e = 0; e < 3; ++e) s += C(ka, kb, d, e) * c[j][e];
                 G[d][j] = s;
               }
             for (int i = 0; i < 3; ++i) {
@@ -412,7 +739,7 @@ void SurfaceContact::solveFriction() {
               for (int e = 0; e < 3; ++e)
                 f[e] = sol(3 * b) * c[0][e] + sol(3 * b + 1) * c[1][e] + sol(3 * b + 2) * c[2][e];
               for (int d = 0; d < 3; ++d)
-                for (int e = 0; e < 3; ++e) w[d] += F(dof(ka, d), dof(kb, e)) * f[e];
+                for (int e = 0; e < 3; ++e) w[d] += C(ka, kb, d, e) * f[e];
             }
             // radial return: the tangential force that would stop the node, the others' forces
             // fixed, s_trial = mu lambda t - K^{-1} w_t, K_ij = e_i^T F_aa e_j (2 x 2); inside the
@@ -425,7 +752,7 @@ void SurfaceContact::solveFriction() {
             for (int i = 0; i < 2; ++i)
               for (int j = 0; j < 2; ++j)
                 for (int d = 0; d < 3; ++d)
-                  for (int e = 0; e < 3; ++e) K[i][j] += basis(ka, 1 + i, d) * F(dof(ka, d), dof(ka, e)) * basis(ka, 1 + j, e);
+                  for (int e = 0; e < 3; ++e) K[i][j] += basis(ka, 1 + i, d) * C(ka, ka, d, e) * basis(ka, 1 + j, e);
             const double det = K[0][0] * K[1][1] - K[0][1] * K[1][0];
             const double d1 = -(K[1][1] * w1 - K[0][1] * w2) / det, d2 = -(-K[1][0] * w1 + K[0][0] * w2) / det;
             double st[3], ss = 0.0;
@@ -534,12 +861,11 @@ void SurfaceContact::solveLagrange(int nA) {
     Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
     auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
     Kokkos::deep_copy(active, activeH);
-    const auto F = F_;
-    const auto dof = dof_;
+    const auto C = C_;
     const auto normal = normal_;
     const auto dir = dir_;
     const auto MC = MC_;
-    // MC_ab = n_a^T F_ab c_b (eq. 2.32), one row per active node.
+    // MC_ab = n_a^T C_ab c_b (eq. 2.32), C_ab = D_a F D_b^T, one row per active node.
     Kokkos::parallel_for(
         "epaphe::contact::matrix", nA, KOKKOS_LAMBDA(const int a) {
           const int ka = active(a);
@@ -548,7 +874,7 @@ void SurfaceContact::solveLagrange(int nA) {
             double s = 0.0;
             for (int d = 0; d < 3; ++d)
               for (int e = 0; e < 3; ++e) {
-                s += normal(ka, d) * F(dof(ka, d), dof(kb, e)) * dir(kb, e);
+                s += normal(ka, d) * C(ka, kb, d, e) * dir(kb, e);
               }
             MC(a, b) = s;
           }
@@ -589,15 +915,16 @@ void SurfaceContact::solveLagrange(int nA) {
 double SurfaceContact::workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const {
   double w = 0.0;
   if (numActive_ == 0) return w;
-  const auto dof = dof_;
   const auto dir = dir_;
   const auto force = force_;
+  const RelativeMotion D{entDof_, entW_, entN_};
+  const Difference<DenseVector> dq{qNext, qPrev};
   Kokkos::parallel_reduce(
       "epaphe::contact::work", numNodes(),
       KOKKOS_LAMBDA(const int k, double& s) {
         const double l = force(k);
         if (l == 0.0) return;
-        for (int d = 0; d < 3; ++d) s += 0.5 * l * dir(k, d) * (qNext(dof(k, d)) - qPrev(dof(k, d)));
+        for (int d = 0; d < 3; ++d) s += 0.5 * l * dir(k, d) * D.apply(k, d, dq);
       },
       w);
   return w;

@@ -1,21 +1,34 @@
 #pragma once
-// Contact of a set of nodes of one reduced body with one or more rigid B-spline surfaces
-// (thesis section 2.5). After the explicit predictor has produced q* (eq. 2.2 without contact):
+// Contact of the nodes of one or more reduced bodies with B-spline surfaces, rigid or carried by
+// another flexible body (thesis section 2.5). All bodies' reduced coordinates are stacked in one
+// system vector q (body b at q[offset_b, offset_b + size_b)), whose flexibility F is block diagonal.
+// After the explicit predictor has produced q* (eq. 2.2 without contact):
 //
-//   1. positions of the contact nodes x_a = X_a + u_a(q*) (contact nodes are retained DOFs);
+//   1. the surfaces carried by a body are rebuilt from its moved grid nodes (BSplineSurface::update,
+//      no refactorisation), and the positions of the contact nodes x_a = X_a + u_a(q*) are formed
+//      (contact nodes and surface grid nodes are retained DOFs);
 //   2. closest point on each surface by Newton-Raphson, warm-started (section 2.5.1); the gap
 //      g*_a = (x_a - S(u_a, v_a)) . n_a, n_a the unit outward normal (eq. 2.28);
-//   3. the correction direction of each node (VCT, eq. 2.31): c_a = n_a + mu_a t_a; frictionless
+//   3. node a's motion relative to the surface is D_a q, D_a the 3 x N operator
+//          D_a q = u_a(q) - sum_(p,q) w_p(u_a) w_q(v_a) u_pq(q),
+//      u_pq the grid nodes of a carried surface and w_p w_q the weights of the interpolating spline
+//      at the foot point, S = sum w_p w_q P_pq (rows of the operators B_u, B_v of eq. 2.26 contracted
+//      with the cubic basis, eq. 2.22; weights below 1e-12 of the largest are dropped); a rigid
+//      surface has no second term. All that follows uses D_a, so a node on a rigid surface and two
+//      flexible bodies in contact (eq. 2.33: both flexibilities in MC) are the same code;
+//   4. the correction direction of each node (VCT, eq. 2.31): c_a = n_a + mu_a t_a; frictionless
 //      (mu = 0, or no q_n given) c_a = n_a exactly;
-//   4. for the active nodes (g*_a < 0), the forces lambda >= 0:
+//   5. for the active nodes (g*_a < 0), the forces lambda >= 0:
 //        Lagrange (forward increment, Carpenter, Taylor & Katona 1991), eqs. 2.30-2.33:
-//          MC lambda = -g*,  MC_ab = n_a^T F_ab n_b,  F = (M/h^2 + D/2h)^{-1}
+//          MC lambda = -g*,  MC_ab = n_a^T C_ab c_b,  C_ab = D_a F D_b^T,  F = (M/h^2 + D/2h)^{-1}
 //          (optionally lumped: MC_aa = sum_b MC_ab), nodes with lambda_a < 0 released and the
 //          system solved again; the normal gap is closed exactly;
 //        penalty, eq. 2.34:  lambda_a = k_p (-g*_a);
-//   5. the correction q = q* + F G lambda (eqs. 2.35-2.36), G_a = c_a on node a's DOFs.
+//   6. the correction q = q* + F G lambda (eqs. 2.35-2.36), G_a = D_a^T c_a: the node is pushed
+//      along c_a and the surface's grid nodes back along -w c_a.
 //
-// Coulomb friction (mu > 0 and q_n given): a joint solve over the active set. Per active node a,
+// Coulomb friction (mu > 0 and q_n given): a joint solve over the active set (F_ab below is C_ab,
+// the relative flexibility, and d_a the relative motion D_a (q* - q_n)). Per active node a,
 // 3 unknowns: lambda_a and the tangential force s_a = s1 e1_a + s2 e2_a in the tangent plane of n_a
 // (e1, e2: an orthonormal basis of it); the force on the node is f_a = lambda_a n_a + s_a, and the
 // correction moves node a by sum_b F_ab f_b. With d_a = u_a(q*) - u_a(q_n) the predicted motion:
@@ -60,15 +73,56 @@ struct ContactOptions {
   int nrMaxIterations = 50;
   bool lumped = false;              // lump the contact matrix MC (section 2.5.2)
   double friction = 0.0;            // Coulomb coefficient mu >= 0 (eq. 2.31); 0: frictionless
+  double edgeTolerance = 1e-3;      // a node beyond an open edge by less (in patches) still touches
 };
 
 using DenseMatrix = Kokkos::View<double**, Kokkos::LayoutLeft>;
 using DenseVector = Kokkos::View<double*>;
 
+/// One body's block of the system coordinates: q[offset, offset + size).
+struct ContactBlock {
+  int offset = 0, size = 0;
+};
+
+/// The contact nodes: per node its 3 DOF indices in the system q, its reference position, the block
+/// of its body and a label (its node number in that body, for output).
+struct ContactNodes {
+  std::vector<int> dofs;     // 3 per node
+  std::vector<double> X;     // 3 per node
+  std::vector<int> block;    // 1 per node
+  std::vector<int> labels;   // 1 per node
+  void add(int label, int blk, const int dof[3], const double x[3]) {
+    labels.push_back(label);
+    block.push_back(blk);
+    for (int d = 0; d < 3; ++d) {
+      dofs.push_back(dof[d]);
+      X.push_back(x[d]);
+    }
+  }
+};
+
+/// A surface the nodes may touch. Rigid: `surface` only. Carried by a flexible body: `moving` is
+/// the same surface (rebuilt at each step), `block` its body, and per grid node of the input layout
+/// (node (i, j) at i * inputNv + j) its 3 DOF indices in q (-1: a clamped DOF) and its reference
+/// position.
+struct ContactSurface {
+  const BSplineSurface* surface = nullptr;
+  BSplineSurface* moving = nullptr;
+  int block = -1;
+  std::vector<int> gridDofs;
+  std::vector<double> gridX;
+};
+
 class SurfaceContact {
 public:
-  /// `nodes`: contact nodes of `body` (each must have its 3 DOFs among the reduced coordinates);
-  /// `flexibility`: F = (M/h^2 + D/2h)^{-1}, size x size; surfaces outlive this object.
+  /// The general form: nodes of any bodies against rigid or carried surfaces. `flexibility` is the
+  /// system's F = (M/h^2 + D/2h)^{-1} (N x N, block diagonal over `blocks`; entries outside the
+  /// blocks are never read). Surfaces outlive this object. A surface carried by the body of a
+  /// contact node is refused (no self-contact).
+  SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> surfaces, std::vector<ContactBlock> blocks,
+                 const ContactOptions& options, const DenseMatrix& flexibility);
+  /// One body against rigid surfaces: `nodes` of `body` (each must have its 3 DOFs among the
+  /// reduced coordinates); `flexibility`: the body's F, size x size.
   SurfaceContact(const ReducedModel& body, const std::vector<int>& nodes,
                  std::vector<const BSplineSurface*> surfaces, const ContactOptions& options,
                  const DenseMatrix& flexibility);
@@ -84,13 +138,15 @@ public:
   void measureGaps(const DenseVector& q, CostSplit& cost);
 
   /// Work of the contact forces of the last correction over [t_{n-1}, t_{n+1}] / 2:
-  /// sum_a lambda_a c_a . (u_a(qNext) - u_a(qPrev)) / 2, c_a = n_a + mu_a t_a the direction the
+  /// sum_a lambda_a c_a . D_a (qNext - qPrev) / 2 (on both bodies when the surface is carried), c_a = n_a + mu_a t_a the direction the
   /// correction used (so friction dissipation is negative contact work and the balance is exact).
   double workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const;
 
   int numNodes() const { return static_cast<int>(nodes_.size()); }
   int numActive() const { return numActive_; }
+  /// Node labels (node numbers in their bodies) and the block of each node, in contact order.
   const std::vector<int>& nodes() const { return nodes_; }
+  const std::vector<int>& nodeBlocks() const { return nodeBlock_; }
   /// Per node, after correct(): gap before correction (g*) -- or after measureGaps(), the gap at
   /// that q --, force lambda (N, >= 0), surface index (-1: beyond every surface), Newton
   /// iterations, and the total normal force.
@@ -104,6 +160,8 @@ public:
   Kokkos::View<double*>::HostMirror appliedFriction() const { return muH_; }
   Kokkos::View<double* [3]>::HostMirror tangent() const { return tangentH_; }
   int lastIterations() const { return lastIterations_; }
+  /// Passes that added nodes to the active set (lifetime count of steps that needed one).
+  int addPasses() const { return lastAddPasses_; }
   /// Stick/slide classification passes of the last friction solve (0 without friction).
   int lastFrictionPasses() const { return lastFrictionPasses_; }
   double totalForce() const;
@@ -115,16 +173,44 @@ private:
   void detect(const DenseVector& q);
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
   void setNormalDirections();
+  void motionEntries();     // entries of D_k (spline weights) of every node on a surface
+  void relativeColumns();   // Y = F D^T and C_ab = D_a Y_b of the active nodes
   void prepareFriction(const DenseVector& q, const DenseVector& qn);
   void solveFriction();
   void solveLagrange(int nA);
 
   ContactOptions opt_;
-  std::vector<int> nodes_;
-  std::vector<const BSplineSurface*> surfaces_;
+  std::vector<int> nodes_, nodeBlock_;
+  std::vector<ContactSurface> surfaces_;
   DenseMatrix F_;
   Kokkos::View<int* [3]> dof_;            // q index of each contact node DOF
   Kokkos::View<double* [3]> X_;           // reference coordinates
+  Kokkos::View<int*> nodeBlk_;            // block of each node
+  Kokkos::View<int* [2]> blocks_;         // offset, size of each block
+  // carried surfaces, concatenated: per surface s, grid DOFs from gridOff_(s), interpolation
+  // operators B_u, B_v (row-major) from opOff_(s, 0..1); info_(s) = {block (-1: rigid), nu, nv,
+  // input nv, periodic u, periodic v}
+  Kokkos::View<int* [3]> gridDof_;
+  Kokkos::View<int*> gridOff_;
+  std::vector<int> gridOffH_;
+  Kokkos::View<int* [2]> opOff_;
+  Kokkos::View<double*> ops_;
+  Kokkos::View<int* [6]> info_;
+  std::vector<Kokkos::View<double* [3]>> gridX_, gridPos_;   // per carried surface (empty: rigid)
+  std::vector<std::vector<double>> gridHost_;
+  Kokkos::View<double* [2]> foot_;        // foot point (u, v) on the selected surface
+  Kokkos::View<double**> wu_, wv_;        // spline weights of the active nodes' foot points
+  Kokkos::View<int** [3]> entDof_;        // entries of D_k: DOF triples, weights, count
+  Kokkos::View<double**> entW_;
+  Kokkos::View<int*> entN_;
+  Kokkos::View<double**, Kokkos::LayoutLeft> Y_;   // F D_k^T, column 3 k + e (active nodes)
+  Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
+  int maxGrid_[2] = {0, 0};
+  DenseVector dq_;                        // the correction F G lambda
+  Kokkos::View<int*> corrected_;          // nodes added to the active set by the last check
+  double gapTolerance_ = 0.0;
+  static constexpr int kMaxAddPasses = 10;
+  int lastAddPasses_ = 0;
   Kokkos::View<double* [3]> x_;           // current positions
   std::vector<Kokkos::View<double* [2]>> uv_;     // warm starts, one per surface
   std::vector<Kokkos::View<Projection*>> proj_;   // one per surface

@@ -36,6 +36,23 @@ Mesh structuredMesh(const std::array<int, 3>& n, Position position, const std::a
       for (int i = 0; i < n[0]; ++i)
         m.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1),
                            id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
+  // One ordered grid per face, S_u x S_v along the outward normal: for the face normal to axis a,
+  // (b, c) the next two axes cyclically (e_b x e_c = e_a): u along b (descending on the face at
+  // index 0 of axis a), v along c.
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2, b = (a + 1) % 3, c = (a + 2) % 3;
+    const bool upper = f % 2 == 1;
+    NodeGrid g{n[b] + 1, n[c] + 1, {}};
+    for (int ib = 0; ib <= n[b]; ++ib)
+      for (int ic = 0; ic <= n[c]; ++ic) {
+        std::array<int, 3> ijk{};
+        ijk[a] = upper ? n[a] : 0;
+        ijk[b] = upper ? ib : n[b] - ib;
+        ijk[c] = ic;
+        g.nodes.push_back(id(ijk[0], ijk[1], ijk[2]));
+      }
+    m.nodeGrids[faces[f]] = std::move(g);
+  }
   return m;  // node sets are sorted: nodes were visited in increasing id order
 }
 
@@ -95,10 +112,8 @@ Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius
                                                            << (d == 0 ? "through the thickness" : d == 1 ? "along the arc" : "along the axis")
                                                            << ", at least 1 is needed");
   const int nr = elements[0], nt = elements[1], nz = elements[2];
-  const int pr = nr + 1, pt = nt + 1;
   // i radial, j angular, k axial: r x theta = z keeps every hexahedron right-handed.
-  auto id = [&](int i, int j, int k) { return i + pr * (j + pt * k); };
-  Mesh m = structuredMesh(
+  return structuredMesh(
       elements,
       [&](int i, int j, int k) -> std::array<double, 3> {
         const double r = innerRadius + thickness * i / nr;
@@ -107,13 +122,6 @@ Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius
                 center[2] + axial[0] + (axial[1] - axial[0]) * k / nz};
       },
       {"inner", "outer", "end-", "end+", "z-", "z+"});
-  for (const auto& [name, i] : {std::pair<std::string, int>{"inner", 0}, {"outer", nr}}) {
-    NodeGrid g{pt, nz + 1, {}};
-    for (int j = 0; j < pt; ++j)
-      for (int k = 0; k <= nz; ++k) g.nodes.push_back(id(i, j, k));
-    m.nodeGrids[name] = g;
-  }
-  return m;
 }
 
 }  // namespace epaphe

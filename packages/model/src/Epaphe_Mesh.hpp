@@ -31,7 +31,9 @@ std::vector<int> resolveNodeSets(const std::map<std::string, std::vector<int>>& 
                                  const std::string& context);
 
 /// Structured box [x0, x0+lx] x [y0, y0+ly] x [z0, z0+lz] with nx x ny x nz hexahedra.
-/// Node sets: "all", and the six faces "x-", "x+", "y-", "y+", "z-", "z+".
+/// Node sets: "all", and the six faces "x-", "x+", "y-", "y+", "z-", "z+"; a node grid per face,
+/// named as its set, with S_u x S_v along the outward normal (x+: u along y, v along z; y+: u
+/// along z, v along x; z+: u along x, v along y; the "-" faces: u reversed).
 Mesh makeBoxMesh(const std::array<double, 3>& origin, const std::array<double, 3>& lengths,
                  const std::array<int, 3>& elements);
 
@@ -39,8 +41,9 @@ Mesh makeBoxMesh(const std::array<double, 3>& origin, const std::array<double, 3
 /// [innerRadius, innerRadius + thickness], angles [angles[0], angles[1]] (degrees, from +x towards
 /// +y), z in [center.z + axial[0], center.z + axial[1]]; elements = {radial, angular, axial}.
 /// Node sets: all, inner, outer (the two cylindrical faces), end- and end+ (the faces at the first
-/// and last angle, where a ring is clamped), z- and z+. Node grids "inner" and "outer": u along the
-/// angle, v along z, so that S_u x S_v points away from the axis.
+/// and last angle, where a ring is clamped), z- and z+. A node grid per face, named as its set,
+/// with S_u x S_v along the outward normal: "outer", u along the angle and v along z (away from
+/// the axis); "inner", u against the angle (towards the axis).
 Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius, double thickness,
                          const std::array<double, 2>& angles, const std::array<double, 2>& axial,
                          const std::array<int, 3>& elements);

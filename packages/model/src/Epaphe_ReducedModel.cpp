@@ -32,6 +32,7 @@ ReducedModel unreducedModel(const FullModel& full) {
   r.nodeDof = full.eq;
   r.coords = full.mesh.coords;
   r.nodeSets = full.mesh.nodeSets;
+  r.nodeGrids = full.mesh.nodeGrids;
   r.hexes = full.mesh.hexes;
   r.recovery.assign(3 * static_cast<std::size_t>(full.numNodes()) * r.size, 0.0);
   for (std::size_t i = 0; i < full.eq.size(); ++i)

@@ -5,6 +5,8 @@
 // Reduced coordinates q (size n): for Craig-Bampton, the physical DOFs of the retained nodes
 // (3 per node) followed by the amplitudes of the fixed-interface modes (thesis eq. 2.12); for the
 // unreduced model, every free DOF. Physical displacements are u = R q (eq. 2.5).
+#include "Epaphe_Mesh.hpp"
+
 #include <array>
 #include <map>
 #include <string>
@@ -25,6 +27,7 @@ struct ReducedModel {
   std::vector<std::array<double, 3>> coords;
   std::vector<std::array<int, 8>> hexes;   // the mesh, for field output (ParaView)
   std::map<std::string, std::vector<int>> nodeSets;
+  std::map<std::string, NodeGrid> nodeGrids;   // ordered faces (surfaces carried by the body)
   std::vector<int> retainedNodes;
   std::vector<double> modeFrequencies;  // fixed-interface modes (Hz)
   std::vector<double> fullFrequencies;  // lowest frequencies of the full model it came from (Hz), if computed

@@ -126,6 +126,7 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
   red.method = opt.modes > 0 ? "Craig-Bampton" : "Guyan";
   red.coords = full.mesh.coords;
   red.nodeSets = full.mesh.nodeSets;
+  red.nodeGrids = full.mesh.nodeGrids;
   red.hexes = full.mesh.hexes;
   red.retainedNodes = retained;
   red.nodeDof.assign(full.eq.size(), -1);

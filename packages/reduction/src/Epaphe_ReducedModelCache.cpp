@@ -10,7 +10,7 @@
 namespace epaphe {
 
 // Bump when the cache layout changes: older files then miss and are rebuilt.
-constexpr const char* cacheFormat = "2 (mesh hexahedra)";
+constexpr const char* cacheFormat = "3 (node grids)";
 
 std::string contentKey(const std::string& text) {
   std::uint64_t h = 1469598103934665603ull;
@@ -51,6 +51,13 @@ void saveReducedModel(const ReducedModel& r, const std::string& path, const std:
       names += name + "\n";
     }
     f.setAttribute("/", "nodeSetNames", names);
+    std::string grids;
+    for (const auto& [name, g] : r.nodeGrids) {
+      f.writeInts("/nodeGrids/" + name, {static_cast<std::uint64_t>(g.nu), static_cast<std::uint64_t>(g.nv)},
+                  std::vector<long long>(g.nodes.begin(), g.nodes.end()).data());
+      grids += name + "\n";
+    }
+    f.setAttribute("/", "nodeGridNames", grids);
     f.close();
   }
   EPAPHE_REQUIRE(std::rename(tmp.c_str(), path.c_str()) == 0,
@@ -85,6 +92,16 @@ bool loadReducedModel(const std::string& path, const std::string& key, ReducedMo
   for (std::size_t b = 0, e; (e = names.find('\n', b)) != std::string::npos; b = e + 1) {
     const std::string name = names.substr(b, e - b);
     r.nodeSets[name] = toInts(f.readInts("/nodeSets/" + name));
+  }
+  r.nodeGrids.clear();
+  const std::string grids = f.stringAttribute("/", "nodeGridNames");
+  for (std::size_t b = 0, e; (e = grids.find('\n', b)) != std::string::npos; b = e + 1) {
+    const std::string name = grids.substr(b, e - b);
+    std::vector<std::uint64_t> dims;
+    const auto nodes = toInts(f.readInts("/nodeGrids/" + name, &dims));
+    EPAPHE_REQUIRE(dims.size() == 2, "reduced-model cache " << path << ": node grid '" << name << "' is not 2-D; "
+                                                            "delete the file to rebuild it");
+    r.nodeGrids[name] = NodeGrid{static_cast<int>(dims[0]), static_cast<int>(dims[1]), nodes};
   }
   return true;
 }

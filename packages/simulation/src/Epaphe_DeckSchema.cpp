@@ -61,12 +61,20 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addInt(red, "Frequency check", 10, "Compare this many frequencies of the reduced model with the full "
                                        "model's (Anasazi); 0: skip", 0, 1000);
 
-    auto& surf = pl->sublist("Surfaces", false, "One sublist per rigid surface, named by the user").sublist(
-        "*", false, "A rigid surface: bicubic B-spline through a grid of points (thesis section 2.4)");
-    addEnum(surf, "Type", "Plane", {"Plane", "Cylinder arc"}, {int(SurfaceType::Plane), int(SurfaceType::CylinderArc)},
-            "Plane: a grid of points Origin + i/(nu-1) U + j/(nv-1) V; Cylinder arc: the grid Center + Radius "
-            "(cos a e1 + sin a e2) + s Axis over the Angles and the Axial range (e1 = Reference, e2 = Axis x e1). "
-            "Either grid is interpolated by the general bicubic B-spline code; an arc of 360 degrees is closed");
+    auto& surf = pl->sublist("Surfaces", false, "One sublist per surface, named by the user").sublist(
+        "*", false, "A surface: bicubic B-spline through a grid of points (thesis section 2.4), rigid or carried "
+                    "by a flexible body");
+    addEnum(surf, "Type", "Plane", {"Plane", "Cylinder arc", "Body face"},
+            {int(SurfaceType::Plane), int(SurfaceType::CylinderArc), int(SurfaceType::BodyFace)},
+            "Plane: a rigid grid of points Origin + i/(nu-1) U + j/(nv-1) V; Cylinder arc: the rigid grid Center + "
+            "Radius (cos a e1 + sin a e2) + s Axis over the Angles and the Axial range (e1 = Reference, e2 = Axis x "
+            "e1); Body face: the node grid 'Node grid' of the flexible body 'Body', rebuilt from its moved nodes at "
+            "every step (its nodes must be retained by the body's reduction; clamped ones stay fixed), the two "
+            "bodies corrected together (eq. 2.33). Each grid is interpolated by the general bicubic B-spline code; "
+            "a grid whose last row repeats the first is closed");
+    addString(surf, "Body", "", "Body face: the body that carries the surface");
+    addString(surf, "Node grid", "", "Body face: the body's ordered face, e.g. x+ (Box) or outer (Ring segment); "
+                                     "its normal points out of the body");
     addDoubleArray(surf, "Origin", {0, 0, 0}, "Plane: corner of the grid (m)");
     addDoubleArray(surf, "U", {0, 1, 0}, "Plane: first edge vector of the grid (m)");
     addDoubleArray(surf, "V", {0, 0, 1}, "Plane: second edge vector of the grid (m)");
@@ -78,8 +86,9 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addDouble(surf, "Radius", 0.18, "Cylinder arc: radius (m)", 1e-300);
     addDoubleArray(surf, "Angles", {-40, 40}, "Cylinder arc: first and last angle of the grid (degrees)");
     addDoubleArray(surf, "Axial range", {-0.05, 0.05}, "Cylinder arc: first and last axial coordinate (m)");
-    addBool(surf, "Flip normal", false, "The contact side is where U x V points (Plane) or away from the axis "
-                                        "(Cylinder arc, the convex side); set true for the other side");
+    addBool(surf, "Flip normal", false, "The contact side is where U x V points (Plane), away from the axis "
+                                        "(Cylinder arc, the convex side) or out of the body (Body face); set true "
+                                        "for the other side");
 
     auto& contact = pl->sublist("Contact", false, "Contact treatment (thesis section 2.5)");
     addEnum(contact, "Method", "Lagrange", {"Lagrange", "Penalty"},
@@ -89,6 +98,9 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addDouble(contact, "Newton tolerance", 1e-8, "crit_NR: closest-point Newton stops when the parameter step is "
                                                  "below it", 1e-300, 1.0);
     addInt(contact, "Newton max iterations", 50, "Closest-point Newton iterations at most", 1, 10000);
+    addDouble(contact, "Edge tolerance", 1e-3, "A node beyond the edge of an open surface by less than this "
+                                               "fraction of a patch still touches it (nodes on a shared edge, "
+                                               "lateral round-off); farther, it is beyond the surface", 0.0, 1.0);
     addBool(contact, "Lump contact matrix", false, "Lump the Lagrange contact matrix MC (section 2.5.2)");
     addDouble(contact, "Friction coefficient", 0.0, "Coulomb mu: the correction acts along n + mu t, t opposing the "
                                                     "sliding (eqs. 2.29, 2.31), capped so that a node sticks rather "

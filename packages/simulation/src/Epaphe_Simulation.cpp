@@ -19,6 +19,7 @@
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace epaphe {
@@ -38,7 +39,8 @@ struct Simulation::Body {
   DenseMatrix recoveryWatched;  // (3 * watched nodes) x size
   StableStep stable;
   std::unique_ptr<CentralDifference> integrator;
-  std::unique_ptr<SurfaceContact> contact;
+  int offset = 0;                        // its block of the system coordinates
+  int contactBegin = 0, contactEnd = 0;  // its nodes in the contact order
 };
 
 namespace {
@@ -135,6 +137,26 @@ void broadcast(ReducedModel& r, const Teuchos::Comm<int>& comm) {
     sets[name] = nodes;
   }
   r.nodeSets = sets;
+  // node grids: (nu, nv, nodes) per grid, in the order of the names
+  std::string gnames;
+  for (const auto& kv : r.nodeGrids) gnames += kv.first + "\n";
+  std::vector<char> gchars(gnames.begin(), gnames.end());
+  bcastVec(gchars);
+  gnames.assign(gchars.begin(), gchars.end());
+  std::map<std::string, NodeGrid> grids;
+  for (std::size_t b = 0, e; (e = gnames.find('\n', b)) != std::string::npos; b = e + 1) {
+    const std::string name = gnames.substr(b, e - b);
+    std::vector<int> g;
+    if (comm.getRank() == 0) {
+      const NodeGrid& ng = r.nodeGrids[name];
+      g.push_back(ng.nu);
+      g.push_back(ng.nv);
+      g.insert(g.end(), ng.nodes.begin(), ng.nodes.end());
+    }
+    bcastVec(g);
+    grids[name] = NodeGrid{g.at(0), g.at(1), std::vector<int>(g.begin() + 2, g.end())};
+  }
+  r.nodeGrids = grids;
 }
 
 }  // namespace
@@ -152,32 +174,6 @@ void Simulation::setup() {
   const std::string& origin = deck_.origin;
   auto comm = rt_.comm();
   std::ostream& out = rt_.out();
-
-  // ---- rigid surfaces ------------------------------------------------------------------------
-  const ParameterList& surfs = P.sublist("Surfaces");
-  for (auto it = surfs.begin(); it != surfs.end(); ++it) {
-    const std::string name = surfs.name(it);
-    const ParameterList& s = surfs.sublist(name);
-    const auto pts = deck::getInts(s, "Points");
-    EPAPHE_REQUIRE(pts.size() == 2, origin << ": '" << deck::pathOf(s, "Points") << "' has " << pts.size()
-                                           << " values; give the grid size as {nu, nv}");
-    EPAPHE_REQUIRE(pts[0] >= 4 && pts[1] >= 4, origin << ": '" << deck::pathOf(s, "Points") << "' = {" << pts[0]
-                                                      << ", " << pts[1] << "}; a bicubic surface needs at least 4 points "
-                                                      "in each direction");
-    std::vector<double> grid;
-    if (deck::getEnum<SurfaceType>(s, "Type") == SurfaceType::Plane) {
-      const auto o = vec3(s, "Origin", origin), U = vec3(s, "U", origin), V = vec3(s, "V", origin);
-      for (int i = 0; i < pts[0]; ++i)
-        for (int j = 0; j < pts[1]; ++j)
-          for (int d = 0; d < 3; ++d) grid.push_back(o[d] + U[d] * i / (pts[0] - 1) + V[d] * j / (pts[1] - 1));
-    } else {
-      grid = cylinderArcGrid(s, pts[0], pts[1], origin);
-    }
-    SurfaceOptions so;  // closed when the grid repeats its first row (an arc of 360 degrees)
-    so.orientation = s.get<bool>("Flip normal") ? -1 : 1;
-    so.id = static_cast<int>(surfaces_.size());
-    surfaces_.push_back(std::make_unique<BSplineSurface>(name, pts[0], pts[1], grid, so));
-  }
 
   // ---- bodies -------------------------------------------------------------------------------
   const ParameterList& bl = P.sublist("Bodies");
@@ -203,6 +199,7 @@ void Simulation::setup() {
   copt.nrMaxIterations = cp.get<int>("Newton max iterations");
   copt.lumped = cp.get<bool>("Lump contact matrix");
   copt.friction = cp.get<double>("Friction coefficient");
+  copt.edgeTolerance = cp.get<double>("Edge tolerance");
 
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     auto b = std::make_unique<Body>();
@@ -293,32 +290,8 @@ void Simulation::setup() {
     for (const std::string& ws : deck::getStrings(bp, "Watched node sets"))
       b->watched.emplace_back(ws, b->rom.nodeSet(ws, ctx + ", 'Watched node sets'"));
 
-    // Stable step, including the penalty springs on the contact DOFs.
-    std::vector<int> contactDofs;
-    if (!b->contactSet.empty()) {
-      b->contactNodes = b->rom.nodeSet(b->contactSet, ctx + ", 'Contact node set'");
-      for (int n : b->contactNodes)
-        for (int d = 0; d < 3; ++d)
-          if (b->rom.nodeDof[3 * n + d] >= 0) contactDofs.push_back(b->rom.nodeDof[3 * n + d]);
-    }
-    const double kAdded = (!surfaces_.empty() && copt.method == ContactMethod::Penalty) ? copt.penaltyStiffness : 0.0;
-    b->stable = criticalTimeStep(b->rom, contactDofs, kAdded, damping);
-    if (h > b->stable.critical) {
-      std::ostringstream os;
-      os << origin << ": 'Time->Time step' = " << h << " s exceeds the critical step " << b->stable.critical
-         << " s of body '" << b->name << "' (highest frequency " << b->stable.omegaMax / (2 * M_PI) << " Hz"
-         << (kAdded > 0 ? ", penalty springs included" : "") << "); the central difference would blow up. Use "
-         << "'Time step' <= " << 0.9 * b->stable.critical << " s";
-      if (kAdded > 0) os << " or a smaller 'Penalty stiffness'";
-      if (!tp.get<bool>("Allow unstable time step")) throw Error(os.str() + ", or set 'Allow unstable time step'.");
-      out << "warning: " << os.str() << "\n";
-    }
+    if (!b->contactSet.empty()) b->contactNodes = b->rom.nodeSet(b->contactSet, ctx + ", 'Contact node set'");
     b->integrator = std::make_unique<CentralDifference>(b->rom, h, damping);
-    if (!b->contactNodes.empty() && !surfaces_.empty()) {
-      std::vector<const BSplineSurface*> sp;
-      for (const auto& s : surfaces_) sp.push_back(s.get());
-      b->contact = std::make_unique<SurfaceContact>(b->rom, b->contactNodes, sp, copt, b->integrator->flexibility());
-    }
     // Recovery rows of the watched nodes.
     int nw = 0;
     for (const auto& w : b->watched) nw += static_cast<int>(w.second.size());
@@ -330,12 +303,157 @@ void Simulation::setup() {
         for (int d = 0; d < 3; ++d, ++row)
           for (int j = 0; j < b->rom.size; ++j) Rh(row, j) = b->rom.recoveryRow(n, d)[j];
     Kokkos::deep_copy(b->recoveryWatched, Rh);
+    b->offset = systemSize_;
+    systemSize_ += b->rom.size;
     bodies_.push_back(std::move(b));
+  }
+
+  setupSurfacesAndContact(copt);
+
+  // Stable step of each body, with the penalty springs on its contact and surface DOFs.
+  for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+    Body* b = bodies_[ib].get();
+    std::vector<int> contactDofs;
+    for (int n : b->contactNodes)
+      for (int d = 0; d < 3; ++d)
+        if (b->rom.nodeDof[3 * n + d] >= 0) contactDofs.push_back(b->rom.nodeDof[3 * n + d]);
+    for (int i : carriedDofs_[ib]) contactDofs.push_back(i - b->offset);
+    const double kAdded = (contact_ && copt.method == ContactMethod::Penalty) ? copt.penaltyStiffness : 0.0;
+    b->stable = criticalTimeStep(b->rom, contactDofs, kAdded, damping);
+    if (h > b->stable.critical) {
+      std::ostringstream os;
+      os << origin << ": 'Time->Time step' = " << h << " s exceeds the critical step " << b->stable.critical
+         << " s of body '" << b->name << "' (highest frequency " << b->stable.omegaMax / (2 * M_PI) << " Hz"
+         << (kAdded > 0 ? ", penalty springs included" : "") << "); the central difference would blow up. Use "
+         << "'Time step' <= " << 0.9 * b->stable.critical << " s";
+      if (kAdded > 0) os << " or a smaller 'Penalty stiffness'";
+      if (!tp.get<bool>("Allow unstable time step")) throw Error(os.str() + ", or set 'Allow unstable time step'.");
+      out << "warning: " << os.str() << "\n";
+    }
   }
   summary_.timeStep = h;
   summary_.criticalStep = 1e300;
   for (const auto& b : bodies_) summary_.criticalStep = std::min(summary_.criticalStep, b->stable.critical);
   summary_.setupSeconds = watch.seconds();
+}
+
+void Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
+  const ParameterList& P = *deck_.params;
+  const std::string& origin = deck_.origin;
+  // ---- surfaces: rigid, or carried by a body and rebuilt from its moved grid nodes -------------
+  const ParameterList& surfs = P.sublist("Surfaces");
+  std::vector<ContactSurface> contactSurfaces;
+  carriedDofs_.assign(bodies_.size(), {});
+  for (auto it = surfs.begin(); it != surfs.end(); ++it) {
+    const std::string name = surfs.name(it);
+    const ParameterList& s = surfs.sublist(name);
+    SurfaceOptions so;  // closed when the grid repeats its first row (an arc of 360 degrees)
+    so.orientation = s.get<bool>("Flip normal") ? -1 : 1;
+    so.id = static_cast<int>(surfaces_.size());
+    const auto type = deck::getEnum<SurfaceType>(s, "Type");
+    if (type == SurfaceType::BodyFace) {
+      const std::string bodyName = s.get<std::string>("Body"), gridName = s.get<std::string>("Node grid");
+      int ib = -1;
+      for (std::size_t b = 0; b < bodies_.size(); ++b)
+        if (bodies_[b]->name == bodyName) ib = static_cast<int>(b);
+      if (ib < 0) {
+        ErrorBuilder eb;
+        eb << origin << ": '" << deck::pathOf(s, "Body") << "' = '" << bodyName << "' is not a body; the deck has:";
+        for (const auto& b : bodies_) eb << " '" << b->name << "'";
+        eb.raise();
+      }
+      const Body& b = *bodies_[ib];
+      const auto git = b.rom.nodeGrids.find(gridName);
+      if (git == b.rom.nodeGrids.end()) {
+        ErrorBuilder eb;
+        eb << origin << ": '" << deck::pathOf(s, "Node grid") << "' = '" << gridName << "' is not a node grid of body '"
+           << bodyName << "'; it has:";
+        for (const auto& [g, grid] : b.rom.nodeGrids) eb << " '" << g << "' (" << grid.nu << " x " << grid.nv << ")";
+        eb.raise();
+      }
+      const NodeGrid& g = git->second;
+      EPAPHE_REQUIRE(g.nu >= 4 && g.nv >= 4, origin << ": surface '" << name << "': node grid '" << gridName << "' of body '"
+                                                    << bodyName << "' is " << g.nu << " x " << g.nv << " nodes; a bicubic "
+                                                    "surface needs at least 4 in each direction: refine the mesh");
+      ContactSurface cs;
+      cs.block = ib;
+      const std::set<int> retained(b.rom.retainedNodes.begin(), b.rom.retainedNodes.end());
+      int free = 0;
+      for (int node : g.nodes) {
+        const bool kept = b.rom.method == "None" || retained.count(node) > 0;
+        EPAPHE_REQUIRE(kept, origin << ": surface '" << name << "': node " << node << " of grid '" << gridName
+                                    << "' is not a retained node of body '" << bodyName << "'; add the grid's node set to "
+                                    "its 'Reduction->Retained node set'");
+        for (int d = 0; d < 3; ++d) {
+          const int i = b.rom.nodeDof[3 * node + d];  // -1: clamped
+          cs.gridDofs.push_back(i < 0 ? -1 : b.offset + i);
+          cs.gridX.push_back(b.rom.coords[node][d]);
+          if (i >= 0) {
+            ++free;
+            carriedDofs_[ib].push_back(b.offset + i);
+          }
+        }
+      }
+      EPAPHE_REQUIRE(free > 0, origin << ": surface '" << name << "': every node of grid '" << gridName
+                                      << "' is clamped; use a rigid surface");
+      surfaces_.push_back(std::make_unique<BSplineSurface>(name, g.nu, g.nv, cs.gridX, so));
+      cs.surface = cs.moving = surfaces_.back().get();
+      surfaceCarried_.push_back(true);
+      contactSurfaces.push_back(std::move(cs));
+      continue;
+    }
+    const auto pts = deck::getInts(s, "Points");
+    EPAPHE_REQUIRE(pts.size() == 2, origin << ": '" << deck::pathOf(s, "Points") << "' has " << pts.size()
+                                           << " values; give the grid size as {nu, nv}");
+    EPAPHE_REQUIRE(pts[0] >= 4 && pts[1] >= 4, origin << ": '" << deck::pathOf(s, "Points") << "' = {" << pts[0]
+                                                      << ", " << pts[1] << "}; a bicubic surface needs at least 4 points "
+                                                      "in each direction");
+    std::vector<double> grid;
+    if (type == SurfaceType::Plane) {
+      const auto o = vec3(s, "Origin", origin), U = vec3(s, "U", origin), V = vec3(s, "V", origin);
+      for (int i = 0; i < pts[0]; ++i)
+        for (int j = 0; j < pts[1]; ++j)
+          for (int d = 0; d < 3; ++d) grid.push_back(o[d] + U[d] * i / (pts[0] - 1) + V[d] * j / (pts[1] - 1));
+    } else {
+      grid = cylinderArcGrid(s, pts[0], pts[1], origin);
+    }
+    surfaces_.push_back(std::make_unique<BSplineSurface>(name, pts[0], pts[1], grid, so));
+    contactSurfaces.push_back(ContactSurface{surfaces_.back().get(), nullptr, -1, {}, {}});
+    surfaceCarried_.push_back(false);
+  }
+
+  // ---- contact: every body's contact nodes against every surface, one joint correction ----------
+  ContactNodes nodes;
+  std::vector<ContactBlock> blocks;
+  for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+    Body& b = *bodies_[ib];
+    blocks.push_back(ContactBlock{b.offset, b.rom.size});
+    b.contactBegin = static_cast<int>(nodes.labels.size());
+    if (!contactSurfaces.empty())
+      for (int node : b.contactNodes) {
+        int dof[3];
+        for (int d = 0; d < 3; ++d) {
+          const int i = b.rom.nodeDof[3 * node + d];
+          EPAPHE_REQUIRE(i >= 0, origin << ": body '" << b.name << "': contact node " << node << " (direction " << "xyz"[d]
+                                        << ") is not a retained DOF of the reduced model; add it to the retained node "
+                                           "set, and do not clamp contact nodes");
+          dof[d] = b.offset + i;
+        }
+        nodes.add(node, static_cast<int>(ib), dof, b.rom.coords[node].data());
+      }
+    b.contactEnd = static_cast<int>(nodes.labels.size());
+  }
+  if (nodes.labels.empty()) return;
+  // the system flexibility: block diagonal, one block per body
+  flexibility_ = DenseMatrix("epaphe::system::F", systemSize_, systemSize_);
+  auto Fh = Kokkos::create_mirror_view(flexibility_);
+  for (const auto& b : bodies_) {
+    auto Fb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b->integrator->flexibility());
+    for (int j = 0; j < b->rom.size; ++j)
+      for (int i = 0; i < b->rom.size; ++i) Fh(b->offset + i, b->offset + j) = Fb(i, j);
+  }
+  Kokkos::deep_copy(flexibility_, Fh);
+  contact_ = std::make_unique<SurfaceContact>(std::move(nodes), std::move(contactSurfaces), blocks, copt, flexibility_);
 }
 
 const RunSummary& Simulation::run() {
@@ -380,9 +498,25 @@ const RunSummary& Simulation::run() {
     std::vector<double> frame;
     std::unique_ptr<io::Series> position, displacement;
     std::vector<double> gapRec, forceRec;
-    double work = 0, ext = 0, diss = 0, e0 = 0;
+    double ext = 0, diss = 0, e0 = 0;
   };
   std::vector<BodyRun> runs(bodies_.size());
+  // The system coordinates q_{n-1}, q_n, q_{n+1} of all bodies, stacked (body b at b.offset), in
+  // three buffers that rotate each step; each body works on its part of them.
+  DenseVector Q[3] = {DenseVector("epaphe::system::q0", systemSize_), DenseVector("epaphe::system::q1", systemSize_),
+                      DenseVector("epaphe::system::q2", systemSize_)};
+  int iPrev = 0, iCur = 1, iNext = 2;
+  auto part = [&](int buffer, const Body& b) { return DenseVector(Q[buffer].data() + b.offset, b.rom.size); };
+  auto selectParts = [&]() {
+    for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+      runs[ib].qPrev = part(iPrev, *bodies_[ib]);
+      runs[ib].q = part(iCur, *bodies_[ib]);
+      runs[ib].qNext = part(iNext, *bodies_[ib]);
+    }
+  };
+  selectParts();
+  double contactWork = 0;
+  std::vector<double> gapAll, forceAll;
   double energyRef = 0;
   for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
     Body& b = *bodies_[ib];
@@ -394,9 +528,6 @@ const RunSummary& Simulation::run() {
     file.writeDoubles(g + "/frequencies/fixed_interface", b.rom.modeFrequencies);
     file.setAttribute(g, "reduction", b.rom.method);
     file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
-    r.qPrev = DenseVector("qPrev", n);
-    r.q = DenseVector("q", n);
-    r.qNext = DenseVector("qNext", n);
     r.v = DenseVector("v", n);
     r.uw = DenseVector("uw", b.recoveryWatched.extent(0));
     r.vw = DenseVector("vw", b.recoveryWatched.extent(0));
@@ -449,10 +580,10 @@ const RunSummary& Simulation::run() {
       r.vel.push_back(std::make_unique<io::Series>(file, g + "/nodesets/" + setName + "/velocity",
                                                    std::vector<std::uint64_t>{nn, 3}));
     }
-    if (b.contact) {
-      const auto& cn = b.contact->nodes();
-      file.writeInts(g + "/contact/nodes", std::vector<long long>(cn.begin(), cn.end()));
-      const std::uint64_t nc = cn.size();
+    if (b.contactEnd > b.contactBegin) {
+      const auto& cn = contact_->nodes();
+      file.writeInts(g + "/contact/nodes", std::vector<long long>(cn.begin() + b.contactBegin, cn.begin() + b.contactEnd));
+      const std::uint64_t nc = static_cast<std::uint64_t>(b.contactEnd - b.contactBegin);
       r.gap = std::make_unique<io::Series>(file, g + "/contact/gap", std::vector<std::uint64_t>{nc});
       r.force = std::make_unique<io::Series>(file, g + "/contact/force", std::vector<std::uint64_t>{nc});
       r.totalForce = std::make_unique<io::Series>(file, g + "/contact/total_force", std::vector<std::uint64_t>{});
@@ -464,7 +595,9 @@ const RunSummary& Simulation::run() {
   std::unique_ptr<io::Series> sFieldTime;
   if (fieldsEvery > 0) {
     sFieldTime = std::make_unique<io::Series>(file, "/fields/time", std::vector<std::uint64_t>{});
-    for (const auto& surf : surfaces_) {
+    for (std::size_t is = 0; is < surfaces_.size(); ++is) {
+      if (surfaceCarried_[is]) continue;  // drawn with the body that carries it
+      const auto& surf = surfaces_[is];
       std::vector<double> pts;
       for (int i = 0; i < surf->nu(); ++i)
         for (int j = 0; j < surf->nv(); ++j) {
@@ -492,24 +625,25 @@ const RunSummary& Simulation::run() {
     const double t = n * h;
     double totalForce = 0;
     int active = 0;
-    for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
-      Body& b = *bodies_[ib];
-      BodyRun& r = runs[ib];
-      {
-        ScopedPhase phase(cost, "integration");
-        b.integrator->predict(r.q, r.qPrev, r.qNext);  // eq. 2.2
-      }
-      if (b.contact) {
-        b.contact->correct(r.qNext, r.q, cost);  // eqs. 2.28-2.36, friction from the motion q_n -> q*
-        ScopedPhase phase(cost, "energy");
-        r.work += b.contact->workIncrement(r.qNext, r.qPrev);
-        totalForce += b.contact->totalForce();
-        active += b.contact->numActive();
-      }
-      {
-        ScopedPhase phase(cost, "energy");
-        r.diss += b.integrator->dampingIncrement(r.qNext, r.qPrev);
-        r.ext += b.integrator->externalWorkIncrement(r.qNext, r.qPrev);
+    {
+      ScopedPhase phase(cost, "integration");
+      for (std::size_t ib = 0; ib < bodies_.size(); ++ib)
+        bodies_[ib]->integrator->predict(runs[ib].q, runs[ib].qPrev, runs[ib].qNext);  // eq. 2.2
+    }
+    if (contact_) {
+      // eqs. 2.28-2.36 on all bodies at once (eq. 2.33), friction from the motion q_n -> q*
+      contact_->correct(Q[iNext], Q[iCur], cost);
+      ScopedPhase phase(cost, "energy");
+      contactWork += contact_->workIncrement(Q[iNext], Q[iPrev]);
+      totalForce = contact_->totalForce();
+      active = contact_->numActive();
+    }
+    {
+      ScopedPhase phase(cost, "energy");
+      for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+        BodyRun& r = runs[ib];
+        r.diss += bodies_[ib]->integrator->dampingIncrement(r.qNext, r.qPrev);
+        r.ext += bodies_[ib]->integrator->externalWorkIncrement(r.qNext, r.qPrev);
       }
     }
     if (totalForce > 0) {
@@ -521,7 +655,14 @@ const RunSummary& Simulation::run() {
 
     if (n % every == 0 || n == nSteps - 1) {
       ScopedPhase phase(cost, "output");
-      double kin = 0, strain = 0, total = 0, work = 0, ext = 0, diss = 0, e0 = 0;
+      double kin = 0, strain = 0, total = 0, work = contactWork, ext = 0, diss = 0, e0 = 0;
+      if (contact_) {
+        const auto f = contact_->force();
+        forceAll.assign(f.data(), f.data() + f.extent(0));
+        contact_->measureGaps(Q[iCur], cost);
+        const auto gp = contact_->gap();
+        gapAll.assign(gp.data(), gp.data() + gp.extent(0));
+      }
       for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
         Body& b = *bodies_[ib];
         BodyRun& r = runs[ib];
@@ -533,7 +674,6 @@ const RunSummary& Simulation::run() {
         r.momentum->append(p);
         total += b.integrator->halfStepEnergy(r.q, r.qNext);
         strain += b.integrator->strain(r.q);
-        work += r.work;
         ext += r.ext;
         diss += r.diss;
         e0 += r.e0;
@@ -551,15 +691,15 @@ const RunSummary& Simulation::run() {
             off += r.disp[w]->recordSize();
           }
         }
-        if (b.contact) {
-          const auto f = b.contact->force();
-          for (std::size_t k = 0; k < r.forceRec.size(); ++k) r.forceRec[k] = f(k);
-          b.contact->measureGaps(r.q, cost);
-          const auto gp = b.contact->gap();
-          for (std::size_t k = 0; k < r.gapRec.size(); ++k) r.gapRec[k] = gp(k);
+        if (b.contactEnd > b.contactBegin) {
+          double tf = 0;
+          for (std::size_t k = 0; k < r.forceRec.size(); ++k) {
+            r.forceRec[k] = forceAll[b.contactBegin + k];
+            r.gapRec[k] = gapAll[b.contactBegin + k];
+            tf += r.forceRec[k];
+          }
           r.gap->append(r.gapRec.data());
           r.force->append(r.forceRec.data());
-          const double tf = b.contact->totalForce();
           r.totalForce->append(&tf);
         }
       }
@@ -602,10 +742,12 @@ const RunSummary& Simulation::run() {
         r.position->append(r.frame.data());
       }
     }
-    for (auto& r : runs) {  // q_{n-1} <- q_n <- q_{n+1}
-      std::swap(r.qPrev, r.q);
-      std::swap(r.q, r.qNext);
-    }
+    // q_{n-1} <- q_n <- q_{n+1}
+    const int oldPrev = iPrev;
+    iPrev = iCur;
+    iCur = iNext;
+    iNext = oldPrev;
+    selectParts();
     if (progressInterval > 0 && (n & 255) == 0 && sinceProgress.seconds() > progressInterval) {
       sinceProgress.restart();
       const double rate = (n + 1) / loop.seconds();
@@ -664,7 +806,9 @@ void Simulation::writeXdmf(long long frames) const {
     }
     x << "  </Grid>\n";
   }
-  for (const auto& s : surfaces_) {
+  for (std::size_t is = 0; is < surfaces_.size(); ++is) {
+    if (surfaceCarried_[is]) continue;
+    const auto& s = surfaces_[is];
     const int nu = s->nu(), nv = s->nv();
     std::ostringstream quads;
     for (int i = 0; i + 1 < nu; ++i)

@@ -1,6 +1,6 @@
 #pragma once
-// A run described by a deck: bodies built and reduced (on every MPI rank), rigid surfaces, the
-// explicit loop with contact (on rank 0), monitors and the HDF5 history.
+// A run described by a deck: bodies built and reduced (on every MPI rank), surfaces (rigid, or
+// carried by a body), the explicit loop with contact (on rank 0), monitors and the HDF5 history.
 //
 // Output layout (HDF5), one record every `Output->Every` steps, record k at time t_k:
 //   /                      attributes: epaphe_version, name, status ("running", "complete",
@@ -58,12 +58,18 @@ public:
 
 private:
   struct Body;
+  void setupSurfacesAndContact(const ContactOptions& options);
   void writeXdmf(long long frames) const;
   Deck deck_;
   const Runtime& rt_;
   std::string output_;
   std::vector<std::unique_ptr<Body>> bodies_;
   std::vector<std::unique_ptr<BSplineSurface>> surfaces_;
+  std::vector<bool> surfaceCarried_;       // per surface: carried by a body (else rigid)
+  int systemSize_ = 0;                      // all bodies' reduced coordinates, stacked
+  std::vector<std::vector<int>> carriedDofs_;  // per body, the DOFs of the surfaces it carries
+  DenseMatrix flexibility_;                 // block-diagonal F of the system
+  std::unique_ptr<SurfaceContact> contact_; // null without contact nodes or surfaces
   RunSummary summary_;
 };
 

@@ -18,6 +18,7 @@ struct Projection {
   int iterations;    ///< Newton iterations performed
   bool converged;    ///< parameter step < tol, or zero (projected) gradient
   bool outside;      ///< foot point on the edge of an open direction with x beyond that edge
+  double beyond;     ///< how far beyond that edge, in parameter units (patches; 0: not beyond)
 };
 
 namespace surface_detail {
@@ -293,6 +294,9 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
   const bool outU = openU && ((cur.u <= 0.0 && gu > tol * a) || (cur.u >= umax && gu < -tol * a));
   const bool outV = openV && ((cur.v <= 0.0 && gv > tol * c) || (cur.v >= vmax && gv < -tol * c));
   p.outside = outU || outV;
+  const double bu = !openU ? 0.0 : (cur.u <= 0.0 && gu > 0.0 ? gu / a : (cur.u >= umax && gu < 0.0 ? -gu / a : 0.0));
+  const double bv = !openV ? 0.0 : (cur.v <= 0.0 && gv > 0.0 ? gv / c : (cur.v >= vmax && gv < 0.0 ? -gv / c : 0.0));
+  p.beyond = bu > bv ? bu : bv;
   return p;
 }
 
