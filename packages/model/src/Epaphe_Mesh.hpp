@@ -1,5 +1,7 @@
 #pragma once
 // A volume mesh as Epaphe needs it: node coordinates, 8-node hexahedra, named node sets.
+// Meshes imported from FE codes keep the code's node numbers (nodeIds) and show their other
+// elements by their corner nodes as (possibly degenerate) hexahedra, for output only.
 #include <array>
 #include <map>
 #include <string>
@@ -17,10 +19,13 @@ struct NodeGrid {
 struct Mesh {
   std::vector<std::array<double, 3>> coords;
   std::vector<std::array<int, 8>> hexes;              // node indices, VTK/Abaqus C3D8 order
+  std::vector<int> nodeIds;                           // imported: node index -> the FE code's number; else empty
   std::map<std::string, std::vector<int>> nodeSets;   // sorted node indices
   std::map<std::string, NodeGrid> nodeGrids;          // ordered faces, for surfaces built on a body
 
   int numNodes() const { return static_cast<int>(coords.size()); }
+  /// The number a user knows node `index` by: the FE code's number when imported, else the index.
+  int nodeId(int index) const { return nodeIds.empty() ? index : nodeIds[static_cast<std::size_t>(index)]; }
   /// The named node set, or the union of several named "x-, x+, y-" (sorted, no repeats); an
   /// unknown name raises an error listing the known ones. `context` says who asked.
   std::vector<int> nodeSet(const std::string& spec, const std::string& context) const;

@@ -1,0 +1,45 @@
+#pragma once
+// Full models from CalculiX (ccx): the stiffness and mass matrices written by
+//
+//   *FREQUENCY, SOLVER=MATRIXSTORAGE
+//
+// (jobname.sti and jobname.mas: upper triangle, lines "row column value", 1-based; jobname.dof:
+// the DOF of each row as "node.direction"), and the mesh of the input deck (jobname.inp and the
+// files it *INCLUDEs): *NODE, *ELEMENT, *NSET (GENERATE too), *BOUNDARY. CalculiX leaves the DOFs
+// fixed by *BOUNDARY out of the matrices; they become the model's constrained DOFs.
+//
+// Elements: C3D8 (R, I), C3D20 (R), C3D15, C3D6, C3D10, C3D4. Their corner nodes are kept as
+// (degenerate) hexahedra for output; mid-side nodes are nodes of the model like the others.
+#include "Epaphe_FullModel.hpp"
+
+#include <Teuchos_Comm.hpp>
+#include <Teuchos_RCP.hpp>
+
+#include <string>
+#include <vector>
+
+namespace epaphe {
+
+struct CalculixFiles {
+  std::string input;     // jobname.inp: mesh, node sets, *BOUNDARY
+  std::string matrices;  // the job of the MATRIXSTORAGE run: path without extension of .sti, .mas, .dof
+};
+
+/// The parts of a CalculiX/Abaqus input deck Epaphe reads.
+struct CalculixInput {
+  Mesh mesh;                   // nodeIds: CalculiX node numbers; node sets named as in the deck, plus "all"
+  std::vector<char> fixed;     // 3 * numNodes: DOFs fixed by *BOUNDARY
+  std::vector<char> used;      // numNodes: node belongs to an element
+};
+
+/// Reads `path` and the files it *INCLUDEs (relative to the including file).
+CalculixInput readCalculixInput(const std::string& path);
+
+/// Reads on rank 0 and distributes K and M over `comm` (row map contiguous and uniform).
+FullModel importCalculix(const CalculixFiles& files, const std::string& name,
+                         const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+
+/// The eigenvalues (omega^2, ascending as printed) of the first *FREQUENCY step in jobname.dat.
+std::vector<double> readCalculixEigenvalues(const std::string& datPath);
+
+}  // namespace epaphe

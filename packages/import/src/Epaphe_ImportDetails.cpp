@@ -1,0 +1,485 @@
+#include "Epaphe_ImportDetails.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Map.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <numeric>
+
+namespace epaphe {
+namespace Details {
+
+TextLines::TextLines(const std::string& path, const std::string& what) : path_(path), in_(path) {
+  EPAPHE_REQUIRE(in_.good(), path << ": cannot open the " << what << " file (" << (errno ? std::strerror(errno) : "unreadable")
+                                  << "); check the path and that the FE code wrote it");
+}
+
+bool TextLines::next(std::string& line) {
+  if (!std::getline(in_, line)) return false;
+  ++line_;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  return true;
+}
+
+std::vector<std::string> splitFields(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : line) {
+    if (c == ',' || std::isspace(static_cast<unsigned char>(c))) {
+      if (!cur.empty()) out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty()) out.push_back(cur);
+  return out;
+}
+
+std::string trim(const std::string& s) {
+  std::size_t a = 0, b = s.size();
+  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
+  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
+  return s.substr(a, b - a);
+}
+
+std::string upper(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool parseInt(const std::string& token, long long& value) {
+  if (token.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtoll(token.c_str(), &end, 10);
+  return errno == 0 && end == token.c_str() + token.size();
+}
+
+bool parseDouble(const std::string& token, double& value) {
+  if (token.empty()) return false;
+  std::string t = token;
+  for (char& c : t)
+    if (c == 'd' || c == 'D') c = 'e';   // Fortran 1.0D+03
+  char* end = nullptr;
+  value = std::strtod(t.c_str(), &end);
+  return end == t.c_str() + t.size();
+}
+
+int parseDirection(const std::string& token) {
+  const std::string t = upper(token);
+  if (t == "1" || t == "X" || t == "DX") return 0;
+  if (t == "2" || t == "Y" || t == "DY") return 1;
+  if (t == "3" || t == "Z" || t == "DZ") return 2;
+  return -1;
+}
+
+std::string siblingPath(const std::string& relativeTo, const std::string& file) {
+  if (!file.empty() && file[0] == '/') return file;
+  const auto slash = relativeTo.find_last_of('/');
+  return slash == std::string::npos ? file : relativeTo.substr(0, slash + 1) + file;
+}
+
+SparseEntries readSparse(const std::string& path, const std::string& what, Storage storage, int size,
+                         const std::string& sizeSource) {
+  TextLines in(path, what);
+  SparseEntries A;
+  A.path = path;
+  A.what = what;
+  A.size = size;
+  bool header = false, sizeLine = false;
+  long long declared = -1;
+  std::string line;
+  while (in.next(line)) {
+    const std::string t = trim(line);
+    if (t.empty()) continue;
+    if (upper(t).rfind("%%MATRIXMARKET", 0) == 0) {
+      const auto f = splitFields(upper(t));
+      EPAPHE_REQUIRE(f.size() == 5 && f[1] == "MATRIX" && f[2] == "COORDINATE",
+                     in.where() << ": Matrix Market header '" << t << "' is not 'matrix coordinate'; write the "
+                                << what << " as a sparse coordinate matrix");
+      EPAPHE_REQUIRE(f[3] == "REAL" || f[3] == "INTEGER" || f[3] == "DOUBLE",
+                     in.where() << ": the " << what << " has field '" << f[3] << "'; only real matrices are read");
+      EPAPHE_REQUIRE(f[4] == "GENERAL" || f[4] == "SYMMETRIC",
+                     in.where() << ": the " << what << " has symmetry '" << f[4]
+                                << "'; write it 'general' (both triangles) or 'symmetric' (one triangle)");
+      storage = f[4] == "SYMMETRIC" ? Storage::Triangle : Storage::General;
+      header = true;
+      continue;
+    }
+    if (t[0] == '%' || t[0] == '#') continue;
+    const auto f = splitFields(t);
+    if (header && !sizeLine) {
+      long long m = 0, n = 0;
+      EPAPHE_REQUIRE(f.size() == 3 && parseInt(f[0], m) && parseInt(f[1], n) && parseInt(f[2], declared) && m >= 0 &&
+                         declared >= 0,
+                     in.where() << ": expected the size line 'rows columns entries' of the " << what << ", read '" << t << "'");
+      EPAPHE_REQUIRE(m == n, in.where() << ": the " << what << " is " << m << " x " << n
+                                        << "; stiffness and mass matrices must be square");
+      EPAPHE_REQUIRE(size < 0 || m == size, in.where() << ": the " << what << " is " << m << " x " << n << " but "
+                                                      << sizeSource << " has " << size
+                                                      << " DOFs; export the matrices and the DOF map of the same model");
+      A.size = static_cast<int>(m);
+      sizeLine = true;
+      continue;
+    }
+    long long i = 0, j = 0;
+    double v = 0;
+    EPAPHE_REQUIRE(f.size() == 3 && parseInt(f[0], i) && parseInt(f[1], j) && parseDouble(f[2], v),
+                   in.where() << ": expected 'row column value' in the " << what << ", read '" << t << "'");
+    EPAPHE_REQUIRE(std::isfinite(v), in.where() << ": the " << what << " entry (" << i << ", " << j << ") is '" << f[2]
+                                                << "' (NaN or Inf); the export is broken, regenerate it");
+    EPAPHE_REQUIRE(i >= 1 && j >= 1 && (A.size < 0 || (i <= A.size && j <= A.size)),
+                   in.where() << ": the " << what << " entry (" << i << ", " << j << ") is outside 1.." << A.size
+                              << " (" << (header ? "the header size" : sizeSource)
+                              << "); indices are 1-based and the matrix must match the DOF map");
+    A.row.push_back(static_cast<int>(i - 1));
+    A.col.push_back(static_cast<int>(j - 1));
+    A.val.push_back(v);
+    A.line.push_back(in.line());
+  }
+  EPAPHE_REQUIRE(!header || sizeLine, path << ": the Matrix Market " << what << " has a header but no size line");
+  EPAPHE_REQUIRE(declared < 0 || declared == static_cast<long long>(A.val.size()),
+                 path << ": the header of the " << what << " announces " << declared << " entries but the file has "
+                      << A.val.size() << "; the file is truncated or the header is wrong");
+  EPAPHE_REQUIRE(A.size >= 0, path << ": the size of the " << what << " is unknown (no header and no DOF map)");
+
+  // Which triangle(s) hold entries: the first entry strictly above and strictly below.
+  std::size_t above = A.val.size(), below = A.val.size();
+  for (std::size_t k = 0; k < A.val.size(); ++k) {
+    if (A.row[k] < A.col[k] && above == A.val.size()) above = k;
+    if (A.row[k] > A.col[k] && below == A.val.size()) below = k;
+  }
+  const bool both = above < A.val.size() && below < A.val.size();
+  if (storage == Storage::Triangle)
+    EPAPHE_REQUIRE(!both, path << ": the " << what << " is stored as one triangle (symmetric) but line " << A.line[above]
+                               << " holds (" << A.row[above] + 1 << ", " << A.col[above] + 1 << ") above and line "
+                               << A.line[below] << " holds (" << A.row[below] + 1 << ", " << A.col[below] + 1
+                               << ") below the diagonal; store one triangle, or declare the file 'general'");
+  A.triangle = storage == Storage::Triangle || (storage == Storage::Detect && !both);
+  if (storage == Storage::Detect && both)
+    A.storageNote = " (read as a full matrix since line " + std::to_string(A.line[above]) + " holds an entry above and line " +
+                    std::to_string(A.line[below]) + " one below the diagonal)";
+  if (!A.triangle) checkSymmetric(A);
+  return A;
+}
+
+void checkSymmetric(const SparseEntries& A) {
+  if (A.triangle) return;
+  // Sum duplicates per (i, j), then compare each off-diagonal entry with its mirror.
+  std::vector<std::size_t> order(A.val.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return A.row[a] != A.row[b] ? A.row[a] < A.row[b] : A.col[a] < A.col[b];
+  });
+  struct E { int i, j, line; double v; };
+  std::vector<E> e;
+  std::vector<double> diag(static_cast<std::size_t>(A.size), 0.0);
+  for (std::size_t k : order) {
+    if (!e.empty() && e.back().i == A.row[k] && e.back().j == A.col[k]) e.back().v += A.val[k];
+    else e.push_back({A.row[k], A.col[k], A.line[k], A.val[k]});
+    if (A.row[k] == A.col[k]) diag[A.row[k]] += A.val[k];
+  }
+  auto find = [&](int i, int j) -> const E* {
+    auto it = std::lower_bound(e.begin(), e.end(), std::make_pair(i, j),
+                               [](const E& x, const std::pair<int, int>& p) { return x.i != p.first ? x.i < p.first : x.j < p.second; });
+    return it != e.end() && it->i == i && it->j == j ? &*it : nullptr;
+  };
+  for (const E& x : e) {
+    if (x.i == x.j) continue;
+    const E* y = find(x.j, x.i);
+    const double w = y ? y->v : 0.0;
+    // Round-off of an assembly: relative to the entries and to the diagonal scale of the pair.
+    const double tol = 1e-10 * std::max(std::abs(x.v), std::abs(w)) + 1e-12 * std::sqrt(std::abs(diag[x.i] * diag[x.j]));
+    EPAPHE_REQUIRE(std::abs(x.v - w) <= tol,
+                   A.path << ":" << x.line << ": the " << A.what << " is not symmetric: entry (" << x.i + 1 << ", " << x.j + 1
+                          << ") = " << x.v << " but (" << x.j + 1 << ", " << x.i + 1 << ") = " << w
+                          << (y ? " (line " + std::to_string(y->line) + ")" : std::string(" (absent)")) << A.storageNote
+                          << "; Epaphe needs symmetric K and M: export the symmetric matrix, or one triangle of it");
+  }
+}
+
+std::unordered_map<int, int> nodeIndex(const Mesh& mesh) {
+  std::unordered_map<int, int> index;
+  for (int n = 0; n < mesh.numNodes(); ++n) index.emplace(mesh.nodeId(n), n);
+  return index;
+}
+
+Mesh readNodes(const std::string& path) {
+  TextLines in(path, "node coordinates ('id x y z' per line)");
+  Mesh mesh;
+  std::unordered_map<int, int> seen;
+  std::string line;
+  while (in.next(line)) {
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#' || t[0] == '%') continue;
+    const auto f = splitFields(t);
+    long long id = 0;
+    double x[3] = {0, 0, 0};
+    bool ok = f.size() == 4 && parseInt(f[0], id) && id >= 0;
+    for (int c = 0; ok && c < 3; ++c) ok = parseDouble(f[1 + c], x[c]) && std::isfinite(x[c]);
+    EPAPHE_REQUIRE(ok, in.where() << ": expected 'id x y z' (finite coordinates), read '" << t << "'");
+    auto [it, fresh] = seen.emplace(static_cast<int>(id), in.line());
+    EPAPHE_REQUIRE(fresh, in.where() << ": node " << id << " is defined twice (also line " << it->second
+                                     << "); node ids must be unique");
+    mesh.nodeIds.push_back(static_cast<int>(id));
+    mesh.coords.push_back({x[0], x[1], x[2]});
+  }
+  EPAPHE_REQUIRE(!mesh.coords.empty(), path << ": no node; the file must list 'id x y z' lines");
+  auto& all = mesh.nodeSets["all"];
+  for (int n = 0; n < mesh.numNodes(); ++n) all.push_back(n);
+  return mesh;
+}
+
+void readNodeSets(const std::string& path, Mesh& mesh) {
+  TextLines in(path, "node sets ('name id id ...' per line)");
+  const auto index = nodeIndex(mesh);
+  std::string line;
+  while (in.next(line)) {
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#' || t[0] == '%') continue;
+    const auto f = splitFields(t);
+    auto& set = mesh.nodeSets[f[0]];
+    for (std::size_t k = 1; k < f.size(); ++k) {
+      long long id = 0;
+      EPAPHE_REQUIRE(parseInt(f[k], id), in.where() << ": node set '" << f[0] << "': '" << f[k] << "' is not a node id");
+      auto it = index.find(static_cast<int>(id));
+      EPAPHE_REQUIRE(it != index.end(), in.where() << ": node set '" << f[0] << "' names node " << id
+                                                   << ", which the node coordinates do not define");
+      set.push_back(it->second);
+    }
+    std::sort(set.begin(), set.end());
+    set.erase(std::unique(set.begin(), set.end()), set.end());
+  }
+}
+
+void readDofMap(const std::string& path, RawModel& raw, bool lagrange, std::vector<LagrangeRow>* lagrangeRows) {
+  TextLines in(path, "DOF map ('node direction' per matrix row)");
+  raw.dofPath = path;
+  const auto index = nodeIndex(raw.mesh);
+  std::string line;
+  auto nodeNumber = [](std::string s, long long& id) {
+    if (!s.empty() && (s[0] == 'N' || s[0] == 'n')) s = s.substr(1);
+    return parseInt(s, id);
+  };
+  const char* grammar = lagrange ? "'node direction' (direction 1..3, x..z or DX..DZ) or a Lagrange row ('LAGR', "
+                                   "'node LAGR:DX', 'node -1')"
+                                 : "'node direction' (direction 1..3, x..z or DX..DZ)";
+  while (in.next(line)) {
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#' || t[0] == '%') continue;
+    const auto f = splitFields(t);
+    const int row = static_cast<int>(raw.rowDof.size());
+    long long node = 0, comp = 0;
+    const std::string c = f.size() == 2 ? upper(f[1]) : f.size() == 1 ? upper(f[0]) : std::string();
+    const bool numeric = f.size() == 2 && parseInt(f[1], comp);
+    const bool isLagrange = c.rfind("LAGR", 0) == 0 || (numeric && comp <= 0);
+    if (isLagrange) {
+      EPAPHE_REQUIRE(lagrange, in.where() << ": '" << t << "' is a Lagrange multiplier row; this format takes physical DOFs "
+                                          << "only (use the code_aster importer, which drops them)");
+      int dof = -1;
+      if (f.size() == 2 && nodeNumber(f[0], node) && node > 0) {
+        auto it = index.find(static_cast<int>(node));
+        EPAPHE_REQUIRE(it != index.end(), in.where() << ": Lagrange row of node " << node << ", which is not in the mesh");
+        const auto colon = c.find_first_of(":_");
+        const int d = numeric ? static_cast<int>(-comp) - 1 : colon == std::string::npos ? -1 : parseDirection(c.substr(colon + 1));
+        if (d >= 0 && d < 3) dof = 3 * it->second + d;
+      }
+      raw.rowDof.push_back(-1);
+      raw.rowLine.push_back(in.line());
+      lagrangeRows->push_back({row, in.line(), dof});
+      continue;
+    }
+    const int d = f.size() == 2 ? parseDirection(f[1]) : -1;
+    EPAPHE_REQUIRE(f.size() == 2 && nodeNumber(f[0], node) && d >= 0,
+                   in.where() << ": expected " << grammar << ", read '" << t << "'");
+    auto it = index.find(static_cast<int>(node));
+    EPAPHE_REQUIRE(it != index.end(), in.where() << ": node " << node << " is not in the mesh (" << raw.mesh.numNodes()
+                                                 << " nodes read); the DOF map and the node coordinates must be of the same model");
+    raw.rowDof.push_back(3 * it->second + d);
+    raw.rowLine.push_back(in.line());
+  }
+}
+
+namespace {
+
+const char* directionName(int d) { return d == 0 ? "x" : d == 1 ? "y" : "z"; }
+
+struct Triplets {
+  std::vector<int> row, col;
+  std::vector<double> val;
+};
+
+/// Rank 0: numbers the free DOFs, checks the diagonals, renumbers the entries.
+void freeSystem(RawModel& raw, FullModel& m, Triplets& K, Triplets& M) {
+  const int n = static_cast<int>(raw.rowDof.size());
+  const int nn = raw.mesh.numNodes();
+  for (const SparseEntries* A : {&raw.K, &raw.M})
+    EPAPHE_REQUIRE(A->size == n, A->path << ": the " << A->what << " is " << A->size << " x " << A->size << " but the DOF map "
+                                         << raw.dofPath << " has " << n << " lines; export both from the same model");
+  raw.constrained.resize(3 * static_cast<std::size_t>(nn), 0);
+  m.name = raw.name;
+  m.eq.assign(3 * static_cast<std::size_t>(nn), -1);
+  std::vector<int> firstRow(3 * static_cast<std::size_t>(nn), -1), rowFree(static_cast<std::size_t>(n), -1);
+  for (int r = 0; r < n; ++r) {
+    const int d = raw.rowDof[r];
+    if (d < 0) continue;
+    EPAPHE_REQUIRE(firstRow[d] < 0, raw.dofPath << ":" << raw.rowLine[r] << ": node " << raw.mesh.nodeId(d / 3) << " direction "
+                                                << directionName(d % 3) << " is named twice (also at line "
+                                                << (firstRow[d] >= 0 ? raw.rowLine[firstRow[d]] : 0)
+                                                << "); each DOF has one matrix row");
+    firstRow[d] = r;
+    if (raw.constrained[d]) continue;
+    m.eq[d] = rowFree[r] = m.numFree++;
+  }
+  EPAPHE_REQUIRE(m.numFree > 0, raw.dofPath << ": every DOF of body '" << raw.name << "' is constrained; nothing can move");
+
+  for (int which = 0; which < 2; ++which) {
+    const SparseEntries& A = which == 0 ? raw.K : raw.M;
+    Triplets& T = which == 0 ? K : M;
+    std::vector<double> diag(static_cast<std::size_t>(m.numFree), 0.0);
+    std::vector<int> diagLine(static_cast<std::size_t>(m.numFree), 0);
+    T.row.reserve(A.val.size() * (A.triangle ? 2 : 1));
+    for (std::size_t k = 0; k < A.val.size(); ++k) {
+      const int fi = rowFree[A.row[k]], fj = rowFree[A.col[k]];
+      if (fi < 0 || fj < 0) continue;
+      T.row.push_back(fi); T.col.push_back(fj); T.val.push_back(A.val[k]);
+      if (fi == fj) { diag[fi] += A.val[k]; if (!diagLine[fi]) diagLine[fi] = A.line[k]; }
+      else if (A.triangle) { T.row.push_back(fj); T.col.push_back(fi); T.val.push_back(A.val[k]); }
+    }
+    const char sym = which == 0 ? 'K' : 'M';
+    for (int r = 0; r < n; ++r) {
+      const int f = rowFree[r];
+      if (f < 0) continue;
+      const int d = raw.rowDof[r];
+      EPAPHE_REQUIRE(diag[f] >= 0, A.path << ":" << diagLine[f] << ": the " << A.what << " has a negative diagonal " << sym << "("
+                                          << r + 1 << ", " << r + 1 << ") = " << diag[f] << " at node " << raw.mesh.nodeId(d / 3)
+                                          << " direction " << directionName(d % 3)
+                                          << ": the matrix is indefinite; check the export (sign, a flipped element, "
+                                             "K and M swapped)");
+      EPAPHE_REQUIRE(diag[f] > 0, A.path << ": the " << A.what << " has no diagonal " << sym << "(" << r + 1 << ", " << r + 1
+                                         << ") at node " << raw.mesh.nodeId(d / 3) << " direction " << directionName(d % 3)
+                                         << " (DOF map line " << raw.rowLine[r]
+                                         << "); a free DOF needs stiffness and mass: constrain it or check the model");
+    }
+  }
+  m.mesh = std::move(raw.mesh);
+}
+
+template <class T> void broadcastVector(const Teuchos::Comm<int>& comm, std::vector<T>& v) {
+  int n = static_cast<int>(v.size());
+  Teuchos::broadcast(comm, 0, &n);
+  v.resize(static_cast<std::size_t>(n));
+  if (n > 0) Teuchos::broadcast(comm, 0, n, v.data());
+}
+
+void broadcastString(const Teuchos::Comm<int>& comm, std::string& s) {
+  std::vector<char> c(s.begin(), s.end());
+  broadcastVector(comm, c);
+  s.assign(c.begin(), c.end());
+}
+
+void broadcastMesh(const Teuchos::Comm<int>& comm, Mesh& mesh) {
+  std::vector<double> x;
+  std::vector<int> hex, setSizes, setNodes;
+  std::string names;
+  if (comm.getRank() == 0) {
+    for (const auto& c : mesh.coords) x.insert(x.end(), c.begin(), c.end());
+    for (const auto& h : mesh.hexes) hex.insert(hex.end(), h.begin(), h.end());
+    for (const auto& [name, nodes] : mesh.nodeSets) {
+      names += name + '\n';
+      setSizes.push_back(static_cast<int>(nodes.size()));
+      setNodes.insert(setNodes.end(), nodes.begin(), nodes.end());
+    }
+  }
+  broadcastVector(comm, x);
+  broadcastVector(comm, hex);
+  broadcastVector(comm, mesh.nodeIds);
+  broadcastVector(comm, setSizes);
+  broadcastVector(comm, setNodes);
+  broadcastString(comm, names);
+  if (comm.getRank() == 0) return;
+  mesh.coords.resize(x.size() / 3);
+  for (std::size_t i = 0; i < mesh.coords.size(); ++i) mesh.coords[i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+  mesh.hexes.resize(hex.size() / 8);
+  for (std::size_t e = 0; e < mesh.hexes.size(); ++e)
+    for (int a = 0; a < 8; ++a) mesh.hexes[e][a] = hex[8 * e + a];
+  std::size_t pos = 0, at = 0;
+  for (int size : setSizes) {
+    const auto end = names.find('\n', pos);
+    auto& set = mesh.nodeSets[names.substr(pos, end - pos)];
+    set.assign(setNodes.begin() + static_cast<long>(at), setNodes.begin() + static_cast<long>(at + size));
+    pos = end + 1;
+    at += static_cast<std::size_t>(size);
+  }
+}
+
+Teuchos::RCP<CrsMatrix> buildMatrix(const Teuchos::RCP<const Map>& map, const Triplets& T) {
+  // Group the entries of the rows this rank owns (counting sort), then insert row by row.
+  const LO nLocal = static_cast<LO>(map->getNodeNumElements());
+  std::vector<std::size_t> count(static_cast<std::size_t>(nLocal), 0);
+  std::vector<LO> local(T.row.size());
+  for (std::size_t k = 0; k < T.row.size(); ++k) {
+    local[k] = map->getLocalElement(T.row[k]);
+    if (local[k] != Teuchos::OrdinalTraits<LO>::invalid()) ++count[local[k]];
+  }
+  std::vector<std::size_t> start(static_cast<std::size_t>(nLocal) + 1, 0);
+  for (LO l = 0; l < nLocal; ++l) start[l + 1] = start[l] + count[l];
+  std::vector<GO> cols(start.back());
+  std::vector<double> vals(start.back());
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t k = 0; k < T.row.size(); ++k) {
+    if (local[k] == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+    const std::size_t p = fill[local[k]]++;
+    cols[p] = T.col[k];
+    vals[p] = T.val[k];
+  }
+  auto A = Teuchos::rcp(new CrsMatrix(map, Teuchos::ArrayView<const std::size_t>(count)));
+  for (LO l = 0; l < nLocal; ++l)
+    if (count[l] > 0)
+      A->insertGlobalValues(map->getGlobalElement(l), Teuchos::ArrayView<const GO>(cols.data() + start[l], count[l]),
+                            Teuchos::ArrayView<const double>(vals.data() + start[l], count[l]));
+  A->fillComplete();
+  return A;
+}
+
+}  // namespace
+
+FullModel distributeModel(const std::function<RawModel()>& read, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  FullModel m;
+  Triplets K, M;
+  std::string error;
+  if (comm->getRank() == 0) {
+    try {
+      RawModel raw = read();
+      freeSystem(raw, m, K, M);
+    } catch (const std::exception& e) {
+      error = e.what();
+      if (error.empty()) error = "import failed";
+    }
+  }
+  broadcastString(*comm, error);
+  if (!error.empty()) throw Error(error);
+  broadcastString(*comm, m.name);
+  broadcastMesh(*comm, m.mesh);
+  broadcastVector(*comm, m.eq);
+  Teuchos::broadcast(*comm, 0, &m.numFree);
+  for (Triplets* T : {&K, &M}) {
+    broadcastVector(*comm, T->row);
+    broadcastVector(*comm, T->col);
+    broadcastVector(*comm, T->val);
+  }
+  auto map = Teuchos::rcp(new Map(m.numFree, 0, comm));
+  m.K = buildMatrix(map, K);
+  m.M = buildMatrix(map, M);
+  return m;
+}
+
+}  // namespace Details
+}  // namespace epaphe

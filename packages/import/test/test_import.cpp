@@ -1,0 +1,249 @@
+// Importers: Matrix Market round trip, code_aster files with Lagrange DOFs, and the catalogue of
+// malformed inputs in fixtures/errors (each case: expect.txt says the format, an optional missing
+// file, and the substrings the error message must hold; the case's files replace the base's).
+#include "Epaphe_CalculixImport.hpp"
+#include "Epaphe_CodeAsterImport.hpp"
+#include "Epaphe_CraigBampton.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_FullModel.hpp"
+#include "Epaphe_MatrixMarketImport.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_DefaultComm.hpp>
+#include <Tpetra_Map.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace epaphe;
+namespace fs = std::filesystem;
+
+namespace {
+
+Teuchos::RCP<const Teuchos::Comm<int>> comm() { return Teuchos::DefaultComm<int>::getComm(); }
+
+std::string env(const char* name) {
+  const char* v = std::getenv(name);
+  return v ? v : "";
+}
+
+/// A fresh directory under the test's work directory, made by rank 0, seen by all.
+std::string workDir(const std::string& name) {
+  const fs::path dir = fs::path(env("EPAPHE_IMPORT_WORKDIR").empty() ? "import-work" : env("EPAPHE_IMPORT_WORKDIR")) / name;
+  if (comm()->getRank() == 0) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  comm()->barrier();
+  return dir.string();
+}
+
+const Material steel{7800, 2.1e11, 0.3};
+
+FullModel clampedBox(const std::string& name) {
+  Mesh mesh = makeBoxMesh({0, 0, 0}, {0.3, 0.04, 0.05}, {6, 2, 2});
+  const auto clamped = mesh.nodeSet("x-", "test");
+  return assembleHexModel(name, mesh, steel, clamped, comm());
+}
+
+}  // namespace
+
+TEST(MatrixMarket, RoundTripOfABuiltInModelIsExact) {
+  const FullModel ref = clampedBox("box");
+  const auto files = MatrixMarketFiles::withPrefix(workDir("mm-round-trip") + "/box");
+  writeMatrixMarket(ref, files);
+  const FullModel got = importMatrixMarket(files, "box", comm());
+  EXPECT_EQ(got.numFree, ref.numFree);
+  EXPECT_EQ(got.eq, ref.eq);
+  EXPECT_EQ(got.mesh.coords, ref.mesh.coords);
+  EXPECT_EQ(got.mesh.nodeSets, ref.mesh.nodeSets);
+  EXPECT_TRUE(got.K->getRowMap()->isContiguous());
+  EXPECT_TRUE(got.K->getRowMap()->isSameAs(*ref.K->getRowMap()));
+  EXPECT_EQ(gatherDense(*got.K), gatherDense(*ref.K));   // bit for bit
+  EXPECT_EQ(gatherDense(*got.M), gatherDense(*ref.M));
+}
+
+TEST(MatrixMarket, OneTriangleIsMirrored) {
+  const FullModel ref = clampedBox("box");
+  const std::string dir = workDir("mm-triangle");
+  auto files = MatrixMarketFiles::withPrefix(dir + "/box");
+  writeMatrixMarket(ref, files);
+  const int n = ref.numFree;
+  const auto K = gatherDense(*ref.K);
+  if (comm()->getRank() == 0) {  // rewrite K as its lower triangle, 'symmetric'
+    std::ostringstream body;
+    int count = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = j; i < n; ++i)
+        if (K[static_cast<std::size_t>(j) * n + i] != 0.0) {
+          body.precision(17);
+          body << i + 1 << " " << j + 1 << " " << K[static_cast<std::size_t>(j) * n + i] << "\n";
+          ++count;
+        }
+    std::ofstream(files.stiffness) << "%%MatrixMarket matrix coordinate real symmetric\n" << n << " " << n << " " << count << "\n"
+                                   << body.str();
+  }
+  comm()->barrier();
+  const FullModel got = importMatrixMarket(files, "box", comm());
+  const auto G = gatherDense(*got.K);
+  double worst = 0, scale = 0;
+  for (std::size_t k = 0; k < K.size(); ++k) {
+    worst = std::max(worst, std::abs(G[k] - K[k]));
+    scale = std::max(scale, std::abs(K[k]));
+  }
+  EXPECT_LT(worst, 1e-12 * scale);
+}
+
+// A code_aster-like export of the same clamped box: the free-free matrices with the clamped DOFs
+// fixed by dualized conditions, i.e. double Lagrange equations l1, l2 around each fixed DOF u:
+//   [ K      a b   a b ] [u ]      b: unit row picking u;  a: code_aster's conditioning factor
+//   [ a b^T  -a    a   ] [l1]
+//   [ a b^T   a   -a   ] [l2]
+TEST(CodeAster, LagrangeDofsAreDroppedAndTheirDofsClamped) {
+  const FullModel ref = clampedBox("box");
+  Mesh mesh = makeBoxMesh({0, 0, 0}, {0.3, 0.04, 0.05}, {6, 2, 2});
+  const auto clamped = mesh.nodeSet("x-", "test");
+  const FullModel freeFree = assembleHexModel("free", mesh, steel, {}, comm());
+  const int n = freeFree.numFree;
+  const auto K = gatherDense(*freeFree.K), M = gatherDense(*freeFree.M);
+  const std::string dir = workDir("aster-lagrange");
+  CodeAsterFiles files{dir + "/BStiff.mat", dir + "/BMass.mat", dir + "/BDof.txt", dir + "/Body.dat", "", dir + "/sets.txt"};
+  if (comm()->getRank() == 0) {
+    std::vector<char> fixed(static_cast<std::size_t>(mesh.numNodes()), 0);
+    for (int c : clamped) fixed[c] = 1;
+    std::ofstream dofs(files.dofs), Kf(files.stiffness), Mf(files.mass), nodes(files.nodes), sets(files.nodeSets);
+    Kf.precision(17);
+    Mf.precision(17);
+    nodes.precision(17);
+    std::vector<int> row(static_cast<std::size_t>(n));  // physical DOF -> equation (1-based)
+    int eq = 0;
+    const double a = 1e11;
+    std::vector<std::array<int, 3>> lagrange;            // l1, u, l2
+    for (int node = 0; node < mesh.numNodes(); ++node) {
+      nodes << node + 1 << " " << mesh.coords[node][0] << " " << mesh.coords[node][1] << " " << mesh.coords[node][2] << "\n";
+      for (int d = 0; d < 3; ++d) {
+        const char* comp[3] = {"DX", "DY", "DZ"};
+        if (fixed[node]) dofs << "N" << node + 1 << " LAGR:" << comp[d] << "\n";
+        dofs << "N" << node + 1 << " " << comp[d] << "\n";
+        if (fixed[node]) dofs << node + 1 << " " << -(d + 1) << "\n";   // code_aster's DEEQ form
+        if (fixed[node]) { lagrange.push_back({eq + 1, eq + 2, eq + 3}); row[3 * node + d] = eq + 2; eq += 3; }
+        else row[3 * node + d] = ++eq;
+      }
+    }
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double k = K[static_cast<std::size_t>(j) * n + i], m = M[static_cast<std::size_t>(j) * n + i];
+        if (k != 0.0) Kf << row[i] << " " << row[j] << " " << k << "\n";
+        if (m != 0.0) Mf << row[i] << " " << row[j] << " " << m << "\n";
+      }
+    for (const auto& l : lagrange)
+      Kf << l[0] << " " << l[1] << " " << a << "\n" << l[1] << " " << l[0] << " " << a << "\n"
+         << l[2] << " " << l[1] << " " << a << "\n" << l[1] << " " << l[2] << " " << a << "\n"
+         << l[0] << " " << l[0] << " " << -a << "\n" << l[2] << " " << l[2] << " " << -a << "\n"
+         << l[0] << " " << l[2] << " " << a << "\n" << l[2] << " " << l[0] << " " << a << "\n";
+    sets << "x+";
+    for (int node : mesh.nodeSets.at("x+")) sets << " " << node + 1;
+    sets << "\n";
+  }
+  comm()->barrier();
+  const FullModel got = importCodeAster(files, "box", comm());
+  EXPECT_EQ(got.numFree, ref.numFree);
+  EXPECT_EQ(got.eq, ref.eq);
+  EXPECT_EQ(got.mesh.nodeIds.front(), 1);
+  EXPECT_EQ(got.mesh.nodeSets.at("x+"), ref.mesh.nodeSets.at("x+"));
+  EXPECT_EQ(gatherDense(*got.K), gatherDense(*ref.K));
+  EXPECT_EQ(gatherDense(*got.M), gatherDense(*ref.M));
+  const auto fRef = fullModelFrequencies(ref, 6), fGot = fullModelFrequencies(got, 6);
+  ASSERT_EQ(fGot.size(), fRef.size());
+  for (std::size_t k = 0; k < fRef.size(); ++k) EXPECT_NEAR(fGot[k], fRef[k], 1e-9 * fRef[k]) << "mode " << k + 1;
+}
+
+namespace {
+
+struct ErrorCase {
+  std::string name, format, missing;
+  std::vector<std::string> expect;
+};
+
+std::vector<ErrorCase> errorCases() {
+  std::vector<ErrorCase> cases;
+  const fs::path root = fs::path(env("EPAPHE_IMPORT_FIXTURES")) / "errors";
+  for (const auto& entry : fs::directory_iterator(root)) {
+    ErrorCase c;
+    c.name = entry.path().filename().string();
+    std::ifstream in(entry.path() / "expect.txt");
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.rfind("format: ", 0) == 0) c.format = line.substr(8);
+      else if (line.rfind("missing: ", 0) == 0) c.missing = line.substr(9);
+      else if (!line.empty()) c.expect.push_back(line);
+    }
+    cases.push_back(c);
+  }
+  std::sort(cases.begin(), cases.end(), [](const ErrorCase& a, const ErrorCase& b) { return a.name < b.name; });
+  return cases;
+}
+
+/// The base files of `format`, then the case's own, copied to a work directory.
+std::string assembleCase(const std::string& format, const std::string& caseName, const std::string& missing) {
+  const fs::path fixtures = env("EPAPHE_IMPORT_FIXTURES");
+  const std::string dir = workDir("errors/" + (caseName.empty() ? "base-" + format : caseName));
+  if (comm()->getRank() == 0) {
+    for (const auto& e : fs::directory_iterator(fixtures / ("base-" + format)))
+      fs::copy_file(e.path(), fs::path(dir) / e.path().filename(), fs::copy_options::overwrite_existing);
+    if (!caseName.empty())
+      for (const auto& e : fs::directory_iterator(fixtures / "errors" / caseName))
+        if (e.path().filename() != "expect.txt")
+          fs::copy_file(e.path(), fs::path(dir) / e.path().filename(), fs::copy_options::overwrite_existing);
+    if (!missing.empty()) fs::remove(fs::path(dir) / missing);
+  }
+  comm()->barrier();
+  return dir;
+}
+
+FullModel importFixture(const std::string& format, const std::string& dir) {
+  if (format == "mm")
+    return importMatrixMarket({dir + "/K.mtx", dir + "/M.mtx", dir + "/dofs.txt", dir + "/nodes.txt", ""}, "fixture", comm());
+  if (format == "calculix") return importCalculix({dir + "/model.inp", dir + "/model"}, "fixture", comm());
+  if (format == "aster")
+    return importCodeAster({dir + "/K.txt", dir + "/M.txt", dir + "/dofs.txt", dir + "/nodes.txt", "", ""}, "fixture", comm());
+  throw Error("unknown fixture format '" + format + "'");
+}
+
+}  // namespace
+
+TEST(Fixtures, BasesImport) {
+  const FullModel mm = importFixture("mm", assembleCase("mm", "", ""));
+  EXPECT_EQ(mm.numFree, 6);
+  EXPECT_EQ(mm.mesh.nodeIds, (std::vector<int>{10, 20}));
+  const FullModel ccx = importFixture("calculix", assembleCase("calculix", "", ""));
+  EXPECT_EQ(ccx.numFree, 12);
+  EXPECT_EQ(ccx.mesh.hexes.size(), 1u);
+  EXPECT_EQ(ccx.mesh.nodeSets.at("TIP"), (std::vector<int>{1, 2, 5, 6}));
+  EXPECT_EQ(ccx.eq[0], -1);   // node 1 clamped
+  const FullModel aster = importFixture("aster", assembleCase("aster", "", ""));
+  EXPECT_EQ(aster.numFree, 5);
+  EXPECT_EQ(aster.eq[0], -1);  // x of node 1 fixed by its Lagrange equations
+  EXPECT_EQ(aster.eq[1], 0);
+}
+
+TEST(Fixtures, EachMalformedInputIsAClearError) {
+  const auto cases = errorCases();
+  ASSERT_GE(cases.size(), 30u);
+  for (const auto& c : cases) {
+    const std::string dir = assembleCase(c.format, c.name, c.missing);
+    std::string message;
+    try {
+      importFixture(c.format, dir);
+    } catch (const Error& e) {
+      message = e.what();
+    }
+    ASSERT_FALSE(message.empty()) << c.name << ": no error raised";
+    for (const auto& s : c.expect) EXPECT_NE(message.find(s), std::string::npos) << c.name << ": '" << s << "' not in: " << message;
+    if (comm()->getRank() == 0 && env("EPAPHE_IMPORT_VERBOSE") == "1") std::cout << c.name << ": " << message << "\n";
+  }
+}
