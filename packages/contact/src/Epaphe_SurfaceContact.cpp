@@ -194,6 +194,29 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   gridOffH_.assign(goH.data(), goH.data() + ns);
   Kokkos::deep_copy(opOff_, ooH);
   foot_ = Kokkos::View<double* [2]>("epaphe::contact::foot", nc);
+  footX_ = Kokkos::View<double* [3]>("epaphe::contact::foot_point", nc);
+  rot_ = Kokkos::View<double* [3][3]>("epaphe::contact::rotation", ns);
+  turn_ = Kokkos::View<double* [7]>("epaphe::contact::turning", ns);
+  {
+    auto tH = Kokkos::create_mirror_view(turn_);
+    for (int s = 0; s < ns; ++s) {
+      ContactSurface& cs = surfaces_[s];
+      EPAPHE_REQUIRE(std::isfinite(cs.omega) && (cs.omega == 0.0 || !cs.moving),
+                     "contact: surface '" << cs.surface->name() << "' turns at " << cs.omega
+                                          << " rad/s; only rigid surfaces can turn (a finite speed)");
+      const double l = std::sqrt(cs.axis[0] * cs.axis[0] + cs.axis[1] * cs.axis[1] + cs.axis[2] * cs.axis[2]);
+      EPAPHE_REQUIRE(l > 0.0, "contact: surface '" << cs.surface->name() << "' has a zero rotation axis");
+      for (double& a : cs.axis) a /= l;
+      tH(s, 0) = cs.omega;
+      for (int d = 0; d < 3; ++d) {
+        tH(s, 1 + d) = cs.axis[d];
+        tH(s, 4 + d) = cs.center[d];
+      }
+      xs_.emplace_back(cs.omega != 0.0 ? Kokkos::View<double* [3]>("epaphe::contact::x_surface", nc)
+                                       : Kokkos::View<double* [3]>());
+    }
+    Kokkos::deep_copy(turn_, tH);
+  }
   wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, maxGrid_[0]);
   wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, maxGrid_[1]);
   Y_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::FDt", N, 3 * nc);
@@ -286,13 +309,42 @@ void SurfaceContact::detect(const DenseVector& q) {
       "epaphe::contact::positions", nc, KOKKOS_LAMBDA(const int k) {
         for (int d = 0; d < 3; ++d) x(k, d) = X(k, d) + q(dof(k, d));
       });
-  for (std::size_t s = 0; s < surfaces_.size(); ++s)
-    projectNodes(surfaces_[s].surface->view(), x_, uv_[s], proj_[s], opt_.nrTolerance, opt_.nrMaxIterations);
+  // Turning surfaces: R(omega t) by Rodrigues' formula; the nodes projected in their frame.
+  auto rotH = Kokkos::create_mirror_view(rot_);
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
+    const ContactSurface& cs = surfaces_[s];
+    const double th = cs.omega * time_, c = std::cos(th), sn = std::sin(th);
+    const auto& a = cs.axis;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double cross = (i == j) ? 0.0 : ((j == (i + 1) % 3) ? -a[3 - i - j] : a[3 - i - j]);
+        rotH(s, i, j) = (i == j ? c : 0.0) + (1 - c) * a[i] * a[j] + sn * cross;
+      }
+  }
+  Kokkos::deep_copy(rot_, rotH);
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
+    if (surfaces_[s].omega == 0.0) {
+      projectNodes(surfaces_[s].surface->view(), x_, uv_[s], proj_[s], opt_.nrTolerance, opt_.nrMaxIterations);
+      continue;
+    }
+    const auto xs = xs_[s];
+    const auto R = Kokkos::subview(rot_, s, Kokkos::ALL, Kokkos::ALL);
+    const double c0 = surfaces_[s].center[0], c1 = surfaces_[s].center[1], c2 = surfaces_[s].center[2];
+    Kokkos::parallel_for(
+        "epaphe::contact::to_surface_frame", nc, KOKKOS_LAMBDA(const int k) {
+          const double r[3] = {x(k, 0) - c0, x(k, 1) - c1, x(k, 2) - c2}, cc[3] = {c0, c1, c2};
+          for (int i = 0; i < 3; ++i) xs(k, i) = cc[i] + R(0, i) * r[0] + R(1, i) * r[1] + R(2, i) * r[2];  // R^T r
+        });
+    projectNodes(surfaces_[s].surface->view(), xs, uv_[s], proj_[s], opt_.nrTolerance, opt_.nrMaxIterations);
+  }
   // Per node, the surface with the smallest gap among those the node is not beyond.
   const auto gap = gap_;
   const auto normal = normal_;
   const auto surf = surf_;
   const auto foot = foot_;
+  const auto footX = footX_;
+  const auto rot = rot_;
+  const auto turn = turn_;
   const auto p0 = proj_[0];
   const auto p1 = surfaces_.size() > 1 ? proj_[1] : proj_[0];
   const int ns = static_cast<int>(surfaces_.size());
@@ -309,7 +361,12 @@ void SurfaceContact::detect(const DenseVector& q) {
           if (!(p.beyond > edgeTol) && p.gap < g) {
             g = p.gap;
             best = s;
-            for (int d = 0; d < 3; ++d) normal(k, d) = p.normal[d];
+            for (int d = 0; d < 3; ++d) {  // back to the bodies' frame: n = R n_s, S = c + R (S_s - c)
+              normal(k, d) = rot(s, d, 0) * p.normal[0] + rot(s, d, 1) * p.normal[1] + rot(s, d, 2) * p.normal[2];
+              double y = turn(s, 4 + d);
+              for (int e = 0; e < 3; ++e) y += rot(s, d, e) * (p.point[e] - turn(s, 4 + e));
+              footX(k, d) = y;
+            }
             foot(k, 0) = p.u;
             foot(k, 1) = p.v;
           }
@@ -455,12 +512,28 @@ void SurfaceContact::prepareFriction(const DenseVector& q, const DenseVector& qn
   const auto x = x_;
   const RelativeMotion D{entDof_, entW_, entN_};
   const Difference<DenseVector> dq{q, qn};
+  const auto surfOf = surf_;
+  const auto turn = turn_;
+  const auto footX = footX_;
+  const double h = opt_.timeStep;
   Kokkos::parallel_for(
       "epaphe::contact::friction_prepare", numNodes(), KOKKOS_LAMBDA(const int k) {
         double n[3], dsp[3], dn = 0.0, dd = 0.0, xx = 0.0;
         for (int e = 0; e < 3; ++e) {
           n[e] = normal(k, e);
           dsp[e] = D.apply(k, e, dq);  // relative motion d_a = D_a (q* - q_n)
+        }
+        if (surfOf(k) >= 0 && turn(surfOf(k), 0) != 0.0) {
+          // less the turning surface's own motion over the step, h omega a x (S - c)
+          const int s = surfOf(k);
+          const double w = h * turn(s, 0);
+          const double r[3] = {footX(k, 0) - turn(s, 4), footX(k, 1) - turn(s, 5), footX(k, 2) - turn(s, 6)};
+          const double a[3] = {turn(s, 1), turn(s, 2), turn(s, 3)};
+          dsp[0] -= w * (a[1] * r[2] - a[2] * r[1]);
+          dsp[1] -= w * (a[2] * r[0] - a[0] * r[2]);
+          dsp[2] -= w * (a[0] * r[1] - a[1] * r[0]);
+        }
+        for (int e = 0; e < 3; ++e) {
           disp(k, e) = dsp[e];
           dn += dsp[e] * n[e];
           dd += dsp[e] * dsp[e];

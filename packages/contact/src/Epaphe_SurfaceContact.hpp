@@ -59,6 +59,7 @@
 
 #include <Kokkos_Core.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -74,6 +75,7 @@ struct ContactOptions {
   bool lumped = false;              // lump the contact matrix MC (section 2.5.2)
   double friction = 0.0;            // Coulomb coefficient mu >= 0 (eq. 2.31); 0: frictionless
   double edgeTolerance = 1e-3;      // a node beyond an open edge by less (in patches) still touches
+  double timeStep = 0.0;            // h: the rotation of turning surfaces over a step (friction)
 };
 
 using DenseMatrix = Kokkos::View<double**, Kokkos::LayoutLeft>;
@@ -111,6 +113,12 @@ struct ContactSurface {
   int block = -1;
   std::vector<int> gridDofs;
   std::vector<double> gridX;
+  /// A rigid surface may turn about `axis` (unit) through `center` at `omega` rad/s in the bodies'
+  /// frame (thesis section 3.3: the contact zone of a rotating blade turns, the blade stays): at
+  /// time t (setTime) it is the reference surface rotated by omega t. Nodes are projected in the
+  /// surface's frame (x_s = c + R^T (x - c)); normals and foot points are turned back.
+  double omega = 0.0;
+  std::array<double, 3> axis{0.0, 0.0, 1.0}, center{0.0, 0.0, 0.0};
 };
 
 class SurfaceContact {
@@ -126,6 +134,9 @@ public:
   SurfaceContact(const ReducedModel& body, const std::vector<int>& nodes,
                  std::vector<const BSplineSurface*> surfaces, const ContactOptions& options,
                  const DenseMatrix& flexibility);
+
+  /// Time of the configuration the next correct() / measureGaps() sees (turning surfaces).
+  void setTime(double t) { time_ = t; }
 
   /// Detects contact at the predicted q* (`qPredicted`) and corrects it in place to q_{n+1};
   /// `qCurrent` = q_n gives each node's motion over the step, hence the friction direction t_a.
@@ -206,6 +217,11 @@ private:
   Kokkos::View<double**, Kokkos::LayoutLeft> Y_;   // F D_k^T, column 3 k + e (active nodes)
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
   int maxGrid_[2] = {0, 0};
+  double time_ = 0.0;
+  std::vector<Kokkos::View<double* [3]>> xs_;   // nodes in a turning surface's frame
+  Kokkos::View<double* [3][3]> rot_;            // per surface: R(omega t)
+  Kokkos::View<double* [7]> turn_;              // per surface: omega, axis, center
+  Kokkos::View<double* [3]> footX_;             // foot point in the bodies' frame
   DenseVector dq_;                        // the correction F G lambda
   Kokkos::View<int*> corrected_;          // nodes added to the active set by the last check
   double gapTolerance_ = 0.0;

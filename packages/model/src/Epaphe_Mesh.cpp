@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <set>
 #include <sstream>
 
@@ -122,6 +123,39 @@ Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius
                 center[2] + axial[0] + (axial[1] - axial[0]) * k / nz};
       },
       {"inner", "outer", "end-", "end+", "z-", "z+"});
+}
+
+Mesh makeBladeMesh(const BladeGeometry& g, const std::array<int, 3>& elements) {
+  EPAPHE_REQUIRE(g.hubRadius > 0 && g.tipRadius > g.hubRadius, "blade mesh: hub radius " << g.hubRadius << " m and tip radius "
+                                                                 << g.tipRadius << " m; 0 < hub < tip is needed");
+  EPAPHE_REQUIRE(g.chord > 0 && g.thickness > 0, "blade mesh: chord " << g.chord << " m and thickness " << g.thickness
+                                                                      << " m must both be > 0");
+  EPAPHE_REQUIRE(std::abs(g.coneAngle) < 60.0, "blade mesh: cone angle " << g.coneAngle << " degrees; keep it within 60");
+  for (int d = 0; d < 3; ++d)
+    EPAPHE_REQUIRE(elements[d] >= 1, "blade mesh: " << elements[d] << " elements "
+                                                    << (d == 0 ? "along the span" : d == 1 ? "along the chord" : "through the thickness")
+                                                    << ", at least 1 is needed");
+  const double deg = M_PI / 180.0, tanCone = std::tan(g.coneAngle * deg);
+  Mesh m = structuredMesh(
+      elements,
+      [&](int i, int j, int k) -> std::array<double, 3> {
+        const double s = double(i) / elements[0], xi = (double(j) / elements[1] - 0.5) * g.chord;
+        const double f = 0.5 + xi / g.chord;
+        const double eta = (double(k) / elements[2] - 0.5) * g.thickness + 4.0 * g.camber * g.chord * f * (1.0 - f);
+        const double beta = (g.stagger + s * g.twist) * deg;
+        const double z = g.axialPosition + xi * std::cos(beta) - eta * std::sin(beta);
+        const double t = xi * std::sin(beta) + eta * std::cos(beta);
+        const double r = g.hubRadius + s * (g.tipRadius + (z - g.axialPosition) * tanCone - g.hubRadius);
+        return {r * std::sin(t / r), r * std::cos(t / r), z};
+      },
+      {"root", "tip", "le", "te", "pressure", "suction"});
+  for (const char* edge : {"le", "te"}) {
+    std::vector<int> both;
+    std::set_intersection(m.nodeSets["tip"].begin(), m.nodeSets["tip"].end(), m.nodeSets[edge].begin(),
+                          m.nodeSets[edge].end(), std::back_inserter(both));
+    m.nodeSets[std::string("tip-") + edge] = both;
+  }
+  return m;
 }
 
 }  // namespace epaphe

@@ -53,4 +53,25 @@ Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius
                          const std::array<double, 2>& angles, const std::array<double, 2>& axial,
                          const std::array<int, 3>& elements);
 
+/// A twisted, cambered blade (thesis chapter 5, a parametric stand-in for a compressor blade).
+/// The engine axis is z; the blade stands along +y from the hub to the tip. Section at span
+/// fraction s in [0, 1]: chord coordinate xi in [-chord/2, chord/2], thickness coordinate eta (plus
+/// a parabolic camber line 4 camber chord (1/2 + xi/c)(1/2 - xi/c)), turned by the stagger angle
+/// beta(s) = stagger + s twist about the radial direction: z = axialPosition + xi cos(beta) - eta
+/// sin(beta), tangential arc t = xi sin(beta) + eta cos(beta); the radius runs from the hub to the
+/// tip radius of a cone of half-angle coneAngle (r_tip(z) = tipRadius + (z - axialPosition)
+/// tan(coneAngle)), and the point is wrapped on the cylinder of that radius: (r sin(t/r), r cos(t/r),
+/// z), so every tip node is at the tip radius. Elements {span, chord, thickness}. Node sets: all,
+/// root (clamped), tip, le and te (leading and trailing edges, smallest and largest xi), pressure
+/// and suction, and tip-le, tip-te (the tip's edge nodes).
+struct BladeGeometry {
+  double hubRadius = 0.2, tipRadius = 0.3;
+  double chord = 0.06, thickness = 0.004;
+  double stagger = 30.0, twist = 20.0;   // degrees
+  double camber = 0.05;                  // of the chord
+  double coneAngle = 0.0;                // degrees
+  double axialPosition = 0.0;            // z of mid-chord (m)
+};
+Mesh makeBladeMesh(const BladeGeometry& geometry, const std::array<int, 3>& elements);
+
 }  // namespace epaphe

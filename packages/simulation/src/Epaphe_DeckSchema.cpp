@@ -27,9 +27,14 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     auto& body = pl->sublist("Bodies", false, "One sublist per flexible body, named by the user").sublist(
         "*", false, "A flexible body: mesh, material, reduction, contact nodes");
     auto& mesh = body.sublist("Mesh", false, "The body's finite-element mesh");
-    addEnum(mesh, "Type", "Box", {"Box", "Ring segment"}, {int(MeshType::Box), int(MeshType::RingSegment)},
+    addEnum(mesh, "Type", "Box", {"Box", "Ring segment", "Blade"},
+            {int(MeshType::Box), int(MeshType::RingSegment), int(MeshType::Blade)},
             "Box: structured 8-node hexahedra, node sets all, x-, x+, y-, y+, z-, z+. Ring segment: a thick "
-            "cylindrical arc about the z axis through Origin, node sets all, inner, outer, end-, end+, z-, z+");
+            "cylindrical arc about the z axis through Origin, node sets all, inner, outer, end-, end+, z-, z+. "
+            "Blade: a twisted, cambered blade standing along +y about the engine axis z (Hub radius .. Tip radius, "
+            "Chord, Blade thickness, Stagger, Twist, Camber, Cone angle, Axial position; Elements {span, chord, "
+            "thickness}), node sets all, root, tip, le, te, pressure, suction, tip-le, tip-te; each tip node at the "
+            "tip radius of its cone");
     addDoubleArray(mesh, "Origin", {0, 0, 0}, "Box: corner with the smallest coordinates; Ring segment: a point of "
                                               "its axis (m)");
     addDoubleArray(mesh, "Lengths", {0.2, 0.02, 0.02}, "Box: edge lengths along x, y, z (m)");
@@ -39,6 +44,16 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addDouble(mesh, "Thickness", 0.03, "Ring segment: radial thickness (m)", 1e-300);
     addDoubleArray(mesh, "Angles", {135, 225}, "Ring segment: first and last angle (degrees, from +x to +y)");
     addDoubleArray(mesh, "Axial range", {-0.05, 0.05}, "Ring segment: first and last z, from Origin (m)");
+    addDouble(mesh, "Hub radius", 0.2, "Blade: radius of the root (m)", 1e-300);
+    addDouble(mesh, "Tip radius", 0.3, "Blade: radius of the tip at the Axial position (m)", 1e-300);
+    addDouble(mesh, "Chord", 0.06, "Blade: chord length (m)", 1e-300);
+    addDouble(mesh, "Blade thickness", 0.004, "Blade: thickness (m)", 1e-300);
+    addDouble(mesh, "Stagger", 30.0, "Blade: angle of the root chord to the engine axis (degrees)");
+    addDouble(mesh, "Twist", 20.0, "Blade: stagger added from root to tip (degrees)");
+    addDouble(mesh, "Camber", 0.05, "Blade: height of the parabolic camber line, as a fraction of the chord");
+    addDouble(mesh, "Cone angle", 0.0, "Blade: half-angle of the tip cone (degrees; the tip radius grows by "
+                                       "tan(angle) per metre along z)", -60.0, 60.0);
+    addDouble(mesh, "Axial position", 0.0, "Blade: z of mid-chord (m)");
     auto& mat = body.sublist("Material", false, "Isotropic linear elastic material");
     addDouble(mat, "Density", 7800, "Mass density (kg/m^3)", 1e-300);
     addDouble(mat, "Young's modulus", 2.1e11, "Young's modulus (Pa)", 1e-300);
@@ -64,14 +79,27 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     auto& surf = pl->sublist("Surfaces", false, "One sublist per surface, named by the user").sublist(
         "*", false, "A surface: bicubic B-spline through a grid of points (thesis section 2.4), rigid or carried "
                     "by a flexible body");
-    addEnum(surf, "Type", "Plane", {"Plane", "Cylinder arc", "Body face"},
-            {int(SurfaceType::Plane), int(SurfaceType::CylinderArc), int(SurfaceType::BodyFace)},
+    addEnum(surf, "Type", "Plane", {"Plane", "Cylinder arc", "Body face", "Casing"},
+            {int(SurfaceType::Plane), int(SurfaceType::CylinderArc), int(SurfaceType::BodyFace), int(SurfaceType::Casing)},
             "Plane: a rigid grid of points Origin + i/(nu-1) U + j/(nv-1) V; Cylinder arc: the rigid grid Center + "
             "Radius (cos a e1 + sin a e2) + s Axis over the Angles and the Axial range (e1 = Reference, e2 = Axis x "
             "e1); Body face: the node grid 'Node grid' of the flexible body 'Body', rebuilt from its moved nodes at "
             "every step (its nodes must be retained by the body's reduction; clamped ones stay fixed), the two "
             "bodies corrected together (eq. 2.33). Each grid is interpolated by the general bicubic B-spline code; "
             "a grid whose last row repeats the first is closed");
+    addDouble(surf, "Cone angle", 0.0, "Casing: half-angle of the cone (degrees)", -60.0, 60.0);
+    addDouble(surf, "Axial position", 0.0, "Casing: z where the cone's radius is Radius (m)");
+    addEnum(surf, "Clearance law", "None", {"None", "Two-lobe", "Harmonics"},
+            {int(ClearanceLaw::None), int(ClearanceLaw::TwoLobe), int(ClearanceLaw::Harmonics)},
+            "Casing: radius = Radius + (z - Axial position) tan(Cone angle) + gap(theta, z), theta from +x towards "
+            "+y. None: gap = Clearance; Two-lobe (NASA rotor 37, Piollet, Nyssen & Batailly 2019, eqs. 3-4): gap = "
+            "c (1 - 2 exp(-((mod(theta, pi)/pi - 0.5)/0.15)^2)), c = Clearance; Harmonics: gap = Clearance - "
+            "sum_k A_k(z) cos(n_k theta), A_k linear in z between its values at the two ends of the Axial range. "
+            "The surface is closed around the axis (Points {angles, axial}) and faces the axis");
+    addDouble(surf, "Clearance", 0.0, "Casing: c of the clearance law (m)");
+    addIntArray(surf, "Harmonic orders", {}, "Casing, Harmonics: the orders n_k");
+    addDoubleArray(surf, "Amplitudes at first end", {}, "Casing, Harmonics: A_k at the first end of the Axial range (m)");
+    addDoubleArray(surf, "Amplitudes at last end", {}, "Casing, Harmonics: A_k at the last end of the Axial range (m)");
     addString(surf, "Body", "", "Body face: the body that carries the surface");
     addString(surf, "Node grid", "", "Body face: the body's ordered face, e.g. x+ (Box) or outer (Ring segment); "
                                      "its normal points out of the body");
@@ -86,6 +114,12 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addDouble(surf, "Radius", 0.18, "Cylinder arc: radius (m)", 1e-300);
     addDoubleArray(surf, "Angles", {-40, 40}, "Cylinder arc: first and last angle of the grid (degrees)");
     addDoubleArray(surf, "Axial range", {-0.05, 0.05}, "Cylinder arc: first and last axial coordinate (m)");
+    addDouble(surf, "Rotation speed", 0.0, "Rigid surfaces: the surface turns at this speed (rad/s) about 'Rotation "
+                                           "axis' through 'Rotation center', in the frame of the bodies (thesis "
+                                           "section 3.3: for a blade spinning at +Omega in its casing, the casing "
+                                           "turns at -Omega about the engine axis)");
+    addDoubleArray(surf, "Rotation axis", {0, 0, 1}, "Rigid surfaces: axis of the rotation (need not be unit)");
+    addDoubleArray(surf, "Rotation center", {0, 0, 0}, "Rigid surfaces: a point of the rotation axis (m)");
     addBool(surf, "Flip normal", false, "The contact side is where U x V points (Plane), away from the axis "
                                         "(Cylinder arc, the convex side) or out of the body (Body face); set true "
                                         "for the other side");
@@ -109,6 +143,8 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     auto& time = pl->sublist("Time", false, "Explicit central difference (thesis eq. 2.2)");
     addDouble(time, "Time step", 1e-7, "h (s)", 1e-300);
     addDouble(time, "End time", 1e-4, "Simulated duration (s)", 1e-300);
+    addDouble(time, "End revolutions", 0.0, "When > 0, the duration in revolutions of the fastest turning surface "
+                                            "(replaces End time)", 0.0);
     addBool(time, "Allow unstable time step", false, "Run even when h exceeds the estimated critical step "
                                                      "(a warning instead of an error)");
     auto& damp = time.sublist("Damping", false, "Damping matrix D");

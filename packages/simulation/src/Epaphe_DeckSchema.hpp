@@ -7,9 +7,10 @@
 
 namespace epaphe {
 
-enum class MeshType { Box = 0, RingSegment = 1 };
+enum class MeshType { Box = 0, RingSegment = 1, Blade = 2 };
 enum class ReductionMethod { CraigBampton = 0, Guyan = 1, None = 2 };
-enum class SurfaceType { Plane = 0, CylinderArc = 1, BodyFace = 2 };
+enum class SurfaceType { Plane = 0, CylinderArc = 1, BodyFace = 2, Casing = 3 };
+enum class ClearanceLaw { None = 0, TwoLobe = 1, Harmonics = 2 };
 
 /// The whole deck: lists Run, Bodies (one sublist per body), Surfaces (one per surface),
 /// Contact, Time, Output.

@@ -84,6 +84,47 @@ std::vector<double> cylinderArcGrid(const ParameterList& s, int na, int nz, cons
   return grid;
 }
 
+/// Grid of a Casing surface: around the z axis, a cone of radius Radius + (z - Axial position)
+/// tan(Cone angle) plus the clearance law gap(theta, z); nt distinct angles and the first repeated
+/// (a closed surface), nz axial positions over the Axial range. Laws (theta from +x towards +y):
+///   None:       gap = Clearance;
+///   Two-lobe:   gap = c (1 - 2 exp(-((mod(theta, pi)/pi - 0.5)/0.15)^2)), c = Clearance (rotor 37,
+///               Piollet, Nyssen & Batailly 2019, eqs. 3-4): two lobes where the casing dips c below the
+///               blade tip;
+///   Harmonics:  gap = Clearance - sum_k A_k(z) cos(n_k theta), A_k linear in z from 'Amplitudes at
+///               first end' to 'Amplitudes at last end' over the Axial range.
+std::vector<double> casingGrid(const ParameterList& s, int nt, int nz, const std::string& origin) {
+  const double R = s.get<double>("Radius"), zc = s.get<double>("Axial position");
+  const double tanCone = std::tan(s.get<double>("Cone angle") * M_PI / 180.0), c = s.get<double>("Clearance");
+  const auto ax = deck::getDoubles(s, "Axial range");
+  EPAPHE_REQUIRE(ax.size() == 2 && ax[1] > ax[0], origin << ": '" << deck::pathOf(s, "Axial range")
+                                                       << "' must be {first, last} with last > first");
+  const auto law = deck::getEnum<ClearanceLaw>(s, "Clearance law");
+  const auto orders = deck::getInts(s, "Harmonic orders");
+  const auto a0 = deck::getDoubles(s, "Amplitudes at first end"), a1 = deck::getDoubles(s, "Amplitudes at last end");
+  if (law == ClearanceLaw::Harmonics)
+    EPAPHE_REQUIRE(!orders.empty() && a0.size() == orders.size() && a1.size() == orders.size(),
+                   origin << ": '" << deck::pathOf(s, "Harmonic orders") << "' has " << orders.size()
+                          << " orders, the amplitudes " << a0.size() << " and " << a1.size() << "; give one amplitude per order at each end");
+  std::vector<double> grid;
+  for (int i = 0; i <= nt; ++i) {
+    const double th = 2.0 * M_PI * (i % nt) / nt;
+    for (int j = 0; j < nz; ++j) {
+      const double z = ax[0] + (ax[1] - ax[0]) * j / (nz - 1), w = (z - ax[0]) / (ax[1] - ax[0]);
+      double gap = c;
+      if (law == ClearanceLaw::TwoLobe) {
+        const double m = std::fmod(th, M_PI) / M_PI - 0.5;
+        gap = c * (1.0 - 2.0 * std::exp(-(m / 0.15) * (m / 0.15)));
+      } else if (law == ClearanceLaw::Harmonics) {
+        for (std::size_t k = 0; k < orders.size(); ++k) gap -= ((1 - w) * a0[k] + w * a1[k]) * std::cos(orders[k] * th);
+      }
+      const double r = R + (z - zc) * tanCone + gap;
+      grid.insert(grid.end(), {r * std::cos(th), r * std::sin(th), z});
+    }
+  }
+  return grid;
+}
+
 std::string canonical(const ParameterList& pl) {
   std::ostringstream os;
   pl.print(os, Teuchos::ParameterList::PrintOptions().showTypes(true).showDoc(false).indent(0));
@@ -200,6 +241,7 @@ void Simulation::setup() {
   copt.lumped = cp.get<bool>("Lump contact matrix");
   copt.friction = cp.get<double>("Friction coefficient");
   copt.edgeTolerance = cp.get<double>("Edge tolerance");
+  copt.timeStep = h;
 
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     auto b = std::make_unique<Body>();
@@ -236,8 +278,21 @@ void Simulation::setup() {
       const auto el = deck::getInts(mp, "Elements");
       EPAPHE_REQUIRE(el.size() == 3, ctx << ": 'Mesh->Elements' has " << el.size() << " values; give {nx, ny, nz}");
       Mesh mesh;
-      if (deck::getEnum<MeshType>(mp, "Type") == MeshType::Box) {
+      const auto meshType = deck::getEnum<MeshType>(mp, "Type");
+      if (meshType == MeshType::Box) {
         mesh = makeBoxMesh(vec3(mp, "Origin", origin), vec3(mp, "Lengths", origin), {el[0], el[1], el[2]});
+      } else if (meshType == MeshType::Blade) {
+        BladeGeometry g;
+        g.hubRadius = mp.get<double>("Hub radius");
+        g.tipRadius = mp.get<double>("Tip radius");
+        g.chord = mp.get<double>("Chord");
+        g.thickness = mp.get<double>("Blade thickness");
+        g.stagger = mp.get<double>("Stagger");
+        g.twist = mp.get<double>("Twist");
+        g.camber = mp.get<double>("Camber");
+        g.coneAngle = mp.get<double>("Cone angle");
+        g.axialPosition = mp.get<double>("Axial position");
+        mesh = makeBladeMesh(g, {el[0], el[1], el[2]});
       } else {
         const auto ang = deck::getDoubles(mp, "Angles"), ax = deck::getDoubles(mp, "Axial range");
         EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2, ctx << ": 'Mesh->Angles' and 'Mesh->Axial range' must each "
@@ -414,11 +469,19 @@ void Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
       for (int i = 0; i < pts[0]; ++i)
         for (int j = 0; j < pts[1]; ++j)
           for (int d = 0; d < 3; ++d) grid.push_back(o[d] + U[d] * i / (pts[0] - 1) + V[d] * j / (pts[1] - 1));
+    } else if (type == SurfaceType::Casing) {
+      grid = casingGrid(s, pts[0], pts[1], origin);
+      so.orientation = -so.orientation;  // towards the axis
     } else {
       grid = cylinderArcGrid(s, pts[0], pts[1], origin);
     }
-    surfaces_.push_back(std::make_unique<BSplineSurface>(name, pts[0], pts[1], grid, so));
-    contactSurfaces.push_back(ContactSurface{surfaces_.back().get(), nullptr, -1, {}, {}});
+    const int nu = type == SurfaceType::Casing ? pts[0] + 1 : pts[0];  // the casing repeats its first row: closed
+    surfaces_.push_back(std::make_unique<BSplineSurface>(name, nu, pts[1], grid, so));
+    ContactSurface cs{surfaces_.back().get(), nullptr, -1, {}, {}};
+    cs.omega = s.get<double>("Rotation speed");
+    cs.axis = vec3(s, "Rotation axis", origin);
+    cs.center = vec3(s, "Rotation center", origin);
+    contactSurfaces.push_back(std::move(cs));
     surfaceCarried_.push_back(false);
   }
 
@@ -464,7 +527,15 @@ const RunSummary& Simulation::run() {
   }
   const ParameterList& P = *deck_.params;
   const double h = P.sublist("Time").get<double>("Time step");
-  const double endTime = P.sublist("Time").get<double>("End time");
+  double endTime = P.sublist("Time").get<double>("End time");
+  if (const double revs = P.sublist("Time").get<double>("End revolutions"); revs > 0) {
+    double omega = 0;
+    for (const auto& s : P.sublist("Surfaces"))
+      omega = std::max(omega, std::abs(P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed")));
+    EPAPHE_REQUIRE(omega > 0, deck_.origin << ": 'Time->End revolutions' = " << revs
+                                           << " but no surface turns; give a 'Rotation speed' or use 'End time'");
+    endTime = revs * 2 * M_PI / omega;
+  }
   const int every = P.sublist("Output").get<int>("Every");
   const double tolBalance = P.sublist("Output").get<double>("Energy balance tolerance");
   const double progressInterval = P.sublist("Run").get<double>("Progress interval");
@@ -632,6 +703,7 @@ const RunSummary& Simulation::run() {
     }
     if (contact_) {
       // eqs. 2.28-2.36 on all bodies at once (eq. 2.33), friction from the motion q_n -> q*
+      contact_->setTime(t + h);
       contact_->correct(Q[iNext], Q[iCur], cost);
       ScopedPhase phase(cost, "energy");
       contactWork += contact_->workIncrement(Q[iNext], Q[iPrev]);
@@ -659,6 +731,7 @@ const RunSummary& Simulation::run() {
       if (contact_) {
         const auto f = contact_->force();
         forceAll.assign(f.data(), f.data() + f.extent(0));
+        contact_->setTime(t);
         contact_->measureGaps(Q[iCur], cost);
         const auto gp = contact_->gap();
         gapAll.assign(gp.data(), gp.data() + gp.extent(0));
