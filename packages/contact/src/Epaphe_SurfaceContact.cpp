@@ -212,7 +212,9 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
         tH(s, 1 + d) = cs.axis[d];
         tH(s, 4 + d) = cs.center[d];
       }
-      xs_.emplace_back(cs.omega != 0.0 ? Kokkos::View<double* [3]>("epaphe::contact::x_surface", nc)
+      EPAPHE_REQUIRE(std::isfinite(cs.phase) && (cs.phase == 0.0 || !cs.moving),
+                     "contact: surface '" << cs.surface->name() << "' has an initial angle; only rigid surfaces turn");
+      xs_.emplace_back(cs.omega != 0.0 || cs.phase != 0.0 ? Kokkos::View<double* [3]>("epaphe::contact::x_surface", nc)
                                        : Kokkos::View<double* [3]>());
     }
     Kokkos::deep_copy(turn_, tH);
@@ -313,7 +315,7 @@ void SurfaceContact::detect(const DenseVector& q) {
   auto rotH = Kokkos::create_mirror_view(rot_);
   for (std::size_t s = 0; s < surfaces_.size(); ++s) {
     const ContactSurface& cs = surfaces_[s];
-    const double th = cs.omega * time_, c = std::cos(th), sn = std::sin(th);
+    const double th = cs.omega * time_ + cs.phase, c = std::cos(th), sn = std::sin(th);
     const auto& a = cs.axis;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) {
@@ -323,7 +325,7 @@ void SurfaceContact::detect(const DenseVector& q) {
   }
   Kokkos::deep_copy(rot_, rotH);
   for (std::size_t s = 0; s < surfaces_.size(); ++s) {
-    if (surfaces_[s].omega == 0.0) {
+    if (surfaces_[s].omega == 0.0 && surfaces_[s].phase == 0.0) {
       projectNodes(surfaces_[s].surface->view(), x_, uv_[s], proj_[s], opt_.nrTolerance, opt_.nrMaxIterations);
       continue;
     }

@@ -118,6 +118,7 @@ struct ContactSurface {
   /// time t (setTime) it is the reference surface rotated by omega t. Nodes are projected in the
   /// surface's frame (x_s = c + R^T (x - c)); normals and foot points are turned back.
   double omega = 0.0;
+  double phase = 0.0;  // angle (rad) at t = 0: the surface is turned by omega t + phase
   std::array<double, 3> axis{0.0, 0.0, 1.0}, center{0.0, 0.0, 0.0};
 };
 

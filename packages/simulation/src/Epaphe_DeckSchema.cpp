@@ -118,6 +118,8 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
                                            "axis' through 'Rotation center', in the frame of the bodies (thesis "
                                            "section 3.3: for a blade spinning at +Omega in its casing, the casing "
                                            "turns at -Omega about the engine axis)");
+    addDouble(surf, "Initial angle", 0.0, "Rigid surfaces: the angle (degrees) the surface is turned by at t = 0, "
+                                          "about the rotation axis");
     addDoubleArray(surf, "Rotation axis", {0, 0, 1}, "Rigid surfaces: axis of the rotation (need not be unit)");
     addDoubleArray(surf, "Rotation center", {0, 0, 0}, "Rigid surfaces: a point of the rotation axis (m)");
     addBool(surf, "Flip normal", false, "The contact side is where U x V points (Plane), away from the axis "

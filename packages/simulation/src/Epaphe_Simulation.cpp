@@ -479,6 +479,7 @@ void Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
     surfaces_.push_back(std::make_unique<BSplineSurface>(name, nu, pts[1], grid, so));
     ContactSurface cs{surfaces_.back().get(), nullptr, -1, {}, {}};
     cs.omega = s.get<double>("Rotation speed");
+    cs.phase = s.get<double>("Initial angle") * M_PI / 180.0;
     cs.axis = vec3(s, "Rotation axis", origin);
     cs.center = vec3(s, "Rotation center", origin);
     contactSurfaces.push_back(std::move(cs));
