@@ -184,7 +184,7 @@ void Simulation::catchSignals() {
   struct sigaction sa = {};
   sa.sa_handler = onStopSignal;
   sigemptyset(&sa.sa_mask);
-  sa.sa_flags = 0;
+  sa.sa_flags = SA_RESTART;  // system calls in progress (HDF5 writes) go on
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
 }
@@ -702,6 +702,9 @@ const RunSummary& Simulation::run() {
   };
   auto checkpoint = [&](long long nextStep) {
     Stopwatch w;
+    // First the buffered records, flushed: a kill before the checkpoint's own data is flushed then
+    // leaves series at least as long as the previous checkpoint's lengths (a restart cuts them).
+    file.flush();
     const std::string c = "/checkpoint";
     if (!file.exists(c + "/series_paths")) {
       file.writeString(c + "/series_paths", seriesPaths);
@@ -729,7 +732,7 @@ const RunSummary& Simulation::run() {
     std::vector<long long> lengths;
     for (const io::Series* s : series) lengths.push_back(static_cast<long long>(s->size()));
     file.writeInts(c + "/series_lengths", lengths);
-    file.flush();  // the buffered records, then H5Fflush
+    file.flush();  // H5Fflush
     recordsAtCheckpoint = records;
     framesAtCheckpoint = frames;
     ++summary_.checkpoints;
