@@ -281,6 +281,30 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   }
 }
 
+std::vector<double> SurfaceContact::warmStarts() const {
+  const std::size_t nc = static_cast<std::size_t>(numNodes());
+  std::vector<double> all(2 * nc * uv_.size());
+  for (std::size_t s = 0; s < uv_.size(); ++s) {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), uv_[s]);
+    for (std::size_t k = 0; k < nc; ++k)
+      for (int c = 0; c < 2; ++c) all[2 * (s * nc + k) + c] = h(k, c);
+  }
+  return all;
+}
+
+void SurfaceContact::setWarmStarts(const std::vector<double>& all) {
+  const std::size_t nc = static_cast<std::size_t>(numNodes());
+  EPAPHE_REQUIRE(all.size() == 2 * nc * uv_.size(), "contact: " << all.size() << " warm-start parameters given, "
+                                                          << 2 * nc * uv_.size() << " expected (2 per node, "
+                                                          << nc << " nodes, " << uv_.size() << " surfaces)");
+  for (std::size_t s = 0; s < uv_.size(); ++s) {
+    auto h = Kokkos::create_mirror_view(uv_[s]);
+    for (std::size_t k = 0; k < nc; ++k)
+      for (int c = 0; c < 2; ++c) h(k, c) = all[2 * (s * nc + k) + c];
+    Kokkos::deep_copy(uv_[s], h);
+  }
+}
+
 void SurfaceContact::measureGaps(const DenseVector& q, CostSplit& cost) {
   ScopedPhase phase(cost, "projection");
   detect(q);

@@ -177,6 +177,13 @@ public:
   /// Stick/slide classification passes of the last friction solve (0 without friction).
   int lastFrictionPasses() const { return lastFrictionPasses_; }
   double totalForce() const;
+  /// The state carried from one step to the next, for checkpoints: the warm-start foot point
+  /// (u, v) of every node on every surface (surface s, node k at 2 (s numNodes() + k); NaN: cold
+  /// start). Everything else (friction state and direction, active set, forces) is rebuilt at each
+  /// step from q* and q_n, and the carried surfaces from q*.
+  std::vector<double> warmStarts() const;
+  /// Restores what warmStarts() returned (same nodes and surfaces).
+  void setWarmStarts(const std::vector<double>& uv);
   /// Diagonal stiffness the method adds at each contact DOF (k_p for penalty, 0 for Lagrange),
   /// for the stable-step estimate.
   double addedStiffness() const { return opt_.method == ContactMethod::Penalty ? opt_.penaltyStiffness : 0.0; }

@@ -978,4 +978,27 @@ const std::string& Series::path() const { return state("path").path; }
 
 void Series::flush() { flushSeries(state("flush")); }
 
+void Series::truncate(std::size_t records) {
+  SeriesState& s = state("truncate");
+  if (s.file == nullptr)
+    fail(s.filePath, "cannot truncate series " + sq(s.path) + ": its Hdf5File was closed", false);
+  const std::size_t total = static_cast<std::size_t>(s.written) + s.buffered;
+  if (records > total)
+    fail(s.filePath, "cannot truncate series " + sq(s.path) + " to " + std::to_string(records) +
+                         " records: it holds " + std::to_string(total) + " (the file is shorter than its checkpoint)",
+         false);
+  if (records >= s.written) {  // only buffered records go
+    s.buffered = records - static_cast<std::size_t>(s.written);
+    return;
+  }
+  s.buffered = 0;
+  const std::size_t rank = 1 + s.fileRecordDims.size();
+  std::vector<hsize_t> newDims(rank);
+  newDims[0] = records;
+  for (std::size_t i = 1; i < rank; ++i) newDims[i] = s.fileRecordDims[i - 1];
+  if (H5Dset_extent(s.dset.get(), newDims.data()) < 0)
+    fail(s.filePath, "cannot shrink series " + sq(s.path) + " to " + dimsText(newDims));
+  s.written = records;
+}
+
 }  // namespace epaphe::io

@@ -135,6 +135,9 @@ public:
   const std::string& path() const;
   /// Writes the buffered records to the dataset.
   void flush();
+  /// Keeps the first `records` records and drops the others (buffered or in the file; the
+  /// dataset shrinks). Used to restart a run from a checkpoint. `records` > size() is an error.
+  void truncate(std::size_t records);
 
 private:
   detail::SeriesState& state(const char* operation) const;

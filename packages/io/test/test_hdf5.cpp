@@ -314,6 +314,32 @@ TEST(Series, ReadSeesBufferedRecordsAndReadWriteAppends) {
   EXPECT_EQ(f.readDoubles("/t"), std::vector<double>({0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
 }
 
+TEST(Series, TruncateDropsRecordsInTheFileAndBuffered) {
+  const std::string path = fileFor("truncate");
+  {
+    Hdf5File f(path, Hdf5File::Mode::Create);
+    Series s(f, "/t", {2}, 4);
+    for (int r = 0; r < 10; ++r) s.append(std::vector<double>{double(r), -double(r)});  // 8 written, 2 buffered
+    s.truncate(9);  // within the buffer
+    EXPECT_EQ(s.size(), 9u);
+    s.truncate(6);  // within the file
+    EXPECT_EQ(s.size(), 6u);
+    s.append(std::vector<double>{60, -60});
+    const std::string msg = errorOf([&] { s.truncate(8); });
+    EXPECT_NE(msg.find("holds 7"), std::string::npos) << msg;
+  }
+  {  // a checkpoint restart: reopen, cut, append
+    Hdf5File f(path, Hdf5File::Mode::ReadWrite);
+    Series s(f, "/t", {2});
+    s.truncate(3);
+    s.append(std::vector<double>{30, -30});
+  }
+  Hdf5File f(path, Hdf5File::Mode::ReadOnly);
+  std::vector<std::uint64_t> dims;
+  EXPECT_EQ(f.readDoubles("/t", &dims), std::vector<double>({0, 0, 1, -1, 2, -2, 30, -30}));
+  EXPECT_EQ(dims, std::vector<std::uint64_t>({4, 2}));
+}
+
 TEST(Errors, OpeningAMissingFile) {
   const std::string path = fileFor("does_not_exist");
   for (auto mode : {Hdf5File::Mode::ReadOnly, Hdf5File::Mode::ReadWrite}) {

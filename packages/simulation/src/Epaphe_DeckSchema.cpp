@@ -167,6 +167,16 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addInt(out, "Fields every", 0, "Steps between two frames of the full displacement field of every body, "
                                    "written to /bodies/<b>/fields with an XDMF file <output stem>.xmf that ParaView "
                                    "opens (0: none)", 0);
+    addInt(out, "Checkpoint every", 0, "Steps between two checkpoints (0: none by step count). A checkpoint stores in "
+                                       "/checkpoint what the run needs to continue bit for bit (step, q_{n-1} and q_n, "
+                                       "energy and summary accumulators, the contact's warm starts, the records of every "
+                                       "series) and flushes the file; `epaphe-run DECK --restart FILE` continues from the "
+                                       "last one. Checkpoints are also taken at step 0, every 'Checkpoint interval' "
+                                       "seconds, on SIGINT/SIGTERM, and whenever 1023 records (15 field frames) are "
+                                       "buffered, so that the file is written only at checkpoints and stays readable "
+                                       "after a crash or kill -9 (up to the last checkpoint)", 0);
+    addDouble(out, "Checkpoint interval", 60.0, "Wall-clock seconds between two checkpoints (0: none by time); see "
+                                                "'Checkpoint every'", 0.0);
     addDouble(out, "Energy balance tolerance", 1e-6,
               "The run stops when |energy balance error| / largest energy exceeds it", 0.0);
     return Teuchos::RCP<const Teuchos::ParameterList>(pl);

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -44,6 +45,12 @@ struct Simulation::Body {
 };
 
 namespace {
+
+volatile std::sig_atomic_t stopSignal = 0;
+
+extern "C" void onStopSignal(int sig) { stopSignal = sig; }
+
+const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal"; }
 
 std::array<double, 3> vec3(const ParameterList& pl, const std::string& key, const std::string& origin) {
   const auto v = deck::getDoubles(pl, key);
@@ -208,6 +215,20 @@ Simulation::Simulation(Deck deck, const Runtime& runtime, std::string outputOver
 }
 
 Simulation::~Simulation() = default;
+
+void Simulation::setRestart(const std::string& file) {
+  restart_ = file;
+  output_ = file;
+}
+
+void Simulation::catchSignals() {
+  struct sigaction sa = {};
+  sa.sa_handler = onStopSignal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;  // system calls in progress (HDF5 writes) go on
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
 
 void Simulation::setup() {
   Stopwatch watch;
@@ -544,12 +565,37 @@ const RunSummary& Simulation::run() {
   const long long nSteps = std::max(1LL, static_cast<long long>(std::ceil(endTime / h - 1e-9)));
   std::ostream& out = rt_.out();
 
+  const int checkpointEvery = P.sublist("Output").get<int>("Checkpoint every");
+  const double checkpointInterval = P.sublist("Output").get<double>("Checkpoint interval");
+
   // ---- output ---------------------------------------------------------------------------------
-  io::Hdf5File file(output_, io::Hdf5File::Mode::Create);
+  // A fresh run creates the file; a restart opens it, checks that it holds this deck and a
+  // checkpoint, and reads the checkpoint after the series are set up (below).
+  const bool fresh = restart_.empty();
+  io::Hdf5File file(output_, fresh ? io::Hdf5File::Mode::Create : io::Hdf5File::Mode::ReadWrite);
+  if (!fresh) {
+    EPAPHE_REQUIRE(file.exists("/run/deck") && file.exists("/checkpoint/counters"),
+                   restart_ << ": no checkpoint to restart from (not an Epaphe output, or written before the "
+                               "first checkpoint); run the deck anew");
+    const std::string status = file.stringAttribute("/", "status");
+    EPAPHE_REQUIRE(status != "complete", restart_ << ": the run is complete (status 'complete'); nothing to restart");
+    const std::string stored = file.readString("/run/deck");
+    if (stored != deck_.text) {
+      std::size_t line = 1, i = 0;
+      for (; i < std::min(stored.size(), deck_.text.size()) && stored[i] == deck_.text[i]; ++i)
+        if (stored[i] == '\n') ++line;
+      throw Error(restart_ + ": it was written by another deck (its /run/deck differs from " + deck_.origin +
+                  " from line " + std::to_string(line) + "); restart with the deck that started the run");
+    }
+    const long long threads = file.intAttribute("/run", "threads");
+    if (threads != rt_.threads())
+      out << "warning: " << restart_ << " was run on " << threads << " thread(s), this restart on " << rt_.threads()
+          << ": the results may differ in the last bits from an uninterrupted run\n";
+  }
   file.setAttribute("/", "epaphe_version", version);
   file.setAttribute("/", "name", P.sublist("Run").get<std::string>("Name"));
   file.setAttribute("/", "status", "running");
-  file.writeString("/run/deck", deck_.text);
+  if (fresh) file.writeString("/run/deck", deck_.text);
   file.setAttribute("/run", "time_step", h);
   file.setAttribute("/run", "critical_time_step", summary_.criticalStep);
   file.setAttribute("/run", "threads", static_cast<long long>(rt_.threads()));
@@ -595,11 +641,13 @@ const RunSummary& Simulation::run() {
     BodyRun& r = runs[ib];
     const int n = b.rom.size;
     const std::string g = "/bodies/" + b.name;
-    file.writeDoubles(g + "/frequencies/reduced", b.reducedFrequencies);
-    file.writeDoubles(g + "/frequencies/full", b.fullFrequencies);
-    file.writeDoubles(g + "/frequencies/fixed_interface", b.rom.modeFrequencies);
-    file.setAttribute(g, "reduction", b.rom.method);
-    file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
+    if (fresh) {
+      file.writeDoubles(g + "/frequencies/reduced", b.reducedFrequencies);
+      file.writeDoubles(g + "/frequencies/full", b.fullFrequencies);
+      file.writeDoubles(g + "/frequencies/fixed_interface", b.rom.modeFrequencies);
+      file.setAttribute(g, "reduction", b.rom.method);
+      file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
+    }
     r.v = DenseVector("v", n);
     r.uw = DenseVector("uw", b.recoveryWatched.extent(0));
     r.vw = DenseVector("vw", b.recoveryWatched.extent(0));
@@ -620,7 +668,7 @@ const RunSummary& Simulation::run() {
       }
       Kokkos::deep_copy(Mt, h2);
       r.Mt.push_back(Mt);
-      if (d == 0) {
+      if (d == 0 && fresh) {
         double m = 0;
         for (int i = 0; i < n; ++i) m += t[i] * h2(i);
         file.setAttribute(g, "rigid_mass", m);
@@ -631,8 +679,10 @@ const RunSummary& Simulation::run() {
       const std::uint64_t nn = static_cast<std::uint64_t>(b.rom.numNodes());
       std::vector<long long> hex;
       for (const auto& e : b.rom.hexes) hex.insert(hex.end(), e.begin(), e.end());
-      file.writeInts(g + "/mesh/hexahedra", {static_cast<std::uint64_t>(b.rom.hexes.size()), 8}, hex.data());
-      file.writeDoubles(g + "/mesh/coordinates", {nn, 3}, b.rom.coords.empty() ? nullptr : b.rom.coords[0].data());
+      if (fresh) {
+        file.writeInts(g + "/mesh/hexahedra", {static_cast<std::uint64_t>(b.rom.hexes.size()), 8}, hex.data());
+        file.writeDoubles(g + "/mesh/coordinates", {nn, 3}, b.rom.coords.empty() ? nullptr : b.rom.coords[0].data());
+      }
       r.R = DenseMatrix("epaphe::fields::R", 3 * nn, n);
       auto Rh = Kokkos::create_mirror_view(r.R);
       for (std::uint64_t i = 0; i < 3 * nn; ++i)
@@ -645,7 +695,8 @@ const RunSummary& Simulation::run() {
     }
     energyRef += std::abs(r.e0);
     for (const auto& [setName, nodes] : b.watched) {
-      file.writeInts(g + "/nodesets/" + setName + "/nodes", std::vector<long long>(nodes.begin(), nodes.end()));
+      if (fresh)
+        file.writeInts(g + "/nodesets/" + setName + "/nodes", std::vector<long long>(nodes.begin(), nodes.end()));
       const std::uint64_t nn = nodes.size();
       r.disp.push_back(std::make_unique<io::Series>(file, g + "/nodesets/" + setName + "/displacement",
                                                     std::vector<std::uint64_t>{nn, 3}));
@@ -654,7 +705,9 @@ const RunSummary& Simulation::run() {
     }
     if (b.contactEnd > b.contactBegin) {
       const auto& cn = contact_->nodes();
-      file.writeInts(g + "/contact/nodes", std::vector<long long>(cn.begin() + b.contactBegin, cn.begin() + b.contactEnd));
+      if (fresh)
+        file.writeInts(g + "/contact/nodes",
+                       std::vector<long long>(cn.begin() + b.contactBegin, cn.begin() + b.contactEnd));
       const std::uint64_t nc = static_cast<std::uint64_t>(b.contactEnd - b.contactBegin);
       r.gap = std::make_unique<io::Series>(file, g + "/contact/gap", std::vector<std::uint64_t>{nc});
       r.force = std::make_unique<io::Series>(file, g + "/contact/force", std::vector<std::uint64_t>{nc});
@@ -667,7 +720,7 @@ const RunSummary& Simulation::run() {
   std::unique_ptr<io::Series> sFieldTime;
   if (fieldsEvery > 0) {
     sFieldTime = std::make_unique<io::Series>(file, "/fields/time", std::vector<std::uint64_t>{});
-    for (std::size_t is = 0; is < surfaces_.size(); ++is) {
+    for (std::size_t is = 0; is < surfaces_.size() && fresh; ++is) {
       if (surfaceCarried_[is]) continue;  // drawn with the body that carries it
       const auto& surf = surfaces_[is];
       std::vector<double> pts;
@@ -680,10 +733,134 @@ const RunSummary& Simulation::run() {
                         {static_cast<std::uint64_t>(surf->nu()) * static_cast<std::uint64_t>(surf->nv()), 3}, pts.data());
     }
   }
-  long long frames = 0;
+  long long frames = 0, records = 0;
+
+  // ---- checkpoints -------------------------------------------------------------------------------
+  // Everything the next steps depend on, overwritten in place (fixed shapes): the step to run
+  // next, q_{n-1} and q_n of the system, the accumulators (contact work, per body damping and
+  // external work; the summary's contact times, impulse, peak force, worst balance error), the
+  // contact's warm starts, and the records of every series. Then the buffered records are written
+  // and the file flushed (H5Fflush). Between checkpoints nothing is written to the file: the series
+  // buffers (1024 records, 16 field frames) never fill, a checkpoint being taken when they are one
+  // record short. A process killed between checkpoints thus leaves the file exactly as the last
+  // checkpoint flushed it, readable and restartable.
+  std::vector<io::Series*> series = {&sTime, &sKin, &sStrain, &sTotal, &sWork, &sExt, &sDamp, &sBal};
+  for (BodyRun& r : runs) {
+    series.push_back(r.momentum.get());
+    for (std::size_t w = 0; w < r.disp.size(); ++w) {
+      series.push_back(r.disp[w].get());
+      series.push_back(r.vel[w].get());
+    }
+    for (io::Series* s : {r.gap.get(), r.force.get(), r.totalForce.get(), r.position.get(), r.displacement.get()})
+      if (s != nullptr) series.push_back(s);
+  }
+  if (sFieldTime) series.push_back(sFieldTime.get());
+  std::string seriesPaths;
+  for (const io::Series* s : series) seriesPaths += s->path() + "\n";
+  const std::vector<std::string> accumulatorNames = [&] {
+    std::vector<std::string> v = {"time", "contact_work", "first_contact", "last_contact", "impulse", "max_force",
+                                  "max_balance_error"};
+    for (const auto& b : bodies_) {
+      v.push_back(b->name + "/damping");
+      v.push_back(b->name + "/external_work");
+    }
+    return v;
+  }();
+  constexpr long long kRecordBuffer = 1024, kFrameBuffer = 16;  // the series' buffers (records)
+  long long recordsAtCheckpoint = 0, framesAtCheckpoint = 0;
+  auto hostCopy = [](const DenseVector& v) {
+    auto hv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+    return std::vector<double>(hv.data(), hv.data() + hv.extent(0));
+  };
+  auto checkpoint = [&](long long nextStep) {
+    Stopwatch w;
+    // First the buffered records, flushed: a kill before the checkpoint's own data is flushed then
+    // leaves series at least as long as the previous checkpoint's lengths (a restart cuts them).
+    file.flush();
+    const std::string c = "/checkpoint";
+    if (!file.exists(c + "/series_paths")) {
+      file.writeString(c + "/series_paths", seriesPaths);
+      std::string names;
+      for (const auto& a : accumulatorNames) names += (names.empty() ? "" : ",") + a;
+      file.writeDoubles(c + "/accumulators", std::vector<double>(accumulatorNames.size(), 0.0));
+      file.setAttribute(c + "/accumulators", "names", names);
+      file.setAttribute(c, "counters", "step (the next to run), records, frames");
+    }
+    file.writeInts(c + "/counters", std::vector<long long>{nextStep, records, frames});
+    file.writeDoubles(c + "/q_prev", hostCopy(Q[iPrev]));
+    file.writeDoubles(c + "/q", hostCopy(Q[iCur]));
+    std::vector<double> acc = {nextStep * h, contactWork, summary_.firstContact, summary_.lastContact,
+                               summary_.impulse, summary_.maxForce, summary_.maxBalanceError};
+    for (const BodyRun& r : runs) {
+      acc.push_back(r.diss);
+      acc.push_back(r.ext);
+    }
+    file.writeDoubles(c + "/accumulators", acc);
+    if (contact_) {
+      const auto uv = contact_->warmStarts();
+      file.writeDoubles(c + "/warm_start", {uv.size() / (2 * contact_->numNodes()),
+                                             static_cast<std::uint64_t>(contact_->numNodes()), 2}, uv.data());
+    }
+    std::vector<long long> lengths;
+    for (const io::Series* s : series) lengths.push_back(static_cast<long long>(s->size()));
+    file.writeInts(c + "/series_lengths", lengths);
+    file.flush();  // H5Fflush
+    recordsAtCheckpoint = records;
+    framesAtCheckpoint = frames;
+    ++summary_.checkpoints;
+    summary_.checkpointSeconds += w.seconds();
+  };
+
+  long long firstStep = 0;
+  if (fresh) {
+    checkpoint(0);
+  } else {
+    // Restore the last checkpoint; cut the series to its records.
+    const auto counters = file.readInts("/checkpoint/counters");
+    EPAPHE_REQUIRE(counters.size() == 3 && counters[0] >= 0 && counters[0] <= nSteps,
+                   restart_ << ": /checkpoint/counters is damaged or from another run");
+    EPAPHE_REQUIRE(file.readString("/checkpoint/series_paths") == seriesPaths,
+                   restart_ << ": its series are not those of this deck's run; run the deck anew");
+    const auto lengths = file.readInts("/checkpoint/series_lengths");
+    EPAPHE_REQUIRE(lengths.size() == series.size(), restart_ << ": /checkpoint/series_lengths has " << lengths.size()
+                                                             << " entries, " << series.size() << " expected");
+    for (std::size_t i = 0; i < series.size(); ++i) series[i]->truncate(static_cast<std::size_t>(lengths[i]));
+    firstStep = counters[0];
+    records = recordsAtCheckpoint = counters[1];
+    frames = framesAtCheckpoint = counters[2];
+    auto load = [&](const DenseVector& v, const std::string& path) {
+      const auto values = file.readDoubles(path);
+      EPAPHE_REQUIRE(values.size() == v.extent(0), restart_ << ": " << path << " has " << values.size()
+                                                            << " values, the system " << v.extent(0));
+      auto hv = Kokkos::create_mirror_view(v);
+      std::copy(values.begin(), values.end(), hv.data());
+      Kokkos::deep_copy(v, hv);
+    };
+    load(Q[iPrev], "/checkpoint/q_prev");
+    load(Q[iCur], "/checkpoint/q");
+    const auto acc = file.readDoubles("/checkpoint/accumulators");
+    EPAPHE_REQUIRE(acc.size() == accumulatorNames.size(), restart_ << ": /checkpoint/accumulators has " << acc.size()
+                                                                   << " values, " << accumulatorNames.size()
+                                                                   << " expected");
+    contactWork = acc[1];
+    summary_.firstContact = acc[2];
+    summary_.lastContact = acc[3];
+    summary_.impulse = acc[4];
+    summary_.maxForce = acc[5];
+    summary_.maxBalanceError = acc[6];
+    for (std::size_t ib = 0; ib < runs.size(); ++ib) {
+      runs[ib].diss = acc[7 + 2 * ib];
+      runs[ib].ext = acc[8 + 2 * ib];
+    }
+    if (contact_) contact_->setWarmStarts(file.readDoubles("/checkpoint/warm_start"));
+    file.flush();
+    out << "restarting " << restart_ << " at step " << firstStep << " of " << nSteps << " (t = " << firstStep * h
+        << " s)\n";
+  }
+  summary_.firstStep = firstStep;
 
   // ---- the explicit loop -------------------------------------------------------------------------
-  Stopwatch loop, sinceProgress;
+  Stopwatch loop, sinceProgress, sinceCheckpoint;
   CostSplit& cost = summary_.cost;
   summary_.status = "complete";
   long long n = 0;
@@ -693,7 +870,7 @@ const RunSummary& Simulation::run() {
     file.flush();
     throw Error(why);
   };
-  for (n = 0; n < nSteps; ++n) {
+  for (n = firstStep; n < nSteps; ++n) {
     const double t = n * h;
     double totalForce = 0;
     int active = 0;
@@ -778,6 +955,7 @@ const RunSummary& Simulation::run() {
         }
       }
       const double balance = (total + diss - work - ext - e0) / std::max(energyRef, std::abs(total));
+      ++records;
       sTime.append(&t);
       sKin.append(&kin);
       sStrain.append(&strain);
@@ -822,9 +1000,44 @@ const RunSummary& Simulation::run() {
     iCur = iNext;
     iNext = oldPrev;
     selectParts();
+    if (const long long done = n + 1; done < nSteps) {
+      const int sig = stopSignal;
+      const bool stop = sig != 0 || done == stopAfterSteps_;
+      if (stop || (checkpointEvery > 0 && done % checkpointEvery == 0) ||
+          records - recordsAtCheckpoint >= kRecordBuffer - 1 || frames - framesAtCheckpoint >= kFrameBuffer - 1 ||
+          (checkpointInterval > 0 && (n & 63) == 0 && sinceCheckpoint.seconds() > checkpointInterval)) {
+        ScopedPhase phase(cost, "checkpoint");
+        checkpoint(done);
+        sinceCheckpoint.restart();
+      }
+      if (stop) {
+        std::ostringstream os;
+        if (sig != 0)
+          os << "interrupted by " << signalName(sig);
+        else
+          os << "stopped after " << done << " steps as asked (--stop-after-steps)";
+        os << " at t = " << done * h << " s (step " << done << " of " << nSteps << "); continue with epaphe-run "
+           << deck_.origin << " --restart " << output_;
+        summary_.status = "stopped: " + os.str();
+        summary_.stopSignal = sig;
+        summary_.stoppedEarly = true;
+        summary_.steps = done;
+        summary_.loopSeconds = loop.seconds();
+        summary_.stepsPerSecond = (done - firstStep) / std::max(summary_.loopSeconds, 1e-300);
+        file.setAttribute("/run", "steps", done);
+        file.setAttribute("/run", "loop_time", summary_.loopSeconds);
+        file.setAttribute("/run", "checkpoints", summary_.checkpoints);
+        file.setAttribute("/run", "checkpoint_time", summary_.checkpointSeconds);
+        file.setAttribute("/", "status", summary_.status);
+        file.close();
+        if (fieldsEvery > 0) writeXdmf(frames);
+        out << summary_.status << "\n";
+        return summary_;
+      }
+    }
     if (progressInterval > 0 && (n & 255) == 0 && sinceProgress.seconds() > progressInterval) {
       sinceProgress.restart();
-      const double rate = (n + 1) / loop.seconds();
+      const double rate = (n + 1 - firstStep) / loop.seconds();
       char line[200];
       std::snprintf(line, sizeof line, "  t = %.4e s (%3.0f %%)  %.0f steps/s  %s left  active contacts %d\n", t,
                     100.0 * (n + 1) / nSteps, rate, formatDuration((nSteps - n - 1) / rate).c_str(), active);
@@ -833,7 +1046,10 @@ const RunSummary& Simulation::run() {
   }
   summary_.steps = nSteps;
   summary_.loopSeconds = loop.seconds();
-  summary_.stepsPerSecond = nSteps / summary_.loopSeconds;
+  summary_.stepsPerSecond = (nSteps - firstStep) / summary_.loopSeconds;
+  file.setAttribute("/run", "checkpoints", summary_.checkpoints);
+  file.setAttribute("/run", "checkpoint_time", summary_.checkpointSeconds);
+  if (!fresh) file.setAttribute("/run", "restarted_at_step", firstStep);
   file.setAttribute("/run", "steps", static_cast<long long>(nSteps));
   file.setAttribute("/run", "loop_time", summary_.loopSeconds);
   file.setAttribute("/run", "setup_time", summary_.setupSeconds);
@@ -947,6 +1163,14 @@ void Simulation::printSummary(std::ostream& os) const {
   } else {
     os << "contact: none\n";
   }
+  if (summary_.firstStep > 0) {
+    std::snprintf(buf, sizeof buf, "restarted at step %lld\n", summary_.firstStep);
+    os << buf;
+  }
+  std::snprintf(buf, sizeof buf, "checkpoints: %lld, %s in all (%.3g ms each)\n", summary_.checkpoints,
+                formatDuration(summary_.checkpointSeconds).c_str(),
+                1e3 * summary_.checkpointSeconds / std::max(1LL, summary_.checkpoints));
+  os << buf;
   std::snprintf(buf, sizeof buf, "energy balance: max relative error %.3e\n", summary_.maxBalanceError);
   os << buf;
   os << "status: " << summary_.status << "; output " << output_ << "\n";

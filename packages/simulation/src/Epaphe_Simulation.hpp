@@ -18,6 +18,8 @@
 //   /fields/time (frames);  /bodies/<b>/mesh/{coordinates, hexahedra};
 //   /bodies/<b>/fields/{position, displacement} (frames x nodes x 3);  /surfaces/<s>/points
 //   ((nu nv) x 3, grid node (i, j) at row i nv + j)
+// and the last checkpoint (overwritten in place at each checkpoint, see run()):
+//   /checkpoint/{counters, q_prev, q, accumulators, warm_start, series_paths, series_lengths}
 #include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_DeckSchema.hpp"
@@ -39,6 +41,11 @@ struct RunSummary {
   double maxBalanceError = 0;        // relative to the largest energy
   double firstContact = -1, lastContact = -1, maxForce = 0, impulse = 0;
   CostSplit cost;
+  long long firstStep = 0;           // > 0 when restarted from a checkpoint
+  long long checkpoints = 0;         // written by this run
+  double checkpointSeconds = 0;      // their total wall time
+  int stopSignal = 0;                // SIGINT or SIGTERM when interrupted
+  bool stoppedEarly = false;         // interrupted, or stopped by setStopAfterSteps
 };
 
 class Simulation {
@@ -54,6 +61,18 @@ public:
   /// with status "idle").
   const RunSummary& run();
   void printSummary(std::ostream& os) const;
+
+  /// Continue the run stored in `file` (an output of the same deck) from its last checkpoint:
+  /// the history series are cut to the checkpoint's records and the run appends to them. The
+  /// output file becomes `file`.
+  void setRestart(const std::string& file);
+  /// Testing: after this many steps (counted from the start of the run), write a checkpoint, set
+  /// the status "stopped: ..." and return, as after SIGTERM.
+  void setStopAfterSteps(long long steps) { stopAfterSteps_ = steps; }
+  /// Installs handlers for SIGINT and SIGTERM: the loop then stops at the end of the current
+  /// step, writes a checkpoint, sets the status "stopped: interrupted by SIGINT at t = ..." and
+  /// closes the file (RunSummary::stopSignal tells which signal).
+  static void catchSignals();
   const std::string& outputFile() const { return output_; }
 
 private:
@@ -71,6 +90,8 @@ private:
   DenseMatrix flexibility_;                 // block-diagonal F of the system
   std::unique_ptr<SurfaceContact> contact_; // null without contact nodes or surfaces
   RunSummary summary_;
+  std::string restart_;
+  long long stopAfterSteps_ = -1;
 };
 
 }  // namespace epaphe

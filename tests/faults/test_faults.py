@@ -1,0 +1,181 @@
+"""Faults: checkpoints, restart bit for bit, SIGINT/SIGTERM, kill -9.
+
+  test_faults.py --case restart|signals|kill9|errors --run EPAPHE_RUN --deck bar-on-wall.xml
+                 [--flexible-deck cube-flexible-rings.xml] --workdir DIR
+
+restart: a run stopped at steps (--stop-after-steps, twice) and restarted each time from its
+         checkpoint equals the uninterrupted run bit for bit in every history dataset (numpy
+         array_equal on every dataset outside /checkpoint), with friction, field frames and records
+         every step; with --flexible-deck also on surfaces carried by flexible bodies.
+signals: SIGINT and SIGTERM sent to a long run after its first progress line: exit code 130 / 143,
+         status "stopped: interrupted by SIG...", the series as long as the checkpoint says, and a
+         restart from that file runs on.
+kill9:   after SIGKILL the file opens with h5py, status "running", every series readable up to the
+         checkpoint's records, and the run restarts from it.
+errors:  restart with another deck, of a complete run, of a missing checkpoint: one clear message.
+"""
+import argparse
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "verification"))
+from epaphe_testing import variant  # noqa: E402
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--case", required=True, choices=["restart", "signals", "kill9", "errors"])
+ap.add_argument("--run", required=True)
+ap.add_argument("--deck", required=True)
+ap.add_argument("--flexible-deck")
+ap.add_argument("--workdir", required=True)
+a = ap.parse_args()
+os.makedirs(a.workdir, exist_ok=True)
+W = a.workdir
+ENV = dict(os.environ, OMP_PROC_BIND="false")
+
+
+def check(cond, msg):
+    if not cond:
+        raise SystemExit("FAILED: " + msg)
+    print("ok:", msg)
+
+
+def run(args, expect):
+    p = subprocess.run([a.run] + args + ["--threads", "1"], cwd=W, capture_output=True, text=True, env=ENV)
+    if p.returncode != expect:
+        sys.stderr.write(p.stdout + p.stderr)
+        raise SystemExit(f"FAILED: exit code {p.returncode}, expected {expect}: {' '.join(args)}")
+    return p
+
+
+def status(path):
+    with h5py.File(path, "r") as f:
+        s = f.attrs["status"]
+        return s.decode() if isinstance(s, bytes) else str(s)
+
+
+def datasets(path, skip_checkpoint=True):
+    out = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset) and not (skip_checkpoint and name.startswith("checkpoint")):
+                out[name] = obj[()]
+        f.visititems(visit)
+    return out
+
+
+def checkpoint_lengths(f):
+    paths = f["checkpoint/series_paths"][()]
+    paths = (paths.decode() if isinstance(paths, bytes) else paths).split()
+    return dict(zip(paths, f["checkpoint/series_lengths"][()]))
+
+
+# a bar on the wall with friction (sliding along y), records every step, field frames; 1200 steps
+bar_overrides = {
+    "Bodies->Bar->Mesh->Elements": "{40, 1, 1}",
+    "Bodies->Bar->Reduction->Fixed-interface modes": "20",
+    "Bodies->Bar->Initial velocity": "{100, 20, 0}",
+    "Contact->Friction coefficient": ("0.3", "double"),
+    "Time->End time": "1.2e-4",
+    "Output->Fields every": ("50", "int"),
+    "Run->Progress interval": ("0", "double"),
+    "Bodies->Bar->Reduction->Cache file": ("bar.rom.h5", "string"),  # one reduction for all runs
+}
+
+if a.case == "restart":
+    cases = [("bar", variant(a.deck, os.path.join(W, "bar.xml"), bar_overrides), [500, 900])]
+    if a.flexible_deck:
+        cases.append(("flex", variant(a.flexible_deck, os.path.join(W, "flex.xml"), {
+            "Time->End time": "1.2e-4", "Output->Every": "7", "Run->Progress interval": ("0", "double"),
+            **{f"Bodies->{b}->Reduction->Cache file": (f"flex.{b.split()[0]}.rom.h5", "string")
+               for b in ("Cube", "Left ring", "Right ring")}}), [800, 1000]))
+    for name, deck, stops in cases:
+        t0 = time.time()
+        A, B = f"{name}-a.h5", f"{name}-b.h5"
+        run([deck, "--output", A], 0)
+        check(status(os.path.join(W, A)) == "complete", f"{name}: uninterrupted run complete")
+        p = run([deck, "--output", B, "--stop-after-steps", str(stops[0])], 3)
+        st = status(os.path.join(W, B))
+        check(st.startswith(f"stopped: stopped after {stops[0]} steps"), f"{name}: stopped at step {stops[0]}: {st[:60]}")
+        with h5py.File(os.path.join(W, B), "r") as f:
+            check(f["checkpoint/counters"][0] == stops[0], f"{name}: checkpoint at step {stops[0]}")
+        run([deck, "--restart", B, "--stop-after-steps", str(stops[1])], 3)
+        p = run([deck, "--restart", B], 0)
+        check(f"restarting {B} at step {stops[1]}" in p.stdout, f"{name}: second restart from step {stops[1]}")
+        check(status(os.path.join(W, B)) == "complete", f"{name}: restarted run complete")
+        da, db = datasets(os.path.join(W, A)), datasets(os.path.join(W, B))
+        check(sorted(da) == sorted(db), f"{name}: same {len(da)} datasets")
+        differ = [k for k in da if not (da[k].shape == db[k].shape and
+                                        (np.array_equal(da[k], db[k]) if da[k].dtype.kind in "fi" else da[k] == db[k]))]
+        check(not differ, f"{name}: every dataset equal bit for bit ({len(da[ 'time'])} records){' ; differ: ' + str(differ) if differ else ''}")
+        with h5py.File(os.path.join(W, A), "r") as f:
+            n, t = f["run"].attrs["checkpoints"], f["run"].attrs["checkpoint_time"]
+            print(f"{name}: {n} checkpoints in the uninterrupted run, {1e3 * t / n:.3f} ms each; file "
+                  f"{os.path.getsize(os.path.join(W, A))} B (restarted {os.path.getsize(os.path.join(W, B))} B); "
+                  f"{time.time() - t0:.1f} s")
+
+elif a.case in ("signals", "kill9"):
+    long = variant(a.deck, os.path.join(W, "long.xml"), dict(bar_overrides, **{
+        "Time->End time": "1.0", "Output->Fields every": ("0", "int"), "Run->Progress interval": ("0.2", "double")}))
+    sigs = [("SIGINT", signal.SIGINT, 130), ("SIGTERM", signal.SIGTERM, 143)] if a.case == "signals" else \
+        [("SIGKILL", signal.SIGKILL, -9)]
+    for name, sig, code in sigs:
+        out = f"long-{name}.h5"
+        path = os.path.join(W, out)
+        proc = subprocess.Popen([a.run, long, "--output", out, "--threads", "1"], cwd=W, env=ENV,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        deadline = time.time() + 60
+        progress = 0
+        for line in proc.stdout:  # wait for two progress lines: the loop runs, checkpoints were taken
+            if "steps/s" in line:
+                progress += 1
+                if progress == 2:
+                    break
+            if time.time() > deadline:
+                break
+        check(progress == 2, f"{name}: the run reports progress")
+        proc.send_signal(sig)
+        rest, err = proc.communicate(timeout=60)
+        check(proc.returncode == code, f"{name}: exit code {proc.returncode}")
+        st = status(path)
+        with h5py.File(path, "r") as f:
+            lengths = checkpoint_lengths(f)
+            step = int(f["checkpoint/counters"][0])
+            h = f["run"].attrs["time_step"]
+            for p, n in lengths.items():
+                d = f[p][()]
+                check(d.shape[0] == n and np.all(np.isfinite(d)), f"{name}: {p} readable, {n} records") \
+                    if p in ("/time", "/bodies/Bar/contact/force") else None
+                assert d.shape[0] == n, (p, d.shape, n)
+            t = f["time"][()]
+            check(np.array_equal(t, np.arange(len(t)) * h), f"{name}: /time = k h, {len(t)} records")
+        if sig == signal.SIGKILL:
+            check(st == "running", f"{name}: status still 'running' (not complete)")
+        else:
+            check(st.startswith(f"stopped: interrupted by {name} at t = "), f"{name}: status '{st[:50]}...'")
+            check(len(t) == step, f"{name}: checkpoint at the stop (step {step})")
+        # the run continues from there
+        p = run([long, "--restart", out, "--stop-after-steps", str(step + 300)], 3)
+        check(f"at step {step} of" in p.stdout, f"{name}: restart from step {step}")
+        with h5py.File(path, "r") as f:
+            check(len(f["time"]) == step + 300, f"{name}: restarted run appended 300 records")
+
+elif a.case == "errors":
+    deck = variant(a.deck, os.path.join(W, "e.xml"), dict(bar_overrides, **{"Time->End time": "2e-5"}))
+    other = variant(a.deck, os.path.join(W, "other.xml"), dict(bar_overrides, **{"Time->End time": "3e-5"}))
+    run([deck, "--output", "e.h5", "--stop-after-steps", "50"], 3)
+    p = run([other, "--restart", "e.h5"], 1)
+    check("written by another deck" in p.stderr and "line" in p.stderr, "another deck refused: " + p.stderr.strip())
+    run([deck, "--restart", "e.h5"], 0)
+    p = run([deck, "--restart", "e.h5"], 1)
+    check("complete" in p.stderr, "a complete run is not restarted: " + p.stderr.strip())
+    p = run([deck, "--restart", "missing.h5"], 1)
+    check("missing.h5" in p.stderr, "a missing file: " + p.stderr.strip())
+    p = run([deck, "--restart", "x.h5", "--output", "y.h5"], 2)
+    check("--restart" in p.stderr, "--restart with another --output refused")
+print("PASSED")
