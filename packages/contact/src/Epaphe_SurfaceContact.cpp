@@ -596,6 +596,13 @@ void SurfaceContact::prepareFriction(const DenseVector& q, const DenseVector& qn
   Kokkos::fence();
 }
 
+Kokkos::View<int*> SurfaceContact::uploadActive(int nA) {
+  Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
+  auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
+  Kokkos::deep_copy(active, activeH);
+  return active;
+}
+
 void SurfaceContact::motionEntries() {
   // For every node on a surface: the entries of D_k, i.e. the spline weights of its foot point on
   // a carried surface.
@@ -657,9 +664,7 @@ void SurfaceContact::relativeColumns() {
   // For the active nodes: Y_k = F D_k^T (N x 3; only the rows of the node's block and of the
   // surface's block are not zero) and C_ab = D_a Y_b (3 x 3 per active pair).
   const int nA = numActive_;
-  Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
-  auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
-  Kokkos::deep_copy(active, activeH);
+  const auto active = uploadActive(nA);
   const auto surf = surf_;
   const auto info = info_;
   const auto entDof = entDof_;
@@ -732,9 +737,7 @@ void SurfaceContact::solveFriction() {
   bool restored = false;
   int nA = numActive_;
   for (;;) {
-    Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
-    auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
-    Kokkos::deep_copy(active, activeH);
+    const auto active = uploadActive(nA);
     const auto C = C_;
     const auto basis = basis_;
     const auto tangent = tangent_;
@@ -903,9 +906,7 @@ void SurfaceContact::solveFriction() {
   for (int k = 0; k < nc; ++k) forceH_(k) = 0.0;
   for (int a = 0; a < nA; ++a) forceH_(activeH_[a]) = solH_(3 * a);
   Kokkos::deep_copy(force_, forceH_);
-  Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
-  auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
-  Kokkos::deep_copy(active, activeH);
+  const auto active = uploadActive(nA);
   const auto normal = normal_;
   const auto basis = basis_;
   const auto tangent = tangent_;
@@ -957,9 +958,7 @@ void SurfaceContact::solveLagrange(int nA) {
   Teuchos::LAPACK<int, double> lapack;
   std::vector<double>& lambda = lambda_;
   for (int pass = 0; pass <= numNodes() && nA > 0; ++pass) {
-    Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> activeH(activeH_.data(), nA);
-    auto active = Kokkos::subview(active_, Kokkos::make_pair(0, nA));
-    Kokkos::deep_copy(active, activeH);
+    const auto active = uploadActive(nA);
     const auto C = C_;
     const auto normal = normal_;
     const auto dir = dir_;

@@ -192,6 +192,7 @@ private:
   void detect(const DenseVector& q);
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
   void setNormalDirections();
+  Kokkos::View<int*> uploadActive(int nA);  // the first nA of activeH_, in active_
   void motionEntries();     // entries of D_k (spline weights) of every node on a surface
   void relativeColumns();   // Y = F D^T and C_ab = D_a Y_b of the active nodes
   void prepareFriction(const DenseVector& q, const DenseVector& qn);
