@@ -549,6 +549,11 @@ const RunSummary& Simulation::run() {
   };
   selectParts();
   double contactWork = 0;
+  // Penalty: stable springs only give back what they hold, so the bodies' energy can never exceed
+  // what they were given (initial, external work, the springs compressed by initial penetrations).
+  const bool penalty = contact_ && deck::getEnum<ContactMethod>(P.sublist("Contact"), "Method") == ContactMethod::Penalty;
+  const double kp = P.sublist("Contact").get<double>("Penalty stiffness");
+  double springEnergy0 = 0;
   std::vector<double> gapAll, forceAll;
   double energyRef = 0;
   for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
@@ -668,6 +673,10 @@ const RunSummary& Simulation::run() {
       contact_->correct(Q[iNext], Q[iCur], cost);
       ScopedPhase phase(cost, "energy");
       contactWork += contact_->workIncrement(Q[iNext], Q[iPrev]);
+      if (penalty && n == 0) {
+        const auto f0 = contact_->force();
+        for (std::size_t k = 0; k < f0.extent(0); ++k) springEnergy0 += f0(k) * f0(k) / (2 * kp);
+      }
       totalForce = contact_->totalForce();
       active = contact_->numActive();
     }
@@ -751,6 +760,18 @@ const RunSummary& Simulation::run() {
         os << "the solution is no longer finite at t = " << t << " s (step " << n
            << "): the time step is probably too large for the contact stiffness";
         fail(os.str());
+      }
+      if (penalty) {
+        const double given = e0 + ext - diss + springEnergy0;
+        if (total > given + 1e-3 * std::max(std::abs(given), energyRef)) {
+          std::ostringstream os;
+          os << "the energy of the bodies grew to " << total << " J at t = " << t << " s, more than the " << given
+             << " J they were given (initial, external work, initial penalty springs): the penalty contact is "
+                "unstable at this time step (the penalty on the predicted gap is stable for h^2 kp / m below about "
+                "4/3, a third of what the critical-step estimate allows); use a smaller 'Penalty stiffness' or "
+                "'Time step'";
+          fail(os.str());
+        }
       }
       if (std::abs(balance) > tolBalance) {
         std::ostringstream os;
