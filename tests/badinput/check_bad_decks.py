@@ -3,7 +3,8 @@
 
 Every case in cases/ is a deck (`<name>.xml`) whose first line is an XML comment
 `<!-- expect: REGEX -->`; epaphe-run must exit non-zero, print a message matching REGEX on
-stderr, and leave no output file behind that could pass for a result.
+stderr, and leave no output file behind that could pass for a result. A few decks that cannot be
+case files (a missing deck, a directory, an empty file) are made in the work directory.
 """
 import argparse
 import glob
@@ -21,12 +22,19 @@ def main():
     a = ap.parse_args()
     os.makedirs(a.workdir, exist_ok=True)
     failed = 0
-    cases = sorted(glob.glob(os.path.join(a.cases, "*.xml")))
-    for path in cases:
+    cases = []
+    for path in sorted(glob.glob(os.path.join(a.cases, "*.xml"))):
         first = open(path).readline()
         m = re.match(r"<!-- expect: (.*) -->", first.strip())
         assert m, f"{path}: first line must be <!-- expect: REGEX -->"
-        regex = m.group(1)
+        cases.append((path, m.group(1)))
+    made = os.path.join(a.workdir, "made")
+    os.makedirs(os.path.join(made, "directory.xml"), exist_ok=True)
+    open(os.path.join(made, "empty.xml"), "w").close()
+    cases += [(os.path.join(made, "missing.xml"), r"deck '.*missing.xml' cannot be opened"),
+              (os.path.join(made, "directory.xml"), r"deck '.*directory.xml' is a directory"),
+              (os.path.join(made, "empty.xml"), r"empty.xml' is empty")]
+    for path, regex in cases:
         for f in glob.glob(os.path.join(a.workdir, "*.h5")):
             os.remove(f)
         proc = subprocess.run([a.run, path], cwd=a.workdir, capture_output=True, text=True)

@@ -11,6 +11,8 @@
 #include <map>
 #include <regex>
 #include <cctype>
+#include <cerrno>
+#include <limits>
 #include <fstream>
 #include <iomanip>
 #include <ostream>
@@ -203,13 +205,25 @@ void validateList(ParameterList& user, const ParameterList& valid, const std::st
 /// value of the text strictly first (whole token a number, and finite).
 void checkNumbers(const std::string& xml, const std::string& origin) {
   static const std::regex tag(R"(<Parameter\s[^>]*>)");
-  static const std::regex attr(R"re((\w+)\s*=\s*"([^"]*)")re");
+  static const std::regex attr(R"re((\w+)\s*=\s*(?:"([^"]*)"|'([^']*)'))re");
   for (auto it = std::sregex_iterator(xml.begin(), xml.end(), tag); it != std::sregex_iterator(); ++it) {
     std::map<std::string, std::string> a;
     const std::string t = it->str();
     for (auto jt = std::sregex_iterator(t.begin(), t.end(), attr); jt != std::sregex_iterator(); ++jt)
-      a[(*jt)[1]] = (*jt)[2];
+      a[(*jt)[1]] = (*jt)[2].matched ? (*jt)[2].str() : (*jt)[3].str();
     const std::string& type = a["type"];
+    const auto lineHere = [&] { return 1 + std::count(xml.begin(), xml.begin() + it->position(), '\n'); };
+    if (type == "bool") {
+      // Teuchos' own message would not name the parameter.
+      const std::string v = lower(a["value"]);
+      if (v != "true" && v != "false" && v != "yes" && v != "no" && v != "0" && v != "1") {
+        ErrorBuilder eb;
+        eb << origin << ":" << lineHere() << ": parameter '" << a["name"] << "' of type bool has value \""
+           << a["value"] << "\"; write true or false";
+        eb.raise();
+      }
+      continue;
+    }
     const bool isInt = type == "int" || type == "Array(int)";
     if (!(isInt || type == "double" || type == "Array(double)")) continue;
     std::string v = a["value"];
@@ -233,7 +247,17 @@ void checkNumbers(const std::string& xml, const std::string& origin) {
       }
       const std::string tk = first == std::string::npos ? "" : token.substr(first, token.find_last_not_of(" \t\n") - first + 1);
       char* end = nullptr;
-      const double d = isInt ? double(std::strtol(tk.c_str(), &end, 10)) : std::strtod(tk.c_str(), &end);
+      errno = 0;
+      const double d = isInt ? double(std::strtoll(tk.c_str(), &end, 10)) : std::strtod(tk.c_str(), &end);
+      const bool intRange = !isInt || (errno != ERANGE && d >= std::numeric_limits<int>::min() &&
+                                       d <= std::numeric_limits<int>::max());
+      if (!tk.empty() && *end == '\0' && !intRange) {
+        ErrorBuilder eb;
+        eb << origin << ":" << lineHere() << ": parameter '" << a["name"] << "' of type " << type << " has value \""
+           << a["value"] << "\": '" << tk << "' does not fit in an int (at most " << std::numeric_limits<int>::max()
+           << ")";
+        eb.raise();
+      }
       if (tk.empty() || *end != '\0' || !std::isfinite(d)) {
         ErrorBuilder eb;
         eb << origin << ":" << 1 + std::count(xml.begin(), xml.begin() + it->position(), '\n') << ": parameter '"

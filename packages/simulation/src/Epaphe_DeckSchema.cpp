@@ -5,6 +5,7 @@
 #include "Epaphe_SurfaceContact.hpp"
 #include "Epaphe_CentralDifference.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -195,10 +196,15 @@ Deck readDeckFromString(const std::string& xml, const std::string& origin) {
 }
 
 Deck readDeck(const std::string& path) {
+  std::error_code ec;
+  EPAPHE_REQUIRE(!std::filesystem::is_directory(path, ec), "deck '" << path << "' is a directory; give an XML file");
   std::ifstream in(path);
   EPAPHE_REQUIRE(in, "deck '" << path << "' cannot be opened: check the path and its permissions");
   std::stringstream ss;
   ss << in.rdbuf();
+  EPAPHE_REQUIRE(!in.bad(), "deck '" << path << "' cannot be read: check the file");
+  EPAPHE_REQUIRE(ss.str().find_first_not_of(" \t\r\n") != std::string::npos,
+                 "deck '" << path << "' is empty; a deck is <ParameterList name=\"Epaphe\"> ... </ParameterList>");
   return readDeckFromString(ss.str(), path);
 }
 

@@ -60,6 +60,38 @@ std::array<double, 3> vec3(const ParameterList& pl, const std::string& key, cons
   return {v[0], v[1], v[2]};
 }
 
+/// Checks of the deck that need no model, made before any body is built: box edge lengths, the
+/// number of surfaces, degenerate planes.
+void checkGeometry(const ParameterList& P, const std::string& origin) {
+  const ParameterList& bl = P.sublist("Bodies");
+  for (auto it = bl.begin(); it != bl.end(); ++it) {
+    const ParameterList& mp = bl.sublist(bl.name(it)).sublist("Mesh");
+    if (deck::getEnum<MeshType>(mp, "Type") != MeshType::Box) continue;
+    const auto L = vec3(mp, "Lengths", origin);
+    for (int d = 0; d < 3; ++d)
+      EPAPHE_REQUIRE(L[d] > 0, origin << ": '" << deck::pathOf(mp, "Lengths") << "' = {" << L[0] << ", " << L[1] << ", "
+                                      << L[2] << "}: the length along " << "xyz"[d] << " is " << L[d]
+                                      << "; every edge length must be positive");
+  }
+  const ParameterList& surfs = P.sublist("Surfaces");
+  EPAPHE_REQUIRE(surfs.numParams() <= 2, origin << ": 'Epaphe->Surfaces' has " << surfs.numParams()
+                                                << " surfaces; a contact node is checked against at most 2: "
+                                                   "remove one or split the scene into several runs");
+  for (auto it = surfs.begin(); it != surfs.end(); ++it) {
+    const ParameterList& s = surfs.sublist(surfs.name(it));
+    if (deck::getEnum<SurfaceType>(s, "Type") != SurfaceType::Plane) continue;
+    const auto U = vec3(s, "U", origin), V = vec3(s, "V", origin);
+    const std::array<double, 3> n = {U[1] * V[2] - U[2] * V[1], U[2] * V[0] - U[0] * V[2], U[0] * V[1] - U[1] * V[0]};
+    const double nu = std::sqrt(U[0] * U[0] + U[1] * U[1] + U[2] * U[2]);
+    const double nv = std::sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2]);
+    const double area = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    EPAPHE_REQUIRE(area > 1e-12 * nu * nv && nu > 0 && nv > 0,
+                   origin << ": surface '" << surfs.name(it) << "': 'U' = {" << U[0] << ", " << U[1] << ", " << U[2]
+                          << "} and 'V' = {" << V[0] << ", " << V[1] << ", " << V[2]
+                          << "} are parallel or zero; a plane needs two independent edge vectors");
+  }
+}
+
 /// Grid (i along the arc, j along the axis) of a Cylinder arc surface: with e1 the reference
 /// direction and e2 = axis x e1, S_u x S_v points away from the axis.
 std::vector<double> cylinderArcGrid(const ParameterList& s, int na, int nz, const std::string& origin) {
@@ -240,6 +272,7 @@ void Simulation::setup() {
   // ---- bodies -------------------------------------------------------------------------------
   const ParameterList& bl = P.sublist("Bodies");
   EPAPHE_REQUIRE(bl.numParams() > 0, origin << ": 'Epaphe->Bodies' is empty; add a <ParameterList name=\"MyBody\">");
+  checkGeometry(P, origin);
   const ParameterList& tp = P.sublist("Time");
   const double h = tp.get<double>("Time step");
   DampingOptions damping;
@@ -634,6 +667,16 @@ const RunSummary& Simulation::run() {
   };
   selectParts();
   double contactWork = 0;
+  // Penalty: stable springs only give back what they hold, so the bodies' energy can never exceed
+  // what they were given (initial, external work, the springs compressed by initial penetrations).
+  // (Not with a turning surface: a moving casing does work on the bodies.)
+  bool turning = false;
+  for (const auto& s : P.sublist("Surfaces"))
+    turning = turning || P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed") != 0.0;
+  const bool penalty = contact_ && !turning &&
+                       deck::getEnum<ContactMethod>(P.sublist("Contact"), "Method") == ContactMethod::Penalty;
+  const double kp = P.sublist("Contact").get<double>("Penalty stiffness");
+  double springEnergy0 = 0;
   std::vector<double> gapAll, forceAll;
   double energyRef = 0;
   for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
@@ -885,6 +928,10 @@ const RunSummary& Simulation::run() {
       contact_->correct(Q[iNext], Q[iCur], cost);
       ScopedPhase phase(cost, "energy");
       contactWork += contact_->workIncrement(Q[iNext], Q[iPrev]);
+      if (penalty && n == 0) {
+        const auto f0 = contact_->force();
+        for (std::size_t k = 0; k < f0.extent(0); ++k) springEnergy0 += f0(k) * f0(k) / (2 * kp);
+      }
       totalForce = contact_->totalForce();
       active = contact_->numActive();
     }
@@ -970,6 +1017,18 @@ const RunSummary& Simulation::run() {
         os << "the solution is no longer finite at t = " << t << " s (step " << n
            << "): the time step is probably too large for the contact stiffness";
         fail(os.str());
+      }
+      if (penalty) {
+        const double given = e0 + ext - diss + springEnergy0;
+        if (total > given + 1e-3 * std::max(std::abs(given), energyRef)) {
+          std::ostringstream os;
+          os << "the energy of the bodies grew to " << total << " J at t = " << t << " s, more than the " << given
+             << " J they were given (initial, external work, initial penalty springs): the penalty contact is "
+                "unstable at this time step (the penalty on the predicted gap is stable for h^2 kp / m below about "
+                "4/3, a third of what the critical-step estimate allows); use a smaller 'Penalty stiffness' or "
+                "'Time step'";
+          fail(os.str());
+        }
       }
       if (std::abs(balance) > tolBalance) {
         std::ostringstream os;
