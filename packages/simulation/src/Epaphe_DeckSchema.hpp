@@ -7,7 +7,8 @@
 
 namespace epaphe {
 
-enum class MeshType { Box = 0, RingSegment = 1 };
+enum class MeshType { Box = 0, RingSegment = 1, Calculix = 2, MatrixMarket = 3, CodeAster = 4 };
+enum class LinearSolver { Mumps = 0, Klu2 = 1, BelosCg = 2 };
 enum class ReductionMethod { CraigBampton = 0, Guyan = 1, None = 2 };
 enum class SurfaceType { Plane = 0, CylinderArc = 1, BodyFace = 2 };
 
