@@ -183,6 +183,9 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
     eo.tolerance = opt.eigenTolerance;
     EigenResult er = lowestEigenpairs(Kb.CC, Mb.CC, *factor, eo);
     Phi = er.vectors;
+    rep.eigenIterations = er.restarts;
+    rep.eigenSolves = er.operatorVectors;
+    rep.eigenSolveSeconds = er.operatorSeconds;
     for (double l : er.lambda) red.modeFrequencies.push_back(std::sqrt(std::max(l, 0.0)) / (2 * M_PI));
   }
   rep.eigenSeconds = sw.seconds();

@@ -27,6 +27,9 @@ struct ReductionReport {
   double seconds = 0;                  // wall time of the whole reduction
   double factorSeconds = 0, constraintSeconds = 0, eigenSeconds = 0, projectSeconds = 0;
   int retainedDofs = 0, condensedDofs = 0;
+  int eigenIterations = 0;             // Anasazi iterations
+  long eigenSolves = 0;                // vectors through the shift-invert operator
+  double eigenSolveSeconds = 0;        // of eigenSeconds, the time in the operator (M products and solves)
   long solverIterations = 0;           // Belos CG: iterations of all solves (constraint modes and Anasazi)
 };
 
