@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <unordered_map>
 
@@ -358,6 +359,28 @@ std::vector<double> readCalculixEigenvalues(const std::string& datPath) {
   }
   EPAPHE_REQUIRE(!lambda.empty(), datPath << ": no EIGENVALUE OUTPUT block; run a *FREQUENCY step to get one");
   return lambda;
+}
+
+std::vector<std::string> calculixInputFiles(const std::string& path) {
+  std::vector<std::string> files;
+  std::function<void(const std::string&, int)> scan = [&](const std::string& p, int depth) {
+    EPAPHE_REQUIRE(depth < 20, p << ": *INCLUDE nested more than 20 deep (an include cycle?)");
+    files.push_back(p);
+    TextLines in(p, "CalculiX input");
+    std::string line;
+    while (in.next(line)) {
+      const std::string t = trim(line);
+      if (t.size() < 2 || t[0] != '*' || t[1] == '*') continue;
+      const Keyword k = parseKeyword(t);
+      if (k.name != "INCLUDE") continue;
+      auto it = k.param.find("INPUT");
+      EPAPHE_REQUIRE(it != k.param.end() && !it->second.empty(),
+                     in.where() << ": *INCLUDE without INPUT=file; write *INCLUDE, INPUT=mesh.inp");
+      scan(Details::siblingPath(p, it->second), depth + 1);
+    }
+  };
+  scan(path, 0);
+  return files;
 }
 
 }  // namespace epaphe

@@ -39,6 +39,9 @@ CalculixInput readCalculixInput(const std::string& path);
 FullModel importCalculix(const CalculixFiles& files, const std::string& name,
                          const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
 
+/// `path` and every file it *INCLUDEs, recursively (what the model read from the input deck depends on).
+std::vector<std::string> calculixInputFiles(const std::string& path);
+
 /// The eigenvalues (omega^2, ascending as printed) of the first *FREQUENCY step in jobname.dat.
 std::vector<double> readCalculixEigenvalues(const std::string& datPath);
 

@@ -6,11 +6,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <numeric>
+#include <system_error>
 
 namespace epaphe {
 namespace Details {
@@ -86,17 +88,92 @@ std::string siblingPath(const std::string& relativeTo, const std::string& file) 
   return slash == std::string::npos ? file : relativeTo.substr(0, slash + 1) + file;
 }
 
+namespace {
+
+/// The whole file in memory, split into lines (numbered from 1) as TextLines does: large matrix
+/// files (ccx writes about 35 bytes per entry) are read in one go rather than line by line.
+class BufferedLines {
+public:
+  BufferedLines(const std::string& path, const std::string& what) : path_(path) {
+    TextLines check(path, what);  // the same Error as every reader for a missing or unreadable file
+    std::ifstream in(path, std::ios::binary);
+    in.seekg(0, std::ios::end);
+    buf_.resize(static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg())));
+    in.seekg(0, std::ios::beg);
+    in.read(&buf_[0], static_cast<std::streamsize>(buf_.size()));
+    buf_.resize(static_cast<std::size_t>(in.gcount()));
+    p_ = buf_.data();
+    end_ = p_ + buf_.size();
+  }
+  /// The next line as [begin, end) without its '\n' (and '\r').
+  bool next(const char*& b, const char*& e) {
+    if (p_ >= end_) return false;
+    b = p_;
+    e = static_cast<const char*>(std::memchr(p_, '\n', static_cast<std::size_t>(end_ - p_)));
+    if (e == nullptr) e = end_;
+    p_ = e < end_ ? e + 1 : end_;
+    if (e > b && e[-1] == '\r') --e;
+    ++line_;
+    return true;
+  }
+  int line() const { return line_; }
+  std::string where() const { return path_ + ":" + std::to_string(line_); }
+
+private:
+  std::string path_, buf_;
+  const char* p_ = nullptr;
+  const char* end_ = nullptr;
+  int line_ = 0;
+};
+
+/// "i j v" with blanks or commas between, nothing else: the common case, parsed without copies.
+/// Anything else (headers, comments, Fortran exponents, malformed lines) is left to the general
+/// path, which gives the messages.
+bool fastEntry(const char* p, const char* e, long long& i, long long& j, double& v) {
+  auto blank = [](char c) { return c == ' ' || c == '\t'; };
+  while (p < e && blank(*p)) ++p;
+  auto r = std::from_chars(p, e, i);
+  if (r.ec != std::errc() || r.ptr == e || !(blank(*r.ptr) || *r.ptr == ',')) return false;
+  p = r.ptr;
+  while (p < e && (blank(*p) || *p == ',')) ++p;
+  r = std::from_chars(p, e, j);
+  if (r.ec != std::errc() || r.ptr == e || !(blank(*r.ptr) || *r.ptr == ',')) return false;
+  p = r.ptr;
+  while (p < e && (blank(*p) || *p == ',')) ++p;
+  if (p < e && *p == '+') ++p;  // from_chars takes no leading '+'; strtod does
+  if (p < e && (*p == '+' || *p == '-') && p[-1] == '+') return false;
+  const auto d = std::from_chars(p, e, v);
+  if (d.ec != std::errc()) return false;
+  p = d.ptr;
+  while (p < e && blank(*p)) ++p;
+  return p == e;
+}
+
+}  // namespace
+
 SparseEntries readSparse(const std::string& path, const std::string& what, Storage storage, int size,
                          const std::string& sizeSource) {
-  TextLines in(path, what);
+  BufferedLines in(path, what);
   SparseEntries A;
   A.path = path;
   A.what = what;
   A.size = size;
   bool header = false, sizeLine = false;
   long long declared = -1;
-  std::string line;
-  while (in.next(line)) {
+  const char* lb = nullptr;
+  const char* le = nullptr;
+  while (in.next(lb, le)) {
+    long long i = 0, j = 0;
+    double v = 0;
+    if ((!header || sizeLine) && fastEntry(lb, le, i, j, v) && std::isfinite(v) && i >= 1 && j >= 1 &&
+        (A.size < 0 || (i <= A.size && j <= A.size))) {
+      A.row.push_back(static_cast<int>(i - 1));
+      A.col.push_back(static_cast<int>(j - 1));
+      A.val.push_back(v);
+      A.line.push_back(in.line());
+      continue;
+    }
+    const std::string line(lb, le);
     const std::string t = trim(line);
     if (t.empty()) continue;
     if (upper(t).rfind("%%MATRIXMARKET", 0) == 0) {
@@ -129,8 +206,6 @@ SparseEntries readSparse(const std::string& path, const std::string& what, Stora
       sizeLine = true;
       continue;
     }
-    long long i = 0, j = 0;
-    double v = 0;
     EPAPHE_REQUIRE(f.size() == 3 && parseInt(f[0], i) && parseInt(f[1], j) && parseDouble(f[2], v),
                    in.where() << ": expected 'row column value' in the " << what << ", read '" << t << "'");
     EPAPHE_REQUIRE(std::isfinite(v), in.where() << ": the " << what << " entry (" << i << ", " << j << ") is '" << f[2]

@@ -9,6 +9,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numeric>
 
@@ -23,6 +24,14 @@ public:
   Teuchos::RCP<const Map> getRangeMap() const override { return M_->getRangeMap(); }
   void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp = Teuchos::NO_TRANS, double alpha = 1.0,
              double beta = 0.0) const override {
+    const auto t0 = std::chrono::steady_clock::now();
+    ++applications;
+    vectors += static_cast<long>(X.getNumVectors());
+    struct Tally {
+      std::chrono::steady_clock::time_point t0;
+      double& s;
+      ~Tally() { s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } tally{t0, seconds};
     MultiVector MX(M_->getRangeMap(), X.getNumVectors());
     M_->apply(X, MX);
     if (alpha == 1.0 && beta == 0.0) {
@@ -33,6 +42,9 @@ public:
     solver_.solve(MX, Z);
     Y.update(alpha, Z, beta);
   }
+
+  mutable long applications = 0, vectors = 0;
+  mutable double seconds = 0;
 
 private:
   Teuchos::RCP<const CrsMatrix> M_;
@@ -52,6 +64,8 @@ EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuch
   // eigenvalues theta = 1 / (lambda - sigma) are the lowest lambda. A block of several vectors:
   // structures have repeated eigenvalues (6 rigid-body modes, bending pairs of symmetric
   // sections) and a single-vector Krylov space holds one vector per distinct eigenvalue.
+  // Measured on a 64,500-DOF C3D20 plate, 50 modes: blocks of 6 beat 12 and 24 (fewer, larger
+  // solves, but more Anasazi work on the larger basis), and a space of 3 nev beats 2 nev.
   const int blockSize = std::min(6, opt.count);
   auto x0 = Teuchos::rcp(new MV(K->getDomainMap(), blockSize));
   x0->randomize();
@@ -91,6 +105,9 @@ EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuch
     r.vectors->getVectorNonConst(i)->update(1.0, *sol.Evecs->getVector(src), 0.0);
   }
   r.restarts = mgr.getNumIters();
+  r.operatorApplications = op->applications;
+  r.operatorVectors = op->vectors;
+  r.operatorSeconds = op->seconds;
   return r;
 }
 

@@ -22,7 +22,9 @@ struct EigenOptions {
 struct EigenResult {
   std::vector<double> lambda;               // ascending eigenvalues (omega^2)
   Teuchos::RCP<MultiVector> vectors;        // M-orthonormal eigenvectors, same order
-  int restarts = 0;
+  int restarts = 0;                         // Anasazi iterations
+  long operatorApplications = 0, operatorVectors = 0;  // shift-invert applications, vectors in them
+  double operatorSeconds = 0;               // wall time in them (M products and solves)
 };
 
 /// `factorOfShifted` solves with K - shift * M (K itself when shift = 0).

@@ -16,6 +16,8 @@ public:
   /// X = A^{-1} B.
   virtual void solve(const MultiVector& B, MultiVector& X) const = 0;
   virtual std::string name() const = 0;
+  /// Iterations of all solves so far (0 for direct solvers).
+  virtual long iterations() const { return 0; }
 };
 
 /// Amesos2 direct solver: symbolic and numeric factorization happen here, once.
@@ -24,5 +26,16 @@ public:
 /// matrix in error messages.
 std::unique_ptr<SparseSolver> makeDirectSolver(const Teuchos::RCP<const CrsMatrix>& A,
                                                const std::string& solverName, const std::string& what);
+
+/// Belos block conjugate gradients preconditioned by Jacobi (the inverse diagonal of A, a Tpetra
+/// operator: this Trilinos has no Ifpack2). A must be symmetric positive definite. Nothing is
+/// factored: each solve iterates until the relative residual of every column is below
+/// `tolerance` (an Error names A, the iterations and the residual reached otherwise).
+std::unique_ptr<SparseSolver> makeBelosCgSolver(const Teuchos::RCP<const CrsMatrix>& A, double tolerance,
+                                                const std::string& what);
+
+/// "MUMPS", "KLU2" (Amesos2, makeDirectSolver) or "Belos CG" (makeBelosCgSolver with `tolerance`).
+std::unique_ptr<SparseSolver> makeSolver(const Teuchos::RCP<const CrsMatrix>& A, const std::string& solverName,
+                                         const std::string& what, double tolerance = 1e-12);
 
 }  // namespace epaphe

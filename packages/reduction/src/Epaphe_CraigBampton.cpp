@@ -165,7 +165,7 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
 
   // Constraint modes: K_CC Psi = -K_CR, one factorization, nR right-hand sides (eq. 2.10).
   Stopwatch sw;
-  auto factor = makeDirectSolver(Kb.CC, opt.solver, "K_CC of body '" + full.name + "'");
+  auto factor = makeSolver(Kb.CC, opt.solver, "K_CC of body '" + full.name + "'", opt.iterativeTolerance);
   rep.factorSeconds = sw.seconds();
   sw.restart();
   MultiVector Psi(cMap, static_cast<std::size_t>(nR));
@@ -183,9 +183,13 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
     eo.tolerance = opt.eigenTolerance;
     EigenResult er = lowestEigenpairs(Kb.CC, Mb.CC, *factor, eo);
     Phi = er.vectors;
+    rep.eigenIterations = er.restarts;
+    rep.eigenSolves = er.operatorVectors;
+    rep.eigenSolveSeconds = er.operatorSeconds;
     for (double l : er.lambda) red.modeFrequencies.push_back(std::sqrt(std::max(l, 0.0)) / (2 * M_PI));
   }
   rep.eigenSeconds = sw.seconds();
+  rep.solverIterations = factor->iterations();
 
   sw.restart();
   red.numModes = opt.modes;
@@ -221,7 +225,8 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
   return red;
 }
 
-std::vector<double> fullModelFrequencies(const FullModel& full, int count, const std::string& solver) {
+std::vector<double> fullModelFrequencies(const FullModel& full, int count, const std::string& solver,
+                                         double iterativeTolerance) {
   // Shift below zero so that K - sigma M is positive definite even with rigid-body modes:
   // sigma = -1e-4 * max_i K_ii / M_ii, far below the highest and well below typical low modes.
   double ratio = 0;
@@ -237,7 +242,7 @@ std::vector<double> fullModelFrequencies(const FullModel& full, int count, const
   }
   const double sigma = -1e-4 * ratio;
   auto shifted = Tpetra::MatrixMatrix::add(1.0, false, *full.K, -sigma, false, *full.M);
-  auto factor = makeDirectSolver(shifted, solver, "K - sigma M of body '" + full.name + "'");
+  auto factor = makeSolver(shifted, solver, "K - sigma M of body '" + full.name + "'", iterativeTolerance);
   EigenOptions eo;
   eo.count = count;
   eo.shift = sigma;

@@ -5,7 +5,7 @@
 //                  [ Psi   Phi  ]     K_CC Phi = M_CC Phi Omega^2 (fixed-interface modes, eq. 2.13)
 //
 // with K_red = R^T K R and M_red = R^T M R (eqs. 2.6-2.7). K_CC is factored once by Amesos2
-// (MUMPS by default); the constraint modes are one multi-RHS solve with that factor, and the
+// (MUMPS by default; or Belos CG, Jacobi-preconditioned, with no factor); the constraint modes are one multi-RHS solve with that factor, and the
 // fixed-interface modes come from Anasazi with shift-invert through the same factor. Guyan is
 // Craig-Bampton with zero modes (eq. 2.11).
 #include "Epaphe_FullModel.hpp"
@@ -18,7 +18,8 @@ namespace epaphe {
 
 struct CraigBamptonOptions {
   int modes = 0;                       // fixed-interface modes kept
-  std::string solver = "MUMPS";        // Amesos2 solver for K_CC
+  std::string solver = "MUMPS";        // K_CC: Amesos2 "MUMPS" or "KLU2" (one factor), or "Belos CG" (iterative)
+  double iterativeTolerance = 1e-12;   // Belos CG: relative residual of each solve
   double eigenTolerance = 1e-10;
 };
 
@@ -26,6 +27,10 @@ struct ReductionReport {
   double seconds = 0;                  // wall time of the whole reduction
   double factorSeconds = 0, constraintSeconds = 0, eigenSeconds = 0, projectSeconds = 0;
   int retainedDofs = 0, condensedDofs = 0;
+  int eigenIterations = 0;             // Anasazi iterations
+  long eigenSolves = 0;                // vectors through the shift-invert operator
+  double eigenSolveSeconds = 0;        // of eigenSeconds, the time in the operator (M products and solves)
+  long solverIterations = 0;           // Belos CG: iterations of all solves (constraint modes and Anasazi)
 };
 
 /// `retained`: nodes whose DOFs stay physical (interface, contact nodes). Runs on every rank of
@@ -35,6 +40,7 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
 
 /// The lowest `count` natural frequencies (Hz) of the full model, by Anasazi on (K, M) with a
 /// small negative shift so that free-free models (rigid-body modes) are handled.
-std::vector<double> fullModelFrequencies(const FullModel& full, int count, const std::string& solver = "MUMPS");
+std::vector<double> fullModelFrequencies(const FullModel& full, int count, const std::string& solver = "MUMPS",
+                                         double iterativeTolerance = 1e-12);
 
 }  // namespace epaphe

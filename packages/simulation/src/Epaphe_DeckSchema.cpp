@@ -28,14 +28,31 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     auto& body = pl->sublist("Bodies", false, "One sublist per flexible body, named by the user").sublist(
         "*", false, "A flexible body: mesh, material, reduction, contact nodes");
     auto& mesh = body.sublist("Mesh", false, "The body's finite-element mesh");
-    addEnum(mesh, "Type", "Box", {"Box", "Ring segment", "Blade"},
-            {int(MeshType::Box), int(MeshType::RingSegment), int(MeshType::Blade)},
+    addEnum(mesh, "Type", "Box", {"Box", "Ring segment", "Blade", "CalculiX", "Matrix Market", "code_aster"},
+            {int(MeshType::Box), int(MeshType::RingSegment), int(MeshType::Blade), int(MeshType::Calculix),
+             int(MeshType::MatrixMarket), int(MeshType::CodeAster)},
             "Box: structured 8-node hexahedra, node sets all, x-, x+, y-, y+, z-, z+. Ring segment: a thick "
             "cylindrical arc about the z axis through Origin, node sets all, inner, outer, end-, end+, z-, z+. "
             "Blade: a twisted, cambered blade standing along +y about the engine axis z (Hub radius .. Tip radius, "
             "Chord, Blade thickness, Stagger, Twist, Camber, Cone angle, Axial position; Elements {span, chord, "
             "thickness}), node sets all, root, tip, le, te, pressure, suction, tip-le, tip-te; each tip node at the "
-            "tip radius of its cone");
+            "tip radius of its cone. "
+            "CalculiX, Matrix Market, code_aster: K and M imported from the files below (paths relative to the deck "
+            "file's directory); the body's Material is then unused, its boundary conditions and node sets are the "
+            "files' own (CalculiX *BOUNDARY and *NSET; a node set file), plus node set 'all'");
+    addString(mesh, "Input file", "", "CalculiX: the input deck jobname.inp (mesh, *NSET, *BOUNDARY, *INCLUDEs) of "
+                                      "the run with *FREQUENCY, SOLVER=MATRIXSTORAGE");
+    addString(mesh, "Matrix job", "", "CalculiX: path without extension of that run's jobname.sti (K), .mas (M) and "
+                                      ".dof (DOF of each row); empty: the Input file without its .inp");
+    addString(mesh, "Stiffness file", "", "Matrix Market: K.mtx (%%MatrixMarket coordinate, general or symmetric); "
+                                          "code_aster: K as 'row column value' lines (one triangle or both)");
+    addString(mesh, "Mass file", "", "Matrix Market, code_aster: M, as the Stiffness file");
+    addString(mesh, "DOF file", "", "Matrix Market: 'node direction' per matrix row; code_aster: the DOF numbering "
+                                    "of every equation ('N12 DX', Lagrange rows 'N12 LAGR:DX', dropped)");
+    addString(mesh, "Node file", "", "Matrix Market, code_aster: 'id x y z' per node");
+    addString(mesh, "Node set file", "", "Matrix Market, code_aster (optional): 'name id id ...' per line");
+    addString(mesh, "Clamped node file", "", "code_aster (optional): node ids fixed in every direction, besides "
+                                             "the DOFs code_aster dualized");
     addDoubleArray(mesh, "Origin", {0, 0, 0}, "Box: corner with the smallest coordinates; Ring segment: a point of "
                                               "its axis (m)");
     addDoubleArray(mesh, "Lengths", {0.2, 0.02, 0.02}, "Box: edge lengths along x, y, z (m)");
@@ -55,11 +72,12 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addDouble(mesh, "Cone angle", 0.0, "Blade: half-angle of the tip cone (degrees; the tip radius grows by "
                                        "tan(angle) per metre along z)", -60.0, 60.0);
     addDouble(mesh, "Axial position", 0.0, "Blade: z of mid-chord (m)");
-    auto& mat = body.sublist("Material", false, "Isotropic linear elastic material");
+    auto& mat = body.sublist("Material", false, "Isotropic linear elastic material of the built-in meshes (unused, and optional, for imported models)");
     addDouble(mat, "Density", 7800, "Mass density (kg/m^3)", 1e-300);
     addDouble(mat, "Young's modulus", 2.1e11, "Young's modulus (Pa)", 1e-300);
     addDouble(mat, "Poisson's ratio", 0.3, "Poisson's ratio", -0.999999, 0.499999);
-    addString(body, "Clamped node set", "", "Node set fixed in all directions (empty: none)");
+    addString(body, "Clamped node set", "", "Node set fixed in all directions (empty: none); built-in meshes only (an "
+                                            "imported model carries its own boundary conditions)");
     addDoubleArray(body, "Initial velocity", {0, 0, 0}, "Uniform initial velocity of the body (m/s)");
     addString(body, "Contact node set", "", "Nodes checked against every surface (empty: no contact)");
     addStringArray(body, "Watched node sets", {}, "Node sets whose displacement and velocity are written");
@@ -69,8 +87,12 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
             "Craig-Bampton (eq. 2.12), Guyan (eq. 2.11, no modes) or None (the full model, dense: small models only)");
     addInt(red, "Fixed-interface modes", 20, "Craig-Bampton: number of fixed-interface modes kept", 0, 100000);
     addString(red, "Retained node set", "", "Nodes kept as physical DOFs (empty: the contact node set)");
-    addEnum(red, "Linear solver", "MUMPS", {"MUMPS", "KLU2"}, {0, 1},
-            "Amesos2 direct solver for K_CC (KLU2: one MPI rank only)");
+    addEnum(red, "Linear solver", "MUMPS", {"MUMPS", "KLU2", "Belos CG"},
+            {int(LinearSolver::Mumps), int(LinearSolver::Klu2), int(LinearSolver::BelosCg)},
+            "Solver of K_CC for the constraint modes and inside Anasazi's shift-invert: MUMPS or KLU2 (Amesos2 "
+            "direct; KLU2 one MPI rank only), or Belos CG (Belos block conjugate gradients, Jacobi-preconditioned, "
+            "no factor stored: less memory, usually slower; see 'Iterative tolerance')");
+    addDouble(red, "Iterative tolerance", 1e-12, "Belos CG: relative residual at which a solve stops", 1e-300, 1e-2);
     addBool(red, "Cache", true, "Store the reduced model in HDF5 and reuse it while the model and reduction "
                                 "parameters are unchanged");
     addString(red, "Cache file", "", "Cache path (empty: <output file stem>.<body>.rom.h5)");

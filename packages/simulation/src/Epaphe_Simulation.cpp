@@ -1,6 +1,7 @@
 #include "Epaphe_Simulation.hpp"
 
 #include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_BodyModel.hpp"
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_Error.hpp"
 #include "Epaphe_FullModel.hpp"
@@ -164,12 +165,6 @@ std::vector<double> casingGrid(const ParameterList& s, int nt, int nz, const std
   return grid;
 }
 
-std::string canonical(const ParameterList& pl) {
-  std::ostringstream os;
-  pl.print(os, Teuchos::ParameterList::PrintOptions().showTypes(true).showDoc(false).indent(0));
-  return os.str();
-}
-
 std::string stem(const std::string& path) {
   const auto dot = path.rfind('.');
   const auto slash = path.rfind('/');
@@ -309,13 +304,15 @@ void Simulation::setup() {
     const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
     const int checkCount = rp.get<int>("Frequency check");
 
-    // Cache key: everything the reduced model depends on.
-    std::string keyText = canonical(bp.sublist("Mesh")) + canonical(bp.sublist("Material")) +
-                          "clamped=" + bp.get<std::string>("Clamped node set") + "\nretained=" + retainedSet +
-                          "\nmethod=" + rp.get<std::string>("Method") +
-                          "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
-                          "\ncheck=" + std::to_string(checkCount) + "\nsolver=" + rp.get<std::string>("Linear solver");
-    const std::string key = contentKey(keyText);
+    // Cache key: everything the reduced model depends on (imported files: their content hashes, on rank 0).
+    bodyModelFiles(b->name, bp, origin);  // every rank checks the files exist before anything waits on rank 0
+    std::string key;
+    if (comm->getRank() == 0)
+      key = contentKey(bodyModelKeyText(b->name, bp, origin) + "clamped=" + bp.get<std::string>("Clamped node set") +
+                       "\nretained=" + retainedSet + "\nmethod=" + rp.get<std::string>("Method") +
+                       "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
+                       "\ncheck=" + std::to_string(checkCount) + "\nsolver=" + rp.get<std::string>("Linear solver") +
+                       "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")));
     std::string cacheFile = rp.get<std::string>("Cache file");
     if (cacheFile.empty()) cacheFile = stem(output_) + "." + b->name + ".rom.h5";
     const bool useCache = rp.get<bool>("Cache");
@@ -328,40 +325,7 @@ void Simulation::setup() {
       b->rom.name = b->name;
       b->fromCache = true;
     } else {
-      const ParameterList& mp = bp.sublist("Mesh");
-      const auto el = deck::getInts(mp, "Elements");
-      EPAPHE_REQUIRE(el.size() == 3, ctx << ": 'Mesh->Elements' has " << el.size() << " values; give {nx, ny, nz}");
-      Mesh mesh;
-      const auto meshType = deck::getEnum<MeshType>(mp, "Type");
-      if (meshType == MeshType::Box) {
-        mesh = makeBoxMesh(vec3(mp, "Origin", origin), vec3(mp, "Lengths", origin), {el[0], el[1], el[2]});
-      } else if (meshType == MeshType::Blade) {
-        BladeGeometry g;
-        g.hubRadius = mp.get<double>("Hub radius");
-        g.tipRadius = mp.get<double>("Tip radius");
-        g.chord = mp.get<double>("Chord");
-        g.thickness = mp.get<double>("Blade thickness");
-        g.stagger = mp.get<double>("Stagger");
-        g.twist = mp.get<double>("Twist");
-        g.camber = mp.get<double>("Camber");
-        g.coneAngle = mp.get<double>("Cone angle");
-        g.axialPosition = mp.get<double>("Axial position");
-        mesh = makeBladeMesh(g, {el[0], el[1], el[2]});
-      } else {
-        const auto ang = deck::getDoubles(mp, "Angles"), ax = deck::getDoubles(mp, "Axial range");
-        EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2, ctx << ": 'Mesh->Angles' and 'Mesh->Axial range' must each "
-                                                                 "be {first, last}");
-        mesh = makeRingSegmentMesh(vec3(mp, "Origin", origin), mp.get<double>("Inner radius"),
-                                   mp.get<double>("Thickness"), {ang[0], ang[1]}, {ax[0], ax[1]}, {el[0], el[1], el[2]});
-      }
-      Material mat;
-      mat.density = bp.sublist("Material").get<double>("Density");
-      mat.young = bp.sublist("Material").get<double>("Young's modulus");
-      mat.poisson = bp.sublist("Material").get<double>("Poisson's ratio");
-      std::vector<int> clamped;
-      if (const std::string cs = bp.get<std::string>("Clamped node set"); !cs.empty())
-        clamped = mesh.nodeSet(cs, ctx + ", 'Clamped node set'");
-      FullModel full = assembleHexModel(b->name, std::move(mesh), mat, clamped, comm);
+      FullModel full = buildBodyModel(b->name, bp, origin, comm);
       out << "[" << b->name << "] full model: " << full.numNodes() << " nodes, " << full.numFree << " free DOFs, "
           << full.mesh.hexes.size() << " hexahedra\n";
       if (method == ReductionMethod::None) {
@@ -369,9 +333,7 @@ void Simulation::setup() {
       } else {
         EPAPHE_REQUIRE(!retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
                                                  << " needs a 'Retained node set' (or a 'Contact node set')");
-        CraigBamptonOptions cbo;
-        cbo.modes = method == ReductionMethod::Guyan ? 0 : rp.get<int>("Fixed-interface modes");
-        cbo.solver = rp.get<std::string>("Linear solver");
+        const CraigBamptonOptions cbo = reductionOptions(rp);
         b->rom = craigBampton(full, full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'"), cbo,
                               &b->report);
         out << "[" << b->name << "] " << b->rom.method << ": " << b->report.retainedDofs << " retained DOFs + "
@@ -381,7 +343,8 @@ void Simulation::setup() {
             << formatDuration(b->report.eigenSeconds) << ")\n";
       }
       if (checkCount > 0)
-        b->rom.fullFrequencies = fullModelFrequencies(full, std::min(checkCount, full.numFree - 1), rp.get<std::string>("Linear solver"));
+        b->rom.fullFrequencies = fullModelFrequencies(full, std::min(checkCount, full.numFree - 1), rp.get<std::string>("Linear solver"),
+                                                         rp.get<double>("Iterative tolerance"));
       if (useCache && comm->getRank() == 0) saveReducedModel(b->rom, cacheFile, key);
     }
     if (b->fromCache) out << "[" << b->name << "] reduced model (" << b->rom.method << ", " << b->rom.size

@@ -1,0 +1,223 @@
+#include "Epaphe_BodyModel.hpp"
+
+#include "Epaphe_CalculixImport.hpp"
+#include "Epaphe_CodeAsterImport.hpp"
+#include "Epaphe_Deck.hpp"
+#include "Epaphe_DeckSchema.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_MatrixMarketImport.hpp"
+#include "Epaphe_ReducedModelCache.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <sys/stat.h>
+
+namespace epaphe {
+
+using Teuchos::ParameterList;
+
+namespace {
+
+std::string canonical(const ParameterList& pl) {
+  std::ostringstream os;
+  pl.print(os, Teuchos::ParameterList::PrintOptions().showTypes(true).showDoc(false).indent(0));
+  return os.str();
+}
+
+std::array<double, 3> vec3(const ParameterList& pl, const std::string& key, const std::string& origin) {
+  const auto v = deck::getDoubles(pl, key);
+  EPAPHE_REQUIRE(v.size() == 3, origin << ": '" << deck::pathOf(pl, key) << "' has " << v.size()
+                                       << " values, 3 are expected, e.g. {0, 0, 0}");
+  for (double x : v) EPAPHE_REQUIRE(std::isfinite(x), origin << ": '" << deck::pathOf(pl, key) << "' holds " << x);
+  return {v[0], v[1], v[2]};
+}
+
+bool isImported(MeshType t) { return t == MeshType::Calculix || t == MeshType::MatrixMarket || t == MeshType::CodeAster; }
+
+std::string deckDirectory(const std::string& deckPath) {
+  const auto slash = deckPath.find_last_of('/');
+  return slash == std::string::npos ? std::string() : deckPath.substr(0, slash + 1);
+}
+
+bool isFile(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/// The resolved file of `key` ("" when optional and empty); an Error names the deck, key, value and fix.
+std::string fileKey(const ParameterList& mesh, const std::string& key, bool required, const std::string& deckPath,
+                    const std::string& body, const std::string& type, const std::string& suffixes = "") {
+  const std::string value = mesh.get<std::string>(key);
+  const std::string where = deckPath + ": body '" + body + "', '" + deck::pathOf(mesh, key) + "'";
+  if (value.empty()) {
+    EPAPHE_REQUIRE(!required, where << " is empty but Mesh Type " << type << " needs it; name the file, relative to "
+                                       "the deck's directory");
+    return "";
+  }
+  const std::string path = value[0] == '/' ? value : deckDirectory(deckPath) + value;
+  for (const std::string& s : suffixes.empty() ? std::vector<std::string>{""} : std::vector<std::string>{".sti", ".mas", ".dof"})
+    EPAPHE_REQUIRE(isFile(path + s), where << " = '" << value << "': no file " << path + s
+                                           << (suffixes.empty() ? "" : " (the job's .sti, .mas and .dof are read; run "
+                                                                       "ccx on a deck with *FREQUENCY, SOLVER=MATRIXSTORAGE)")
+                                           << "; paths are relative to the deck's directory");
+  return path;
+}
+
+struct ImportFiles {
+  MeshType type;
+  CalculixFiles ccx;
+  MatrixMarketFiles mm;
+  CodeAsterFiles aster;
+  std::vector<std::string> all;   // every file read
+};
+
+ImportFiles importFiles(const std::string& body, const ParameterList& bp, const std::string& deckPath) {
+  const ParameterList& mp = bp.sublist("Mesh");
+  ImportFiles f;
+  f.type = deck::getEnum<MeshType>(mp, "Type");
+  const std::string type = mp.get<std::string>("Type");
+  const std::string ctx = deckPath + ": body '" + body + "'";
+  // Keys of the other types (or of the built-in meshes) left set are mistakes worth naming.
+  auto unused = [&](std::initializer_list<const char*> keys) {
+    for (const char* k : keys)
+      EPAPHE_REQUIRE(mp.get<std::string>(k).empty(), ctx << ", '" << deck::pathOf(mp, k) << "' = '" << mp.get<std::string>(k)
+                                                          << "' is not read by Mesh Type " << type << "; remove it");
+  };
+  if (!isImported(f.type)) {
+    unused({"Input file", "Matrix job", "Stiffness file", "Mass file", "DOF file", "Node file", "Node set file",
+            "Clamped node file"});
+    return f;
+  }
+  EPAPHE_REQUIRE(bp.get<std::string>("Clamped node set").empty(),
+                 ctx << ", 'Clamped node set' = '" << bp.get<std::string>("Clamped node set") << "': an imported model "
+                     << "(Mesh Type " << type << ") carries its own boundary conditions; remove the key and fix the "
+                     << "DOFs in the exported model (CalculiX *BOUNDARY, code_aster 'Clamped node file')");
+  if (f.type == MeshType::Calculix) {
+    unused({"Stiffness file", "Mass file", "DOF file", "Node file", "Node set file", "Clamped node file"});
+    f.ccx.input = fileKey(mp, "Input file", true, deckPath, body, type);
+    std::string job = mp.get<std::string>("Matrix job");
+    if (job.empty()) {
+      const auto dot = f.ccx.input.rfind('.'), slash = f.ccx.input.rfind('/');
+      f.ccx.matrices = (dot != std::string::npos && (slash == std::string::npos || dot > slash)) ? f.ccx.input.substr(0, dot)
+                                                                                              : f.ccx.input;
+      for (const char* s : {".sti", ".mas", ".dof"})
+        EPAPHE_REQUIRE(isFile(f.ccx.matrices + s), ctx << ", 'Mesh->Matrix job' is empty, so the matrices are read from "
+                                                       << f.ccx.matrices << ".sti/.mas/.dof, but " << f.ccx.matrices + s
+                                                       << " does not exist; run ccx on " << f.ccx.input
+                                                       << " (with *FREQUENCY, SOLVER=MATRIXSTORAGE) or set 'Matrix job'");
+    } else {
+      f.ccx.matrices = fileKey(mp, "Matrix job", true, deckPath, body, type, "sti");
+    }
+    f.all = calculixInputFiles(f.ccx.input);
+    for (const char* s : {".sti", ".mas", ".dof"}) f.all.push_back(f.ccx.matrices + s);
+  } else if (f.type == MeshType::MatrixMarket) {
+    unused({"Input file", "Matrix job", "Clamped node file"});
+    f.mm.stiffness = fileKey(mp, "Stiffness file", true, deckPath, body, type);
+    f.mm.mass = fileKey(mp, "Mass file", true, deckPath, body, type);
+    f.mm.dofs = fileKey(mp, "DOF file", true, deckPath, body, type);
+    f.mm.nodes = fileKey(mp, "Node file", true, deckPath, body, type);
+    f.mm.nodeSets = fileKey(mp, "Node set file", false, deckPath, body, type);
+    f.all = {f.mm.stiffness, f.mm.mass, f.mm.dofs, f.mm.nodes};
+    if (!f.mm.nodeSets.empty()) f.all.push_back(f.mm.nodeSets);
+  } else {
+    unused({"Input file", "Matrix job"});
+    f.aster.stiffness = fileKey(mp, "Stiffness file", true, deckPath, body, type);
+    f.aster.mass = fileKey(mp, "Mass file", true, deckPath, body, type);
+    f.aster.dofs = fileKey(mp, "DOF file", true, deckPath, body, type);
+    f.aster.nodes = fileKey(mp, "Node file", true, deckPath, body, type);
+    f.aster.nodeSets = fileKey(mp, "Node set file", false, deckPath, body, type);
+    f.aster.clampedNodes = fileKey(mp, "Clamped node file", false, deckPath, body, type);
+    f.all = {f.aster.stiffness, f.aster.mass, f.aster.dofs, f.aster.nodes};
+    if (!f.aster.nodeSets.empty()) f.all.push_back(f.aster.nodeSets);
+    if (!f.aster.clampedNodes.empty()) f.all.push_back(f.aster.clampedNodes);
+  }
+  return f;
+}
+
+/// "size fnv1a64" of a file's content, read in blocks.
+std::string fileDigest(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  EPAPHE_REQUIRE(f != nullptr, path << " cannot be read to hash it; check its permissions");
+  std::uint64_t h = 1469598103934665603ULL, size = 0;
+  std::vector<unsigned char> buf(1 << 20);
+  std::size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), f)) > 0) {
+    size += n;
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ buf[i]) * 1099511628211ULL;
+  }
+  std::fclose(f);
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return std::to_string(size) + " " + hex;
+}
+
+}  // namespace
+
+std::vector<std::string> bodyModelFiles(const std::string& body, const ParameterList& bp, const std::string& deckPath) {
+  return importFiles(body, bp, deckPath).all;
+}
+
+std::string bodyModelKeyText(const std::string& body, const ParameterList& bp, const std::string& deckPath) {
+  const ImportFiles f = importFiles(body, bp, deckPath);
+  std::string text = canonical(bp.sublist("Mesh"));
+  if (!isImported(f.type)) return text + canonical(bp.sublist("Material"));
+  // The paths as resolved (a deck moved elsewhere reads other files) and what they hold.
+  for (const auto& p : f.all) text += "file " + p + " " + fileDigest(p) + "\n";
+  return text;
+}
+
+FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const std::string& deckPath,
+                         const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  const ImportFiles f = importFiles(body, bp, deckPath);
+  const std::string ctx = deckPath + ": body '" + body + "'";
+  if (f.type == MeshType::Calculix) return importCalculix(f.ccx, body, comm);
+  if (f.type == MeshType::MatrixMarket) return importMatrixMarket(f.mm, body, comm);
+  if (f.type == MeshType::CodeAster) return importCodeAster(f.aster, body, comm);
+
+  const ParameterList& mp = bp.sublist("Mesh");
+  const auto el = deck::getInts(mp, "Elements");
+  EPAPHE_REQUIRE(el.size() == 3, ctx << ": 'Mesh->Elements' has " << el.size() << " values; give {nx, ny, nz}");
+  Mesh mesh;
+  if (f.type == MeshType::Box) {
+    mesh = makeBoxMesh(vec3(mp, "Origin", deckPath), vec3(mp, "Lengths", deckPath), {el[0], el[1], el[2]});
+  } else if (f.type == MeshType::Blade) {
+    BladeGeometry g;
+    g.hubRadius = mp.get<double>("Hub radius");
+    g.tipRadius = mp.get<double>("Tip radius");
+    g.chord = mp.get<double>("Chord");
+    g.thickness = mp.get<double>("Blade thickness");
+    g.stagger = mp.get<double>("Stagger");
+    g.twist = mp.get<double>("Twist");
+    g.camber = mp.get<double>("Camber");
+    g.coneAngle = mp.get<double>("Cone angle");
+    g.axialPosition = mp.get<double>("Axial position");
+    mesh = makeBladeMesh(g, {el[0], el[1], el[2]});
+  } else {
+    const auto ang = deck::getDoubles(mp, "Angles"), ax = deck::getDoubles(mp, "Axial range");
+    EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2, ctx << ": 'Mesh->Angles' and 'Mesh->Axial range' must each "
+                                                             "be {first, last}");
+    mesh = makeRingSegmentMesh(vec3(mp, "Origin", deckPath), mp.get<double>("Inner radius"), mp.get<double>("Thickness"),
+                               {ang[0], ang[1]}, {ax[0], ax[1]}, {el[0], el[1], el[2]});
+  }
+  Material mat;
+  mat.density = bp.sublist("Material").get<double>("Density");
+  mat.young = bp.sublist("Material").get<double>("Young's modulus");
+  mat.poisson = bp.sublist("Material").get<double>("Poisson's ratio");
+  std::vector<int> clamped;
+  if (const std::string cs = bp.get<std::string>("Clamped node set"); !cs.empty())
+    clamped = mesh.nodeSet(cs, ctx + ", 'Clamped node set'");
+  return assembleHexModel(body, std::move(mesh), mat, clamped, comm);
+}
+
+CraigBamptonOptions reductionOptions(const ParameterList& rp) {
+  CraigBamptonOptions o;
+  o.modes = deck::getEnum<ReductionMethod>(rp, "Method") == ReductionMethod::Guyan ? 0 : rp.get<int>("Fixed-interface modes");
+  o.solver = rp.get<std::string>("Linear solver");
+  o.iterativeTolerance = rp.get<double>("Iterative tolerance");
+  return o;
+}
+
+}  // namespace epaphe
