@@ -382,6 +382,13 @@ std::vector<double> getDoubles(const Teuchos::ParameterList& pl, const std::stri
   const auto& a = pl.get<Teuchos::Array<double>>(name);
   return std::vector<double>(a.begin(), a.end());
 }
+std::array<double, 3> getVec3(const Teuchos::ParameterList& pl, const std::string& name, const std::string& origin) {
+  const auto v = getDoubles(pl, name);
+  EPAPHE_REQUIRE(v.size() == 3, origin << ": '" << pathOf(pl, name) << "' has " << v.size()
+                                       << " values, 3 are expected, e.g. {0, 0, 0}");
+  for (double x : v) EPAPHE_REQUIRE(std::isfinite(x), origin << ": '" << pathOf(pl, name) << "' holds " << x);
+  return {v[0], v[1], v[2]};
+}
 std::vector<int> getInts(const Teuchos::ParameterList& pl, const std::string& name) {
   const auto& a = pl.get<Teuchos::Array<int>>(name);
   return std::vector<int>(a.begin(), a.end());

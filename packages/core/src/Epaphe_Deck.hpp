@@ -13,6 +13,7 @@
 
 #include <iosfwd>
 #include <limits>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,9 @@ E getEnum(const Teuchos::ParameterList& pl, const std::string& name) {
 }
 /// A validated Array(double) entry as a std::vector.
 std::vector<double> getDoubles(const Teuchos::ParameterList& pl, const std::string& name);
+/// A point or vector {x, y, z}: exactly 3 finite values, else an error naming `origin` (the deck)
+/// and the key's path.
+std::array<double, 3> getVec3(const Teuchos::ParameterList& pl, const std::string& name, const std::string& origin);
 std::vector<int> getInts(const Teuchos::ParameterList& pl, const std::string& name);
 std::vector<std::string> getStrings(const Teuchos::ParameterList& pl, const std::string& name);
 

@@ -27,14 +27,6 @@ std::string canonical(const ParameterList& pl) {
   return os.str();
 }
 
-std::array<double, 3> vec3(const ParameterList& pl, const std::string& key, const std::string& origin) {
-  const auto v = deck::getDoubles(pl, key);
-  EPAPHE_REQUIRE(v.size() == 3, origin << ": '" << deck::pathOf(pl, key) << "' has " << v.size()
-                                       << " values, 3 are expected, e.g. {0, 0, 0}");
-  for (double x : v) EPAPHE_REQUIRE(std::isfinite(x), origin << ": '" << deck::pathOf(pl, key) << "' holds " << x);
-  return {v[0], v[1], v[2]};
-}
-
 bool isImported(MeshType t) { return t == MeshType::Calculix || t == MeshType::MatrixMarket || t == MeshType::CodeAster; }
 
 std::string deckDirectory(const std::string& deckPath) {
@@ -182,7 +174,7 @@ FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const
   EPAPHE_REQUIRE(el.size() == 3, ctx << ": 'Mesh->Elements' has " << el.size() << " values; give {nx, ny, nz}");
   Mesh mesh;
   if (f.type == MeshType::Box) {
-    mesh = makeBoxMesh(vec3(mp, "Origin", deckPath), vec3(mp, "Lengths", deckPath), {el[0], el[1], el[2]});
+    mesh = makeBoxMesh(deck::getVec3(mp, "Origin", deckPath), deck::getVec3(mp, "Lengths", deckPath), {el[0], el[1], el[2]});
   } else if (f.type == MeshType::Blade) {
     BladeGeometry g;
     g.hubRadius = mp.get<double>("Hub radius");
@@ -199,7 +191,7 @@ FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const
     const auto ang = deck::getDoubles(mp, "Angles"), ax = deck::getDoubles(mp, "Axial range");
     EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2, ctx << ": 'Mesh->Angles' and 'Mesh->Axial range' must each "
                                                              "be {first, last}");
-    mesh = makeRingSegmentMesh(vec3(mp, "Origin", deckPath), mp.get<double>("Inner radius"), mp.get<double>("Thickness"),
+    mesh = makeRingSegmentMesh(deck::getVec3(mp, "Origin", deckPath), mp.get<double>("Inner radius"), mp.get<double>("Thickness"),
                                {ang[0], ang[1]}, {ax[0], ax[1]}, {el[0], el[1], el[2]});
   }
   Material mat;

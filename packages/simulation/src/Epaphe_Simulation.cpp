@@ -53,14 +53,6 @@ extern "C" void onStopSignal(int sig) { stopSignal = sig; }
 
 const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal"; }
 
-std::array<double, 3> vec3(const ParameterList& pl, const std::string& key, const std::string& origin) {
-  const auto v = deck::getDoubles(pl, key);
-  EPAPHE_REQUIRE(v.size() == 3, origin << ": '" << deck::pathOf(pl, key) << "' has " << v.size()
-                                       << " values, 3 are expected, e.g. {0, 0, 0}");
-  for (double x : v) EPAPHE_REQUIRE(std::isfinite(x), origin << ": '" << deck::pathOf(pl, key) << "' holds " << x);
-  return {v[0], v[1], v[2]};
-}
-
 /// Checks of the deck that need no model, made before any body is built: box edge lengths, the
 /// number of surfaces, degenerate planes.
 void checkGeometry(const ParameterList& P, const std::string& origin) {
@@ -68,7 +60,7 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     const ParameterList& mp = bl.sublist(bl.name(it)).sublist("Mesh");
     if (deck::getEnum<MeshType>(mp, "Type") != MeshType::Box) continue;
-    const auto L = vec3(mp, "Lengths", origin);
+    const auto L = deck::getVec3(mp, "Lengths", origin);
     for (int d = 0; d < 3; ++d)
       EPAPHE_REQUIRE(L[d] > 0, origin << ": '" << deck::pathOf(mp, "Lengths") << "' = {" << L[0] << ", " << L[1] << ", "
                                       << L[2] << "}: the length along " << "xyz"[d] << " is " << L[d]
@@ -81,7 +73,7 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
   for (auto it = surfs.begin(); it != surfs.end(); ++it) {
     const ParameterList& s = surfs.sublist(surfs.name(it));
     if (deck::getEnum<SurfaceType>(s, "Type") != SurfaceType::Plane) continue;
-    const auto U = vec3(s, "U", origin), V = vec3(s, "V", origin);
+    const auto U = deck::getVec3(s, "U", origin), V = deck::getVec3(s, "V", origin);
     const std::array<double, 3> n = {U[1] * V[2] - U[2] * V[1], U[2] * V[0] - U[0] * V[2], U[0] * V[1] - U[1] * V[0]};
     const double nu = std::sqrt(U[0] * U[0] + U[1] * U[1] + U[2] * U[2]);
     const double nv = std::sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2]);
@@ -96,8 +88,8 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
 /// Grid (i along the arc, j along the axis) of a Cylinder arc surface: with e1 the reference
 /// direction and e2 = axis x e1, S_u x S_v points away from the axis.
 std::vector<double> cylinderArcGrid(const ParameterList& s, int na, int nz, const std::string& origin) {
-  const auto c = vec3(s, "Center", origin);
-  auto a = vec3(s, "Axis", origin), e1 = vec3(s, "Reference", origin);
+  const auto c = deck::getVec3(s, "Center", origin);
+  auto a = deck::getVec3(s, "Axis", origin), e1 = deck::getVec3(s, "Reference", origin);
   const double R = s.get<double>("Radius");
   const auto ang = deck::getDoubles(s, "Angles"), ax = deck::getDoubles(s, "Axial range");
   EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2 && ang[1] > ang[0] && ax[1] > ax[0],
@@ -353,7 +345,7 @@ void Simulation::setup() {
     b->reducedFrequencies = denseFrequencies(b->rom.K, b->rom.M, b->rom.size);
 
     // Initial velocity: uniform translation, exact in reduced coordinates (retained DOFs).
-    const auto v0 = vec3(bp, "Initial velocity", origin);
+    const auto v0 = deck::getVec3(bp, "Initial velocity", origin);
     b->v0.assign(static_cast<std::size_t>(b->rom.size), 0.0);
     for (int d = 0; d < 3; ++d) {
       const auto t = b->rom.rigidTranslation(d);
@@ -482,7 +474,7 @@ void Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
                                                       "in each direction");
     std::vector<double> grid;
     if (type == SurfaceType::Plane) {
-      const auto o = vec3(s, "Origin", origin), U = vec3(s, "U", origin), V = vec3(s, "V", origin);
+      const auto o = deck::getVec3(s, "Origin", origin), U = deck::getVec3(s, "U", origin), V = deck::getVec3(s, "V", origin);
       for (int i = 0; i < pts[0]; ++i)
         for (int j = 0; j < pts[1]; ++j)
           for (int d = 0; d < 3; ++d) grid.push_back(o[d] + U[d] * i / (pts[0] - 1) + V[d] * j / (pts[1] - 1));
@@ -497,8 +489,8 @@ void Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
     ContactSurface cs{surfaces_.back().get(), nullptr, -1, {}, {}};
     cs.omega = s.get<double>("Rotation speed");
     cs.phase = s.get<double>("Initial angle") * M_PI / 180.0;
-    cs.axis = vec3(s, "Rotation axis", origin);
-    cs.center = vec3(s, "Rotation center", origin);
+    cs.axis = deck::getVec3(s, "Rotation axis", origin);
+    cs.center = deck::getVec3(s, "Rotation center", origin);
     contactSurfaces.push_back(std::move(cs));
     surfaceCarried_.push_back(false);
   }
