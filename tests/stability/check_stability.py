@@ -40,6 +40,8 @@ def bodies(data):
 def common(data, balance_bound, penetration_bound, name):
     """No NaN/Inf anywhere, energy balance and penetration within bounds; returns the measures."""
     for k, v in data.items():
+        if k.startswith("checkpoint/warm_start"):
+            continue  # restart state: NaN there means "no closest point yet" (a cold start), by design
         assert np.all(np.isfinite(v)), f"{name}: {k} holds NaN or Inf"
     bal = float(np.max(np.abs(data["energy/balance_error"])))
     pen = 0.0
