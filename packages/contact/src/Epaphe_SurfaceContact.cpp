@@ -158,7 +158,6 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
     ops.insert(ops.end(), S.operatorV().begin(), S.operatorV().end());
     gridX_.emplace_back();
     gridPos_.emplace_back();
-    gridHost_.emplace_back();
     if (!cs.moving) continue;
     const std::size_t ng = std::size_t(S.inputNu()) * S.inputNv();
     EPAPHE_REQUIRE(cs.gridDofs.size() == 3 * ng && cs.gridX.size() == 3 * ng,
@@ -177,7 +176,6 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
     for (std::size_t g = 0; g < ng; ++g)
       for (int d = 0; d < 3; ++d) gxH(g, d) = cs.gridX[3 * g + d];
     Kokkos::deep_copy(gridX_.back(), gxH);
-    gridHost_.back().resize(3 * ng);
     maxGrid_[0] = std::max(maxGrid_[0], S.nu());
     maxGrid_[1] = std::max(maxGrid_[1], S.nv());
   }
@@ -325,8 +323,7 @@ void SurfaceContact::detect(const DenseVector& q) {
         });
     auto gxH = Kokkos::create_mirror_view(gx);
     Kokkos::deep_copy(gxH, gx);
-    std::copy(gxH.data(), gxH.data() + gxH.size(), gridHost_[s].begin());
-    surfaces_[s].moving->update(gridHost_[s].data());
+    surfaces_[s].moving->update(gxH.data());  // (ng x 3, LayoutRight: the layout update() reads)
   }
   const auto dof = dof_;
   const auto X = X_;

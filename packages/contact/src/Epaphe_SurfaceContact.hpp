@@ -217,7 +217,6 @@ private:
   Kokkos::View<double*> ops_;
   Kokkos::View<int* [6]> info_;
   std::vector<Kokkos::View<double* [3]>> gridX_, gridPos_;   // per carried surface (empty: rigid)
-  std::vector<std::vector<double>> gridHost_;
   Kokkos::View<double* [2]> foot_;        // foot point (u, v) on the selected surface
   Kokkos::View<double**> wu_, wv_;        // spline weights of the active nodes' foot points
   Kokkos::View<int** [3]> entDof_;        // entries of D_k: DOF triples, weights, count

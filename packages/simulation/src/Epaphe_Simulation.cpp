@@ -53,6 +53,14 @@ extern "C" void onStopSignal(int sig) { stopSignal = sig; }
 
 const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal"; }
 
+/// |Rotation speed| of the fastest turning surface of the deck (rad/s), 0 when none turns.
+double fastestRotation(const ParameterList& P) {
+  double omega = 0;
+  for (const auto& s : P.sublist("Surfaces"))
+    omega = std::max(omega, std::abs(P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed")));
+  return omega;
+}
+
 /// Checks of the deck that need no model, made before any body is built: box edge lengths, the
 /// number of surfaces, degenerate planes.
 void checkGeometry(const ParameterList& P, const std::string& origin) {
@@ -372,7 +380,7 @@ void Simulation::setup() {
     bodies_.push_back(std::move(b));
   }
 
-  setupSurfacesAndContact(copt);
+  const auto carriedDofs = setupSurfacesAndContact(copt);
 
   // Stable step of each body, with the penalty springs on its contact and surface DOFs.
   for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
@@ -381,7 +389,7 @@ void Simulation::setup() {
     for (int n : b->contactNodes)
       for (int d = 0; d < 3; ++d)
         if (b->rom.nodeDof[3 * n + d] >= 0) contactDofs.push_back(b->rom.nodeDof[3 * n + d]);
-    for (int i : carriedDofs_[ib]) contactDofs.push_back(i - b->offset);
+    contactDofs.insert(contactDofs.end(), carriedDofs[ib].begin(), carriedDofs[ib].end());
     const double kAdded = (contact_ && copt.method == ContactMethod::Penalty) ? copt.penaltyStiffness : 0.0;
     b->stable = criticalTimeStep(b->rom, contactDofs, kAdded, damping);
     if (h > b->stable.critical) {
@@ -401,13 +409,13 @@ void Simulation::setup() {
   summary_.setupSeconds = watch.seconds();
 }
 
-void Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
+std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
   const ParameterList& P = *deck_.params;
   const std::string& origin = deck_.origin;
   // ---- surfaces: rigid, or carried by a body and rebuilt from its moved grid nodes -------------
   const ParameterList& surfs = P.sublist("Surfaces");
   std::vector<ContactSurface> contactSurfaces;
-  carriedDofs_.assign(bodies_.size(), {});
+  std::vector<std::vector<int>> carriedDofs(bodies_.size());
   for (auto it = surfs.begin(); it != surfs.end(); ++it) {
     const std::string name = surfs.name(it);
     const ParameterList& s = surfs.sublist(name);
@@ -454,7 +462,7 @@ void Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
           cs.gridX.push_back(b.rom.coords[node][d]);
           if (i >= 0) {
             ++free;
-            carriedDofs_[ib].push_back(b.offset + i);
+            carriedDofs[ib].push_back(i);
           }
         }
       }
@@ -516,7 +524,7 @@ void Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
       }
     b.contactEnd = static_cast<int>(nodes.labels.size());
   }
-  if (nodes.labels.empty()) return;
+  if (nodes.labels.empty()) return carriedDofs;
   // the system flexibility: block diagonal, one block per body
   flexibility_ = DenseMatrix("epaphe::system::F", systemSize_, systemSize_);
   auto Fh = Kokkos::create_mirror_view(flexibility_);
@@ -527,6 +535,7 @@ void Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
   }
   Kokkos::deep_copy(flexibility_, Fh);
   contact_ = std::make_unique<SurfaceContact>(std::move(nodes), std::move(contactSurfaces), blocks, copt, flexibility_);
+  return carriedDofs;
 }
 
 const RunSummary& Simulation::run() {
@@ -539,9 +548,7 @@ const RunSummary& Simulation::run() {
   const double h = P.sublist("Time").get<double>("Time step");
   double endTime = P.sublist("Time").get<double>("End time");
   if (const double revs = P.sublist("Time").get<double>("End revolutions"); revs > 0) {
-    double omega = 0;
-    for (const auto& s : P.sublist("Surfaces"))
-      omega = std::max(omega, std::abs(P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed")));
+    const double omega = fastestRotation(P);
     EPAPHE_REQUIRE(omega > 0, deck_.origin << ": 'Time->End revolutions' = " << revs
                                            << " but no surface turns; give a 'Rotation speed' or use 'End time'");
     endTime = revs * 2 * M_PI / omega;
@@ -625,10 +632,7 @@ const RunSummary& Simulation::run() {
   // Penalty: stable springs only give back what they hold, so the bodies' energy can never exceed
   // what they were given (initial, external work, the springs compressed by initial penetrations).
   // (Not with a turning surface: a moving casing does work on the bodies.)
-  bool turning = false;
-  for (const auto& s : P.sublist("Surfaces"))
-    turning = turning || P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed") != 0.0;
-  const bool penalty = contact_ && !turning &&
+  const bool penalty = contact_ && fastestRotation(P) == 0.0 &&
                        deck::getEnum<ContactMethod>(P.sublist("Contact"), "Method") == ContactMethod::Penalty;
   const double kp = P.sublist("Contact").get<double>("Penalty stiffness");
   double springEnergy0 = 0;

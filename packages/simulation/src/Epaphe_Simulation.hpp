@@ -77,7 +77,9 @@ public:
 
 private:
   struct Body;
-  void setupSurfacesAndContact(const ContactOptions& options);
+  /// Builds the surfaces and the contact; returns, per body, the reduced DOFs of the surfaces it
+  /// carries (penalty springs act on them too, for the stable step).
+  std::vector<std::vector<int>> setupSurfacesAndContact(const ContactOptions& options);
   void writeXdmf(long long frames) const;
   Deck deck_;
   const Runtime& rt_;
@@ -86,7 +88,6 @@ private:
   std::vector<std::unique_ptr<BSplineSurface>> surfaces_;
   std::vector<bool> surfaceCarried_;       // per surface: carried by a body (else rigid)
   int systemSize_ = 0;                      // all bodies' reduced coordinates, stacked
-  std::vector<std::vector<int>> carriedDofs_;  // per body, the DOFs of the surfaces it carries
   DenseMatrix flexibility_;                 // block-diagonal F of the system
   std::unique_ptr<SurfaceContact> contact_; // null without contact nodes or surfaces
   RunSummary summary_;

@@ -291,12 +291,10 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
   // domain by more than tol.
   const double gu = dot3(cur.d, cur.Su), gv = dot3(cur.d, cur.Sv);
   const double a = dot3(cur.Su, cur.Su), c = dot3(cur.Sv, cur.Sv);
-  const bool outU = openU && ((cur.u <= 0.0 && gu > tol * a) || (cur.u >= umax && gu < -tol * a));
-  const bool outV = openV && ((cur.v <= 0.0 && gv > tol * c) || (cur.v >= vmax && gv < -tol * c));
-  p.outside = outU || outV;
   const double bu = !openU ? 0.0 : (cur.u <= 0.0 && gu > 0.0 ? gu / a : (cur.u >= umax && gu < 0.0 ? -gu / a : 0.0));
   const double bv = !openV ? 0.0 : (cur.v <= 0.0 && gv > 0.0 ? gv / c : (cur.v >= vmax && gv < 0.0 ? -gv / c : 0.0));
   p.beyond = bu > bv ? bu : bv;
+  p.outside = p.beyond > tol;
   return p;
 }
 
