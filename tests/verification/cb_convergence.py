@@ -13,7 +13,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import parse_args, run, variant  # noqa: E402
+from epaphe_testing import parse_args, run, variant, verdict  # noqa: E402
 
 
 def main():
@@ -36,8 +36,7 @@ def main():
             failures.append(f"{modes} modes: a reduced frequency is below the full model's ({err.min():.2e})")
     if not all(worst[i + 1] < worst[i] for i in range(len(worst) - 1)):
         failures.append(f"the largest error does not fall with modes: {worst}")
-    print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
-    return 1 if failures else 0
+    return verdict(failures)
 
 
 if __name__ == "__main__":

@@ -72,3 +72,9 @@ def history(path):
         for b in f["/bodies"]:
             out[f"bodies/{b}/attrs"] = {k: v for k, v in f[f"/bodies/{b}"].attrs.items()}
     return out
+
+
+def verdict(failures):
+    """Prints PASSED, or FAILED with one line per failure; returns the exit code (0 or 1)."""
+    print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
+    return 1 if failures else 0

@@ -16,7 +16,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import history, parse_args, run, variant  # noqa: E402
+from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
 
 T0, T1, F, V0 = 2.0e-5, 1.0e-4, 1.6e6, 100.0
 TOL_TIME, TOL_FORCE, TOL_VEL = 0.01, 0.02, 0.02
@@ -136,11 +136,7 @@ def main():
     if not all(diffs[i + 1] < 0.5 * diffs[i] for i in range(len(diffs) - 1)):
         failures.append(f"time-step error does not fall (at least 2x per halving): {diffs}")
 
-    if failures:
-        print("FAILED:\n  " + "\n  ".join(failures))
-        return 1
-    print("PASSED")
-    return 0
+    return verdict(failures)
 
 
 if __name__ == "__main__":

@@ -90,7 +90,4 @@ if abs(vout - v) > 0.01 * v:
                     "the faces' effective mass at impact, 0.7 % with the deck's 100 modes)")
 if abs(h["energy/balance_error"]).max() > 1e-8:
     failures.append("energy balance error above 1e-8")
-if failures:
-    print("FAILED:\n  " + "\n  ".join(failures))
-    sys.exit(1)
-print("PASSED")
+sys.exit(et.verdict(failures))

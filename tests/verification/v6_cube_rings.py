@@ -17,7 +17,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import history, parse_args, run, variant  # noqa: E402
+from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
 
 
 def main():
@@ -63,8 +63,7 @@ def main():
                 failures.append(f"symmetry violated: {worst / scale:.2e} > 1e-6")
     if not depth[50] > depth[10]:
         failures.append(f"the 50 m/s cube does not go deeper ({depth[50]:.4f} m) than at 10 m/s ({depth[10]:.4f} m)")
-    print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
-    return 1 if failures else 0
+    return verdict(failures)
 
 
 if __name__ == "__main__":

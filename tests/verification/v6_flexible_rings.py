@@ -23,7 +23,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import history, parse_args, run, variant  # noqa: E402
+from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
 
 
 def main():
@@ -80,8 +80,7 @@ def main():
     print(f"largest penetration after correction {max(0.0, -g.min()):.2e} m")
     if -g.min() > 1e-9:
         failures.append(f"penetration {-g.min():.2e} m > 1e-9 m")
-    print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
-    return 1 if failures else 0
+    return verdict(failures)
 
 
 if __name__ == "__main__":

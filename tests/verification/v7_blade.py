@@ -14,7 +14,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import history, parse_args, run, variant  # noqa: E402
+from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
 
 a = parse_args("--rotor", "--rotor37")
 deck = variant(a.deck, os.path.join(a.workdir, "blade.xml"), {"Run->Progress interval": ("0", "double")})
@@ -67,5 +67,4 @@ if r["per_rev"] != [2] * len(r["per_rev"]) or not r["per_rev"]:
     failures.append(f"rotor 37: {r['per_rev']} leading-edge contacts per revolution, expected 2")
 if not bal <= 1e-8:
     failures.append(f"rotor 37: energy balance {bal:.2e}")
-print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
-sys.exit(1 if failures else 0)
+sys.exit(verdict(failures))

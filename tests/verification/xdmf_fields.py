@@ -12,7 +12,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import parse_args, run, variant  # noqa: E402
+from epaphe_testing import parse_args, run, variant, verdict  # noqa: E402
 
 
 def main():
@@ -58,8 +58,7 @@ def main():
         print("ParaView:", "; ".join(lines) or out.stderr[-500:])
         if not lines or int(lines[0].split()[1]) != frames:
             failures.append(f"ParaView's reader did not see {frames} time steps")
-    print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
-    return 1 if failures else 0
+    return verdict(failures)
 
 
 if __name__ == "__main__":
