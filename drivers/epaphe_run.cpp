@@ -1,6 +1,7 @@
 // epaphe-run: runs one deck.
 //
 //   epaphe-run DECK.xml [--threads N] [--output FILE] [--check] [--restart FILE.h5]
+//   epaphe-run DECK.xml --speeds W1,W2,... [--revolutions R] [--threads N]
 //   epaphe-run --print-parameters
 //
 // --check validates the deck and stops; --print-parameters prints every valid parameter with its
@@ -10,6 +11,12 @@
 // ..."; the exit code is then 128 + the signal (130, 143). Errors go to stderr on rank 0 as one
 // message, and the exit code is 1 (2 for a wrong command line; 3 after --stop-after-steps N, a
 // testing option that stops like SIGTERM after N steps).
+//
+// --speeds runs the deck once per rotation speed (rad/s; every turning surface takes it, with its
+// own sign), the speeds dealt round-robin to the MPI ranks (mpirun -np P epaphe-run ...): each
+// rank runs its decks alone, on its own communicator, and writes speed-<W>.h5 and
+// speed-<W>.summary.txt in the working directory. --revolutions R sets each run's length. The
+// exit code is 1 when any run failed (each failure is reported by the rank that ran it).
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Error.hpp"
@@ -17,15 +24,64 @@
 #include "Epaphe_Simulation.hpp"
 #include "Epaphe_Version.hpp"
 
+#include <Teuchos_CommHelpers.hpp>
+
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 const char* usage =
     "usage: epaphe-run DECK.xml [--threads N] [--output FILE] [--check] [--restart FILE.h5]\n"
+    "       epaphe-run DECK.xml --speeds W1,W2,... [--revolutions R] [--threads N]\n"
     "       epaphe-run --print-parameters\n";
+
+/// "600,1000,1.4e3" -> {600, 1000, 1400}; false when an item is not a number.
+bool parseList(const std::string& text, std::vector<double>& values) {
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0') return false;
+    values.push_back(v);
+  }
+  return !values.empty();
 }
+
+/// The speed sweep: this rank's share of `speeds`, each run alone. Returns the exit code.
+int runSpeeds(epaphe::Runtime& rt, const epaphe::Deck& deck, const std::vector<double>& speeds, double revolutions) {
+  const auto world = rt.worldComm();
+  const int me = world->getRank(), ranks = world->getSize();
+  rt.useOwnCommunicator();
+  int code = 0;
+  for (std::size_t k = me; k < speeds.size(); k += ranks) {
+    std::ostringstream stem;
+    stem << "speed-" << speeds[k];
+    try {
+      epaphe::Deck d = epaphe::deckAtSpeed(deck, speeds[k], revolutions, stem.str() + ".h5");
+      epaphe::Simulation sim(d, rt, "");
+      sim.setup();
+      const epaphe::RunSummary& s = sim.run();
+      std::ofstream summary(stem.str() + ".summary.txt");
+      sim.printSummary(summary);
+      std::ostringstream line;
+      line << "epaphe-run: rank " << me << ": " << speeds[k] << " rad/s, " << s.steps << " steps, "
+           << s.stepsPerSecond << " steps/s -> " << stem.str() << ".h5\n";
+      std::cout << line.str() << std::flush;
+    } catch (const std::exception& e) {
+      std::cerr << "epaphe-run: error (rank " << me << ", " << speeds[k] << " rad/s): " << e.what() << "\n";
+      code = 1;
+    }
+  }
+  int worst = 0;
+  Teuchos::reduceAll(*world, Teuchos::REDUCE_MAX, code, Teuchos::outArg(worst));
+  return worst;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   epaphe::Runtime rt(&argc, &argv);
@@ -34,6 +90,8 @@ int main(int argc, char** argv) {
   bool check = false;
   std::string restart;
   long long stopAfter = -1;
+  std::vector<double> speeds;
+  double revolutions = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--print-parameters") {
@@ -50,6 +108,17 @@ int main(int argc, char** argv) {
       restart = argv[++i];
     } else if (a == "--stop-after-steps" && i + 1 < argc) {
       stopAfter = std::atoll(argv[++i]);
+    } else if (a == "--speeds" && i + 1 < argc) {
+      if (!parseList(argv[++i], speeds)) {
+        if (rt.rank() == 0) std::cerr << "epaphe-run: --speeds " << argv[i] << ": give numbers separated by commas\n";
+        return 2;
+      }
+    } else if (a == "--revolutions" && i + 1 < argc) {
+      revolutions = std::atof(argv[++i]);
+      if (!(revolutions > 0)) {
+        if (rt.rank() == 0) std::cerr << "epaphe-run: --revolutions " << argv[i] << ": give a number > 0\n";
+        return 2;
+      }
     } else if (a == "--check") {
       check = true;
     } else if (a == "--help" || a == "-h") {
@@ -78,6 +147,13 @@ int main(int argc, char** argv) {
       return 0;
     }
     rt.initializeKokkos(threads >= 0 ? threads : deck.params->sublist("Run").get<int>("Threads"));
+    if (!speeds.empty()) {
+      if (!restart.empty() || !output.empty() || stopAfter >= 0) {
+        if (rt.rank() == 0) std::cerr << "epaphe-run: --speeds writes speed-<W>.h5 files; drop --output, --restart and --stop-after-steps\n";
+        return 2;
+      }
+      return runSpeeds(rt, deck, speeds, revolutions);
+    }
     rt.out() << "Epaphe " << epaphe::version << ": " << deckPath << " on " << rt.threads() << " thread(s), "
              << rt.size() << " MPI rank(s)\n";
     int code = 0;

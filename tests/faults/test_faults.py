@@ -1,6 +1,6 @@
 """Faults: checkpoints, restart bit for bit, SIGINT/SIGTERM, kill -9.
 
-  test_faults.py --case restart|signals|kill9|errors --run EPAPHE_RUN --deck bar-on-wall.xml
+  test_faults.py --case restart|signals|kill9|kill9-storm|errors --run EPAPHE_RUN --deck bar-on-wall.xml
                  [--flexible-deck cube-flexible-rings.xml] --workdir DIR
 
 restart: a run stopped at steps (--stop-after-steps, twice) and restarted each time from its
@@ -12,6 +12,10 @@ signals: SIGINT and SIGTERM sent to a long run after its first progress line: ex
          restart from that file runs on.
 kill9:   after SIGKILL the file opens with h5py, status "running", every series readable up to the
          checkpoint's records, and the run restarts from it.
+kill9-storm: 12 SIGKILLs at random times into runs that record every step and checkpoint every
+         100 steps (checkpoints then take much of the loop's time, so kills fall into them): every
+         file must be intact as for kill9 (the checkpoint /checkpoint/current names is complete,
+         every series it counts reads back finite, /time = k h) and restart from it.
 errors:  restart with another deck, of a complete run, of a missing checkpoint: one clear message.
 """
 import argparse
@@ -28,7 +32,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "verification")
 from epaphe_testing import variant  # noqa: E402
 
 ap = argparse.ArgumentParser()
-ap.add_argument("--case", required=True, choices=["restart", "signals", "kill9", "errors"])
+ap.add_argument("--case", required=True, choices=["restart", "signals", "kill9", "kill9-storm", "errors"])
 ap.add_argument("--run", required=True)
 ap.add_argument("--deck", required=True)
 ap.add_argument("--flexible-deck")
@@ -69,10 +73,16 @@ def datasets(path, skip_checkpoint=True):
     return out
 
 
+def last_checkpoint(f):
+    """The slot /checkpoint/current names: the last complete checkpoint."""
+    return f["checkpoint/%d" % f["checkpoint/current"][0]]
+
+
 def checkpoint_lengths(f):
-    paths = f["checkpoint/series_paths"][()]
+    c = last_checkpoint(f)
+    paths = c["series_paths"][()]
     paths = (paths.decode() if isinstance(paths, bytes) else paths).split()
-    return dict(zip(paths, f["checkpoint/series_lengths"][()]))
+    return dict(zip(paths, c["series_lengths"][()]))
 
 
 # a bar on the wall with friction (sliding along y), records every step, field frames; 1200 steps
@@ -103,7 +113,7 @@ if a.case == "restart":
         st = status(os.path.join(W, B))
         check(st.startswith(f"stopped: stopped after {stops[0]} steps"), f"{name}: stopped at step {stops[0]}: {st[:60]}")
         with h5py.File(os.path.join(W, B), "r") as f:
-            check(f["checkpoint/counters"][0] == stops[0], f"{name}: checkpoint at step {stops[0]}")
+            check(last_checkpoint(f)["counters"][0] == stops[0], f"{name}: checkpoint at step {stops[0]}")
         run([deck, "--restart", B, "--stop-after-steps", str(stops[1])], 3)
         p = run([deck, "--restart", B], 0)
         check(f"restarting {B} at step {stops[1]}" in p.stdout, f"{name}: second restart from step {stops[1]}")
@@ -145,7 +155,7 @@ elif a.case in ("signals", "kill9"):
         st = status(path)
         with h5py.File(path, "r") as f:
             lengths = checkpoint_lengths(f)
-            step = int(f["checkpoint/counters"][0])
+            step = int(last_checkpoint(f)["counters"][0])
             h = f["run"].attrs["time_step"]
             for p, n in lengths.items():
                 d = f[p][()]
@@ -164,6 +174,42 @@ elif a.case in ("signals", "kill9"):
         check(f"at step {step} of" in p.stdout, f"{name}: restart from step {step}")
         with h5py.File(path, "r") as f:
             check(len(f["time"]) == step + 300, f"{name}: restarted run appended 300 records")
+
+elif a.case == "kill9-storm":
+    import random
+    rng = random.Random(20261121)
+    storm = variant(a.deck, os.path.join(W, "storm.xml"), dict(bar_overrides, **{
+        "Time->End time": "1.0", "Output->Every": ("1", "int"), "Output->Fields every": ("20", "int"),
+        "Output->Checkpoint every": ("100", "int")}))
+    run([storm, "--output", "warm.h5", "--stop-after-steps", "10"], 3)  # the reduction, cached for all
+    intact, kills = 0, 12
+    for k in range(kills):
+        out = f"storm-{k}.h5"
+        path = os.path.join(W, out)
+        proc = subprocess.Popen([a.run, storm, "--output", out, "--threads", "1"], cwd=W, env=ENV,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        time.sleep(0.4 + 1.2 * rng.random())
+        proc.kill()
+        proc.wait()
+        try:
+            with h5py.File(path, "r") as f:
+                lengths = checkpoint_lengths(f)
+                step = int(last_checkpoint(f)["counters"][0])
+                h = f["run"].attrs["time_step"]
+                ok = step > 0
+                for p, n in lengths.items():
+                    d = f[p][()]
+                    ok = ok and d.shape[0] >= n and bool(np.all(np.isfinite(d[:n])))
+                t = f["time"][:lengths["/time"]]
+                ok = ok and np.array_equal(t, np.arange(len(t)) * h)
+            p = run([storm, "--restart", out, "--stop-after-steps", str(step + 50)], 3)
+            ok = ok and f"at step {step} of" in p.stdout
+        except Exception as e:  # noqa: BLE001 -- any failure to read is what this case counts
+            print(f"kill {k}: {type(e).__name__}: {e}")
+            ok = False
+        intact += bool(ok)
+        print(f"kill {k}: checkpoint at step {step if ok else '?'}: {'intact' if ok else 'DAMAGED'}")
+    check(intact == kills, f"kill9-storm: {intact} of {kills} files intact and restartable after SIGKILL")
 
 elif a.case == "errors":
     deck = variant(a.deck, os.path.join(W, "e.xml"), dict(bar_overrides, **{"Time->End time": "2e-5"}))

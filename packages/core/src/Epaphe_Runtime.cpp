@@ -2,6 +2,7 @@
 
 #include <Kokkos_Core.hpp>
 #include <Teuchos_DefaultComm.hpp>
+#include <Teuchos_DefaultMpiComm.hpp>
 #include <Teuchos_GlobalMPISession.hpp>
 
 #include <cstdio>
@@ -19,7 +20,8 @@ std::ostream nullStream(&nullBuffer);
 }  // namespace
 
 Runtime::Runtime(int* argc, char*** argv)
-    : mpi_(std::make_unique<Teuchos::GlobalMPISession>(argc, argv, nullptr)) {}
+    : mpi_(std::make_unique<Teuchos::GlobalMPISession>(argc, argv, nullptr)),
+      comm_(Teuchos::DefaultComm<int>::getComm()) {}
 
 Runtime::~Runtime() {
   if (kokkos_ && Kokkos::is_initialized()) Kokkos::finalize();
@@ -43,9 +45,14 @@ void Runtime::initializeKokkos(int threads) {
 int Runtime::threads() const {
   return Kokkos::is_initialized() ? Kokkos::DefaultHostExecutionSpace::concurrency() : 0;
 }
-int Runtime::rank() const { return Teuchos::GlobalMPISession::getRank(); }
-int Runtime::size() const { return Teuchos::GlobalMPISession::getNProc(); }
-Teuchos::RCP<const Teuchos::Comm<int>> Runtime::comm() const { return Teuchos::DefaultComm<int>::getComm(); }
+int Runtime::rank() const { return comm_->getRank(); }
+int Runtime::size() const { return comm_->getSize(); }
+Teuchos::RCP<const Teuchos::Comm<int>> Runtime::comm() const { return comm_; }
+// An MpiComm, not a SerialComm: Amesos2's MUMPS adapter takes the raw MPI communicator.
+void Runtime::useOwnCommunicator() {
+  comm_ = Teuchos::rcp(new Teuchos::MpiComm<int>(Teuchos::opaqueWrapper<MPI_Comm>(MPI_COMM_SELF)));
+}
+Teuchos::RCP<const Teuchos::Comm<int>> Runtime::worldComm() const { return Teuchos::DefaultComm<int>::getComm(); }
 std::ostream& Runtime::out() const { return rank() == 0 ? std::cout : nullStream; }
 
 std::string formatDuration(double s) {

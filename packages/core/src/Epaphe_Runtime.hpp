@@ -26,14 +26,21 @@ public:
   void initializeKokkos(int threads);
   int threads() const;
 
+  /// Rank and size in the communicator the runs use: MPI_COMM_WORLD, or this process alone
+  /// after useOwnCommunicator().
   int rank() const;
   int size() const;
   Teuchos::RCP<const Teuchos::Comm<int>> comm() const;
+  /// From now on the runs of this process use a communicator of this process alone, so that each
+  /// MPI rank runs its own decks (a speed sweep distributed over ranks). worldComm() still sees all.
+  void useOwnCommunicator();
+  Teuchos::RCP<const Teuchos::Comm<int>> worldComm() const;
   /// std::cout on rank 0, a sink elsewhere.
   std::ostream& out() const;
 
 private:
   std::unique_ptr<Teuchos::GlobalMPISession> mpi_;
+  Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   bool kokkos_ = false;
 };
 

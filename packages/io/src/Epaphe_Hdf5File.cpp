@@ -157,6 +157,7 @@ struct FileState {
   Hdf5File::Mode mode = Hdf5File::Mode::ReadOnly;
   hid_t fid = H5I_INVALID_HID;
   std::vector<SeriesState*> series;  // live Series writing into this file
+  bool compressSeries = true;
 };
 
 struct SeriesState {
@@ -689,6 +690,8 @@ Hdf5File::Mode Hdf5File::mode() const { return state("mode").mode; }
 
 bool Hdf5File::isOpen() const { return state_ && state_->fid >= 0; }
 
+void Hdf5File::setSeriesCompression(bool on) { state("setSeriesCompression").compressSeries = on; }
+
 void Hdf5File::flush() {
   FileState& f = state("flush");
   for (SeriesState* s : f.series) flushSeries(*s);
@@ -895,7 +898,7 @@ Series::Series(Hdf5File& file, const std::string& rawPath, std::vector<std::uint
     Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
     if (!dcpl.valid() || H5Pset_chunk(dcpl.get(), static_cast<int>(rank), chunk.data()) < 0)
       fail(f.path, "cannot set chunks " + dimsText(chunk) + " for series " + sq(s.path));
-    if (deflateAvailable() && (H5Pset_shuffle(dcpl.get()) < 0 || H5Pset_deflate(dcpl.get(), 1) < 0))
+    if (f.compressSeries && deflateAvailable() && (H5Pset_shuffle(dcpl.get()) < 0 || H5Pset_deflate(dcpl.get(), 1) < 0))
       fail(f.path, "cannot set compression for series " + sq(s.path));
     s.dset = Handle(H5Dcreate2(f.fid, s.path.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(),
                                H5P_DEFAULT),

@@ -51,6 +51,11 @@ public:
   /// Writes the buffered records of every live Series of this file, then flushes HDF5's
   /// caches to disk.
   void flush();
+  /// Whether Series created from now on compress their chunks (default: yes). A compressed chunk
+  /// written again (a partial chunk flushed, then completed) may move or change size, so a process
+  /// killed during that write can leave records already flushed unreadable; an uncompressed chunk
+  /// is rewritten in place with the same bytes for the records it held.
+  void setSeriesCompression(bool on);
   /// Like the destructor, but throws on failure. Any later use of the object throws; the
   /// Series still attached to it can no longer append.
   void close();
@@ -105,7 +110,8 @@ private:
 
 /// Time series: an extendable, chunked dataset of doubles whose first dimension is the record
 /// index, each record of the fixed shape `recordDims` (empty = one scalar per record). Chunks are
-/// compressed (shuffle + deflate level 1) when the HDF5 library has deflate.
+/// compressed (shuffle + deflate level 1) when the HDF5 library has deflate and the file's
+/// setSeriesCompression is on.
 ///
 /// Buffered: appended records are kept in memory and written in blocks of `bufferRecords`;
 /// flush() writes what is buffered, and so do the destructor, Hdf5File::flush(), close() and

@@ -5,6 +5,9 @@
 #include "Epaphe_SurfaceContact.hpp"
 #include "Epaphe_CentralDifference.hpp"
 
+#include <Teuchos_XMLParameterListHelpers.hpp>
+
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -190,8 +193,13 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addInt(out, "Fields every", 0, "Steps between two frames of the full displacement field of every body, "
                                    "written to /bodies/<b>/fields with an XDMF file <output stem>.xmf that ParaView "
                                    "opens (0: none)", 0);
+    addBool(out, "Compression", false, "Compress the histories (shuffle + deflate): smaller files, but a compressed "
+                                       "chunk completed after a checkpoint is written anew elsewhere or in place with "
+                                       "other bytes, so a process killed during that write can damage records already "
+                                       "flushed; uncompressed (the default), a kill -9 at any time leaves every record of "
+                                       "the last checkpoint readable");
     addInt(out, "Checkpoint every", 0, "Steps between two checkpoints (0: none by step count). A checkpoint stores in "
-                                       "/checkpoint what the run needs to continue bit for bit (step, q_{n-1} and q_n, "
+                                       "the older of /checkpoint/0 and /checkpoint/1, then names it in /checkpoint/current, what the run needs to continue bit for bit (step, q_{n-1} and q_n, "
                                        "energy and summary accumulators, the contact's warm starts, the records of every "
                                        "series) and flushes the file; `epaphe-run DECK --restart FILE` continues from the "
                                        "last one. Checkpoints are also taken at step 0, every 'Checkpoint interval' "
@@ -215,6 +223,35 @@ Deck readDeckFromString(const std::string& xml, const std::string& origin) {
   d.params->setName("Epaphe");
   validateAndSetDefaults(*d.params, *validDeckParameters(), origin, xml);
   return d;
+}
+
+Deck deckAtSpeed(const Deck& deck, double omega, double revolutions, const std::string& outputFile) {
+  EPAPHE_REQUIRE(std::isfinite(omega) && omega > 0,
+                 deck.origin << ": rotation speed " << omega << " rad/s for a speed sweep; give speeds > 0");
+  auto raw = readXmlString(deck.text, deck.origin);
+  int turning = 0;
+  if (raw->isSublist("Surfaces")) {
+    Teuchos::ParameterList& surfs = raw->sublist("Surfaces");
+    for (auto it = surfs.begin(); it != surfs.end(); ++it) {
+      if (!surfs.isSublist(surfs.name(it))) continue;
+      Teuchos::ParameterList& s = surfs.sublist(surfs.name(it));
+      if (s.isType<double>("Rotation speed") && s.get<double>("Rotation speed") != 0.0) {
+        s.set("Rotation speed", std::copysign(omega, s.get<double>("Rotation speed")));
+        ++turning;
+      }
+    }
+  }
+  EPAPHE_REQUIRE(turning > 0, deck.origin << ": no surface turns (no non-zero 'Surfaces-><name>->Rotation speed'), "
+                                          "so a speed sweep has nothing to vary");
+  if (revolutions > 0) {
+    Teuchos::ParameterList& time = raw->sublist("Time");
+    time.remove("End time", false);
+    time.set("End revolutions", revolutions);
+  }
+  raw->sublist("Output").set("File", outputFile);
+  std::ostringstream xml;
+  Teuchos::writeParameterListToXmlOStream(*raw, xml);
+  return readDeckFromString(xml.str(), deck.origin);
 }
 
 Deck readDeck(const std::string& path) {

@@ -26,4 +26,10 @@ struct Deck {
 Deck readDeck(const std::string& path);
 Deck readDeckFromString(const std::string& xml, const std::string& origin);
 
+/// The deck run at another rotation speed (a point of a speed sweep): every surface that turns
+/// turns at `omega` rad/s instead, with its own sign; `revolutions` > 0 replaces the end time by
+/// that many revolutions; the output goes to `outputFile`. The text is rewritten to match, so the
+/// output's /run/deck is the deck that ran. A deck where no surface turns is an error.
+Deck deckAtSpeed(const Deck& deck, double omega, double revolutions, const std::string& outputFile);
+
 }  // namespace epaphe

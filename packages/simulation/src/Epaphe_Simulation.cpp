@@ -390,7 +390,11 @@ void Simulation::setup() {
       for (int d = 0; d < 3; ++d)
         if (b->rom.nodeDof[3 * n + d] >= 0) contactDofs.push_back(b->rom.nodeDof[3 * n + d]);
     contactDofs.insert(contactDofs.end(), carriedDofs[ib].begin(), carriedDofs[ib].end());
-    const double kAdded = (contact_ && copt.method == ContactMethod::Penalty) ? copt.penaltyStiffness : 0.0;
+    // The penalty acts on the predicted gap (forward increment, eq. 2.28 with lambda = kp (-g*)):
+    // for a mass m on a spring kp alone, u_{n+1} = (1 - a)(2 u_n - u_{n-1}), a = h^2 kp / m, whose
+    // roots stay in the unit circle for a <= 4/3, a third of the 4 of an ordinary spring
+    // (h omega <= 2). So each penalty spring counts three times in the estimate.
+    const double kAdded = (contact_ && copt.method == ContactMethod::Penalty) ? 3.0 * copt.penaltyStiffness : 0.0;
     b->stable = criticalTimeStep(b->rom, contactDofs, kAdded, damping);
     if (h > b->stable.critical) {
       std::ostringstream os;
@@ -568,8 +572,9 @@ const RunSummary& Simulation::run() {
   // checkpoint, and reads the checkpoint after the series are set up (below).
   const bool fresh = restart_.empty();
   io::Hdf5File file(output_, fresh ? io::Hdf5File::Mode::Create : io::Hdf5File::Mode::ReadWrite);
+  file.setSeriesCompression(P.sublist("Output").get<bool>("Compression"));
   if (!fresh) {
-    EPAPHE_REQUIRE(file.exists("/run/deck") && file.exists("/checkpoint/counters"),
+    EPAPHE_REQUIRE(file.exists("/run/deck") && file.exists("/checkpoint/current"),
                    restart_ << ": no checkpoint to restart from (not an Epaphe output, or written before the "
                                "first checkpoint); run the deck anew");
     const std::string status = file.stringAttribute("/", "status");
@@ -738,14 +743,17 @@ const RunSummary& Simulation::run() {
   long long frames = 0, records = 0;
 
   // ---- checkpoints -------------------------------------------------------------------------------
-  // Everything the next steps depend on, overwritten in place (fixed shapes): the step to run
-  // next, q_{n-1} and q_n of the system, the accumulators (contact work, per body damping and
-  // external work; the summary's contact times, impulse, peak force, worst balance error), the
-  // contact's warm starts, and the records of every series. Then the buffered records are written
-  // and the file flushed (H5Fflush). Between checkpoints nothing is written to the file: the series
+  // Everything the next steps depend on (fixed shapes): the step to run next, q_{n-1} and q_n of
+  // the system, the accumulators (contact work, per body damping and external work; the summary's
+  // contact times, impulse, peak force, worst balance error), the contact's warm starts, and the
+  // records of every series. Between checkpoints nothing is written to the file: the series
   // buffers (1024 records, 16 field frames) never fill, a checkpoint being taken when they are one
-  // record short. A process killed between checkpoints thus leaves the file exactly as the last
-  // checkpoint flushed it, readable and restartable.
+  // record short. A checkpoint first writes and flushes (H5Fflush) the buffered records, then
+  // overwrites the older of two slots, /checkpoint/0 and /checkpoint/1, flushes, and only then
+  // points /checkpoint/current at it and flushes again. A process killed at any moment thus leaves
+  // a complete checkpoint in the slot /checkpoint/current names; with uncompressed series
+  // (Output->Compression false, the default) the records it counts are intact too, since an
+  // uncompressed chunk is rewritten in place with the same bytes for the records it already held.
   std::vector<io::Series*> series = {&sTime, &sKin, &sStrain, &sTotal, &sWork, &sExt, &sDamp, &sBal};
   for (BodyRun& r : runs) {
     series.push_back(r.momentum.get());
@@ -774,12 +782,13 @@ const RunSummary& Simulation::run() {
     auto hv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
     return std::vector<double>(hv.data(), hv.data() + hv.extent(0));
   };
+  int slot = 0;  // the slot the next checkpoint overwrites
   auto checkpoint = [&](long long nextStep) {
     Stopwatch w;
     // First the buffered records, flushed: a kill before the checkpoint's own data is flushed then
     // leaves series at least as long as the previous checkpoint's lengths (a restart cuts them).
     file.flush();
-    const std::string c = "/checkpoint";
+    const std::string c = "/checkpoint/" + std::to_string(slot);
     if (!file.exists(c + "/series_paths")) {
       file.writeString(c + "/series_paths", seriesPaths);
       std::string names;
@@ -807,6 +816,9 @@ const RunSummary& Simulation::run() {
     for (const io::Series* s : series) lengths.push_back(static_cast<long long>(s->size()));
     file.writeInts(c + "/series_lengths", lengths);
     file.flush();  // H5Fflush
+    file.writeInts("/checkpoint/current", std::vector<long long>{slot, nextStep});
+    file.flush();
+    slot = 1 - slot;
     recordsAtCheckpoint = records;
     framesAtCheckpoint = frames;
     ++summary_.checkpoints;
@@ -817,14 +829,20 @@ const RunSummary& Simulation::run() {
   if (fresh) {
     checkpoint(0);
   } else {
-    // Restore the last checkpoint; cut the series to its records.
-    const auto counters = file.readInts("/checkpoint/counters");
-    EPAPHE_REQUIRE(counters.size() == 3 && counters[0] >= 0 && counters[0] <= nSteps,
-                   restart_ << ": /checkpoint/counters is damaged or from another run");
-    EPAPHE_REQUIRE(file.readString("/checkpoint/series_paths") == seriesPaths,
+    // Restore the last complete checkpoint; cut the series to its records; the next checkpoint
+    // goes to the other slot.
+    const auto current = file.readInts("/checkpoint/current");
+    EPAPHE_REQUIRE(current.size() == 2 && (current[0] == 0 || current[0] == 1),
+                   restart_ << ": /checkpoint/current is damaged or from another run");
+    const std::string c = "/checkpoint/" + std::to_string(current[0]);
+    slot = 1 - static_cast<int>(current[0]);
+    const auto counters = file.readInts(c + "/counters");
+    EPAPHE_REQUIRE(counters.size() == 3 && counters[0] == current[1] && counters[0] <= nSteps,
+                   restart_ << ": " << c << "/counters is damaged or from another run");
+    EPAPHE_REQUIRE(file.readString(c + "/series_paths") == seriesPaths,
                    restart_ << ": its series are not those of this deck's run; run the deck anew");
-    const auto lengths = file.readInts("/checkpoint/series_lengths");
-    EPAPHE_REQUIRE(lengths.size() == series.size(), restart_ << ": /checkpoint/series_lengths has " << lengths.size()
+    const auto lengths = file.readInts(c + "/series_lengths");
+    EPAPHE_REQUIRE(lengths.size() == series.size(), restart_ << ": " << c << "/series_lengths has " << lengths.size()
                                                              << " entries, " << series.size() << " expected");
     for (std::size_t i = 0; i < series.size(); ++i) series[i]->truncate(static_cast<std::size_t>(lengths[i]));
     firstStep = counters[0];
@@ -838,10 +856,10 @@ const RunSummary& Simulation::run() {
       std::copy(values.begin(), values.end(), hv.data());
       Kokkos::deep_copy(v, hv);
     };
-    load(Q[iPrev], "/checkpoint/q_prev");
-    load(Q[iCur], "/checkpoint/q");
-    const auto acc = file.readDoubles("/checkpoint/accumulators");
-    EPAPHE_REQUIRE(acc.size() == accumulatorNames.size(), restart_ << ": /checkpoint/accumulators has " << acc.size()
+    load(Q[iPrev], c + "/q_prev");
+    load(Q[iCur], c + "/q");
+    const auto acc = file.readDoubles(c + "/accumulators");
+    EPAPHE_REQUIRE(acc.size() == accumulatorNames.size(), restart_ << ": " << c << "/accumulators has " << acc.size()
                                                                    << " values, " << accumulatorNames.size()
                                                                    << " expected");
     contactWork = acc[1];
@@ -854,7 +872,7 @@ const RunSummary& Simulation::run() {
       runs[ib].diss = acc[7 + 2 * ib];
       runs[ib].ext = acc[8 + 2 * ib];
     }
-    if (contact_) contact_->setWarmStarts(file.readDoubles("/checkpoint/warm_start"));
+    if (contact_) contact_->setWarmStarts(file.readDoubles(c + "/warm_start"));
     file.flush();
     out << "restarting " << restart_ << " at step " << firstStep << " of " << nSteps << " (t = " << firstStep * h
         << " s)\n";
@@ -983,9 +1001,8 @@ const RunSummary& Simulation::run() {
           std::ostringstream os;
           os << "the energy of the bodies grew to " << total << " J at t = " << t << " s, more than the " << given
              << " J they were given (initial, external work, initial penalty springs): the penalty contact is "
-                "unstable at this time step (the penalty on the predicted gap is stable for h^2 kp / m below about "
-                "4/3, a third of what the critical-step estimate allows); use a smaller 'Penalty stiffness' or "
-                "'Time step'";
+                "unstable at this time step (the penalty on the predicted gap is stable for h^2 kp / m below "
+                "4/3); use a smaller 'Penalty stiffness' or 'Time step'";
           fail(os.str());
         }
       }
