@@ -74,6 +74,16 @@ def history(path):
     return out
 
 
+def load_script(path, name):
+    """A driver script without a .py suffix (drivers/epaphe-rotor, ...) imported as module `name`."""
+    import importlib.machinery
+    import importlib.util
+    loader = importlib.machinery.SourceFileLoader(name, path)
+    module = importlib.util.module_from_spec(importlib.util.spec_from_loader(name, loader))
+    loader.exec_module(module)
+    return module
+
+
 def verdict(failures):
     """Prints PASSED, or FAILED with one line per failure; returns the exit code (0 or 1)."""
     print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")

@@ -14,19 +14,14 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
+from epaphe_testing import history, load_script, parse_args, run, variant, verdict  # noqa: E402
 
 a = parse_args("--rotor", "--rotor37")
 deck = variant(a.deck, os.path.join(a.workdir, "blade.xml"), {"Run->Progress interval": ("0", "double")})
 out = run([a.run, deck], a.workdir)
 print("\n".join(l for l in out.stdout.splitlines() if "steps/s" in l or "per-step" in l or "contact:" in l))
 h5 = os.path.join(a.workdir, "blade-casing.h5")
-sys.path.insert(0, os.path.dirname(a.rotor))
-import importlib.machinery, importlib.util  # noqa: E402
-loader = importlib.machinery.SourceFileLoader("epaphe_rotor", a.rotor)
-spec = importlib.util.spec_from_loader("epaphe_rotor", loader)
-rotor = importlib.util.module_from_spec(spec)
-loader.exec_module(rotor)
+rotor = load_script(a.rotor, "epaphe_rotor")
 failures = []
 res = rotor.contact_events(h5, "Blade", ["tip-le", "tip-te"], skip=3)
 for name, expected in (("tip-le", 2), ("tip-te", 6)):

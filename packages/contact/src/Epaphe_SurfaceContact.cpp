@@ -39,22 +39,27 @@ std::vector<ContactSurface> rigidSurfaces(const std::vector<const BSplineSurface
 
 /// Node k's motion relative to its surface, D_k v (see the header), as a list of entries
 /// (DOF triple, weight): the node itself with weight 1, then the grid nodes of a carried surface
-/// with weights -w_p w_q (DOF -1: clamped, fixed). Valid for the nodes relativeFlexibility() saw
-/// active. Copy into kernels by value.
+/// with weights -w_p w_q (DOF -1: clamped, fixed), whose motion is in the carrying body's frame and
+/// turned into the node's by rot(k) (R of a turning surface, else the identity). Valid for the
+/// nodes relativeFlexibility() saw active. Copy into kernels by value.
 struct RelativeMotion {
   Kokkos::View<int** [3]> dof;
   Kokkos::View<double**> w;
   Kokkos::View<int*> count;
+  Kokkos::View<double* [3][3]> rot;
 
-  /// (D_k v)_d for any accessor v(i) of the system coordinates.
+  /// r = D_k v for any accessor v(i) of the system coordinates:
+  ///   r_d = v(node DOF d) + sum_e R_k(d, e) sum_(m >= 1) w_m v(grid DOF (m, e)).
   template <class V>
-  KOKKOS_INLINE_FUNCTION double apply(int k, int d, const V& v) const {
-    double r = 0.0;
-    for (int m = 0; m < count(k); ++m) {
-      const int i = dof(k, m, d);
-      if (i >= 0) r += w(k, m) * v(i);
-    }
-    return r;
+  KOKKOS_INLINE_FUNCTION void apply(int k, const V& v, double r[3]) const {
+    double g[3] = {0.0, 0.0, 0.0};
+    for (int m = 1; m < count(k); ++m)
+      for (int e = 0; e < 3; ++e) {
+        const int i = dof(k, m, e);
+        if (i >= 0) g[e] += w(k, m) * v(i);
+      }
+    for (int d = 0; d < 3; ++d)
+      r[d] = w(k, 0) * v(dof(k, 0, d)) + rot(k, d, 0) * g[0] + rot(k, d, 1) * g[1] + rot(k, d, 2) * g[2];
   }
 };
 
@@ -199,9 +204,8 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
     auto tH = Kokkos::create_mirror_view(turn_);
     for (int s = 0; s < ns; ++s) {
       ContactSurface& cs = surfaces_[s];
-      EPAPHE_REQUIRE(std::isfinite(cs.omega) && (cs.omega == 0.0 || !cs.moving),
-                     "contact: surface '" << cs.surface->name() << "' turns at " << cs.omega
-                                          << " rad/s; only rigid surfaces can turn (a finite speed)");
+      EPAPHE_REQUIRE(std::isfinite(cs.omega), "contact: surface '" << cs.surface->name() << "' turns at " << cs.omega
+                                                                    << " rad/s; give a finite speed");
       const double l = std::sqrt(cs.axis[0] * cs.axis[0] + cs.axis[1] * cs.axis[1] + cs.axis[2] * cs.axis[2]);
       EPAPHE_REQUIRE(l > 0.0, "contact: surface '" << cs.surface->name() << "' has a zero rotation axis");
       for (double& a : cs.axis) a /= l;
@@ -210,8 +214,8 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
         tH(s, 1 + d) = cs.axis[d];
         tH(s, 4 + d) = cs.center[d];
       }
-      EPAPHE_REQUIRE(std::isfinite(cs.phase) && (cs.phase == 0.0 || !cs.moving),
-                     "contact: surface '" << cs.surface->name() << "' has an initial angle; only rigid surfaces turn");
+      EPAPHE_REQUIRE(std::isfinite(cs.phase), "contact: surface '" << cs.surface->name() << "' has the initial angle "
+                                                                    << cs.phase << " rad; give a finite angle");
       xs_.emplace_back(cs.omega != 0.0 || cs.phase != 0.0 ? Kokkos::View<double* [3]>("epaphe::contact::x_surface", nc)
                                        : Kokkos::View<double* [3]>());
     }
@@ -235,6 +239,7 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   entDof_ = Kokkos::View<int** [3]>("epaphe::contact::entry_dof", nc, maxEntries);
   entW_ = Kokkos::View<double**>("epaphe::contact::entry_weight", nc, maxEntries);
   entN_ = Kokkos::View<int*>("epaphe::contact::entries", nc);
+  entRot_ = Kokkos::View<double* [3][3]>("epaphe::contact::entry_rotation", nc);
   C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
   x_ = Kokkos::View<double* [3]>("epaphe::contact::x", nc);
   normal_ = Kokkos::View<double* [3]>("epaphe::contact::normal", nc);
@@ -471,7 +476,7 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
         });
     if (opt_.method == ContactMethod::Penalty || pass == kMaxAddPasses) break;
     // corrected gaps of the nodes outside the active set
-    const RelativeMotion D{entDof_, entW_, entN_};
+    const RelativeMotion D{entDof_, entW_, entN_, entRot_};
     const auto normal = normal_;
     const auto gap = gap_;
     const auto surf = surf_;
@@ -483,8 +488,9 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
         KOKKOS_LAMBDA(const int k, int& n) {
           corrected(k) = 0;
           if (surf(k) < 0 || force(k) != 0.0 || !(gap(k) < 1e300)) return;
-          double g = gap(k);
-          for (int d = 0; d < 3; ++d) g += normal(k, d) * D.apply(k, d, dq);
+          double g = gap(k), r[3];
+          D.apply(k, dq, r);
+          for (int d = 0; d < 3; ++d) g += normal(k, d) * r[d];
           if (g < -eps) {
             corrected(k) = 1;
             ++n;
@@ -533,7 +539,7 @@ void SurfaceContact::prepareFriction(const DenseVector& q, const DenseVector& qn
   const auto state = state_;
   const auto returns = returns_;
   const auto x = x_;
-  const RelativeMotion D{entDof_, entW_, entN_};
+  const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   const Difference<DenseVector> dq{q, qn};
   const auto surfOf = surf_;
   const auto turn = turn_;
@@ -542,10 +548,8 @@ void SurfaceContact::prepareFriction(const DenseVector& q, const DenseVector& qn
   Kokkos::parallel_for(
       "epaphe::contact::friction_prepare", numNodes(), KOKKOS_LAMBDA(const int k) {
         double n[3], dsp[3], dn = 0.0, dd = 0.0, xx = 0.0;
-        for (int e = 0; e < 3; ++e) {
-          n[e] = normal(k, e);
-          dsp[e] = D.apply(k, e, dq);  // relative motion d_a = D_a (q* - q_n)
-        }
+        for (int e = 0; e < 3; ++e) n[e] = normal(k, e);
+        D.apply(k, dq, dsp);  // relative motion d_a = D_a (q* - q_n)
         if (surfOf(k) >= 0 && turn(surfOf(k), 0) != 0.0) {
           // less the turning surface's own motion over the step, h omega a x (S - c)
           const int s = surfOf(k);
@@ -615,6 +619,8 @@ void SurfaceContact::motionEntries() {
   const auto entDof = entDof_;
   const auto entW = entW_;
   const auto entN = entN_;
+  const auto entRot = entRot_;
+  const auto rot = rot_;
   const int maxE = static_cast<int>(entW_.extent(1));
   Kokkos::parallel_for(
       "epaphe::contact::relative_motion", numNodes(), KOKKOS_LAMBDA(const int k) {
@@ -622,6 +628,8 @@ void SurfaceContact::motionEntries() {
         entW(k, 0) = 1.0;
         int m = 1;
         const int s = surf(k);
+        for (int d = 0; d < 3; ++d)  // R of the surface at this detection (identity when it does not turn)
+          for (int e = 0; e < 3; ++e) entRot(k, d, e) = s >= 0 ? rot(s, d, e) : (d == e ? 1.0 : 0.0);
         if (s >= 0 && info(s, 0) >= 0) {
           // w_p = sum_r b_r B(i + r, p): the cubic basis (eq. 2.22) contracted with the rows of the
           // interpolation operator (eq. 2.26, row-major n_ext x n) the patch reads
@@ -671,6 +679,7 @@ void SurfaceContact::relativeColumns() {
   const auto Y = Y_;
   const auto blocks = blocks_;
   const auto nodeBlk = nodeBlk_;
+  const auto rot = entRot_;
   const int N = static_cast<int>(F.extent(0));
   // Y(:, 3k + e) = sum_m w_m F(:, dof_m,e): axpys of contiguous columns over the entry's block
   Kokkos::parallel_for(
@@ -679,22 +688,26 @@ void SurfaceContact::relativeColumns() {
         for (int i = 0; i < N; ++i) Y(i, c) = 0.0;
         const int s = surf(k);
         for (int m = 0; m < entN(k); ++m) {
-          const int j = entDof(k, m, e);
-          if (j < 0) continue;
           const int blk = m == 0 ? nodeBlk(k) : info(s, 0);
           const int b0 = blocks(blk, 0), b1 = b0 + blocks(blk, 1);
-          const double w = entW(k, m);
-          for (int i = b0; i < b1; ++i) Y(i, c) += w * F(i, j);
+          // row e of D_k: the node's own DOF e; a grid node's DOFs e2 with w R_k(e, e2) (turned)
+          for (int e2 = 0; e2 < 3; ++e2) {
+            const double w = m == 0 ? (e2 == e ? entW(k, 0) : 0.0) : entW(k, m) * rot(k, e, e2);
+            const int j = entDof(k, m, e2);
+            if (w == 0.0 || j < 0) continue;
+            for (int i = b0; i < b1; ++i) Y(i, c) += w * F(i, j);
+          }
         }
       });
   const auto C = C_;
-  const RelativeMotion D{entDof_, entW_, entN_};
+  const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   Kokkos::parallel_for(
       "epaphe::contact::relative_flexibility", nA * nA, KOKKOS_LAMBDA(const int ab) {
         const int ka = active(ab / nA), kb = active(ab % nA);
         for (int e = 0; e < 3; ++e) {
-          const Column<decltype(Y)> col{Y, 3 * kb + e};
-          for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = D.apply(ka, d, col);
+          double r[3];
+          D.apply(ka, Column<decltype(Y)>{Y, 3 * kb + e}, r);
+          for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = r[d];
         }
       });
   Kokkos::fence();
@@ -1012,14 +1025,16 @@ double SurfaceContact::workIncrement(const DenseVector& qNext, const DenseVector
   if (numActive_ == 0) return w;
   const auto dir = dir_;
   const auto force = force_;
-  const RelativeMotion D{entDof_, entW_, entN_};
+  const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   const Difference<DenseVector> dq{qNext, qPrev};
   Kokkos::parallel_reduce(
       "epaphe::contact::work", numNodes(),
       KOKKOS_LAMBDA(const int k, double& s) {
         const double l = force(k);
         if (l == 0.0) return;
-        for (int d = 0; d < 3; ++d) s += 0.5 * l * dir(k, d) * D.apply(k, d, dq);
+        double r[3];
+        D.apply(k, dq, r);
+        for (int d = 0; d < 3; ++d) s += 0.5 * l * dir(k, d) * r[d];
       },
       w);
   return w;

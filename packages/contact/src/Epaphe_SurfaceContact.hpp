@@ -15,7 +15,15 @@
 //      at the foot point, S = sum w_p w_q P_pq (rows of the operators B_u, B_v of eq. 2.26 contracted
 //      with the cubic basis, eq. 2.22; weights below 1e-12 of the largest are dropped); a rigid
 //      surface has no second term. All that follows uses D_a, so a node on a rigid surface and two
-//      flexible bodies in contact (eq. 2.33: both flexibilities in MC) are the same code;
+//      flexible bodies in contact (eq. 2.33: both flexibilities in MC) are the same code. A surface
+//      may turn (thesis section 3.3: the contact zone turns, the bodies stay): at time t it is its
+//      reference (or its carrying body's moved grid) turned by R(t) about its axis. The node is
+//      projected in the surface's frame, x_s = c + R^T (x_a - c), and the normal and foot point are
+//      turned back (n_a = R n_s). Each body vibrates in its own frame, so the grid motion of a
+//      turning carried surface is turned into the node's frame:
+//          D_a q = u_a(q) - R sum_(p,q) w_p w_q u_pq(q);
+//      the node's correction then acts along n_a, the carrying body's along R^T n_a = n_s, its own
+//      frame's normal;
 //   4. the correction direction of each node (VCT, eq. 2.31): c_a = n_a + mu_a t_a; frictionless
 //      (mu = 0, or no q_n given) c_a = n_a exactly;
 //   5. for the active nodes (g*_a < 0), the forces lambda >= 0:
@@ -104,19 +112,20 @@ struct ContactNodes {
 };
 
 /// A surface the nodes may touch. Rigid: `surface` only. Carried by a flexible body: `moving` is
-/// the same surface (rebuilt at each step), `block` its body, and per grid node of the input layout
-/// (node (i, j) at i * inputNv + j) its 3 DOF indices in q (-1: a clamped DOF) and its reference
-/// position.
+/// the same surface (rebuilt at each step, in its body's frame), `block` its body, and per grid node
+/// of the input layout (node (i, j) at i * inputNv + j) its 3 DOF indices in q (-1: a clamped DOF)
+/// and its reference position.
 struct ContactSurface {
   const BSplineSurface* surface = nullptr;
   BSplineSurface* moving = nullptr;
   int block = -1;
   std::vector<int> gridDofs;
   std::vector<double> gridX;
-  /// A rigid surface may turn about `axis` (unit) through `center` at `omega` rad/s in the bodies'
-  /// frame (thesis section 3.3: the contact zone of a rotating blade turns, the blade stays): at
-  /// time t (setTime) it is the reference surface rotated by omega t. Nodes are projected in the
-  /// surface's frame (x_s = c + R^T (x - c)); normals and foot points are turned back.
+  /// A surface (rigid or carried) may turn about `axis` (unit) through `center` at `omega` rad/s in
+  /// the contact nodes' frame (thesis section 3.3: the contact zone of a rotating blade turns, the
+  /// blade stays): at time t (setTime) it is its surface rotated by omega t + phase. Nodes are
+  /// projected in the surface's frame (x_s = c + R^T (x - c)); normals and foot points are turned
+  /// back; a carrying body's grid motion is turned by R in D_a (see the top of this file).
   double omega = 0.0;
   double phase = 0.0;  // angle (rad) at t = 0: the surface is turned by omega t + phase
   std::array<double, 3> axis{0.0, 0.0, 1.0}, center{0.0, 0.0, 0.0};
@@ -222,6 +231,7 @@ private:
   Kokkos::View<int** [3]> entDof_;        // entries of D_k: DOF triples, weights, count
   Kokkos::View<double**> entW_;
   Kokkos::View<int*> entN_;
+  Kokkos::View<double* [3][3]> entRot_;   // R of each node's surface when its entries were made
   Kokkos::View<double**, Kokkos::LayoutLeft> Y_;   // F D_k^T, column 3 k + e (active nodes)
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
   int maxGrid_[2] = {0, 0};

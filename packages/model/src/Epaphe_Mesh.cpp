@@ -14,11 +14,15 @@ namespace {
 
 /// A structured block of n0 x n1 x n2 hexahedra: node (i, j, k) is i + (n0+1) (j + (n1+1) k), at
 /// position(i, j, k); the face node sets are named faces[0..5] for i = 0, i = n0, j = 0, j = n1,
-/// k = 0, k = n2, plus "all". (i, j, k) must be a right-handed frame of the mapped block.
+/// k = 0, k = n2, plus "all". (i, j, k) must be a right-handed frame of the mapped block. With
+/// `closedJ` the block closes on itself along j (a full turn): j = n1 is j = 0, so there are n1
+/// node layers along j (node (i, j, k) is i + (n0+1) (j mod n1 + n1 k)), no faces at j = 0 and
+/// j = n1 (faces[2], faces[3] unused), and the grids of the faces along j repeat their first row.
 template <class Position>
-Mesh structuredMesh(const std::array<int, 3>& n, Position position, const std::array<const char*, 6>& faces) {
-  const int p0 = n[0] + 1, p1 = n[1] + 1, p2 = n[2] + 1;
-  auto id = [&](int i, int j, int k) { return i + p0 * (j + p1 * k); };
+Mesh structuredMesh(const std::array<int, 3>& n, Position position, const std::array<const char*, 6>& faces,
+                    bool closedJ = false) {
+  const int p0 = n[0] + 1, p1 = closedJ ? n[1] : n[1] + 1, p2 = n[2] + 1;
+  auto id = [&](int i, int j, int k) { return i + p0 * (j % p1 + p1 * k); };
   Mesh m;
   m.coords.resize(static_cast<std::size_t>(p0) * p1 * p2);
   auto& all = m.nodeSets["all"];
@@ -28,7 +32,7 @@ Mesh structuredMesh(const std::array<int, 3>& n, Position position, const std::a
         const int node = id(i, j, k);
         m.coords[node] = position(i, j, k);
         all.push_back(node);
-        const int on[6] = {i == 0, i == n[0], j == 0, j == n[1], k == 0, k == n[2]};
+        const int on[6] = {i == 0, i == n[0], !closedJ && j == 0, !closedJ && j == n[1], k == 0, k == n[2]};
         for (int f = 0; f < 6; ++f)
           if (on[f]) m.nodeSets[faces[f]].push_back(node);
       }
@@ -41,6 +45,7 @@ Mesh structuredMesh(const std::array<int, 3>& n, Position position, const std::a
   // (b, c) the next two axes cyclically (e_b x e_c = e_a): u along b (descending on the face at
   // index 0 of axis a), v along c.
   for (int f = 0; f < 6; ++f) {
+    if (closedJ && f / 2 == 1) continue;
     const int a = f / 2, b = (a + 1) % 3, c = (a + 2) % 3;
     const bool upper = f % 2 == 1;
     NodeGrid g{n[b] + 1, n[c] + 1, {}};
@@ -156,6 +161,51 @@ Mesh makeBladeMesh(const BladeGeometry& g, const std::array<int, 3>& elements) {
     m.nodeSets[std::string("tip-") + edge] = both;
   }
   return m;
+}
+
+double CasingGeometry::radiusAt(double theta, double z) const {
+  const double w = (z - axialRange[0]) / (axialRange[1] - axialRange[0]);
+  double gap = clearance;
+  if (law == ClearanceLaw::TwoLobe) {
+    const double m = std::fmod(theta, M_PI) / M_PI - 0.5;
+    gap = clearance * (1.0 - 2.0 * std::exp(-(m / 0.15) * (m / 0.15)));
+  } else if (law == ClearanceLaw::Harmonics) {
+    for (std::size_t k = 0; k < orders.size(); ++k)
+      gap -= ((1 - w) * amplitudesFirst[k] + w * amplitudesLast[k]) * std::cos(orders[k] * theta);
+  }
+  return radius + (z - axialPosition) * std::tan(coneAngle * M_PI / 180.0) + gap;
+}
+
+Mesh makeCasingMesh(const CasingGeometry& g, double thickness, const std::array<int, 3>& elements) {
+  EPAPHE_REQUIRE(g.radius > 0 && thickness > 0, "casing mesh: radius " << g.radius << " m and thickness " << thickness
+                                                                       << " m must both be > 0");
+  EPAPHE_REQUIRE(g.axialRange[1] > g.axialRange[0], "casing mesh: axial range {" << g.axialRange[0] << ", " << g.axialRange[1]
+                                                                                 << "}; give {first, last} with last > first");
+  EPAPHE_REQUIRE(g.law != ClearanceLaw::Harmonics ||
+                     (g.amplitudesFirst.size() == g.orders.size() && g.amplitudesLast.size() == g.orders.size()),
+                 "casing mesh: " << g.orders.size() << " harmonic orders but " << g.amplitudesFirst.size() << " and "
+                                 << g.amplitudesLast.size() << " amplitudes; give one amplitude per order at each end");
+  EPAPHE_REQUIRE(elements[0] >= 1 && elements[1] >= 4 && elements[2] >= 1,
+                 "casing mesh: elements {" << elements[0] << ", " << elements[1] << ", " << elements[2]
+                                           << "}; at least 1 through the thickness, 4 around the circumference and 1 "
+                                              "along the axis are needed");
+  const int nr = elements[0], nt = elements[1], nz = elements[2];
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j < nt; ++j)
+      EPAPHE_REQUIRE(g.radiusAt(2.0 * M_PI * j / nt, g.axialStation(k, nz + 1)) > 0,
+                     "casing mesh: the inner radius at " << 360.0 * j / nt << " degrees, z = " << g.axialStation(k, nz + 1)
+                                                         << " m is " << g.radiusAt(2.0 * M_PI * j / nt, g.axialStation(k, nz + 1))
+                                                         << " m; the cone and the clearance law must keep it > 0 "
+                                                            "(raise the radius, or lower the clearance or the amplitudes)");
+  // i radial, j around the axis, k axial: r x theta = z keeps every hexahedron right-handed.
+  return structuredMesh(
+      elements,
+      [&](int i, int j, int k) -> std::array<double, 3> {
+        const double th = 2.0 * M_PI * j / nt, z = g.axialStation(k, nz + 1);
+        const double r = g.radiusAt(th, z) + thickness * i / nr;
+        return {r * std::cos(th), r * std::sin(th), z};
+      },
+      {"inner", "outer", nullptr, nullptr, "front", "back"}, true);
 }
 
 }  // namespace epaphe

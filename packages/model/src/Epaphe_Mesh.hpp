@@ -74,4 +74,43 @@ struct BladeGeometry {
 };
 Mesh makeBladeMesh(const BladeGeometry& geometry, const std::array<int, 3>& elements);
 
+/// How the inner radius of a casing varies around the circumference (thesis chapter 5).
+enum class ClearanceLaw { None = 0, TwoLobe = 1, Harmonics = 2 };
+
+/// A casing about the z axis: a cone of radius `radius` at z = axialPosition and half-angle
+/// coneAngle, plus the clearance law gap(theta, z), theta from +x towards +y, z over axialRange:
+///   None:       gap = clearance;
+///   TwoLobe:    gap = c (1 - 2 exp(-((mod(theta, pi)/pi - 0.5)/0.15)^2)), c = clearance (NASA rotor
+///               37, Piollet, Nyssen & Batailly 2019, eqs. 3-4): two lobes where the casing dips c
+///               below the nominal cone;
+///   Harmonics:  gap = clearance - sum_k A_k(z) cos(n_k theta), A_k linear in z from amplitudesFirst
+///               (z = axialRange[0]) to amplitudesLast (z = axialRange[1]).
+/// The rigid Casing surface and the casing mesh's inner face both follow radius(theta, z).
+struct CasingGeometry {
+  double radius = 0.3;                       // m, of the cone at axialPosition
+  double axialPosition = 0.0;                // m
+  double coneAngle = 0.0;                    // degrees
+  std::array<double, 2> axialRange{-0.03, 0.03};
+  ClearanceLaw law = ClearanceLaw::None;
+  double clearance = 0.0;                    // m
+  std::vector<int> orders;                   // Harmonics: n_k
+  std::vector<double> amplitudesFirst, amplitudesLast;  // Harmonics: A_k at the two ends (m)
+
+  /// z of station j of n equally spaced over the axial range (j = 0 .. n - 1).
+  double axialStation(int j, int n) const { return axialRange[0] + (axialRange[1] - axialRange[0]) * j / (n - 1); }
+  /// Cone plus clearance law at (theta, z), theta in radians.
+  double radiusAt(double theta, double z) const;
+};
+
+/// A full 360-degree casing about the z axis (thesis chapter 5): a wall of `thickness` outside the
+/// inner face of `geometry` (the clearance law shapes the whole wall), z over its axial range;
+/// elements = {through the thickness, around the circumference (at least 4), along the axis}.
+/// Closed around the axis: the seam's nodes are shared, not duplicated. Node sets: all, inner,
+/// outer, front (z = first end of the axial range) and back (last end), where a casing is clamped.
+/// A node grid per face, named as its set, with S_u x S_v along the outward normal: "inner", u
+/// against the angle, v along z (towards the axis); "outer", u along the angle. The grids of the
+/// inner and outer faces run once around and repeat their first row of nodes as the last, so that
+/// a B-spline surface through them is closed (BSplineSurface detects the repeated row).
+Mesh makeCasingMesh(const CasingGeometry& geometry, double thickness, const std::array<int, 3>& elements);
+
 }  // namespace epaphe

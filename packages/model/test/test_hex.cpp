@@ -1,3 +1,4 @@
+#include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_Error.hpp"
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_HexElement.hpp"
@@ -7,7 +8,10 @@
 #include <Teuchos_DefaultComm.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
+#include <vector>
 
 using namespace epaphe;
 
@@ -133,4 +137,88 @@ TEST(Mesh, RingSegment) {
   const double exact = 7800 * 0.5 * (0.18 * 0.18 - 0.15 * 0.15) * (M_PI / 2) * 0.1;
   EXPECT_NEAR(rigidMass(full, 0), exact, 0.01 * exact);
   EXPECT_THROW(makeRingSegmentMesh({0, 0, 0}, 0.15, 0.03, {10, 5}, {0, 1}, {1, 1, 1}), Error);
+}
+
+TEST(Mesh, CasingIsClosedAroundTheAxisAndFollowsTheClearanceLaw) {
+  // The casing of inputs/blade-flexible-casing.xml, coarser: a 5-degree cone with the 2- and
+  // 6-lobe Harmonics law, 2 elements through 1 cm, 12 around, 3 along z.
+  CasingGeometry g;
+  g.radius = 0.3;
+  g.axialPosition = 0.01;
+  g.coneAngle = 5;
+  g.axialRange = {-0.03, 0.03};
+  g.law = ClearanceLaw::Harmonics;
+  g.clearance = 5e-5;
+  g.orders = {2, 6};
+  g.amplitudesFirst = {1e-4, 0};
+  g.amplitudesLast = {0, 1e-4};
+  const int nr = 2, nt = 12, nz = 3;
+  const double t = 0.01;
+  const Mesh m = makeCasingMesh(g, t, {nr, nt, nz});
+  // The seam is merged: nt node layers around the axis, not nt + 1; every node is used, none twice.
+  EXPECT_EQ(m.numNodes(), (nr + 1) * nt * (nz + 1));
+  EXPECT_EQ(m.hexes.size(), std::size_t(nr) * nt * nz);
+  std::vector<int> uses(m.coords.size(), 0);
+  for (const auto& h : m.hexes)
+    for (int n : h) ++uses[n];
+  for (int n = 0; n < m.numNodes(); ++n) EXPECT_GT(uses[n], 0) << "node " << n;
+  double closest = 1e300;
+  for (int a = 0; a < m.numNodes(); ++a)
+    for (int b = a + 1; b < m.numNodes(); ++b)
+      closest = std::min(closest, std::hypot(m.coords[a][0] - m.coords[b][0], m.coords[a][1] - m.coords[b][1],
+                                             m.coords[a][2] - m.coords[b][2]));
+  EXPECT_GT(closest, 1e-3);
+  EXPECT_EQ(m.nodeSet("inner", "test").size(), std::size_t(nt) * (nz + 1));
+  EXPECT_EQ(m.nodeSet("outer", "test").size(), std::size_t(nt) * (nz + 1));
+  EXPECT_EQ(m.nodeSet("front, back", "test").size(), 2u * (nr + 1) * nt);
+  // Inner nodes on the cone plus the law, written out here: gap = c - A2(z) cos 2 theta - A6(z) cos 6 theta.
+  auto law = [&](double th, double z) {
+    const double w = (z + 0.03) / 0.06;
+    return 0.3 + (z - 0.01) * std::tan(5 * M_PI / 180) + 5e-5 - 1e-4 * (1 - w) * std::cos(2 * th) - 1e-4 * w * std::cos(6 * th);
+  };
+  for (const char* face : {"inner", "outer"})
+    for (int n : m.nodeSet(face, "test")) {
+      const auto& x = m.coords[n];
+      const double expected = law(std::atan2(x[1], x[0]), x[2]) + (face[0] == 'o' ? t : 0.0);
+      EXPECT_NEAR(std::hypot(x[0], x[1]), expected, 1e-15) << face << " node " << n;
+    }
+  for (int n : m.nodeSet("front", "test")) EXPECT_DOUBLE_EQ(m.coords[n][2], -0.03);
+  for (int n : m.nodeSet("back", "test")) EXPECT_DOUBLE_EQ(m.coords[n][2], 0.03);
+  // The inner grid runs once around and repeats its first row: a B-spline through it is periodic
+  // along u (the repeated row dropped), open along z, with its normal towards the axis (out of
+  // the body, where a blade is).
+  const NodeGrid& gi = m.nodeGrids.at("inner");
+  ASSERT_EQ(gi.nu, nt + 1);
+  ASSERT_EQ(gi.nv, nz + 1);
+  for (int j = 0; j < gi.nv; ++j) EXPECT_EQ(gi.nodes[nt * gi.nv + j], gi.nodes[j]);
+  std::set<int> distinct(gi.nodes.begin(), gi.nodes.end());
+  EXPECT_EQ(distinct.size(), std::size_t(nt) * (nz + 1));
+  EXPECT_EQ(m.nodeGrids.count("front") + m.nodeGrids.count("back") + m.nodeGrids.count("outer"), 3u);
+  std::vector<double> pts;
+  for (int n : gi.nodes) pts.insert(pts.end(), m.coords[n].begin(), m.coords[n].end());
+  const BSplineSurface inner("inner", gi.nu, gi.nv, pts);
+  EXPECT_TRUE(inner.periodicU());
+  EXPECT_FALSE(inner.periodicV());
+  EXPECT_EQ(inner.nu(), nt);
+  const HostSurfaceView sv = inner.hostView();
+  for (double u : {0.3, 5.5, 11.7}) {
+    double S[3], Su[3], Sv[3], Suu[3], Suv[3], Svv[3], n[3];
+    evaluate(sv, u, 1.5, S, Su, Sv, Suu, Suv, Svv);
+    unitNormal(sv, Su, Sv, n);
+    EXPECT_LT((n[0] * S[0] + n[1] * S[1]) / std::hypot(S[0], S[1]), -0.99) << "u = " << u;
+  }
+  // Assembled (assembly refuses a left-handed hexahedron): the mass of a cylindrical wall, within
+  // the error of its 48 facets.
+  CasingGeometry c;
+  c.radius = 0.3;
+  c.axialRange = {0.0, 0.06};
+  const FullModel full = assembleHexModel("casing", makeCasingMesh(c, t, {1, 48, 2}), steel, {},
+                                          Teuchos::DefaultComm<int>::getComm());
+  const double exact = 7800 * M_PI * (0.31 * 0.31 - 0.3 * 0.3) * 0.06;
+  EXPECT_NEAR(rigidMass(full, 0), exact, 0.005 * exact);
+  // Fewer than 4 elements around, or a law that crosses the axis, are refused.
+  EXPECT_THROW(makeCasingMesh(g, t, {1, 3, 3}), Error);
+  CasingGeometry deep = g;
+  deep.clearance = -0.5;
+  EXPECT_THROW(makeCasingMesh(deep, t, {1, 12, 3}), Error);
 }

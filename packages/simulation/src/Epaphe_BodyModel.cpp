@@ -161,6 +161,53 @@ std::string bodyModelKeyText(const std::string& body, const ParameterList& bp, c
   return text;
 }
 
+namespace {
+
+template <class T>
+std::string listed(const std::vector<T>& v) {
+  std::ostringstream os;
+  os << "{";
+  for (std::size_t i = 0; i < v.size(); ++i) os << (i ? ", " : "") << v[i];
+  return os.str() + "}";
+}
+
+}  // namespace
+
+CasingGeometry casingGeometry(const ParameterList& pl, const std::string& radiusKey, const std::string& origin) {
+  CasingGeometry g;
+  g.radius = pl.get<double>(radiusKey);
+  g.axialPosition = pl.get<double>("Axial position");
+  g.coneAngle = pl.get<double>("Cone angle");
+  const auto ax = deck::getDoubles(pl, "Axial range");
+  EPAPHE_REQUIRE(ax.size() == 2 && ax[1] > ax[0], origin << ": '" << deck::pathOf(pl, "Axial range") << "' = "
+                                                         << listed(ax) << "; give {first, last} with last > first (m)");
+  g.axialRange = {ax[0], ax[1]};
+  g.law = deck::getEnum<ClearanceLaw>(pl, "Clearance law");
+  g.clearance = pl.get<double>("Clearance");
+  g.orders = deck::getInts(pl, "Harmonic orders");
+  g.amplitudesFirst = deck::getDoubles(pl, "Amplitudes at first end");
+  g.amplitudesLast = deck::getDoubles(pl, "Amplitudes at last end");
+  if (g.law == ClearanceLaw::Harmonics)
+    EPAPHE_REQUIRE(!g.orders.empty() && g.amplitudesFirst.size() == g.orders.size() &&
+                       g.amplitudesLast.size() == g.orders.size(),
+                   origin << ": '" << deck::pathOf(pl, "Harmonic orders") << "' has " << g.orders.size()
+                          << " orders, the amplitudes " << g.amplitudesFirst.size() << " and " << g.amplitudesLast.size()
+                          << "; give one amplitude per order at each end");
+  return g;
+}
+
+void checkCasingMesh(const std::string& body, const ParameterList& mp, const std::string& origin) {
+  const auto el = deck::getInts(mp, "Elements");
+  const std::string where = origin + ": body '" + body + "', '" + deck::pathOf(mp, "Elements") + "' = " + listed(el);
+  EPAPHE_REQUIRE(el.size() == 3, where << "; a Casing mesh needs {through the thickness, around the circumference, "
+                                          "along the axis}, e.g. {1, 48, 3}");
+  EPAPHE_REQUIRE(el[1] >= 4, where << ": " << el[1] << " element(s) around the circumference; a Casing needs at least "
+                                   << "4 (its inner face is a closed bicubic B-spline through one node per element): "
+                                   << "give e.g. {" << el[0] << ", 48, " << el[2] << "}");
+  EPAPHE_REQUIRE(el[0] >= 1 && el[2] >= 1, where << "; give at least 1 element through the thickness and along the axis");
+  casingGeometry(mp, "Inner radius", origin);
+}
+
 FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const std::string& deckPath,
                          const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   const ImportFiles f = importFiles(body, bp, deckPath);
@@ -187,6 +234,13 @@ FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const
     g.coneAngle = mp.get<double>("Cone angle");
     g.axialPosition = mp.get<double>("Axial position");
     mesh = makeBladeMesh(g, {el[0], el[1], el[2]});
+  } else if (f.type == MeshType::Casing) {
+    checkCasingMesh(body, mp, deckPath);
+    try {
+      mesh = makeCasingMesh(casingGeometry(mp, "Inner radius", deckPath), mp.get<double>("Thickness"), {el[0], el[1], el[2]});
+    } catch (const Error& e) {
+      throw Error(ctx + ", Mesh Type Casing: " + e.what());
+    }
   } else {
     const auto ang = deck::getDoubles(mp, "Angles"), ax = deck::getDoubles(mp, "Axial range");
     EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2, ctx << ": 'Mesh->Angles' and 'Mesh->Axial range' must each "

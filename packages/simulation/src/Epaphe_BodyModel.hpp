@@ -1,12 +1,13 @@
 #pragma once
-// The full model of a deck body, from its Mesh sublist: a built-in mesh (Box, Ring segment)
-// assembled with the body's Material, or a model imported from the files of an FE code (CalculiX,
-// Matrix Market, code_aster), paths relative to the deck file's directory. Also the text that
+// The full model of a deck body, from its Mesh sublist: a built-in mesh (Box, Ring segment, Blade,
+// Casing) assembled with the body's Material, or a model imported from the files of an FE code
+// (CalculiX, Matrix Market, code_aster), paths relative to the deck file's directory. Also the text that
 // keys the reduced-model cache: the Mesh sublist, the Material when it is used, and for imported
 // models the size and content hash of every file read (the CalculiX *INCLUDEs too), so that a
 // changed file recomputes the reduction.
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_FullModel.hpp"
+#include "Epaphe_Mesh.hpp"
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_ParameterList.hpp>
@@ -30,6 +31,14 @@ std::string bodyModelKeyText(const std::string& body, const Teuchos::ParameterLi
 /// Builds (built-in) or imports the body's full model on every rank of `comm`.
 FullModel buildBodyModel(const std::string& body, const Teuchos::ParameterList& bodyParams, const std::string& deckPath,
                          const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+
+/// The casing geometry and clearance law of `pl`: a Casing surface (radiusKey "Radius") or a Casing
+/// mesh ("Inner radius"). An Error names `origin` (the deck), the key, its value and the fix.
+CasingGeometry casingGeometry(const Teuchos::ParameterList& pl, const std::string& radiusKey, const std::string& origin);
+
+/// Checks a body's Casing mesh (element counts, clearance law keys) with errors naming the deck key;
+/// called before any body is built.
+void checkCasingMesh(const std::string& body, const Teuchos::ParameterList& meshParams, const std::string& origin);
 
 /// The Craig-Bampton options of the body's Reduction sublist (modes: its 'Fixed-interface modes').
 CraigBamptonOptions reductionOptions(const Teuchos::ParameterList& reductionParams);

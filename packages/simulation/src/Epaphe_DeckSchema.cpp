@@ -16,6 +16,25 @@ namespace epaphe {
 
 using namespace deck;
 
+namespace {
+
+/// The keys of a casing's clearance law, shared by the rigid Casing surface and the Casing mesh
+/// (`who` names them in the documentation, `radiusKey` is the nominal radius' key).
+void addClearanceLaw(Teuchos::ParameterList& pl, const std::string& who, const std::string& radiusKey) {
+  addEnum(pl, "Clearance law", "None", {"None", "Two-lobe", "Harmonics"},
+          {int(ClearanceLaw::None), int(ClearanceLaw::TwoLobe), int(ClearanceLaw::Harmonics)},
+          who + ": radius = " + radiusKey + " + (z - Axial position) tan(Cone angle) + gap(theta, z), theta from +x towards "
+              "+y. None: gap = Clearance; Two-lobe (NASA rotor 37, Piollet, Nyssen & Batailly 2019, eqs. 3-4): gap = "
+              "c (1 - 2 exp(-((mod(theta, pi)/pi - 0.5)/0.15)^2)), c = Clearance; Harmonics: gap = Clearance - "
+              "sum_k A_k(z) cos(n_k theta), A_k linear in z between its values at the two ends of the Axial range");
+  addDouble(pl, "Clearance", 0.0, who + ": c of the clearance law (m)");
+  addIntArray(pl, "Harmonic orders", {}, who + ", Harmonics: the orders n_k");
+  addDoubleArray(pl, "Amplitudes at first end", {}, who + ", Harmonics: A_k at the first end of the Axial range (m)");
+  addDoubleArray(pl, "Amplitudes at last end", {}, who + ", Harmonics: A_k at the last end of the Axial range (m)");
+}
+
+}  // namespace
+
 Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
   static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Epaphe"));
@@ -31,15 +50,20 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     auto& body = pl->sublist("Bodies", false, "One sublist per flexible body, named by the user").sublist(
         "*", false, "A flexible body: mesh, material, reduction, contact nodes");
     auto& mesh = body.sublist("Mesh", false, "The body's finite-element mesh");
-    addEnum(mesh, "Type", "Box", {"Box", "Ring segment", "Blade", "CalculiX", "Matrix Market", "code_aster"},
-            {int(MeshType::Box), int(MeshType::RingSegment), int(MeshType::Blade), int(MeshType::Calculix),
-             int(MeshType::MatrixMarket), int(MeshType::CodeAster)},
+    addEnum(mesh, "Type", "Box", {"Box", "Ring segment", "Blade", "Casing", "CalculiX", "Matrix Market", "code_aster"},
+            {int(MeshType::Box), int(MeshType::RingSegment), int(MeshType::Blade), int(MeshType::Casing),
+             int(MeshType::Calculix), int(MeshType::MatrixMarket), int(MeshType::CodeAster)},
             "Box: structured 8-node hexahedra, node sets all, x-, x+, y-, y+, z-, z+. Ring segment: a thick "
             "cylindrical arc about the z axis through Origin, node sets all, inner, outer, end-, end+, z-, z+. "
             "Blade: a twisted, cambered blade standing along +y about the engine axis z (Hub radius .. Tip radius, "
             "Chord, Blade thickness, Stagger, Twist, Camber, Cone angle, Axial position; Elements {span, chord, "
             "thickness}), node sets all, root, tip, le, te, pressure, suction, tip-le, tip-te; each tip node at the "
             "tip radius of its cone. "
+            "Casing: a full 360-degree casing about the z axis whose inner face follows the Clearance law of the "
+            "rigid Casing surface (Inner radius at Axial position, Cone angle, Axial range in absolute z), a wall of "
+            "Thickness outside it; Elements {through the thickness, around the circumference (at least 4), along "
+            "the axis}; node sets all, inner, outer, front and back (the faces at the first and last z, where it is "
+            "clamped); the node grids inner and outer are closed around the axis (their B-splines are periodic). "
             "CalculiX, Matrix Market, code_aster: K and M imported from the files below (paths relative to the deck "
             "file's directory); the body's Material is then unused, its boundary conditions and node sets are the "
             "files' own (CalculiX *BOUNDARY and *NSET; a node set file), plus node set 'all'");
@@ -60,11 +84,14 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
                                               "its axis (m)");
     addDoubleArray(mesh, "Lengths", {0.2, 0.02, 0.02}, "Box: edge lengths along x, y, z (m)");
     addIntArray(mesh, "Elements", {100, 1, 1}, "Box: hexahedra along x, y, z; Ring segment: through the "
-                                               "thickness, along the arc, along the axis");
-    addDouble(mesh, "Inner radius", 0.15, "Ring segment: inner radius (m)", 1e-300);
-    addDouble(mesh, "Thickness", 0.03, "Ring segment: radial thickness (m)", 1e-300);
+                                               "thickness, along the arc, along the axis; Casing: through the "
+                                               "thickness, around the circumference, along the axis");
+    addDouble(mesh, "Inner radius", 0.15, "Ring segment: inner radius; Casing: radius of the inner cone at the Axial "
+                                          "position, before the clearance law (m)", 1e-300);
+    addDouble(mesh, "Thickness", 0.03, "Ring segment, Casing: radial thickness (m)", 1e-300);
     addDoubleArray(mesh, "Angles", {135, 225}, "Ring segment: first and last angle (degrees, from +x to +y)");
-    addDoubleArray(mesh, "Axial range", {-0.05, 0.05}, "Ring segment: first and last z, from Origin (m)");
+    addDoubleArray(mesh, "Axial range", {-0.05, 0.05}, "Ring segment: first and last z, from Origin; Casing: first "
+                                                       "and last z (m)");
     addDouble(mesh, "Hub radius", 0.2, "Blade: radius of the root (m)", 1e-300);
     addDouble(mesh, "Tip radius", 0.3, "Blade: radius of the tip at the Axial position (m)", 1e-300);
     addDouble(mesh, "Chord", 0.06, "Blade: chord length (m)", 1e-300);
@@ -72,9 +99,11 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addDouble(mesh, "Stagger", 30.0, "Blade: angle of the root chord to the engine axis (degrees)");
     addDouble(mesh, "Twist", 20.0, "Blade: stagger added from root to tip (degrees)");
     addDouble(mesh, "Camber", 0.05, "Blade: height of the parabolic camber line, as a fraction of the chord");
-    addDouble(mesh, "Cone angle", 0.0, "Blade: half-angle of the tip cone (degrees; the tip radius grows by "
-                                       "tan(angle) per metre along z)", -60.0, 60.0);
-    addDouble(mesh, "Axial position", 0.0, "Blade: z of mid-chord (m)");
+    addDouble(mesh, "Cone angle", 0.0, "Blade: half-angle of the tip cone; Casing: of the inner cone (degrees; the "
+                                       "radius grows by tan(angle) per metre along z)", -60.0, 60.0);
+    addDouble(mesh, "Axial position", 0.0, "Blade: z of mid-chord; Casing: z where the inner cone's radius is the "
+                                           "Inner radius (m)");
+    addClearanceLaw(mesh, "Casing", "Inner radius");
     auto& mat = body.sublist("Material", false, "Isotropic linear elastic material of the built-in meshes (unused, and optional, for imported models)");
     addDouble(mat, "Density", 7800, "Mass density (kg/m^3)", 1e-300);
     addDouble(mat, "Young's modulus", 2.1e11, "Young's modulus (Pa)", 1e-300);
@@ -112,20 +141,11 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
             "e1); Body face: the node grid 'Node grid' of the flexible body 'Body', rebuilt from its moved nodes at "
             "every step (its nodes must be retained by the body's reduction; clamped ones stay fixed), the two "
             "bodies corrected together (eq. 2.33). Each grid is interpolated by the general bicubic B-spline code; "
-            "a grid whose last row repeats the first is closed");
+            "a grid whose last row repeats the first is closed. Casing: a closed cone about the z axis (Radius, Cone "
+            "angle, Axial position, Axial range, Points {angles, axial}) with a clearance law, facing the axis");
     addDouble(surf, "Cone angle", 0.0, "Casing: half-angle of the cone (degrees)", -60.0, 60.0);
     addDouble(surf, "Axial position", 0.0, "Casing: z where the cone's radius is Radius (m)");
-    addEnum(surf, "Clearance law", "None", {"None", "Two-lobe", "Harmonics"},
-            {int(ClearanceLaw::None), int(ClearanceLaw::TwoLobe), int(ClearanceLaw::Harmonics)},
-            "Casing: radius = Radius + (z - Axial position) tan(Cone angle) + gap(theta, z), theta from +x towards "
-            "+y. None: gap = Clearance; Two-lobe (NASA rotor 37, Piollet, Nyssen & Batailly 2019, eqs. 3-4): gap = "
-            "c (1 - 2 exp(-((mod(theta, pi)/pi - 0.5)/0.15)^2)), c = Clearance; Harmonics: gap = Clearance - "
-            "sum_k A_k(z) cos(n_k theta), A_k linear in z between its values at the two ends of the Axial range. "
-            "The surface is closed around the axis (Points {angles, axial}) and faces the axis");
-    addDouble(surf, "Clearance", 0.0, "Casing: c of the clearance law (m)");
-    addIntArray(surf, "Harmonic orders", {}, "Casing, Harmonics: the orders n_k");
-    addDoubleArray(surf, "Amplitudes at first end", {}, "Casing, Harmonics: A_k at the first end of the Axial range (m)");
-    addDoubleArray(surf, "Amplitudes at last end", {}, "Casing, Harmonics: A_k at the last end of the Axial range (m)");
+    addClearanceLaw(surf, "Casing", "Radius");
     addString(surf, "Body", "", "Body face: the body that carries the surface");
     addString(surf, "Node grid", "", "Body face: the body's ordered face, e.g. x+ (Box) or outer (Ring segment); "
                                      "its normal points out of the body");
@@ -140,14 +160,16 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addDouble(surf, "Radius", 0.18, "Cylinder arc: radius (m)", 1e-300);
     addDoubleArray(surf, "Angles", {-40, 40}, "Cylinder arc: first and last angle of the grid (degrees)");
     addDoubleArray(surf, "Axial range", {-0.05, 0.05}, "Cylinder arc: first and last axial coordinate (m)");
-    addDouble(surf, "Rotation speed", 0.0, "Rigid surfaces: the surface turns at this speed (rad/s) about 'Rotation "
-                                           "axis' through 'Rotation center', in the frame of the bodies (thesis "
+    addDouble(surf, "Rotation speed", 0.0, "The surface turns at this speed (rad/s) about 'Rotation axis' through "
+                                           "'Rotation center', in the frame of the contact nodes' bodies (thesis "
                                            "section 3.3: for a blade spinning at +Omega in its casing, the casing "
-                                           "turns at -Omega about the engine axis)");
-    addDouble(surf, "Initial angle", 0.0, "Rigid surfaces: the angle (degrees) the surface is turned by at t = 0, "
-                                          "about the rotation axis");
-    addDoubleArray(surf, "Rotation axis", {0, 0, 1}, "Rigid surfaces: axis of the rotation (need not be unit)");
-    addDoubleArray(surf, "Rotation center", {0, 0, 0}, "Rigid surfaces: a point of the rotation axis (m)");
+                                           "turns at -Omega about the engine axis). A Body face turns with its body's "
+                                           "frame: the carrying body vibrates in its own frame, only the contact sees "
+                                           "the rotation");
+    addDouble(surf, "Initial angle", 0.0, "The angle (degrees) the surface is turned by at t = 0, about the rotation "
+                                          "axis");
+    addDoubleArray(surf, "Rotation axis", {0, 0, 1}, "Axis of the rotation (need not be unit)");
+    addDoubleArray(surf, "Rotation center", {0, 0, 0}, "A point of the rotation axis (m)");
     addBool(surf, "Flip normal", false, "The contact side is where U x V points (Plane), away from the axis "
                                         "(Cylinder arc, the convex side) or out of the body (Body face); set true "
                                         "for the other side");

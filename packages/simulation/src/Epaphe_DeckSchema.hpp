@@ -1,5 +1,7 @@
 #pragma once
 // The valid parameters of an Epaphe deck, with documentation, defaults and validators.
+#include "Epaphe_Mesh.hpp"  // ClearanceLaw
+
 #include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
 
@@ -7,11 +9,10 @@
 
 namespace epaphe {
 
-enum class MeshType { Box = 0, RingSegment = 1, Blade = 2, Calculix = 3, MatrixMarket = 4, CodeAster = 5 };
+enum class MeshType { Box = 0, RingSegment = 1, Blade = 2, Calculix = 3, MatrixMarket = 4, CodeAster = 5, Casing = 6 };
 enum class LinearSolver { Mumps = 0, Klu2 = 1, BelosCg = 2 };
 enum class ReductionMethod { CraigBampton = 0, Guyan = 1, None = 2 };
 enum class SurfaceType { Plane = 0, CylinderArc = 1, BodyFace = 2, Casing = 3 };
-enum class ClearanceLaw { None = 0, TwoLobe = 1, Harmonics = 2 };
 
 /// The whole deck: lists Run, Bodies (one sublist per body), Surfaces (one per surface),
 /// Contact, Time, Output.

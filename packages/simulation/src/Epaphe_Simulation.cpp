@@ -61,12 +61,13 @@ double fastestRotation(const ParameterList& P) {
   return omega;
 }
 
-/// Checks of the deck that need no model, made before any body is built: box edge lengths, the
-/// number of surfaces, degenerate planes.
+/// Checks of the deck that need no model, made before any body is built: box edge lengths, casing
+/// meshes, the number of surfaces, degenerate planes.
 void checkGeometry(const ParameterList& P, const std::string& origin) {
   const ParameterList& bl = P.sublist("Bodies");
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     const ParameterList& mp = bl.sublist(bl.name(it)).sublist("Mesh");
+    if (deck::getEnum<MeshType>(mp, "Type") == MeshType::Casing) checkCasingMesh(bl.name(it), mp, origin);
     if (deck::getEnum<MeshType>(mp, "Type") != MeshType::Box) continue;
     const auto L = deck::getVec3(mp, "Lengths", origin);
     for (int d = 0; d < 3; ++d)
@@ -124,45 +125,32 @@ std::vector<double> cylinderArcGrid(const ParameterList& s, int na, int nz, cons
   return grid;
 }
 
-/// Grid of a Casing surface: around the z axis, a cone of radius Radius + (z - Axial position)
-/// tan(Cone angle) plus the clearance law gap(theta, z); nt distinct angles and the first repeated
-/// (a closed surface), nz axial positions over the Axial range. Laws (theta from +x towards +y):
-///   None:       gap = Clearance;
-///   Two-lobe:   gap = c (1 - 2 exp(-((mod(theta, pi)/pi - 0.5)/0.15)^2)), c = Clearance (rotor 37,
-///               Piollet, Nyssen & Batailly 2019, eqs. 3-4): two lobes where the casing dips c below the
-///               blade tip;
-///   Harmonics:  gap = Clearance - sum_k A_k(z) cos(n_k theta), A_k linear in z from 'Amplitudes at
-///               first end' to 'Amplitudes at last end' over the Axial range.
+/// Grid of a Casing surface: around the z axis, the casing's radius(theta, z) (cone and clearance
+/// law, CasingGeometry::radiusAt, the law the Casing mesh's inner face follows too); nt distinct
+/// angles and the first repeated (a closed surface), nz axial positions over the Axial range.
 std::vector<double> casingGrid(const ParameterList& s, int nt, int nz, const std::string& origin) {
-  const double R = s.get<double>("Radius"), zc = s.get<double>("Axial position");
-  const double tanCone = std::tan(s.get<double>("Cone angle") * M_PI / 180.0), c = s.get<double>("Clearance");
-  const auto ax = deck::getDoubles(s, "Axial range");
-  EPAPHE_REQUIRE(ax.size() == 2 && ax[1] > ax[0], origin << ": '" << deck::pathOf(s, "Axial range")
-                                                       << "' must be {first, last} with last > first");
-  const auto law = deck::getEnum<ClearanceLaw>(s, "Clearance law");
-  const auto orders = deck::getInts(s, "Harmonic orders");
-  const auto a0 = deck::getDoubles(s, "Amplitudes at first end"), a1 = deck::getDoubles(s, "Amplitudes at last end");
-  if (law == ClearanceLaw::Harmonics)
-    EPAPHE_REQUIRE(!orders.empty() && a0.size() == orders.size() && a1.size() == orders.size(),
-                   origin << ": '" << deck::pathOf(s, "Harmonic orders") << "' has " << orders.size()
-                          << " orders, the amplitudes " << a0.size() << " and " << a1.size() << "; give one amplitude per order at each end");
+  const CasingGeometry g = casingGeometry(s, "Radius", origin);
   std::vector<double> grid;
   for (int i = 0; i <= nt; ++i) {
     const double th = 2.0 * M_PI * (i % nt) / nt;
     for (int j = 0; j < nz; ++j) {
-      const double z = ax[0] + (ax[1] - ax[0]) * j / (nz - 1), w = (z - ax[0]) / (ax[1] - ax[0]);
-      double gap = c;
-      if (law == ClearanceLaw::TwoLobe) {
-        const double m = std::fmod(th, M_PI) / M_PI - 0.5;
-        gap = c * (1.0 - 2.0 * std::exp(-(m / 0.15) * (m / 0.15)));
-      } else if (law == ClearanceLaw::Harmonics) {
-        for (std::size_t k = 0; k < orders.size(); ++k) gap -= ((1 - w) * a0[k] + w * a1[k]) * std::cos(orders[k] * th);
-      }
-      const double r = R + (z - zc) * tanCone + gap;
+      const double z = g.axialStation(j, nz), r = g.radiusAt(th, z);
       grid.insert(grid.end(), {r * std::cos(th), r * std::sin(th), z});
     }
   }
   return grid;
+}
+
+/// The rotation of a surface (thesis section 3.3), rigid or carried by a body: 'Rotation speed',
+/// 'Initial angle', 'Rotation axis', 'Rotation center'.
+void setRotation(ContactSurface& cs, const ParameterList& s, const std::string& origin) {
+  cs.omega = s.get<double>("Rotation speed");
+  cs.phase = s.get<double>("Initial angle") * M_PI / 180.0;
+  cs.axis = deck::getVec3(s, "Rotation axis", origin);
+  cs.center = deck::getVec3(s, "Rotation center", origin);
+  EPAPHE_REQUIRE(cs.axis[0] != 0.0 || cs.axis[1] != 0.0 || cs.axis[2] != 0.0,
+                 origin << ": '" << deck::pathOf(s, "Rotation axis") << "' = {0, 0, 0}; give the axis direction, e.g. "
+                                                                        "{0, 0, 1}");
 }
 
 std::string stem(const std::string& path) {
@@ -443,7 +431,12 @@ std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactO
       if (git == b.rom.nodeGrids.end()) {
         ErrorBuilder eb;
         eb << origin << ": '" << deck::pathOf(s, "Node grid") << "' = '" << gridName << "' is not a node grid of body '"
-           << bodyName << "'; it has:";
+           << bodyName << "'; ";
+        if (b.rom.nodeGrids.empty())
+          eb << "it has none (imported models have no node grid); carry the surface by a built-in mesh (Box: x-, x+, "
+                "y-, y+, z-, z+; Ring segment and Casing: inner, outer, ...)";
+        else
+          eb << "it has:";
         for (const auto& [g, grid] : b.rom.nodeGrids) eb << " '" << g << "' (" << grid.nu << " x " << grid.nv << ")";
         eb.raise();
       }
@@ -472,8 +465,17 @@ std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactO
       }
       EPAPHE_REQUIRE(free > 0, origin << ": surface '" << name << "': every node of grid '" << gridName
                                       << "' is clamped; use a rigid surface");
+      EPAPHE_REQUIRE(b.contactSet.empty(),
+                     origin << ": surface '" << name << "' is carried by body '" << bodyName << "' ('"
+                            << deck::pathOf(s, "Body") << "'), whose own nodes are contact nodes ('"
+                            << deck::pathOf(P.sublist("Bodies").sublist(bodyName), "Contact node set") << "' = '"
+                            << b.contactSet << "'): a node cannot touch a surface of its own body"
+                            << (s.get<double>("Rotation speed") != 0.0 ? " (nor can a surface turn relative to its own "
+                                                                         "body)" : "")
+                            << "; carry the surface by another body, or remove that 'Contact node set'");
       surfaces_.push_back(std::make_unique<BSplineSurface>(name, g.nu, g.nv, cs.gridX, so));
       cs.surface = cs.moving = surfaces_.back().get();
+      setRotation(cs, s, origin);
       surfaceCarried_.push_back(true);
       contactSurfaces.push_back(std::move(cs));
       continue;
@@ -499,12 +501,14 @@ std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactO
     const int nu = type == SurfaceType::Casing ? pts[0] + 1 : pts[0];  // the casing repeats its first row: closed
     surfaces_.push_back(std::make_unique<BSplineSurface>(name, nu, pts[1], grid, so));
     ContactSurface cs{surfaces_.back().get(), nullptr, -1, {}, {}};
-    cs.omega = s.get<double>("Rotation speed");
-    cs.phase = s.get<double>("Initial angle") * M_PI / 180.0;
-    cs.axis = deck::getVec3(s, "Rotation axis", origin);
-    cs.center = deck::getVec3(s, "Rotation center", origin);
+    setRotation(cs, s, origin);
     contactSurfaces.push_back(std::move(cs));
     surfaceCarried_.push_back(false);
+  }
+
+  for (auto& dofs : carriedDofs) {  // a closed grid repeats its first row
+    std::sort(dofs.begin(), dofs.end());
+    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
   }
 
   // ---- contact: every body's contact nodes against every surface, one joint correction ----------
