@@ -1,4 +1,6 @@
 """Helpers for Epaphe's verification tests: write deck variants, run them, read histories."""
+import importlib.machinery
+import importlib.util
 import os
 import subprocess
 import sys
@@ -72,6 +74,16 @@ def history(path):
         for b in f["/bodies"]:
             out[f"bodies/{b}/attrs"] = {k: v for k, v in f[f"/bodies/{b}"].attrs.items()}
     return out
+
+
+def exact_solution(name, run, deck):
+    """epaphe-sweep's exact solution `name` ('bar-on-wall', 'two-bars'; VERIFICATION.md V1, V2) for
+    a deck, read through epaphe-run's schema: the one the studies measure against."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "drivers", "epaphe-sweep")
+    loader = importlib.machinery.SourceFileLoader("epaphe_sweep", path)
+    sweep = importlib.util.module_from_spec(importlib.util.spec_from_loader(loader.name, loader))
+    loader.exec_module(sweep)
+    return sweep.EXACT[name](sweep.Deck(deck), sweep.Schema(run), deck)
 
 
 def verdict(failures):
