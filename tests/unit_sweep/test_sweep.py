@@ -222,6 +222,11 @@ BAD = [
   <ParameterList name="Vary"><Parameter name="Time->Time step" type="Array(string)" value="{{1e-7}}"/></ParameterList>
   <ParameterList name="Reference"><Parameter name="Exact" type="string" value="bar-on-floor"/></ParameterList>
 </ParameterList>""", ["bad-exact.xml:4", "'Reference->Exact' = 'bar-on-floor'", "bar-on-wall"]),
+    ("exact-does-not-apply", """<ParameterList name="Study">
+  <Parameter name="Deck" type="string" value="{deck}"/>
+  <ParameterList name="Vary"><Parameter name="Time->Time step" type="Array(string)" value="{{1e-7}}"/></ParameterList>
+  <ParameterList name="Reference"><Parameter name="Exact" type="string" value="two-bars"/></ParameterList>
+</ParameterList>""", ["exact-does-not-apply.xml:4", "'two-bars' does not apply", "two bodies"]),
     ("bad-measure", """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary"><Parameter name="Time->Time step" type="Array(string)" value="{{1e-7}}"/></ParameterList>

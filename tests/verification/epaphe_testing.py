@@ -1,4 +1,6 @@
 """Helpers for Epaphe's verification tests: write deck variants, run them, read histories."""
+import importlib.machinery
+import importlib.util
 import os
 import subprocess
 import sys
@@ -76,12 +78,18 @@ def history(path):
 
 def load_script(path, name):
     """A driver script without a .py suffix (drivers/epaphe-rotor, ...) imported as module `name`."""
-    import importlib.machinery
-    import importlib.util
     loader = importlib.machinery.SourceFileLoader(name, path)
     module = importlib.util.module_from_spec(importlib.util.spec_from_loader(name, loader))
     loader.exec_module(module)
     return module
+
+
+def exact_solution(name, run, deck):
+    """epaphe-sweep's exact solution `name` ('bar-on-wall', 'two-bars'; VERIFICATION.md V1, V2) for
+    a deck, read through epaphe-run's schema: the one the studies measure against."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "drivers", "epaphe-sweep")
+    sweep = load_script(path, "epaphe_sweep")
+    return sweep.EXACT[name](sweep.Deck(deck), sweep.Schema(run), deck)
 
 
 def verdict(failures):
