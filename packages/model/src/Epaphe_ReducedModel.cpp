@@ -33,14 +33,6 @@ std::vector<double> ReducedModel::massTimes(const std::vector<double>& x) const 
   return y;
 }
 
-std::vector<double> ReducedModel::recoveryRows(const std::vector<int>& nodes) const {
-  EPAPHE_REQUIRE(!sparse(), "body '" << name << "': a full model has no recovery matrix (R = I): use recoveryIndex()");
-  std::vector<double> rows(3 * nodes.size() * static_cast<std::size_t>(size));
-  for (std::size_t k = 0; k < nodes.size(); ++k)
-    for (int d = 0; d < 3; ++d) std::copy_n(recoveryRow(nodes[k], d), size, rows.begin() + (3 * k + d) * size);
-  return rows;
-}
-
 std::vector<int> ReducedModel::recoveryIndex(const std::vector<int>& nodes) const {
   std::vector<int> index;
   for (int n : nodes)

@@ -61,11 +61,8 @@ struct ReducedModel {
   std::vector<double> rigidTranslation(int direction) const;
   /// M x, M dense or lumped.
   std::vector<double> massTimes(const std::vector<double>& x) const;
-  /// Rows (3 node + d) of R for `nodes` as a dense (3 nodes.size()) x size row-major array (R = I
-  /// for a full model: see recoveryIndex()).
-  std::vector<double> recoveryRows(const std::vector<int>& nodes) const;
-  /// For a full model (R = I): per row 3 k + d of `nodes`, the index in q of node k's DOF d (-1:
-  /// clamped, u = 0).
+  /// For a full model (R = I, no recovery rows): per row 3 k + d of `nodes`, the index in q of node
+  /// k's DOF d (-1: clamped, u = 0).
   std::vector<int> recoveryIndex(const std::vector<int>& nodes) const;
 };
 
