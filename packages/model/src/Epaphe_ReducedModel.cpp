@@ -40,30 +40,38 @@ std::vector<int> ReducedModel::recoveryIndex(const std::vector<int>& nodes) cons
   return index;
 }
 
-ReducedModel unreducedModel(const FullModel& full) {
+namespace {
+
+/// What an unreduced model takes from the full one: every free DOF as a coordinate, the mesh, its
+/// sets and grids, every node retained.
+ReducedModel unreducedShell(const FullModel& full, const char* method) {
   ReducedModel r;
   r.name = full.name;
-  r.method = "None";
+  r.method = method;
   r.size = full.numFree;
-  r.K = gatherDense(*full.K);
-  r.M = gatherDense(*full.M);
   r.nodeDof = full.eq;
   r.coords = full.mesh.coords;
   r.nodeSets = full.mesh.nodeSets;
   r.nodeGrids = full.mesh.nodeGrids;
   r.hexes = full.mesh.hexes;
-  r.recovery.assign(3 * static_cast<std::size_t>(full.numNodes()) * r.size, 0.0);
-  for (std::size_t i = 0; i < full.eq.size(); ++i)
-    if (full.eq[i] >= 0) r.recovery[i * r.size + full.eq[i]] = 1.0;
   for (int n = 0; n < full.numNodes(); ++n) r.retainedNodes.push_back(n);
   return r;
 }
 
+}  // namespace
+
+ReducedModel unreducedModel(const FullModel& full) {
+  ReducedModel r = unreducedShell(full, "None");
+  r.K = gatherDense(*full.K);
+  r.M = gatherDense(*full.M);
+  r.recovery.assign(3 * static_cast<std::size_t>(full.numNodes()) * r.size, 0.0);
+  for (std::size_t i = 0; i < full.eq.size(); ++i)
+    if (full.eq[i] >= 0) r.recovery[i * r.size + full.eq[i]] = 1.0;
+  return r;
+}
+
 ReducedModel sparseModel(const FullModel& full) {
-  ReducedModel r;
-  r.name = full.name;
-  r.method = "Full, lumped mass";
-  r.size = full.numFree;
+  ReducedModel r = unreducedShell(full, "Full, lumped mass");
   r.sparseK = gatherRows(*full.K);
   const SparseRows M = gatherRows(*full.M);
   r.lumpedMass.assign(static_cast<std::size_t>(r.size), 0.0);
@@ -72,12 +80,6 @@ ReducedModel sparseModel(const FullModel& full) {
                    "body '" << full.name << "': the mass matrix is not diagonal (row " << i << "); lump it first");
     r.lumpedMass[i] = M.values[M.rowStart[i]];
   }
-  r.nodeDof = full.eq;
-  r.coords = full.mesh.coords;
-  r.nodeSets = full.mesh.nodeSets;
-  r.nodeGrids = full.mesh.nodeGrids;
-  r.hexes = full.mesh.hexes;
-  for (int n = 0; n < full.numNodes(); ++n) r.retainedNodes.push_back(n);
   return r;
 }
 
