@@ -63,11 +63,25 @@ struct RelativeMotion {
   }
 };
 
+/// Column 3 k + e of F D^T as an accessor of the system rows, for RelativeMotion::apply: Y, stored
+/// on the dense rows of F; in a diagonal block of F, F_ii times the weights of node k's entries at
+/// DOF i (the only rows where D_k^T is not zero).
 template <class Y>
-struct Column {
+struct FlexibleColumn {
   Y y;
-  int c;
-  KOKKOS_INLINE_FUNCTION double operator()(int i) const { return y(i, c); }
+  Flexibility::Packed F;
+  RelativeMotion D;
+  int k, e;
+  KOKKOS_INLINE_FUNCTION double operator()(int i) const {
+    const int r = F.denseRow(i);
+    if (r >= 0) return y(r, 3 * k + e);
+    // row e of D_k (RelativeMotion::apply): w_0 at the node's DOF e, w_m R_k(e, e2) at grid DOF (m, e2)
+    double s = D.dof(k, 0, e) == i ? D.w(k, 0) : 0.0;
+    for (int m = 1; m < D.count(k); ++m)
+      for (int e2 = 0; e2 < 3; ++e2)
+        if (D.dof(k, m, e2) == i) s += D.w(k, m) * D.rot(k, e, e2);
+    return F.diag(i) * s;
+  }
 };
 
 template <class V>
@@ -80,21 +94,26 @@ struct Difference {
 
 SurfaceContact::SurfaceContact(const ReducedModel& body, const std::vector<int>& nodes,
                                std::vector<const BSplineSurface*> surfaces, const ContactOptions& options,
-                               const DenseMatrix& flexibility)
+                               const Flexibility& flexibility)
     : SurfaceContact(bodyNodes(body, nodes), rigidSurfaces(surfaces), {ContactBlock{0, body.size}}, options,
                      flexibility) {}
 
 SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> surfaces,
                                std::vector<ContactBlock> blocks, const ContactOptions& options,
-                               const DenseMatrix& flexibility)
+                               const Flexibility& flexibility)
     : opt_(options), nodes_(std::move(nodes.labels)), nodeBlock_(std::move(nodes.block)),
-      surfaces_(std::move(surfaces)), F_(flexibility) {
+      surfaces_(std::move(surfaces)), F_(flexibility.pack()) {
   const int nc = static_cast<int>(nodes_.size());
-  const int N = static_cast<int>(F_.extent(0));
+  const int N = flexibility.size();
   EPAPHE_REQUIRE(nc > 0, "contact: the contact node set is empty");
   EPAPHE_REQUIRE(!surfaces_.empty(), "contact: no surface to contact");
-  EPAPHE_REQUIRE(F_.extent(1) == F_.extent(0), "contact: flexibility matrix is " << F_.extent(0) << " x "
-                                                                                  << F_.extent(1) << ", not square");
+  EPAPHE_REQUIRE(flexibility.numBlocks() == static_cast<int>(blocks.size()),
+                 "contact: the flexibility has " << flexibility.numBlocks() << " blocks, the bodies " << blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    EPAPHE_REQUIRE(flexibility.offset(b) == blocks[b].offset && flexibility.blockSize(b) == blocks[b].size,
+                   "contact: block " << b << " of the flexibility is [" << flexibility.offset(b) << ", "
+                                     << flexibility.offset(b) + flexibility.blockSize(b) << "), its body's ["
+                                     << blocks[b].offset << ", " << blocks[b].offset + blocks[b].size << ")");
   EPAPHE_REQUIRE(surfaces_.size() <= 2, "contact: " << surfaces_.size() << " surfaces; at most 2 are supported");
   EPAPHE_REQUIRE(opt_.method != ContactMethod::Penalty || opt_.penaltyStiffness > 0,
                  "contact: penalty stiffness = " << opt_.penaltyStiffness << " N/m; it must be > 0");
@@ -223,7 +242,7 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   }
   wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, maxGrid_[0]);
   wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, maxGrid_[1]);
-  Y_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::FDt", N, 3 * nc);
+  Y_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::FDt", F_.denseRows, 3 * nc);
   dq_ = DenseVector("epaphe::contact::correction", N);
   corrected_ = Kokkos::View<int*>("epaphe::contact::added", nc);
   {  // nodes penetrating by less than 1e-12 of the model's size after the correction are not added
@@ -460,20 +479,44 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
       prepareFriction(q, *qCurrent);
       solveFriction();
     }
-    // dq = F G lambda (eqs. 2.35-2.36), G_a = D_a^T c_a, F D_a^T = Y: one pass over q.
+    // dq = F G lambda (eqs. 2.35-2.36), G_a = D_a^T c_a: on the dense rows of F, F D_a^T = Y, one
+    // pass over them; on a diagonal block, dq_i = F_ii (sum_a D_a^T c_a lambda_a)_i, scattered from
+    // the entries of D (one thread: the same sums in the same order on any number of threads).
     const auto Y = Y_;
+    const auto F = F_;
     const auto dir = dir_;
     const auto force = force_;
     Kokkos::parallel_for(
         "epaphe::contact::correction", q.extent(0), KOKKOS_LAMBDA(const int i) {
+          const int r = F.denseRow(i);
           double s = 0.0;
-          for (std::size_t k = 0; k < force.extent(0); ++k) {
+          for (std::size_t k = 0; r >= 0 && k < force.extent(0); ++k) {
             const double l = force(k);
             if (l == 0.0) continue;
-            s += l * (Y(i, 3 * k) * dir(k, 0) + Y(i, 3 * k + 1) * dir(k, 1) + Y(i, 3 * k + 2) * dir(k, 2));
+            s += l * (Y(r, 3 * k) * dir(k, 0) + Y(r, 3 * k + 1) * dir(k, 1) + Y(r, 3 * k + 2) * dir(k, 2));
           }
           dq(i) = s;
         });
+    if (F.denseRows < F.size()) {
+      const RelativeMotion Dk{entDof_, entW_, entN_, entRot_};
+      Kokkos::parallel_for(
+          "epaphe::contact::correction_diagonal", Kokkos::RangePolicy<>(0, 1), KOKKOS_LAMBDA(const int) {
+            for (std::size_t k = 0; k < force.extent(0); ++k) {
+              const double l = force(k);
+              if (l == 0.0) continue;
+              // D_k^T c: w_0 c_e at the node's DOF e; w_m (R_k^T c)_e at grid DOF (m, e)
+              for (int m = 0; m < Dk.count(k); ++m)
+                for (int e = 0; e < 3; ++e) {
+                  const int i = Dk.dof(k, m, e);
+                  if (i < 0 || F.denseRow(i) >= 0) continue;
+                  const double c = m == 0 ? dir(k, e)
+                                          : Dk.rot(k, 0, e) * dir(k, 0) + Dk.rot(k, 1, e) * dir(k, 1) +
+                                                Dk.rot(k, 2, e) * dir(k, 2);
+                  dq(i) += F.diag(i) * Dk.w(k, m) * l * c;
+                }
+            }
+          });
+    }
     if (opt_.method == ContactMethod::Penalty || pass == kMaxAddPasses) break;
     // corrected gaps of the nodes outside the active set
     const RelativeMotion D{entDof_, entW_, entN_, entRot_};
@@ -680,22 +723,24 @@ void SurfaceContact::relativeColumns() {
   const auto blocks = blocks_;
   const auto nodeBlk = nodeBlk_;
   const auto rot = entRot_;
-  const int N = static_cast<int>(F.extent(0));
-  // Y(:, 3k + e) = sum_m w_m F(:, dof_m,e): axpys of contiguous columns over the entry's block
+  const int rows = F.denseRows;
+  // Y(:, 3k + e) = sum_m w_m F(:, dof_m,e) on the dense rows: axpys of contiguous columns over the
+  // entry's block (a diagonal block's part of F D^T is read from the entries, FlexibleColumn)
   Kokkos::parallel_for(
       "epaphe::contact::relative_columns", 3 * nA, KOKKOS_LAMBDA(const int ae) {
         const int k = active(ae / 3), e = ae % 3, c = 3 * k + e;
-        for (int i = 0; i < N; ++i) Y(i, c) = 0.0;
+        for (int r = 0; r < rows; ++r) Y(r, c) = 0.0;
         const int s = surf(k);
         for (int m = 0; m < entN(k); ++m) {
           const int blk = m == 0 ? nodeBlk(k) : info(s, 0);
-          const int b0 = blocks(blk, 0), b1 = b0 + blocks(blk, 1);
+          const int b0 = blocks(blk, 0), n = blocks(blk, 1), r0 = F.denseRow(b0);
           // row e of D_k: the node's own DOF e; a grid node's DOFs e2 with w R_k(e, e2) (turned)
           for (int e2 = 0; e2 < 3; ++e2) {
             const double w = m == 0 ? (e2 == e ? entW(k, 0) : 0.0) : entW(k, m) * rot(k, e, e2);
             const int j = entDof(k, m, e2);
-            if (w == 0.0 || j < 0) continue;
-            for (int i = b0; i < b1; ++i) Y(i, c) += w * F(i, j);
+            if (w == 0.0 || j < 0 || F.denseRow(j) < 0) continue;
+            const std::size_t col = F.start(blk) + static_cast<std::size_t>(j - b0) * n;
+            for (int i = 0; i < n; ++i) Y(r0 + i, c) += w * F.dense(col + i);
           }
         }
       });
@@ -705,8 +750,9 @@ void SurfaceContact::relativeColumns() {
       "epaphe::contact::relative_flexibility", nA * nA, KOKKOS_LAMBDA(const int ab) {
         const int ka = active(ab / nA), kb = active(ab % nA);
         for (int e = 0; e < 3; ++e) {
+          const FlexibleColumn<decltype(Y)> col{Y, F, D, kb, e};
           double r[3];
-          D.apply(ka, Column<decltype(Y)>{Y, 3 * kb + e}, r);
+          D.apply(ka, col, r);
           for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = r[d];
         }
       });

@@ -1,7 +1,8 @@
 #pragma once
 // Contact of the nodes of one or more reduced bodies with B-spline surfaces, rigid or carried by
 // another flexible body (thesis section 2.5). All bodies' reduced coordinates are stacked in one
-// system vector q (body b at q[offset_b, offset_b + size_b)), whose flexibility F is block diagonal.
+// system vector q (body b at q[offset_b, offset_b + size_b)), whose flexibility F is block diagonal
+// (Epaphe_Flexibility.hpp: a block is dense, or diagonal for a full body with lumped mass).
 // After the explicit predictor has produced q* (eq. 2.2 without contact):
 //
 //   1. the surfaces carried by a body are rebuilt from its moved grid nodes (BSplineSurface::update,
@@ -62,6 +63,7 @@
 // correction) runs as named Kokkos kernels on the default execution space (OpenMP).
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ClosestPoint.hpp"
+#include "Epaphe_Flexibility.hpp"
 #include "Epaphe_ReducedModel.hpp"
 #include "Epaphe_Runtime.hpp"
 
@@ -85,9 +87,6 @@ struct ContactOptions {
   double edgeTolerance = 1e-3;      // a node beyond an open edge by less (in patches) still touches
   double timeStep = 0.0;            // h: the rotation of turning surfaces over a step (friction)
 };
-
-using DenseMatrix = Kokkos::View<double**, Kokkos::LayoutLeft>;
-using DenseVector = Kokkos::View<double*>;
 
 /// One body's block of the system coordinates: q[offset, offset + size).
 struct ContactBlock {
@@ -134,16 +133,16 @@ struct ContactSurface {
 class SurfaceContact {
 public:
   /// The general form: nodes of any bodies against rigid or carried surfaces. `flexibility` is the
-  /// system's F = (M/h^2 + D/2h)^{-1} (N x N, block diagonal over `blocks`; entries outside the
-  /// blocks are never read). Surfaces outlive this object. A surface carried by the body of a
-  /// contact node is refused (no self-contact).
+  /// system's F = (M/h^2 + D/2h)^{-1}, block diagonal with the blocks `blocks` (each dense, or
+  /// diagonal for a full body with lumped mass). Surfaces outlive this object. A surface carried by
+  /// the body of a contact node is refused (no self-contact).
   SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> surfaces, std::vector<ContactBlock> blocks,
-                 const ContactOptions& options, const DenseMatrix& flexibility);
+                 const ContactOptions& options, const Flexibility& flexibility);
   /// One body against rigid surfaces: `nodes` of `body` (each must have its 3 DOFs among the
   /// reduced coordinates); `flexibility`: the body's F, size x size.
   SurfaceContact(const ReducedModel& body, const std::vector<int>& nodes,
                  std::vector<const BSplineSurface*> surfaces, const ContactOptions& options,
-                 const DenseMatrix& flexibility);
+                 const Flexibility& flexibility);
 
   /// Time of the configuration the next correct() / measureGaps() sees (turning surfaces).
   void setTime(double t) { time_ = t; }
@@ -211,7 +210,7 @@ private:
   ContactOptions opt_;
   std::vector<int> nodes_, nodeBlock_;
   std::vector<ContactSurface> surfaces_;
-  DenseMatrix F_;
+  Flexibility::Packed F_;
   Kokkos::View<int* [3]> dof_;            // q index of each contact node DOF
   Kokkos::View<double* [3]> X_;           // reference coordinates
   Kokkos::View<int*> nodeBlk_;            // block of each node
@@ -232,7 +231,7 @@ private:
   Kokkos::View<double**> entW_;
   Kokkos::View<int*> entN_;
   Kokkos::View<double* [3][3]> entRot_;   // R of each node's surface when its entries were made
-  Kokkos::View<double**, Kokkos::LayoutLeft> Y_;   // F D_k^T, column 3 k + e (active nodes)
+  Kokkos::View<double**, Kokkos::LayoutLeft> Y_;   // F D_k^T, column 3 k + e (active nodes), dense rows of F only
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
   int maxGrid_[2] = {0, 0};
   double time_ = 0.0;

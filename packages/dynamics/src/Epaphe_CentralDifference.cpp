@@ -4,23 +4,17 @@
 
 #include <KokkosBlas1_axpby.hpp>
 #include <KokkosBlas1_dot.hpp>
-#include <KokkosBlas2_gemv.hpp>
+#include <KokkosSparse_spmv.hpp>
 #include <Teuchos_BLAS.hpp>
 #include <Teuchos_LAPACK.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <sstream>
 
 namespace epaphe {
 namespace {
-
-DenseMatrix toView(const std::vector<double>& a, int n, const char* label) {
-  DenseMatrix v(std::string(label), n, n);
-  auto h = Kokkos::create_mirror_view(v);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) h(i, j) = a[static_cast<std::size_t>(j) * n + i];
-  Kokkos::deep_copy(v, h);
-  return v;
-}
 
 /// Inverse of a symmetric positive definite matrix (column-major), by Cholesky.
 std::vector<double> spdInverse(std::vector<double> A, int n, const char* what) {
@@ -37,6 +31,83 @@ std::vector<double> spdInverse(std::vector<double> A, int n, const char* what) {
 }
 
 }  // namespace
+
+BodyOperator BodyOperator::dense(const std::vector<double>& a, int n, const std::string& label) {
+  BodyOperator op;
+  op.kind_ = Kind::Dense;
+  op.dense_ = DenseMatrix(label, n, n);
+  auto h = Kokkos::create_mirror_view(op.dense_);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) h(i, j) = a[static_cast<std::size_t>(j) * n + i];
+  Kokkos::deep_copy(op.dense_, h);
+  return op;
+}
+
+BodyOperator BodyOperator::sparse(const SparseRows& a, const std::vector<double>& rowScale, const std::string& label) {
+  BodyOperator op;
+  op.kind_ = Kind::Sparse;
+  const int n = a.rows();
+  Sparse::row_map_type::non_const_type rows(label + "::rows", n + 1);
+  Sparse::index_type::non_const_type cols(label + "::cols", a.cols.size());
+  Sparse::values_type::non_const_type values(label + "::values", a.values.size());
+  auto rh = Kokkos::create_mirror_view(rows);
+  auto ch = Kokkos::create_mirror_view(cols);
+  auto vh = Kokkos::create_mirror_view(values);
+  for (int i = 0; i <= n; ++i) rh(i) = a.rowStart[i];
+  for (int i = 0; i < n; ++i)
+    for (std::size_t k = a.rowStart[i]; k < a.rowStart[i + 1]; ++k) {
+      ch(k) = a.cols[k];
+      vh(k) = rowScale.empty() ? a.values[k] : rowScale[i] * a.values[k];
+    }
+  Kokkos::deep_copy(rows, rh);
+  Kokkos::deep_copy(cols, ch);
+  Kokkos::deep_copy(values, vh);
+  op.sparse_ = Sparse(label, n, n, a.values.size(), values, rows, cols);
+  return op;
+}
+
+BodyOperator BodyOperator::diagonal(const std::vector<double>& d, const std::string& label) {
+  BodyOperator op;
+  op.kind_ = Kind::Diagonal;
+  op.diagonal_ = DenseVector(label, d.size());
+  auto h = Kokkos::create_mirror_view(op.diagonal_);
+  for (std::size_t i = 0; i < d.size(); ++i) h(i) = d[i];
+  Kokkos::deep_copy(op.diagonal_, h);
+  return op;
+}
+
+void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const DenseVector& y) const {
+  // The per-step work of a small dense model is a few microseconds: an OpenMP kernel launch per
+  // vector operation would cost more than the work (measured: 2 threads 4.5x slower than 1 on a
+  // 112-DOF model). The vectors live in host memory (OpenMP), so dense and diagonal operators run as
+  // plain loops and one BLAS dgemv (OpenBLAS, which threads large products itself); the sparse
+  // product is KokkosKernels' spmv.
+  static_assert(Kokkos::SpaceAccessibility<Kokkos::HostSpace, DenseVector::memory_space>::accessible,
+                "the explicit step runs on host memory");
+  const int n = static_cast<int>(y.extent(0));
+  switch (kind_) {
+    case Kind::Dense: {
+      Teuchos::BLAS<int, double> blas;
+      blas.GEMV(Teuchos::NO_TRANS, n, n, alpha, dense_.data(), n, x.data(), 1, beta, y.data(), 1);
+      break;
+    }
+    case Kind::Sparse:
+      KokkosSparse::spmv("N", alpha, sparse_, x, beta, y);
+      break;
+    case Kind::Diagonal: {
+      const double* d = diagonal_.data();
+      const double* xv = x.data();
+      double* yv = y.data();
+      if (beta == 0.0)
+        for (int i = 0; i < n; ++i) yv[i] = alpha * d[i] * xv[i];
+      else
+        for (int i = 0; i < n; ++i) yv[i] = alpha * d[i] * xv[i] + beta * yv[i];
+      break;
+    }
+    case Kind::None:
+      throw Error("BodyOperator: applying an empty operator");
+  }
+}
 
 void rayleighFromRatios(double f1, double xi1, double f2, double xi2, double& alpha, double& beta) {
   EPAPHE_REQUIRE(f1 > 0 && f2 > f1, "Rayleigh damping: frequencies " << f1 << " and " << f2
@@ -70,14 +141,93 @@ std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOption
   return D;
 }
 
+HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector<int>& stiffenedDofs,
+                                    double addedStiffness) {
+  EPAPHE_REQUIRE(model.sparse(), "highestEigenvalue: body '" << model.name << "' is not a full model with lumped mass");
+  const int n = model.size;
+  std::vector<double> s(static_cast<std::size_t>(n)), spring(static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i < n; ++i) s[i] = 1.0 / std::sqrt(model.lumpedMass[i]);
+  for (int i : stiffenedDofs) spring[i] = addedStiffness;
+  HighestEigenvalue r;
+  // Gershgorin: every eigenvalue of M^{-1} (K + k S) is at most max_i sum_j |(K + k S)_ij| / m_i.
+  const SparseRows& K = model.sparseK;
+  for (int i = 0; i < n; ++i) {
+    double row = spring[i];
+    for (std::size_t k = K.rowStart[i]; k < K.rowStart[i + 1]; ++k) row += std::abs(K.values[k]);
+    r.gershgorin = std::max(r.gershgorin, row / model.lumpedMass[i]);
+  }
+  // Lanczos on A = M^{-1/2} (K + k S) M^{-1/2}: A x = s .* ((K + k S) (s .* x)), s = m^{-1/2}
+  const BodyOperator Kop = BodyOperator::sparse(K, {}, "epaphe::dynamics::lanczos::K");
+  std::vector<double> v(static_cast<std::size_t>(n)), vPrev(v.size(), 0.0);
+  const DenseVector wView("epaphe::dynamics::lanczos::w", n), svView("epaphe::dynamics::lanczos::sv", n);
+  double* w = wView.data();
+  double* sv = svView.data();
+  std::uint64_t seed = 0x9e3779b97f4a7c15ull;  // fixed: the same estimate at every run
+  double norm = 0;
+  for (double& x : v) {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    x = static_cast<double>(seed >> 11) / 9007199254740992.0 - 0.5;
+    norm += x * x;
+  }
+  for (double& x : v) x /= std::sqrt(norm);
+  std::vector<double> alpha, beta;   // T: diagonal alpha, off-diagonal beta
+  Teuchos::LAPACK<int, double> lapack;
+  const int maxIterations = std::min(n, 1000);
+  double betaPrev = 0;
+  for (int j = 0; j < maxIterations; ++j) {
+    for (int i = 0; i < n; ++i) sv[i] = s[i] * v[i];
+    Kop.apply(1.0, svView, 0.0, wView);
+    double a = 0;
+    for (int i = 0; i < n; ++i) {
+      w[i] = s[i] * (w[i] + spring[i] * sv[i]);
+      a += w[i] * v[i];
+    }
+    double b = 0;
+    for (int i = 0; i < n; ++i) {
+      w[i] -= a * v[i] + betaPrev * vPrev[i];   // w = A v_j - alpha_j v_j - beta_{j-1} v_{j-1}
+      b += w[i] * w[i];
+    }
+    b = std::sqrt(b);
+    alpha.push_back(a);
+    r.iterations = j + 1;
+    // The largest Ritz value theta of T_j and its residual bound beta_j |last component of its vector|.
+    const int m = j + 1;
+    if (m % 10 == 0 || m == maxIterations || b <= 1e-14 * std::abs(a)) {
+      std::vector<double> d(alpha), e(beta), z(static_cast<std::size_t>(m) * m), work(std::max(1, 2 * m - 2));
+      int info = 0;
+      lapack.STEQR('I', m, d.data(), e.data(), z.data(), m, work.data(), &info);
+      EPAPHE_REQUIRE(info == 0, "stable step of body '" << model.name << "': LAPACK dsteqr failed (info " << info << ")");
+      r.ritz = d[m - 1];
+      r.residual = b * std::abs(z[static_cast<std::size_t>(m - 1) * m + m - 1]);
+      if (r.residual <= 1e-10 * r.ritz) {
+        r.converged = true;
+        break;
+      }
+    }
+    if (b == 0.0) break;   // an invariant subspace without convergence: the Gershgorin bound
+    beta.push_back(b);
+    betaPrev = b;
+    for (int i = 0; i < n; ++i) {
+      vPrev[i] = v[i];
+      v[i] = w[i] / b;
+    }
+  }
+  r.value = r.converged ? std::min(r.ritz + r.residual, r.gershgorin) : r.gershgorin;
+  return r;
+}
+
 StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& stiffenedDofs, double addedStiffness,
                             const DampingOptions& damping) {
-  const int n = model.size;
-  std::vector<double> K = model.K;
-  for (int i : stiffenedDofs) K[static_cast<std::size_t>(i) * n + i] += addedStiffness;
-  const std::vector<double> f = denseFrequencies(K, model.M, n);
   StableStep s;
-  s.omegaMax = 2 * M_PI * f.back();
+  if (model.sparse()) {
+    s.omegaMax = std::sqrt(highestEigenvalue(model, stiffenedDofs, addedStiffness).value);
+  } else {
+    const int n = model.size;
+    std::vector<double> K = model.K;
+    for (int i : stiffenedDofs) K[static_cast<std::size_t>(i) * n + i] += addedStiffness;
+    const std::vector<double> f = denseFrequencies(K, model.M, n);
+    s.omegaMax = 2 * M_PI * f.back();
+  }
   s.critical = 2.0 / s.omegaMax;
   double xi = 0;
   if (damping.type == DampingType::Rayleigh) xi = 0.5 * (damping.alpha / s.omegaMax + damping.beta * s.omegaMax);
@@ -86,32 +236,70 @@ StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& s
   return s;
 }
 
+std::string fullModelDampingProblem(const DampingOptions& damping) {
+  if (damping.type == DampingType::Modal)
+    return "modal damping needs every mode of the full model; use Rayleigh damping with Beta = 0 (D = Alpha M), "
+           "or reduce the body";
+  if (damping.type == DampingType::Rayleigh && damping.beta != 0.0) {
+    std::ostringstream os;
+    os << "Rayleigh Beta = " << damping.beta << " makes M/h^2 + D/2h non-diagonal (a linear solve per step); set "
+       << "Beta = 0 (and no 'Rayleigh frequencies', which give Beta > 0), or reduce the body";
+    return os.str();
+  }
+  return "";
+}
+
 CentralDifference::CentralDifference(const ReducedModel& model, double h, const DampingOptions& damping) : h_(h) {
   const int n = model.size;
   EPAPHE_REQUIRE(h > 0 && std::isfinite(h), "time step = " << h << " s; it must be a finite value > 0");
   damped_ = damping.type != DampingType::None;
-  const std::vector<double> D = dampingMatrix(model, damping);
-  // P = [M/h^2 + D/2h]^{-1}
-  std::vector<double> lhs(D.size());
-  for (std::size_t k = 0; k < lhs.size(); ++k) lhs[k] = model.M[k] / (h * h) + D[k] / (2 * h);
-  const std::vector<double> P = spdInverse(lhs, n, ("M/h^2 + D/2h of body '" + model.name + "'").c_str());
-  // A = -P K, B = -P D / h
-  std::vector<double> A(D.size()), B(D.size());
-  Teuchos::BLAS<int, double> blas;
-  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, -1.0, P.data(), n, model.K.data(), n, 0.0, A.data(), n);
-  A_ = toView(A, n, "epaphe::dynamics::A");
-  if (damped_) {
-    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, -1.0 / h, P.data(), n, D.data(), n, 0.0, B.data(), n);
-    B_ = toView(B, n, "epaphe::dynamics::B");
+  if (model.sparse()) {
+    // M = diag(m), D = alpha M, P = [M/h^2 + D/2h]^{-1} and B = -P D / h diagonal, A = -P K sparse
+    const std::string problem = fullModelDampingProblem(damping);
+    EPAPHE_REQUIRE(problem.empty(), "body '" << model.name << "' is a full model with lumped mass: " << problem);
+    const double alpha = damping.type == DampingType::Rayleigh ? damping.alpha : 0.0;
+    std::vector<double> D(static_cast<std::size_t>(n)), P(D.size()), minusP(D.size()), B(D.size());
+    for (int i = 0; i < n; ++i) {
+      const double m = model.lumpedMass[i];
+      D[i] = alpha * m;
+      P[i] = 1.0 / (m / (h * h) + D[i] / (2 * h));   // P = [M/h^2 + D/2h]^{-1}
+      minusP[i] = -P[i];
+      B[i] = -P[i] * D[i] / h;                        // B = -P D / h
+    }
+    A_ = BodyOperator::sparse(model.sparseK, minusP, "epaphe::dynamics::A");   // A = -P K
+    K_ = BodyOperator::sparse(model.sparseK, {}, "epaphe::dynamics::K");
+    M_ = BodyOperator::diagonal(model.lumpedMass, "epaphe::dynamics::M");
+    D_ = BodyOperator::diagonal(D, "epaphe::dynamics::D");
+    P_ = BodyOperator::diagonal(P, "epaphe::dynamics::P");
+    if (damped_) B_ = BodyOperator::diagonal(B, "epaphe::dynamics::B");
+  } else {
+    const std::vector<double> D = dampingMatrix(model, damping);
+    // P = [M/h^2 + D/2h]^{-1}
+    std::vector<double> lhs(D.size());
+    for (std::size_t k = 0; k < lhs.size(); ++k) lhs[k] = model.M[k] / (h * h) + D[k] / (2 * h);
+    const std::vector<double> P = spdInverse(lhs, n, ("M/h^2 + D/2h of body '" + model.name + "'").c_str());
+    // A = -P K, B = -P D / h
+    std::vector<double> A(D.size()), B(D.size());
+    Teuchos::BLAS<int, double> blas;
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, -1.0, P.data(), n, model.K.data(), n, 0.0, A.data(), n);
+    A_ = BodyOperator::dense(A, n, "epaphe::dynamics::A");
+    if (damped_) {
+      blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, -1.0 / h, P.data(), n, D.data(), n, 0.0, B.data(), n);
+      B_ = BodyOperator::dense(B, n, "epaphe::dynamics::B");
+    }
+    K_ = BodyOperator::dense(model.K, n, "epaphe::dynamics::K");
+    M_ = BodyOperator::dense(model.M, n, "epaphe::dynamics::M");
+    D_ = BodyOperator::dense(D, n, "epaphe::dynamics::D");
+    P_ = BodyOperator::dense(P, n, "epaphe::dynamics::P");
   }
-  K_ = toView(model.K, n, "epaphe::dynamics::K");
-  M_ = toView(model.M, n, "epaphe::dynamics::M");
-  D_ = toView(D, n, "epaphe::dynamics::D");
-  P_ = toView(P, n, "epaphe::dynamics::P");
   f_ = DenseVector("epaphe::dynamics::f", n);
   Pf_ = DenseVector("epaphe::dynamics::Pf", n);
   tmp_ = DenseVector("epaphe::dynamics::tmp", n);
   tmp2_ = DenseVector("epaphe::dynamics::tmp2", n);
+}
+
+Flexibility CentralDifference::flexibility() const {
+  return P_.denseMatrix().extent(0) > 0 ? Flexibility(P_.denseMatrix()) : Flexibility::diagonal(P_.diagonalEntries());
 }
 
 void CentralDifference::setConstantForce(const std::vector<double>& f) {
@@ -123,27 +311,20 @@ void CentralDifference::setConstantForce(const std::vector<double>& f) {
     forced_ = forced_ || f[i] != 0.0;
   }
   Kokkos::deep_copy(f_, fh);
-  KokkosBlas::gemv("N", 1.0, P_, f_, 0.0, Pf_);
+  P_.apply(1.0, f_, 0.0, Pf_);
 }
 
 void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, const DenseVector& qstar) const {
-  // The per-step work of a small dense model is a few microseconds: an OpenMP kernel launch per
-  // vector operation would cost more than the work (measured: 2 threads 4.5x slower than 1 on a
-  // 112-DOF model). The vectors live in host memory (OpenMP), so the step runs as plain loops and
-  // one BLAS dgemv (OpenBLAS, which threads large products itself).
-  static_assert(Kokkos::SpaceAccessibility<Kokkos::HostSpace, DenseVector::memory_space>::accessible,
-                "the explicit step runs on host memory");
   const int n = static_cast<int>(qn.extent(0));
   double* qs = qstar.data();
   const double* q0 = qn.data();
   const double* q1 = qnm1.data();
   for (int i = 0; i < n; ++i) qs[i] = 2.0 * q0[i] - q1[i];                          // 2 q_n - q_{n-1}
-  Teuchos::BLAS<int, double> blas;
-  blas.GEMV(Teuchos::NO_TRANS, n, n, 1.0, A_.data(), n, q0, 1, 1.0, qs, 1);       // + A q_n
+  A_.apply(1.0, qn, 1.0, qstar);                                                    // + A q_n
   if (damped_) {                                                                    // + B (q_n - q_{n-1})
     double* d = tmp_.data();
     for (int i = 0; i < n; ++i) d[i] = q0[i] - q1[i];
-    blas.GEMV(Teuchos::NO_TRANS, n, n, 1.0, B_.data(), n, d, 1, 1.0, qs, 1);
+    B_.apply(1.0, tmp_, 1.0, qstar);
   }
   if (forced_) {                                                                    // + P f
     const double* pf = Pf_.data();
@@ -155,9 +336,9 @@ double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVecto
   // 1/2 v^T M v with v = (q_{n+1} - q_n)/h, plus 1/2 q_n^T K q_{n+1}
   Kokkos::deep_copy(tmp2_, qnp1);
   KokkosBlas::axpby(-1.0 / h_, qn, 1.0 / h_, tmp2_);
-  KokkosBlas::gemv("N", 1.0, M_, tmp2_, 0.0, tmp_);
+  M_.apply(1.0, tmp2_, 0.0, tmp_);
   const double kin = 0.5 * KokkosBlas::dot(tmp2_, tmp_);
-  KokkosBlas::gemv("N", 1.0, K_, qnp1, 0.0, tmp_);
+  K_.apply(1.0, qnp1, 0.0, tmp_);
   return kin + 0.5 * KokkosBlas::dot(qn, tmp_);
 }
 
@@ -165,7 +346,7 @@ double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseV
   if (!damped_) return 0.0;
   Kokkos::deep_copy(tmp2_, qnp1);
   KokkosBlas::axpy(-1.0, qnm1, tmp2_);
-  KokkosBlas::gemv("N", 1.0, D_, tmp2_, 0.0, tmp_);
+  D_.apply(1.0, tmp2_, 0.0, tmp_);
   return KokkosBlas::dot(tmp2_, tmp_) / (4 * h_);
 }
 
@@ -177,12 +358,12 @@ double CentralDifference::externalWorkIncrement(const DenseVector& qnp1, const D
 }
 
 double CentralDifference::strain(const DenseVector& q) const {
-  KokkosBlas::gemv("N", 1.0, K_, q, 0.0, tmp_);
+  K_.apply(1.0, q, 0.0, tmp_);
   return 0.5 * KokkosBlas::dot(q, tmp_);
 }
 
 double CentralDifference::kinetic(const DenseVector& v) const {
-  KokkosBlas::gemv("N", 1.0, M_, v, 0.0, tmp_);
+  M_.apply(1.0, v, 0.0, tmp_);
   return 0.5 * KokkosBlas::dot(v, tmp_);
 }
 

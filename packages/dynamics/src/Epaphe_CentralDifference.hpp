@@ -13,6 +13,11 @@
 // flexibility that the contact correction uses (eqs. 2.32, 2.35). Everything is formed once; a
 // step is one (undamped) or two (damped) dense matrix-vector products.
 //
+// A full body with lumped mass (ReducedModel::sparse()) takes the same form with diagonal M, D
+// (Rayleigh alpha M only: beta K would make M/h^2 + D/2h non-diagonal) and P, and A = -P K kept
+// sparse: a step is one KokkosKernels sparse matrix-vector product and a few vector operations, and
+// the flexibility is diagonal.
+//
 // Energy balance. Multiplying the scheme by (q_{n+1} - q_{n-1})/2 gives the exact discrete identity
 //   E_{n+1/2} - E_{n-1/2} + (q_{n+1}-q_{n-1})^T D (q_{n+1}-q_{n-1}) / 4h = f_n . (q_{n+1}-q_{n-1}) / 2
 // with E_{n+1/2} = 1/2 v_{n+1/2}^T M v_{n+1/2} + 1/2 q_n^T K q_{n+1}, v_{n+1/2} = (q_{n+1}-q_n)/h.
@@ -21,8 +26,10 @@
 #include "Epaphe_ReducedModel.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
+#include <KokkosSparse_CrsMatrix.hpp>
 #include <Kokkos_Core.hpp>
 
+#include <string>
 #include <vector>
 
 namespace epaphe {
@@ -41,6 +48,31 @@ struct DampingOptions {
 ///   beta = 2 (xi2 w2 - xi1 w1) / (w2^2 - w1^2),  alpha = 2 w1 w2 (xi1 w2 - xi2 w1) / (w2^2 - w1^2).
 void rayleighFromRatios(double f1, double xi1, double f2, double xi2, double& alpha, double& beta);
 
+/// One linear operator of a body in its coordinates: dense (a reduced body's K, M, D, A, B),
+/// sparse (a full body's K and A = -P K, a KokkosKernels CrsMatrix) or diagonal (a lumped mass, a
+/// mass-proportional damping). Its vectors live in host memory (the explicit step runs there).
+class BodyOperator {
+public:
+  using Sparse = KokkosSparse::CrsMatrix<double, int, Kokkos::DefaultExecutionSpace, void, std::size_t>;
+  BodyOperator() = default;
+  /// n x n, column-major.
+  static BodyOperator dense(const std::vector<double>& a, int n, const std::string& label);
+  /// diag(rowScale) A, A in compressed rows (rowScale empty: A).
+  static BodyOperator sparse(const SparseRows& a, const std::vector<double>& rowScale, const std::string& label);
+  static BodyOperator diagonal(const std::vector<double>& d, const std::string& label);
+
+  /// y = alpha A x + beta y (beta = 0: y is overwritten).
+  void apply(double alpha, const DenseVector& x, double beta, const DenseVector& y) const;
+  const DenseMatrix& denseMatrix() const { return dense_; }
+  const DenseVector& diagonalEntries() const { return diagonal_; }
+
+private:
+  DenseMatrix dense_;
+  Sparse sparse_;
+  DenseVector diagonal_;
+  enum class Kind { None, Dense, Sparse, Diagonal } kind_ = Kind::None;
+};
+
 /// The damping matrix (dense, column-major). Modal (eqs. 4.4-4.5): with V the M-orthonormal modes
 /// of (K, M) (V^T M V = I, V^T K V = Omega^2), D = V^{-T} diag(2 xi omega_i) V^{-1}
 /// = M V diag(2 xi omega_i) V^T M, so that V^T D V = diag(2 xi omega_i): every mode of the
@@ -56,8 +88,32 @@ struct StableStep {
 /// the highest mode, h <= 2/omega_max (sqrt(1 + xi^2) - xi), xi = (alpha/omega_max + beta omega_max)/2
 /// for Rayleigh damping, xi for modal damping. `addedStiffness`
 /// is put on the diagonal of `stiffenedDofs` (penalty springs, conservatively on all 3 directions).
+/// omega_max^2 is the highest eigenvalue of (K, M): a dense reduced model's by LAPACK, a full
+/// model's by highestEigenvalue().
 StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& stiffenedDofs, double addedStiffness,
                             const DampingOptions& damping);
+
+/// Why `damping` cannot be used with a full model with lumped mass (empty: it can): M/h^2 + D/2h
+/// must stay diagonal, so D = alpha M (Rayleigh with beta = 0) or none.
+std::string fullModelDampingProblem(const DampingOptions& damping);
+
+struct HighestEigenvalue {
+  double value = 0;        // the estimate used: Ritz value + residual bound, or the Gershgorin bound
+  double ritz = 0;         // largest Ritz value (a lower bound)
+  double residual = 0;     // its residual bound: an eigenvalue lies within it
+  double gershgorin = 0;   // max_i sum_j |K_ij| / m_i, an upper bound of every eigenvalue
+  int iterations = 0;
+  bool converged = false;  // false: `value` is the Gershgorin bound
+};
+
+/// The highest eigenvalue of M^{-1} (K + k S) for a full model with lumped mass (M = diag(m), K
+/// sparse, S = diag(1 on `stiffenedDofs`)): Lanczos on the symmetric M^{-1/2} (K + k S) M^{-1/2},
+/// products by KokkosKernels spmv, from a fixed pseudo-random start, until the residual bound
+/// beta_j |s_j| of the largest Ritz value theta is below 1e-10 theta (at most 1000 iterations, no
+/// reorthogonalization: the extreme Ritz values converge first). The estimate is theta + that
+/// bound, never above the Gershgorin bound, which is used when Lanczos does not converge.
+HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector<int>& stiffenedDofs,
+                                    double addedStiffness);
 
 class CentralDifference {
 public:
@@ -68,7 +124,8 @@ public:
   /// A constant external force in reduced coordinates (gravity, a static load).
   void setConstantForce(const std::vector<double>& f);
 
-  const DenseMatrix& flexibility() const { return P_; }
+  /// P = [M/h^2 + D/2h]^{-1}: dense, or diagonal for a full model with lumped mass.
+  Flexibility flexibility() const;
   double step() const { return h_; }
   bool damped() const { return damped_; }
 
@@ -84,7 +141,7 @@ private:
   double h_;
   bool damped_ = false;
   bool forced_ = false;
-  DenseMatrix K_, M_, D_, P_, A_, B_;
+  BodyOperator K_, M_, D_, P_, A_, B_;
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;
 };

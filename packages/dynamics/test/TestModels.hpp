@@ -1,6 +1,9 @@
 #pragma once
 // Models small enough to solve by hand, shared by the dynamics and contact tests.
+#include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_ReducedModel.hpp"
+
+#include <utility>
 
 namespace epaphe::test {
 
@@ -26,5 +29,24 @@ inline ReducedModel oscillator(double m, double k) {
 
 /// One free node of mass m (K = 0).
 inline ReducedModel pointMass(double m) { return oscillator(m, 0.0); }
+
+/// The terms of the discrete energy balance over `steps` free steps of `cd` from q_{-1} = qm,
+/// q_0 = q: E_{-1/2}, the last E_{n+1/2} and the damping work (E + damping = E_{-1/2} exactly).
+struct EnergyBalance {
+  double start = 0, end = 0, damping = 0;
+};
+inline EnergyBalance freeSteps(const CentralDifference& cd, DenseVector qm, DenseVector q, int steps) {
+  DenseVector qp("qp", q.extent(0));
+  EnergyBalance b;
+  b.start = cd.halfStepEnergy(qm, q);
+  for (int n = 0; n < steps; ++n) {
+    cd.predict(q, qm, qp);
+    b.damping += cd.dampingIncrement(qp, qm);
+    std::swap(qm, q);
+    std::swap(q, qp);
+  }
+  b.end = cd.halfStepEnergy(qm, q);
+  return b;
+}
 
 }  // namespace epaphe::test

@@ -6,8 +6,10 @@
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
 
 #include <algorithm>
+#include <limits>
 
 namespace epaphe {
 
@@ -99,6 +101,77 @@ double rigidMass(const FullModel& model, int direction) {
   Teuchos::Array<double> dot(1);
   t.dot(Mt, dot());
   return dot[0];
+}
+
+
+FullModel withLumpedMass(const FullModel& model) {
+  const CrsMatrix& M = *model.M;
+  const auto rowMap = M.getRowMap();
+  const LO nLocal = static_cast<LO>(M.getNodeNumRows());
+  std::vector<int> direction(static_cast<std::size_t>(model.numFree), -1);
+  for (std::size_t i = 0; i < model.eq.size(); ++i)
+    if (model.eq[i] >= 0) direction[model.eq[i]] = static_cast<int>(i % 3);
+  Tpetra::Vector<Scalar, LO, GO> diagonal(rowMap);
+  M.getLocalDiagCopy(diagonal);
+  auto dh = diagonal.getLocalViewHost(Tpetra::Access::ReadOnly);
+  double trace[3] = {0, 0, 0}, traceAll[3] = {0, 0, 0};
+  for (LO l = 0; l < nLocal; ++l) {
+    EPAPHE_REQUIRE(dh(l, 0) > 0, "body '" << model.name << "': the mass matrix has M_ii = " << dh(l, 0)
+                                          << " at free DOF " << rowMap->getGlobalElement(l)
+                                          << "; a lumped mass needs a positive diagonal (check the mass file)");
+    trace[direction[rowMap->getGlobalElement(l)]] += dh(l, 0);
+  }
+  Teuchos::reduceAll(*M.getComm(), Teuchos::REDUCE_SUM, 3, trace, traceAll);
+  double scale[3];
+  for (int d = 0; d < 3; ++d) scale[d] = traceAll[d] > 0 ? rigidMass(model, d) / traceAll[d] : 0.0;
+  FullModel lumped = model;
+  lumped.M = Teuchos::rcp(new CrsMatrix(rowMap, 1));
+  for (LO l = 0; l < nLocal; ++l) {
+    const GO g = rowMap->getGlobalElement(l);
+    const double m = dh(l, 0) * scale[direction[g]];
+    lumped.M->insertGlobalValues(g, Teuchos::ArrayView<const GO>(&g, 1), Teuchos::ArrayView<const double>(&m, 1));
+  }
+  lumped.M->fillComplete(M.getDomainMap(), M.getRangeMap());
+  return lumped;
+}
+
+SparseRows gatherRows(const CrsMatrix& A) {
+  const int n = static_cast<int>(A.getGlobalNumRows());
+  const auto rowMap = A.getRowMap();
+  const auto colMap = A.getColMap();
+  const LO nLocal = static_cast<LO>(A.getNodeNumRows());
+  std::vector<int> lengthLocal(static_cast<std::size_t>(n), 0), length(lengthLocal.size(), 0);
+  for (LO l = 0; l < nLocal; ++l)
+    lengthLocal[rowMap->getGlobalElement(l)] = static_cast<int>(A.getNumEntriesInLocalRow(l));
+  Teuchos::reduceAll(*A.getComm(), Teuchos::REDUCE_SUM, n, lengthLocal.data(), length.data());
+  SparseRows S;
+  S.rowStart.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (int i = 0; i < n; ++i) S.rowStart[i + 1] = S.rowStart[i] + static_cast<std::size_t>(length[i]);
+  const std::size_t nnz = S.rowStart.back();
+  std::vector<int> colsLocal(nnz, 0);
+  std::vector<double> valuesLocal(nnz, 0.0);
+  typename CrsMatrix::local_inds_host_view_type idx;
+  typename CrsMatrix::values_host_view_type val;
+  std::vector<std::pair<int, double>> row;
+  for (LO l = 0; l < nLocal; ++l) {
+    A.getLocalRowView(l, idx, val);
+    row.clear();
+    for (std::size_t k = 0; k < idx.extent(0); ++k) row.emplace_back(colMap->getGlobalElement(idx(k)), val(k));
+    std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const std::size_t start = S.rowStart[rowMap->getGlobalElement(l)];
+    for (std::size_t k = 0; k < row.size(); ++k) {
+      colsLocal[start + k] = row[k].first;
+      valuesLocal[start + k] = row[k].second;
+    }
+  }
+  S.cols.assign(nnz, 0);
+  S.values.assign(nnz, 0.0);
+  const auto comm = A.getComm();
+  EPAPHE_REQUIRE(nnz <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                 "gathering a matrix of " << nnz << " entries: more than one MPI message can carry");
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(nnz), colsLocal.data(), S.cols.data());
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(nnz), valuesLocal.data(), S.values.data());
+  return S;
 }
 
 }  // namespace epaphe

@@ -3,6 +3,7 @@
 // mass matrices over the free DOFs as distributed Tpetra matrices.
 #include "Epaphe_HexElement.hpp"
 #include "Epaphe_Mesh.hpp"
+#include "Epaphe_ReducedModel.hpp"
 #include "Epaphe_TpetraTypes.hpp"
 
 #include <Teuchos_Comm.hpp>
@@ -33,5 +34,24 @@ std::vector<double> gatherDense(const CrsMatrix& A);
 
 /// Total mass seen by a rigid translation along `direction`: t^T M t.
 double rigidMass(const FullModel& model, int direction);
+
+/// The model with its mass lumped to a diagonal by HRZ (Hinton, Rock & Zienkiewicz 1976) on the
+/// assembled matrix: m_i = M_ii t_d^T M t_d / sum_(j along d) M_jj, d the direction of DOF i.
+/// HRZ rather than row sums: a row sum of the consistent mass of quadratic elements (the corner
+/// rows of a 20-node hexahedron) is negative or zero, a diagonal entry of a positive definite M never
+/// is. Scaling the assembled diagonal (imported models give no element matrices) equals element-wise
+/// HRZ whenever every element has the same shape functions and an affine map (the ratio of an
+/// element's mass to the sum of its diagonal is then a constant of the element type): the built-in
+/// Box's hexahedra, where it also equals the row sum (m_e / 8 per corner). Each direction keeps the
+/// consistent rigid mass t^T M t exactly, hence the momentum and kinetic energy of a translation
+/// (the initial velocity). With clamped nodes t^T M t is over the free DOFs only (it misses their
+/// coupling to the clamped ones), so every mass is smaller than element-wise HRZ's by one common
+/// factor, 1 - O(elements at the clamp / elements): for 8-node hexahedra (N - 2C/3) / (N - C/2), C of
+/// the N elements touching the clamped face; it vanishes as the mesh is refined. K is shared, not
+/// copied.
+FullModel withLumpedMass(const FullModel& model);
+
+/// The rows of a distributed matrix on every rank, columns sorted in each row.
+SparseRows gatherRows(const CrsMatrix& A);
 
 }  // namespace epaphe

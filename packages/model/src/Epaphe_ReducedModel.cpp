@@ -22,22 +22,64 @@ std::vector<double> ReducedModel::rigidTranslation(int direction) const {
   return t;
 }
 
-ReducedModel unreducedModel(const FullModel& full) {
+std::vector<double> ReducedModel::massTimes(const std::vector<double>& x) const {
+  std::vector<double> y(static_cast<std::size_t>(size), 0.0);
+  if (sparse()) {
+    for (int i = 0; i < size; ++i) y[i] = lumpedMass[i] * x[i];
+    return y;
+  }
+  for (int j = 0; j < size; ++j)
+    for (int i = 0; i < size; ++i) y[i] += m(i, j) * x[j];
+  return y;
+}
+
+std::vector<int> ReducedModel::recoveryIndex(const std::vector<int>& nodes) const {
+  std::vector<int> index;
+  for (int n : nodes)
+    for (int d = 0; d < 3; ++d) index.push_back(nodeDof[3 * n + d]);
+  return index;
+}
+
+namespace {
+
+/// What an unreduced model takes from the full one: every free DOF as a coordinate, the mesh, its
+/// sets and grids, every node retained.
+ReducedModel unreducedShell(const FullModel& full, const char* method) {
   ReducedModel r;
   r.name = full.name;
-  r.method = "None";
+  r.method = method;
   r.size = full.numFree;
-  r.K = gatherDense(*full.K);
-  r.M = gatherDense(*full.M);
   r.nodeDof = full.eq;
   r.coords = full.mesh.coords;
   r.nodeSets = full.mesh.nodeSets;
   r.nodeGrids = full.mesh.nodeGrids;
   r.hexes = full.mesh.hexes;
+  for (int n = 0; n < full.numNodes(); ++n) r.retainedNodes.push_back(n);
+  return r;
+}
+
+}  // namespace
+
+ReducedModel unreducedModel(const FullModel& full) {
+  ReducedModel r = unreducedShell(full, "None");
+  r.K = gatherDense(*full.K);
+  r.M = gatherDense(*full.M);
   r.recovery.assign(3 * static_cast<std::size_t>(full.numNodes()) * r.size, 0.0);
   for (std::size_t i = 0; i < full.eq.size(); ++i)
     if (full.eq[i] >= 0) r.recovery[i * r.size + full.eq[i]] = 1.0;
-  for (int n = 0; n < full.numNodes(); ++n) r.retainedNodes.push_back(n);
+  return r;
+}
+
+ReducedModel sparseModel(const FullModel& full) {
+  ReducedModel r = unreducedShell(full, "Full, lumped mass");
+  r.sparseK = gatherRows(*full.K);
+  const SparseRows M = gatherRows(*full.M);
+  r.lumpedMass.assign(static_cast<std::size_t>(r.size), 0.0);
+  for (int i = 0; i < r.size; ++i) {
+    EPAPHE_REQUIRE(M.rowStart[i + 1] == M.rowStart[i] + 1 && M.cols[M.rowStart[i]] == i,
+                   "body '" << full.name << "': the mass matrix is not diagonal (row " << i << "); lump it first");
+    r.lumpedMass[i] = M.values[M.rowStart[i]];
+  }
   return r;
 }
 

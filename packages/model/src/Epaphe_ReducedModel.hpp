@@ -5,6 +5,10 @@
 // Reduced coordinates q (size n): for Craig-Bampton, the physical DOFs of the retained nodes
 // (3 per node) followed by the amplitudes of the fixed-interface modes (thesis eq. 2.12); for the
 // unreduced model, every free DOF. Physical displacements are u = R q (eq. 2.5).
+//
+// A full model with lumped mass (method "Full, lumped mass") is not reduced at all and stays
+// sparse: q = u over the free DOFs (R = I: a node's DOF is q[nodeDof], 0 when clamped), K in
+// compressed rows, M diagonal; the dense K, M and recovery are then empty (sparse() is true).
 #include "Epaphe_Mesh.hpp"
 
 #include <array>
@@ -16,9 +20,17 @@ namespace epaphe {
 
 struct FullModel;
 
+/// A sparse matrix in compressed rows (0-based column indices, sorted in each row).
+struct SparseRows {
+  std::vector<std::size_t> rowStart;   // rows + 1 entries
+  std::vector<int> cols;
+  std::vector<double> values;
+  int rows() const { return rowStart.empty() ? 0 : static_cast<int>(rowStart.size()) - 1; }
+};
+
 struct ReducedModel {
   std::string name;
-  std::string method;                 // "Craig-Bampton", "Guyan" or "None"
+  std::string method;                 // "Craig-Bampton", "Guyan", "None" or "Full, lumped mass"
   int size = 0;
   int numModes = 0;                   // fixed-interface modes kept
   std::vector<double> K, M;           // size x size, column-major, symmetric
@@ -31,7 +43,10 @@ struct ReducedModel {
   std::vector<int> retainedNodes;
   std::vector<double> modeFrequencies;  // fixed-interface modes (Hz)
   std::vector<double> fullFrequencies;  // lowest frequencies of the full model it came from (Hz), if computed
+  SparseRows sparseK;                   // full model with lumped mass: K (size x size)
+  std::vector<double> lumpedMass;       // full model with lumped mass: diag(M) (size)
 
+  bool sparse() const { return !lumpedMass.empty(); }
   int numNodes() const { return static_cast<int>(coords.size()); }
   double k(int i, int j) const { return K[static_cast<std::size_t>(j) * size + i]; }
   double m(int i, int j) const { return M[static_cast<std::size_t>(j) * size + i]; }
@@ -44,10 +59,19 @@ struct ReducedModel {
   /// retained DOF along it, zero modal amplitudes). Exact for Craig-Bampton and Guyan, whose
   /// constraint modes reproduce rigid-body motion.
   std::vector<double> rigidTranslation(int direction) const;
+  /// M x, M dense or lumped.
+  std::vector<double> massTimes(const std::vector<double>& x) const;
+  /// For a full model (R = I, no recovery rows): per row 3 k + d of `nodes`, the index in q of node
+  /// k's DOF d (-1: clamped, u = 0).
+  std::vector<int> recoveryIndex(const std::vector<int>& nodes) const;
 };
 
 /// The unreduced model as a ReducedModel with R = I (dense; for small models and references).
 ReducedModel unreducedModel(const FullModel& full);
+
+/// A full model whose mass is lumped (see lumpedMass()) as a ReducedModel kept sparse: q = u, K in
+/// compressed rows and diag(M), on every rank. `full.M` must be diagonal.
+ReducedModel sparseModel(const FullModel& full);
 
 /// K x = lambda M x for dense symmetric K and positive definite M (n x n, column-major) by LAPACK
 /// dsygv: ascending eigenvalues; with `vectors`, the M-orthonormal eigenvectors (column-major).

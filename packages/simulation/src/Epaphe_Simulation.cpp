@@ -28,6 +28,42 @@ namespace epaphe {
 
 using Teuchos::ParameterList;
 
+namespace {
+
+/// u = R q (eq. 2.5) at a list of nodes, 3 rows per node: dense rows of R for a reduced body; for a
+/// full body (R = I), the index in q of each row's DOF (-1: clamped, u = 0).
+struct NodeRecovery {
+  DenseMatrix R;
+  std::vector<int> index;
+
+  NodeRecovery() = default;
+  NodeRecovery(const ReducedModel& rom, const std::vector<int>& nodes, const std::string& label) {
+    if (rom.sparse()) {
+      index = rom.recoveryIndex(nodes);
+      return;
+    }
+    R = DenseMatrix(label, 3 * nodes.size(), rom.size);
+    auto Rh = Kokkos::create_mirror_view(R);
+    for (std::size_t k = 0; k < nodes.size(); ++k)
+      for (int d = 0; d < 3; ++d)
+        for (int j = 0; j < rom.size; ++j) Rh(3 * k + d, j) = rom.recoveryRow(nodes[k], d)[j];
+    Kokkos::deep_copy(R, Rh);
+  }
+  std::size_t rows() const { return R.extent(0) > 0 ? R.extent(0) : index.size(); }
+  void apply(const DenseVector& q, const DenseVector& u) const {
+    if (index.empty()) {
+      KokkosBlas::gemv("N", 1.0, R, q, 0.0, u);
+      return;
+    }
+    auto uh = Kokkos::create_mirror_view(u);
+    auto qh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), q);
+    for (std::size_t i = 0; i < index.size(); ++i) uh(i) = index[i] >= 0 ? qh(index[i]) : 0.0;
+    Kokkos::deep_copy(u, uh);
+  }
+};
+
+}  // namespace
+
 struct Simulation::Body {
   std::string name;
   ReducedModel rom;
@@ -38,7 +74,7 @@ struct Simulation::Body {
   std::string contactSet;
   std::vector<double> v0;
   std::vector<std::pair<std::string, std::vector<int>>> watched;
-  DenseMatrix recoveryWatched;  // (3 * watched nodes) x size
+  NodeRecovery recoveryWatched;  // the watched nodes, in order
   StableStep stable;
   std::unique_ptr<CentralDifference> integrator;
   int offset = 0;                        // its block of the system coordinates
@@ -91,6 +127,26 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
                    origin << ": surface '" << surfs.name(it) << "': 'U' = {" << U[0] << ", " << U[1] << ", " << U[2]
                           << "} and 'V' = {" << V[0] << ", " << V[1] << ", " << V[2]
                           << "} are parallel or zero; a plane needs two independent edge vectors");
+  }
+}
+
+/// Checks of the bodies' Reduction lists that need no model, made before any body is built: a
+/// full model with lumped mass takes no retained set and only damping that keeps M/h^2 + D/2h
+/// diagonal.
+void checkReductions(const ParameterList& P, const DampingOptions& damping, const std::string& origin) {
+  const ParameterList& bl = P.sublist("Bodies");
+  const ParameterList& dp = P.sublist("Time").sublist("Damping");
+  for (auto it = bl.begin(); it != bl.end(); ++it) {
+    const ParameterList& rp = bl.sublist(bl.name(it)).sublist("Reduction");
+    if (deck::getEnum<ReductionMethod>(rp, "Method") != ReductionMethod::FullLumped) continue;
+    const std::string ctx = origin + ": body '" + bl.name(it) + "', '" + deck::pathOf(rp, "Method") + "' = '" +
+                            rp.get<std::string>("Method") + "'";
+    const std::string problem = fullModelDampingProblem(damping);
+    EPAPHE_REQUIRE(problem.empty(), ctx << " with '" << deck::pathOf(dp, "Type") << "' = '" << dp.get<std::string>("Type")
+                                        << "': " << problem);
+    EPAPHE_REQUIRE(rp.get<std::string>("Retained node set").empty(),
+                   ctx << " keeps every node, but '" << deck::pathOf(rp, "Retained node set") << "' = '"
+                       << rp.get<std::string>("Retained node set") << "'; remove the key (or reduce the body)");
   }
 }
 
@@ -279,6 +335,7 @@ void Simulation::setup() {
   copt.friction = cp.get<double>("Friction coefficient");
   copt.edgeTolerance = cp.get<double>("Edge tolerance");
   copt.timeStep = h;
+  checkReductions(P, damping, origin);
 
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     auto b = std::make_unique<Body>();
@@ -303,7 +360,7 @@ void Simulation::setup() {
                        "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")));
     std::string cacheFile = rp.get<std::string>("Cache file");
     if (cacheFile.empty()) cacheFile = stem(output_) + "." + b->name + ".rom.h5";
-    const bool useCache = rp.get<bool>("Cache");
+    const bool useCache = rp.get<bool>("Cache") && method != ReductionMethod::FullLumped;  // nothing to reduce
 
     int cached = 0;
     if (useCache && comm->getRank() == 0) cached = loadReducedModel(cacheFile, key, b->rom) ? 1 : 0;
@@ -318,6 +375,15 @@ void Simulation::setup() {
           << full.mesh.hexes.size() << " hexahedra\n";
       if (method == ReductionMethod::None) {
         b->rom = unreducedModel(full);
+      } else if (method == ReductionMethod::FullLumped) {
+        const FullModel lumped = withLumpedMass(full);
+        b->rom = sparseModel(lumped);
+        out << "[" << b->name << "] full model kept: K sparse (" << b->rom.sparseK.values.size()
+            << " entries), mass lumped to its diagonal (HRZ)\n";
+        if (checkCount > 0)  // the lumped model's own frequencies, against the consistent model's (below)
+          b->reducedFrequencies = fullModelFrequencies(lumped, std::min(checkCount, full.numFree - 1),
+                                                       rp.get<std::string>("Linear solver"),
+                                                       rp.get<double>("Iterative tolerance"));
       } else {
         EPAPHE_REQUIRE(!retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
                                                  << " needs a 'Retained node set' (or a 'Contact node set')");
@@ -338,7 +404,7 @@ void Simulation::setup() {
     if (b->fromCache) out << "[" << b->name << "] reduced model (" << b->rom.method << ", " << b->rom.size
                           << " DOFs) reused from " << cacheFile << "\n";
     b->fullFrequencies = b->rom.fullFrequencies;
-    b->reducedFrequencies = denseFrequencies(b->rom.K, b->rom.M, b->rom.size);
+    if (!b->rom.sparse()) b->reducedFrequencies = denseFrequencies(b->rom.K, b->rom.M, b->rom.size);
 
     // Initial velocity: uniform translation, exact in reduced coordinates (retained DOFs).
     const auto v0 = deck::getVec3(bp, "Initial velocity", origin);
@@ -352,17 +418,9 @@ void Simulation::setup() {
 
     if (!b->contactSet.empty()) b->contactNodes = b->rom.nodeSet(b->contactSet, ctx + ", 'Contact node set'");
     b->integrator = std::make_unique<CentralDifference>(b->rom, h, damping);
-    // Recovery rows of the watched nodes.
-    int nw = 0;
-    for (const auto& w : b->watched) nw += static_cast<int>(w.second.size());
-    b->recoveryWatched = DenseMatrix("epaphe::watched::R", 3 * nw, b->rom.size);
-    auto Rh = Kokkos::create_mirror_view(b->recoveryWatched);
-    int row = 0;
-    for (const auto& w : b->watched)
-      for (int n : w.second)
-        for (int d = 0; d < 3; ++d, ++row)
-          for (int j = 0; j < b->rom.size; ++j) Rh(row, j) = b->rom.recoveryRow(n, d)[j];
-    Kokkos::deep_copy(b->recoveryWatched, Rh);
+    std::vector<int> watchedNodes;
+    for (const auto& w : b->watched) watchedNodes.insert(watchedNodes.end(), w.second.begin(), w.second.end());
+    b->recoveryWatched = NodeRecovery(b->rom, watchedNodes, "epaphe::watched::R");
     b->offset = systemSize_;
     systemSize_ += b->rom.size;
     bodies_.push_back(std::move(b));
@@ -533,16 +591,10 @@ std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactO
     b.contactEnd = static_cast<int>(nodes.labels.size());
   }
   if (nodes.labels.empty()) return carriedDofs;
-  // the system flexibility: block diagonal, one block per body
-  flexibility_ = DenseMatrix("epaphe::system::F", systemSize_, systemSize_);
-  auto Fh = Kokkos::create_mirror_view(flexibility_);
-  for (const auto& b : bodies_) {
-    auto Fb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b->integrator->flexibility());
-    for (int j = 0; j < b->rom.size; ++j)
-      for (int i = 0; i < b->rom.size; ++i) Fh(b->offset + i, b->offset + j) = Fb(i, j);
-  }
-  Kokkos::deep_copy(flexibility_, Fh);
-  contact_ = std::make_unique<SurfaceContact>(std::move(nodes), std::move(contactSurfaces), blocks, copt, flexibility_);
+  // the system flexibility: block diagonal, one block per body (dense, or diagonal for a full body)
+  Flexibility flexibility;
+  for (const auto& b : bodies_) flexibility.append(b->integrator->flexibility());
+  contact_ = std::make_unique<SurfaceContact>(std::move(nodes), std::move(contactSurfaces), blocks, copt, flexibility);
   return carriedDofs;
 }
 
@@ -615,7 +667,7 @@ const RunSummary& Simulation::run() {
     std::vector<std::unique_ptr<io::Series>> disp, vel;
     std::unique_ptr<io::Series> gap, force, totalForce, momentum;
     std::vector<DenseVector> Mt;  // M t_d: rigid translations through the mass matrix
-    DenseMatrix R;                // full recovery u = R q, only when fields are written
+    NodeRecovery R;               // u = R q of every node, only when fields are written
     DenseVector uAll;
     std::vector<double> frame;
     std::unique_ptr<io::Series> position, displacement;
@@ -660,8 +712,8 @@ const RunSummary& Simulation::run() {
       file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
     }
     r.v = DenseVector("v", n);
-    r.uw = DenseVector("uw", b.recoveryWatched.extent(0));
-    r.vw = DenseVector("vw", b.recoveryWatched.extent(0));
+    r.uw = DenseVector("uw", b.recoveryWatched.rows());
+    r.vw = DenseVector("vw", b.recoveryWatched.rows());
     // q_0 = 0, q_{-1} = q_0 - h v_0 (no force at rest: a_0 = 0)
     auto qp = Kokkos::create_mirror_view(r.qPrev);
     for (int i = 0; i < n; ++i) qp(i) = -h * b.v0[i];
@@ -670,13 +722,10 @@ const RunSummary& Simulation::run() {
     // Linear momentum p_d = t_d^T M v and rigid mass m = t_x^T M t_x (rebound velocity = p / m).
     for (int d = 0; d < 3; ++d) {
       const auto t = b.rom.rigidTranslation(d);
+      const auto Mtd = b.rom.massTimes(t);
       DenseVector Mt("Mt", n);
       auto h2 = Kokkos::create_mirror_view(Mt);
-      for (int i = 0; i < n; ++i) {
-        double s = 0;
-        for (int j = 0; j < n; ++j) s += b.rom.m(i, j) * t[j];
-        h2(i) = s;
-      }
+      for (int i = 0; i < n; ++i) h2(i) = Mtd[i];
       Kokkos::deep_copy(Mt, h2);
       r.Mt.push_back(Mt);
       if (d == 0 && fresh) {
@@ -694,11 +743,9 @@ const RunSummary& Simulation::run() {
         file.writeInts(g + "/mesh/hexahedra", {static_cast<std::uint64_t>(b.rom.hexes.size()), 8}, hex.data());
         file.writeDoubles(g + "/mesh/coordinates", {nn, 3}, b.rom.coords.empty() ? nullptr : b.rom.coords[0].data());
       }
-      r.R = DenseMatrix("epaphe::fields::R", 3 * nn, n);
-      auto Rh = Kokkos::create_mirror_view(r.R);
-      for (std::uint64_t i = 0; i < 3 * nn; ++i)
-        for (int j = 0; j < n; ++j) Rh(i, j) = b.rom.recovery[i * n + j];
-      Kokkos::deep_copy(r.R, Rh);
+      std::vector<int> every(nn);
+      for (std::uint64_t k = 0; k < nn; ++k) every[k] = static_cast<int>(k);
+      r.R = NodeRecovery(b.rom, every, "epaphe::fields::R");
       r.uAll = DenseVector("epaphe::fields::u", 3 * nn);
       r.frame.resize(3 * nn);
       r.position = std::make_unique<io::Series>(file, g + "/fields/position", std::vector<std::uint64_t>{nn, 3}, 16);
@@ -957,8 +1004,8 @@ const RunSummary& Simulation::run() {
         diss += r.diss;
         e0 += r.e0;
         if (!r.disp.empty()) {
-          KokkosBlas::gemv("N", 1.0, b.recoveryWatched, r.q, 0.0, r.uw);
-          KokkosBlas::gemv("N", 1.0, b.recoveryWatched, r.v, 0.0, r.vw);
+          b.recoveryWatched.apply(r.q, r.uw);
+          b.recoveryWatched.apply(r.v, r.vw);
           auto uh = Kokkos::create_mirror_view(r.uw);
           auto vh = Kokkos::create_mirror_view(r.vw);
           Kokkos::deep_copy(uh, r.uw);
@@ -1024,7 +1071,7 @@ const RunSummary& Simulation::run() {
       ++frames;
       for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
         BodyRun& r = runs[ib];
-        KokkosBlas::gemv("N", 1.0, r.R, r.q, 0.0, r.uAll);  // u = R q (eq. 2.5)
+        r.R.apply(r.q, r.uAll);  // u = R q (eq. 2.5)
         auto uh = Kokkos::create_mirror_view(r.uAll);
         Kokkos::deep_copy(uh, r.uAll);
         const auto& X = bodies_[ib]->rom.coords;
@@ -1163,11 +1210,16 @@ void Simulation::printSummary(std::ostream& os) const {
   os << "\n==== Epaphe summary: " << deck_.params->sublist("Run").get<std::string>("Name") << " ("
      << deck_.origin << ") ====\n";
   for (const auto& b : bodies_) {
-    os << "body '" << b->name << "': " << b->rom.method << ", " << b->rom.size << " reduced DOFs ("
-       << b->rom.numModes << " modes)" << (b->fromCache ? ", from cache" : "") << "\n";
+    if (b->rom.sparse())
+      os << "body '" << b->name << "': " << b->rom.method << ", " << b->rom.size << " DOFs (sparse K, "
+         << b->rom.sparseK.values.size() << " entries)\n";
+    else
+      os << "body '" << b->name << "': " << b->rom.method << ", " << b->rom.size << " reduced DOFs ("
+         << b->rom.numModes << " modes)" << (b->fromCache ? ", from cache" : "") << "\n";
     const std::size_t nf = std::min(b->fullFrequencies.size(), b->reducedFrequencies.size());
     if (nf > 0) {
-      os << "   mode   full (Hz)    reduced (Hz)   rel. error\n";
+      os << (b->rom.sparse() ? "   mode   consistent (Hz) lumped (Hz)  rel. error\n"
+                             : "   mode   full (Hz)    reduced (Hz)   rel. error\n");
       const double fmax = *std::max_element(b->fullFrequencies.begin(), b->fullFrequencies.begin() + nf);
       for (std::size_t i = 0; i < nf; ++i) {
         const double ff = b->fullFrequencies[i], fr = b->reducedFrequencies[i];

@@ -10,7 +10,8 @@
 //   /time                  (records)
 //   /energy/{kinetic, strain, total, contact_work, external_work, damping, balance_error} (records)
 //   /bodies/<b>/frequencies/{reduced, full, fixed_interface} (Hz); attributes reduction,
-//                          reduced_dofs, rigid_mass (kg)
+//                          reduced_dofs, rigid_mass (kg) (a full model with lumped mass: reduced =
+//                          the lumped model's, full = the consistent mass's)
 //   /bodies/<b>/momentum   linear momentum t_d^T M v (records x 3), kg m/s
 //   /bodies/<b>/nodesets/<set>/{nodes, displacement (records x n x 3), velocity (records x n x 3)}
 //   /bodies/<b>/contact/{nodes, gap (records x n), force (records x n), total_force (records)}
@@ -88,7 +89,6 @@ private:
   std::vector<std::unique_ptr<BSplineSurface>> surfaces_;
   std::vector<bool> surfaceCarried_;       // per surface: carried by a body (else rigid)
   int systemSize_ = 0;                      // all bodies' reduced coordinates, stacked
-  DenseMatrix flexibility_;                 // block-diagonal F of the system
   std::unique_ptr<SurfaceContact> contact_; // null without contact nodes or surfaces
   RunSummary summary_;
   std::string restart_;

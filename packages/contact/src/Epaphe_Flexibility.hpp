@@ -1,0 +1,59 @@
+#pragma once
+// The system flexibility F = (M/h^2 + D/2h)^{-1} that the contact correction reads (thesis eqs.
+// 2.32 and 2.35), block diagonal over the bodies whose coordinates are stacked in the system q.
+// A reduced body's block is dense (size^2 entries). A full body with lumped mass and no or
+// mass-proportional damping has a diagonal M/h^2 + D/2h, hence a diagonal block (size entries):
+// its part of Y = F D^T and of the correction F G lambda is a scaling of the entries of D, with
+// no N x N storage anywhere.
+#include <Kokkos_Core.hpp>
+
+#include <vector>
+
+namespace epaphe {
+
+using DenseMatrix = Kokkos::View<double**, Kokkos::LayoutLeft>;
+using DenseVector = Kokkos::View<double*>;
+
+class Flexibility {
+public:
+  Flexibility() = default;
+  /// One dense block, F of a reduced body (n x n, symmetric). Implicit: a dense F is a one-block
+  /// flexibility.
+  Flexibility(const DenseMatrix& dense);  // NOLINT(google-explicit-constructor)
+  /// One diagonal block: F = diag(d).
+  static Flexibility diagonal(const DenseVector& d);
+  /// Appends the blocks of `next` after this one's: the flexibility of the two systems stacked.
+  void append(const Flexibility& next);
+
+  int size() const { return size_; }
+  int numBlocks() const { return static_cast<int>(blocks_.size()); }
+  int offset(int b) const { return blocks_[b].offset; }
+  int blockSize(int b) const { return blocks_[b].size; }
+  bool isDiagonal(int b) const { return blocks_[b].dense.extent(0) == 0; }
+
+  /// What the contact kernels read, copied into them by value. The rows of the dense blocks are
+  /// numbered consecutively ("dense rows", the rows of Y = F D^T that are stored).
+  struct Packed {
+    Kokkos::View<int* [2]> blocks;       // per block: offset, size
+    Kokkos::View<std::size_t*> start;    // per block: where its entries start in `dense` (dense blocks)
+    Kokkos::View<double*> dense;         // the dense blocks, each column-major, one after the other
+    Kokkos::View<double*> diag;          // per system row: F_ii of a diagonal block (0 in a dense block)
+    Kokkos::View<int*> denseRow;         // per system row: its dense row, or -1 in a diagonal block
+    int denseRows = 0;
+
+    int size() const { return static_cast<int>(denseRow.extent(0)); }
+  };
+  /// The packed copy (built at each call: at setup).
+  Packed pack() const;
+
+private:
+  struct Block {
+    int offset = 0, size = 0;
+    DenseMatrix dense;   // empty for a diagonal block
+    DenseVector diag;
+  };
+  std::vector<Block> blocks_;
+  int size_ = 0;
+};
+
+}  // namespace epaphe
