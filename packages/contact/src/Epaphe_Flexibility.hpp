@@ -29,7 +29,6 @@ public:
   int numBlocks() const { return static_cast<int>(blocks_.size()); }
   int offset(int b) const { return blocks_[b].offset; }
   int blockSize(int b) const { return blocks_[b].size; }
-  bool isDiagonal(int b) const { return blocks_[b].dense.extent(0) == 0; }
 
   /// What the contact kernels read, copied into them by value. The rows of the dense blocks are
   /// numbered consecutively ("dense rows", the rows of Y = F D^T that are stored).
