@@ -58,7 +58,7 @@ struct Scene {
                          o.closureU = o.closureV = Closure::Open;
                          return o;
                        }()};
-  DenseMatrix F{"F", kN, kN};
+  Flexibility F;
   std::unique_ptr<SurfaceContact> contact;
 
   /// The node at X (its body's frame), the plane turned by phase + omega t about z.
@@ -66,14 +66,8 @@ struct Scene {
         double phase, const ContactOptions& options)
       : h(step), node(test::pointMass(mNode)), carrier(freeNodes(kGrid, mGrid, kSpring)), cdNode(node, h, {}),
         cdCarrier(carrier, h, {}) {
-    auto Fh = Kokkos::create_mirror_view(F);
-    auto Fa = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), cdNode.flexibility());
-    auto Fc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), cdCarrier.flexibility());
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Fh(i, j) = Fa(i, j);
-    for (int i = 0; i < 3 * kGrid; ++i)
-      for (int j = 0; j < 3 * kGrid; ++j) Fh(3 + i, 3 + j) = Fc(i, j);
-    Kokkos::deep_copy(F, Fh);
+    F = cdNode.flexibility();  // block diagonal: the node's 3 DOFs, then the carrier's
+    F.append(cdCarrier.flexibility());
     ContactNodes cn;
     const int dof[3] = {0, 1, 2};
     cn.add(0, 0, dof, X.data());
