@@ -61,6 +61,11 @@ struct RelativeMotion {
     for (int d = 0; d < 3; ++d)
       r[d] = w(k, 0) * v(dof(k, 0, d)) + rot(k, d, 0) * g[0] + rot(k, d, 1) * g[1] + rot(k, d, 2) * g[2];
   }
+  /// The entry of D_k in row e at DOF (m, e2): w_0 at the node's own DOF e, w_m R_k(e, e2) at a
+  /// grid node's (turned into the node's frame).
+  KOKKOS_INLINE_FUNCTION double coefficient(int k, int m, int e, int e2) const {
+    return m == 0 ? (e2 == e ? w(k, 0) : 0.0) : w(k, m) * rot(k, e, e2);
+  }
 };
 
 /// Column 3 k + e of F D^T as an accessor of the system rows, for RelativeMotion::apply: Y, stored
@@ -75,11 +80,10 @@ struct FlexibleColumn {
   KOKKOS_INLINE_FUNCTION double operator()(int i) const {
     const int r = F.denseRow(i);
     if (r >= 0) return y(r, 3 * k + e);
-    // row e of D_k (RelativeMotion::apply): w_0 at the node's DOF e, w_m R_k(e, e2) at grid DOF (m, e2)
-    double s = D.dof(k, 0, e) == i ? D.w(k, 0) : 0.0;
-    for (int m = 1; m < D.count(k); ++m)
+    double s = 0.0;
+    for (int m = 0; m < D.count(k); ++m)
       for (int e2 = 0; e2 < 3; ++e2)
-        if (D.dof(k, m, e2) == i) s += D.w(k, m) * D.rot(k, e, e2);
+        if (D.dof(k, m, e2) == i) s += D.coefficient(k, m, e, e2);
     return F.diag(i) * s;
   }
 };
@@ -504,15 +508,14 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
             for (std::size_t k = 0; k < force.extent(0); ++k) {
               const double l = force(k);
               if (l == 0.0) continue;
-              // D_k^T c: w_0 c_e at the node's DOF e; w_m (R_k^T c)_e at grid DOF (m, e)
+              // (D_k^T c)_i at DOF i = (m, e)
               for (int m = 0; m < Dk.count(k); ++m)
                 for (int e = 0; e < 3; ++e) {
                   const int i = Dk.dof(k, m, e);
                   if (i < 0 || F.denseRow(i) >= 0) continue;
-                  const double c = m == 0 ? dir(k, e)
-                                          : Dk.rot(k, 0, e) * dir(k, 0) + Dk.rot(k, 1, e) * dir(k, 1) +
-                                                Dk.rot(k, 2, e) * dir(k, 2);
-                  dq(i) += F.diag(i) * Dk.w(k, m) * l * c;
+                  const double c = Dk.coefficient(k, m, 0, e) * dir(k, 0) + Dk.coefficient(k, m, 1, e) * dir(k, 1) +
+                                   Dk.coefficient(k, m, 2, e) * dir(k, 2);
+                  dq(i) += F.diag(i) * l * c;
                 }
             }
           });
@@ -716,13 +719,12 @@ void SurfaceContact::relativeColumns() {
   const auto surf = surf_;
   const auto info = info_;
   const auto entDof = entDof_;
-  const auto entW = entW_;
   const auto entN = entN_;
   const auto F = F_;
   const auto Y = Y_;
   const auto blocks = blocks_;
   const auto nodeBlk = nodeBlk_;
-  const auto rot = entRot_;
+  const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   const int rows = F.denseRows;
   // Y(:, 3k + e) = sum_m w_m F(:, dof_m,e) on the dense rows: axpys of contiguous columns over the
   // entry's block (a diagonal block's part of F D^T is read from the entries, FlexibleColumn)
@@ -734,9 +736,8 @@ void SurfaceContact::relativeColumns() {
         for (int m = 0; m < entN(k); ++m) {
           const int blk = m == 0 ? nodeBlk(k) : info(s, 0);
           const int b0 = blocks(blk, 0), n = blocks(blk, 1), r0 = F.denseRow(b0);
-          // row e of D_k: the node's own DOF e; a grid node's DOFs e2 with w R_k(e, e2) (turned)
           for (int e2 = 0; e2 < 3; ++e2) {
-            const double w = m == 0 ? (e2 == e ? entW(k, 0) : 0.0) : entW(k, m) * rot(k, e, e2);
+            const double w = D.coefficient(k, m, e, e2);
             const int j = entDof(k, m, e2);
             if (w == 0.0 || j < 0 || F.denseRow(j) < 0) continue;
             const std::size_t col = F.start(blk) + static_cast<std::size_t>(j - b0) * n;
@@ -745,7 +746,6 @@ void SurfaceContact::relativeColumns() {
         }
       });
   const auto C = C_;
-  const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   Kokkos::parallel_for(
       "epaphe::contact::relative_flexibility", nA * nA, KOKKOS_LAMBDA(const int ab) {
         const int ka = active(ab / nA), kb = active(ab % nA);
