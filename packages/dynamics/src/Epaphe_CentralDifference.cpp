@@ -14,24 +14,6 @@
 #include <sstream>
 
 namespace epaphe {
-namespace {
-
-/// Inverse of a symmetric positive definite matrix (column-major), by Cholesky.
-std::vector<double> spdInverse(std::vector<double> A, int n, const char* what) {
-  Teuchos::LAPACK<int, double> lapack;
-  int info = 0;
-  lapack.POTRF('U', n, A.data(), n, &info);
-  EPAPHE_REQUIRE(info == 0, what << " is not positive definite (Cholesky failed at column " << info
-                                 << "): check the mass matrix and the damping coefficients");
-  lapack.POTRI('U', n, A.data(), n, &info);
-  EPAPHE_REQUIRE(info == 0, what << ": inversion failed (LAPACK info " << info << ")");
-  for (int j = 0; j < n; ++j)
-    for (int i = j + 1; i < n; ++i) A[static_cast<std::size_t>(j) * n + i] = A[static_cast<std::size_t>(i) * n + j];
-  return A;
-}
-
-}  // namespace
-
 BodyOperator BodyOperator::dense(const std::vector<double>& a, int n, const std::string& label) {
   BodyOperator op;
   op.kind_ = Kind::Dense;
@@ -120,10 +102,24 @@ void rayleighFromRatios(double f1, double xi1, double f2, double xi2, double& al
                      << "; a negative coefficient would feed energy into some modes: choose closer ratios");
 }
 
+std::vector<double> modalDamping(const ReducedModel& model, const DampingOptions& damping) {
+  std::vector<double> d;
+  for (double w2 : model.modalStiffness()) {
+    if (damping.type == DampingType::Rayleigh) d.push_back(damping.alpha + damping.beta * w2);
+    else if (damping.type == DampingType::Modal) d.push_back(2 * damping.ratio * std::sqrt(w2));
+    else d.push_back(0.0);
+  }
+  return d;
+}
+
 std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOptions& damping) {
   const int n = model.size;
   std::vector<double> D(static_cast<std::size_t>(n) * n, 0.0);
-  if (damping.type == DampingType::Rayleigh) {
+  if (model.massless()) {
+    const std::vector<double> d = modalDamping(model, damping);
+    const int nb = model.boundarySize();
+    for (int k = 0; k < model.numModes; ++k) D[static_cast<std::size_t>(nb + k) * n + nb + k] = d[k];
+  } else if (damping.type == DampingType::Rayleigh) {
     for (std::size_t k = 0; k < D.size(); ++k) D[k] = damping.alpha * model.M[k] + damping.beta * model.K[k];
   } else if (damping.type == DampingType::Modal) {
     std::vector<double> V;
@@ -221,6 +217,19 @@ StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& s
   StableStep s;
   if (model.sparse()) {
     s.omegaMax = std::sqrt(highestEigenvalue(model, stiffenedDofs, addedStiffness).value);
+  } else if (model.massless()) {
+    // The retained DOFs carry no mass: the modal system Omega^2 + k Phi_s^T Phi_s (M = I) alone.
+    const int m = model.numModes, nb = model.boundarySize();
+    const std::vector<double> w2 = model.modalStiffness();
+    std::vector<double> K(static_cast<std::size_t>(m) * m, 0.0), I(K.size(), 0.0);
+    for (int k = 0; k < m; ++k) K[static_cast<std::size_t>(k) * m + k] = w2[k], I[static_cast<std::size_t>(k) * m + k] = 1.0;
+    for (int sdof : stiffenedDofs)
+      if (sdof < nb)
+        for (int l = 0; l < m; ++l)
+          for (int k = 0; k < m; ++k)
+            K[static_cast<std::size_t>(l) * m + k] += addedStiffness * model.boundaryModes[static_cast<std::size_t>(k) * nb + sdof] *
+                                                      model.boundaryModes[static_cast<std::size_t>(l) * nb + sdof];
+    s.omegaMax = 2 * M_PI * denseFrequencies(K, I, m).back();
   } else {
     const int n = model.size;
     std::vector<double> K = model.K;
@@ -272,12 +281,78 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     D_ = BodyOperator::diagonal(D, "epaphe::dynamics::D");
     P_ = BodyOperator::diagonal(P, "epaphe::dynamics::P");
     if (damped_) B_ = BodyOperator::diagonal(B, "epaphe::dynamics::B");
+  } else if (model.massless()) {
+    // q = [u_b, eta] (Epaphe_ReducedModel.hpp). The modes step by the central difference,
+    //   eta* = 2 eta_n - eta_{n-1} + A_e eta_n + B_e (eta_n - eta_{n-1}),  A_e = -P_e Omega^2, B_e = -P_e D_e / h,
+    // P_e = (I/h^2 + D_e/2h)^{-1}, all diagonal, and the massless boundary follows them, u_b* = Phi_b eta*:
+    // in the common form this is A = [-I, Phi_b (I + A_e); 0, A_e], B = [-I, Phi_b (I + B_e); 0, B_e].
+    // The contact correction q += F f (f: forces on u_b) must move eta by P_e Phi_b^T f and u_b by
+    // Phi_b times that plus the static residual G f, so F = [G + Phi_b P_e Phi_b^T, Phi_b P_e; P_e Phi_b^T, P_e].
+    // Energy: the modes obey the identity at the top of the header; the residual part stores
+    // 1/2 r^T G^{-1} r, r = u_b - Phi_b eta = G f_{n-1} after step n-1, and the force of step n does
+    // work f_n . (r_{n+1} - r_{n-1}) / 2 on it, which is exactly
+    //   1/4 (r_{n+1}^T G^{-1} r_{n+1} - r_{n-1}^T G^{-1} r_{n-1}) + 1/4 (r_{n+1} - r_{n-1})^T G^{-1} (r_{n+1} - r_{n-1}):
+    // a stored half-step energy 1/4 (r_n^T G^{-1} r_n + r_{n+1}^T G^{-1} r_{n+1}) and a dissipation
+    // >= 0 (the lag of the static residual behind the force) counted with damping, as h K_res in D.
+    const int nb = model.boundarySize(), m = model.numModes;
+    const std::vector<double> w2 = model.modalStiffness(), d = modalDamping(model, damping);
+    const auto& Phi = model.boundaryModes;
+    auto phi = [&](int c, int k) { return Phi[static_cast<std::size_t>(k) * nb + c]; };
+    auto at = [n](std::vector<double>& X, int i, int j) -> double& { return X[static_cast<std::size_t>(j) * n + i]; };
+    std::vector<double> A(static_cast<std::size_t>(n) * n, 0.0), B(A.size(), 0.0), P(A.size(), 0.0), D(A.size(), 0.0),
+        Kmid(A.size(), 0.0), Kres(A.size(), 0.0);
+    for (int k = 0; k < m; ++k) {
+      const double Pe = 1.0 / (1.0 / (h * h) + d[k] / (2 * h)), Ae = -Pe * w2[k], Be = -Pe * d[k] / h;
+      at(A, nb + k, nb + k) = Ae;
+      at(B, nb + k, nb + k) = Be;
+      at(P, nb + k, nb + k) = Pe;
+      at(D, nb + k, nb + k) = d[k];
+      at(Kmid, nb + k, nb + k) = w2[k];
+      for (int c = 0; c < nb; ++c) {
+        at(A, c, nb + k) = phi(c, k) * (1.0 + Ae);
+        at(B, c, nb + k) = phi(c, k) * (1.0 + Be);
+        at(P, c, nb + k) = at(P, nb + k, c) = phi(c, k) * Pe;
+        for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += phi(c, k) * Pe * phi(c2, k);
+      }
+    }
+    for (int c = 0; c < nb; ++c) {
+      at(A, c, c) = -1.0;
+      at(B, c, c) = -1.0;
+      for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += model.residualFlexibility[static_cast<std::size_t>(c2) * nb + c];
+    }
+    // K_res = L^T G^{-1} L, L = [I, -Phi_b]: the stiffness of the residual r = L q
+    const std::vector<double> Ginv = spdInverse(model.residualFlexibility, nb, "the residual flexibility of body '" +
+                                                model.name + "'", "recompute the reduction (delete its cache file)");
+    std::vector<double> L(static_cast<std::size_t>(nb) * n, 0.0), GL(L.size(), 0.0);
+    for (int c = 0; c < nb; ++c) {
+      L[static_cast<std::size_t>(c) * nb + c] = 1.0;
+      for (int k = 0; k < m; ++k) L[static_cast<std::size_t>(nb + k) * nb + c] = -phi(c, k);
+    }
+    Teuchos::BLAS<int, double> blas;
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, n, nb, 1.0, Ginv.data(), nb, L.data(), nb, 0.0, GL.data(), nb);
+    blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, n, n, nb, 1.0, L.data(), nb, GL.data(), nb, 0.0, Kres.data(), n);
+    std::vector<double> K(A.size()), Ddiss(A.size());
+    for (std::size_t k = 0; k < K.size(); ++k) {
+      K[k] = Kmid[k] + Kres[k];
+      Ddiss[k] = D[k] + h * Kres[k];
+    }
+    damped_ = true;   // B carries the boundary's rows; the residual dissipates
+    A_ = BodyOperator::dense(A, n, "epaphe::dynamics::A");
+    B_ = BodyOperator::dense(B, n, "epaphe::dynamics::B");
+    K_ = BodyOperator::dense(K, n, "epaphe::dynamics::K");
+    Kmid_ = BodyOperator::dense(Kmid, n, "epaphe::dynamics::Kmid");
+    Kres_ = BodyOperator::dense(Kres, n, "epaphe::dynamics::Kres");
+    M_ = BodyOperator::dense(model.M, n, "epaphe::dynamics::M");
+    D_ = BodyOperator::dense(Ddiss, n, "epaphe::dynamics::D");
+    P_ = BodyOperator::dense(P, n, "epaphe::dynamics::P");
+    residual_ = true;
   } else {
     const std::vector<double> D = dampingMatrix(model, damping);
     // P = [M/h^2 + D/2h]^{-1}
     std::vector<double> lhs(D.size());
     for (std::size_t k = 0; k < lhs.size(); ++k) lhs[k] = model.M[k] / (h * h) + D[k] / (2 * h);
-    const std::vector<double> P = spdInverse(lhs, n, ("M/h^2 + D/2h of body '" + model.name + "'").c_str());
+    const std::vector<double> P = spdInverse(lhs, n, "M/h^2 + D/2h of body '" + model.name + "'",
+                                             "check the mass matrix and the damping coefficients");
     // A = -P K, B = -P D / h
     std::vector<double> A(D.size()), B(D.size());
     Teuchos::BLAS<int, double> blas;
@@ -338,8 +413,17 @@ double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVecto
   KokkosBlas::axpby(-1.0 / h_, qn, 1.0 / h_, tmp2_);
   M_.apply(1.0, tmp2_, 0.0, tmp_);
   const double kin = 0.5 * KokkosBlas::dot(tmp2_, tmp_);
-  K_.apply(1.0, qnp1, 0.0, tmp_);
-  return kin + 0.5 * KokkosBlas::dot(qn, tmp_);
+  if (!residual_) {
+    K_.apply(1.0, qnp1, 0.0, tmp_);
+    return kin + 0.5 * KokkosBlas::dot(qn, tmp_);
+  }
+  // massless boundary: modes as above, plus 1/4 (q_n^T K_res q_n + q_{n+1}^T K_res q_{n+1})
+  Kmid_.apply(1.0, qnp1, 0.0, tmp_);
+  double e = kin + 0.5 * KokkosBlas::dot(qn, tmp_);
+  Kres_.apply(1.0, qnp1, 0.0, tmp_);
+  e += 0.25 * KokkosBlas::dot(qnp1, tmp_);
+  Kres_.apply(1.0, qn, 0.0, tmp_);
+  return e + 0.25 * KokkosBlas::dot(qn, tmp_);
 }
 
 double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {

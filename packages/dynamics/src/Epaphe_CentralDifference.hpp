@@ -23,6 +23,10 @@
 // with E_{n+1/2} = 1/2 v_{n+1/2}^T M v_{n+1/2} + 1/2 q_n^T K q_{n+1}, v_{n+1/2} = (q_{n+1}-q_n)/h.
 // The run accumulates the right-hand side (contact and external work) and the damping term, so
 // the balance error measures what the scheme itself does not conserve: round-off, or a bug.
+//
+// A massless boundary (ReducedModel::massless(), q = [u_b, eta]) steps its modes this way and sets
+// u_b = Phi_b eta + G f; its A, B and F, and the residual's energy and dissipation, are derived in
+// the constructor.
 #include "Epaphe_ReducedModel.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
@@ -73,7 +77,12 @@ private:
   enum class Kind { None, Dense, Sparse, Diagonal } kind_ = Kind::None;
 };
 
-/// The damping matrix (dense, column-major). Modal (eqs. 4.4-4.5): with V the M-orthonormal modes
+/// Per kept mode of a massless-boundary model, its damping d_j (D_e = diag(d)): Rayleigh
+/// alpha + beta Omega_j^2, modal 2 xi Omega_j, none 0.
+std::vector<double> modalDamping(const ReducedModel& model, const DampingOptions& damping);
+
+/// The damping matrix (dense, column-major). Massless boundary: diag(0, modalDamping) (the
+/// boundary carries no mass, hence no damping force). Modal (eqs. 4.4-4.5): with V the M-orthonormal modes
 /// of (K, M) (V^T M V = I, V^T K V = Omega^2), D = V^{-T} diag(2 xi omega_i) V^{-1}
 /// = M V diag(2 xi omega_i) V^T M, so that V^T D V = diag(2 xi omega_i): every mode of the
 /// reduced structure gets the ratio xi, rigid-body modes (omega = 0) none.
@@ -141,7 +150,8 @@ private:
   double h_;
   bool damped_ = false;
   bool forced_ = false;
-  BodyOperator K_, M_, D_, P_, A_, B_;
+  bool residual_ = false;    // massless boundary: Kmid_ and Kres_ split K for the energy, D_ holds h K_res
+  BodyOperator K_, M_, D_, P_, A_, B_, Kmid_, Kres_;
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;
 };

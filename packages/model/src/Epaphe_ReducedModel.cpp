@@ -33,6 +33,12 @@ std::vector<double> ReducedModel::massTimes(const std::vector<double>& x) const 
   return y;
 }
 
+std::vector<double> ReducedModel::modalStiffness() const {
+  std::vector<double> w2;
+  for (double f : modeFrequencies) w2.push_back((2 * M_PI * f) * (2 * M_PI * f));
+  return w2;
+}
+
 std::vector<int> ReducedModel::recoveryIndex(const std::vector<int>& nodes) const {
   std::vector<int> index;
   for (int n : nodes)
@@ -99,10 +105,27 @@ std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vec
   return w;
 }
 
+std::vector<double> spdInverse(std::vector<double> A, int n, const std::string& what, const std::string& fix) {
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  lapack.POTRF('U', n, A.data(), n, &info);
+  EPAPHE_REQUIRE(info == 0, what << " is not positive definite (Cholesky failed at column " << info << "): " << fix);
+  lapack.POTRI('U', n, A.data(), n, &info);
+  EPAPHE_REQUIRE(info == 0, what << ": inversion failed (LAPACK info " << info << ")");
+  for (int j = 0; j < n; ++j)
+    for (int i = j + 1; i < n; ++i) A[static_cast<std::size_t>(j) * n + i] = A[static_cast<std::size_t>(i) * n + j];
+  return A;
+}
+
 std::vector<double> denseFrequencies(const std::vector<double>& K, const std::vector<double>& M, int n) {
   std::vector<double> w = denseEigenpairs(K, M, n);
   for (double& x : w) x = std::sqrt(std::max(x, 0.0)) / (2 * M_PI);
   return w;
+}
+
+std::vector<double> reducedFrequencies(const ReducedModel& model) {
+  if (model.massless()) return model.modeFrequencies;
+  return denseFrequencies(model.K, model.M, model.size);
 }
 
 }  // namespace epaphe

@@ -9,6 +9,17 @@
 // A full model with lumped mass (method "Full, lumped mass") is not reduced at all and stays
 // sparse: q = u over the free DOFs (R = I: a node's DOF is q[nodeDof], 0 when clamped), K in
 // compressed rows, M diagonal; the dense K, M and recovery are then empty (sparse() is true).
+//
+// Massless boundary (method "Massless boundary", MacNeal 1971; Monjaraz-Tec, Gross & Krack 2022):
+// q = [u_b, eta], u_b the retained DOFs, eta the amplitudes of the body's own lowest normal modes
+// Phi (retained nodes free, the body held by its boundary conditions; Phi^T M Phi = I,
+// Phi^T K Phi = Omega^2). The retained DOFs carry no mass: u_b = Phi_b eta + G f_b, with
+// G = (K^{-1})_bb - Phi_b Omega^{-2} Phi_b^T the residual flexibility and f_b the force on them. In q,
+//   K = [ G^{-1}             -G^{-1} Phi_b                  ]     M = [ 0  0 ]
+//       [ -Phi_b^T G^{-1}     Omega^2 + Phi_b^T G^{-1} Phi_b ]         [ 0  I ]
+// (static response exact: K^{-1} restricted to u_b is (K_full^{-1})_bb), and every node's
+// displacement is u = R q, R = [Res G^{-1}, Phi - Res G^{-1} Phi_b], Res = K^{-1} E_b - Phi Omega^{-2} Phi_b^T.
+// The stable step is set by Omega's largest entry alone (dynamics/Epaphe_CentralDifference.hpp).
 #include "Epaphe_Mesh.hpp"
 
 #include <array>
@@ -45,8 +56,15 @@ struct ReducedModel {
   std::vector<double> fullFrequencies;  // lowest frequencies of the full model it came from (Hz), if computed
   SparseRows sparseK;                   // full model with lumped mass: K (size x size)
   std::vector<double> lumpedMass;       // full model with lumped mass: diag(M) (size)
+  std::vector<double> boundaryModes;    // massless boundary: Phi_b, (size - numModes) x numModes, column-major
+  std::vector<double> residualFlexibility;  // massless boundary: G, square on the retained DOFs, column-major
 
   bool sparse() const { return !lumpedMass.empty(); }
+  bool massless() const { return !residualFlexibility.empty(); }
+  int boundarySize() const { return size - numModes; }
+  /// Massless boundary: Omega_j^2 = (2 pi f_j)^2 of the kept modes, the one definition that the
+  /// reduction's K and the integrator use.
+  std::vector<double> modalStiffness() const;
   int numNodes() const { return static_cast<int>(coords.size()); }
   double k(int i, int j) const { return K[static_cast<std::size_t>(j) * size + i]; }
   double m(int i, int j) const { return M[static_cast<std::size_t>(j) * size + i]; }
@@ -78,7 +96,15 @@ ReducedModel sparseModel(const FullModel& full);
 std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vector<double>& M, int n,
                                     std::vector<double>* vectors = nullptr);
 
+/// Inverse of a symmetric positive definite n x n matrix (column-major) by Cholesky; an Error names
+/// `what`, the failing column and `fix` when it is not positive definite.
+std::vector<double> spdInverse(std::vector<double> A, int n, const std::string& what, const std::string& fix);
+
 /// Natural frequencies (Hz, ascending) of a dense model. Negative round-off eigenvalues give 0.
 std::vector<double> denseFrequencies(const std::vector<double>& K, const std::vector<double>& M, int n);
+
+/// Natural frequencies (Hz, ascending) of a dense reduced model: denseFrequencies(K, M), or for a
+/// massless boundary (M singular) the kept modes' (the retained DOFs respond statically).
+std::vector<double> reducedFrequencies(const ReducedModel& model);
 
 }  // namespace epaphe

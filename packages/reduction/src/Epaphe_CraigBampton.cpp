@@ -110,6 +110,22 @@ std::vector<double> project(const Blocks& X, const MultiVector& Psi, const Multi
   return red;
 }
 
+/// The rows of a distributed multivector X (rows numbered by the global free DOF g) that
+/// `rowIndex[g] >= 0` selects, as a dense (numRows x cols, column-major) array on every rank.
+std::vector<double> gatherRows(const MultiVector& X, const std::vector<int>& rowIndex, int numRows) {
+  const int cols = static_cast<int>(X.getNumVectors());
+  std::vector<double> local(static_cast<std::size_t>(numRows) * cols, 0.0), out(local.size(), 0.0);
+  const auto map = X.getMap();
+  auto x = X.getLocalViewHost(Tpetra::Access::ReadOnly);
+  for (LO l = 0; l < static_cast<LO>(map->getNodeNumElements()); ++l) {
+    const int r = rowIndex[map->getGlobalElement(l)];
+    if (r < 0) continue;
+    for (int j = 0; j < cols; ++j) local[static_cast<std::size_t>(j) * numRows + r] = x(l, j);
+  }
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), out.data());
+  return out;
+}
+
 }  // namespace
 
 ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
@@ -216,6 +232,178 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
       if (lc == Teuchos::OrdinalTraits<LO>::invalid()) continue;
       for (int j = 0; j < nR; ++j) local[i * n + j] = psi(lc, j);
       for (int j = 0; j < opt.modes; ++j) local[i * n + nR + j] = phi(lc, j);
+    }
+  }
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), red.recovery.data());
+  rep.projectSeconds = sw.seconds();
+  rep.seconds = total.seconds();
+  if (report) *report = rep;
+  return red;
+}
+
+ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
+                              ReductionReport* report) {
+  Stopwatch total;
+  ReductionReport rep;
+  const auto comm = full.K->getComm();
+  const int nFree = full.numFree, m = opt.modes;
+  const std::string body = "body '" + full.name + "'";
+  EPAPHE_REQUIRE(m > 0, body << ": the massless-boundary reduction keeps the body's mass in its modes only, but "
+                             << m << " modes are asked; set 'Fixed-interface modes' > 0");
+  EPAPHE_REQUIRE(std::any_of(full.eq.begin(), full.eq.end(), [](int g) { return g < 0; }),
+                 body << ": the massless-boundary reduction needs the static response K^{-1} of a body held by its "
+                         "boundary conditions, and this body has none; give it a 'Clamped node set', or use "
+                         "'Craig-Bampton'");
+
+  ReducedModel red;
+  red.name = full.name;
+  red.method = "Massless boundary";
+  red.coords = full.mesh.coords;
+  red.nodeSets = full.mesh.nodeSets;
+  red.nodeGrids = full.mesh.nodeGrids;
+  red.hexes = full.mesh.hexes;
+  red.retainedNodes = retained;
+  red.nodeDof.assign(full.eq.size(), -1);
+  std::vector<int> rIndex(static_cast<std::size_t>(nFree), -1);
+  int nR = 0;
+  for (int node : retained) {
+    EPAPHE_REQUIRE(node >= 0 && node < full.numNodes(),
+                   body << ": retained node " << node << " is not in the model (0.." << full.numNodes() - 1 << ")");
+    for (int d = 0; d < 3; ++d) {
+      const int g = full.eq[3 * node + d];
+      if (g < 0) continue;
+      EPAPHE_REQUIRE(rIndex[g] < 0, body << ": node " << node << " is retained twice");
+      rIndex[g] = nR;
+      red.nodeDof[3 * node + d] = nR;
+      ++nR;
+    }
+  }
+  EPAPHE_REQUIRE(nR > 0, body << ": no free DOF is retained; name a retained node set with free nodes");
+  EPAPHE_REQUIRE(nR + m <= nFree, body << ": " << nR << " retained DOFs and " << m << " modes exceed the model's "
+                                       << nFree << " free DOFs; keep fewer modes");
+  rep.retainedDofs = nR;
+  rep.condensedDofs = nFree - nR;
+
+  // One factor of K serves the static responses and Anasazi's shift-invert (shift 0: K is regular).
+  Stopwatch sw;
+  auto factor = makeSolver(full.K, opt.solver, "K of " + body, opt.iterativeTolerance);
+  rep.factorSeconds = sw.seconds();
+  sw.restart();
+  const auto rowMap = full.K->getRowMap();
+  MultiVector E(rowMap, static_cast<std::size_t>(nR)), X(rowMap, static_cast<std::size_t>(nR));
+  {
+    auto e = E.getLocalViewHost(Tpetra::Access::ReadWrite);
+    for (LO l = 0; l < static_cast<LO>(rowMap->getNodeNumElements()); ++l)
+      if (const int r = rIndex[rowMap->getGlobalElement(l)]; r >= 0) e(l, r) = 1.0;
+  }
+  factor->solve(E, X);   // X = K^{-1} E_b: the static response to a unit force on each retained DOF
+  rep.constraintSeconds = sw.seconds();
+
+  sw.restart();
+  EigenOptions eo;
+  eo.count = m;
+  eo.shift = 0.0;
+  eo.tolerance = opt.eigenTolerance;
+  EigenResult er = lowestEigenpairs(full.K, full.M, *factor, eo);
+  MultiVector& Phi = *er.vectors;
+  {  // M-normalise exactly (Anasazi's are M-orthonormal to its tolerance)
+    MultiVector MPhi(rowMap, static_cast<std::size_t>(m));
+    full.M->apply(Phi, MPhi);
+    const auto g = transposeProduct(Phi, MPhi);
+    std::vector<double> scale(static_cast<std::size_t>(m));
+    for (int j = 0; j < m; ++j) scale[j] = 1.0 / std::sqrt(g[static_cast<std::size_t>(j) * m + j]);
+    Phi.scale(Teuchos::ArrayView<const double>(scale));
+  }
+  rep.eigenIterations = er.restarts;
+  rep.eigenSolves = er.operatorVectors;
+  rep.eigenSolveSeconds = er.operatorSeconds;
+  for (double l : er.lambda) {
+    EPAPHE_REQUIRE(l > 0, body << ": eigenvalue " << l << " of a body held by its boundary conditions; the model "
+                               "has a mechanism (a free rigid motion): clamp it fully");
+    red.modeFrequencies.push_back(std::sqrt(l) / (2 * M_PI));
+  }
+  rep.eigenSeconds = sw.seconds();
+  rep.solverIterations = factor->iterations();
+
+  sw.restart();
+  red.numModes = m;
+  red.size = nR + m;
+  const std::vector<double> w2 = red.modalStiffness();
+  red.boundaryModes = gatherRows(Phi, rIndex, nR);           // Phi_b, nR x m
+  std::vector<double> G = gatherRows(X, rIndex, nR);         // (K^{-1})_bb, then minus the modes' part
+  auto phib = [&](int i, int j) { return red.boundaryModes[static_cast<std::size_t>(j) * nR + i]; };
+  for (int j = 0; j < nR; ++j)
+    for (int i = 0; i < nR; ++i) {
+      double s = 0;
+      for (int k = 0; k < m; ++k) s += phib(i, k) * phib(j, k) / w2[k];
+      G[static_cast<std::size_t>(j) * nR + i] -= s;
+    }
+  for (int j = 0; j < nR; ++j)  // exact symmetry (round-off)
+    for (int i = j + 1; i < nR; ++i)
+      G[static_cast<std::size_t>(j) * nR + i] = G[static_cast<std::size_t>(i) * nR + j] =
+          0.5 * (G[static_cast<std::size_t>(j) * nR + i] + G[static_cast<std::size_t>(i) * nR + j]);
+  red.residualFlexibility = G;
+  const std::vector<double> Ginv =
+      spdInverse(G, nR, "the residual flexibility of " + body,
+                 "the kept modes already carry (almost) all the flexibility of the retained DOFs; keep fewer modes "
+                 "or use 'Craig-Bampton'");
+  // GinvPhi = G^{-1} Phi_b (nR x m)
+  std::vector<double> GinvPhi(static_cast<std::size_t>(nR) * m, 0.0);
+  for (int k = 0; k < m; ++k)
+    for (int j = 0; j < nR; ++j)
+      for (int i = 0; i < nR; ++i)
+        GinvPhi[static_cast<std::size_t>(k) * nR + i] += Ginv[static_cast<std::size_t>(j) * nR + i] * phib(j, k);
+  const int n = red.size;
+  red.K.assign(static_cast<std::size_t>(n) * n, 0.0);
+  red.M.assign(static_cast<std::size_t>(n) * n, 0.0);
+  auto K = [&](int i, int j) -> double& { return red.K[static_cast<std::size_t>(j) * n + i]; };
+  for (int j = 0; j < nR; ++j)
+    for (int i = 0; i < nR; ++i) K(i, j) = Ginv[static_cast<std::size_t>(j) * nR + i];
+  for (int k = 0; k < m; ++k)
+    for (int i = 0; i < nR; ++i) K(i, nR + k) = K(nR + k, i) = -GinvPhi[static_cast<std::size_t>(k) * nR + i];
+  for (int k = 0; k < m; ++k) {
+    for (int l = 0; l < m; ++l) {
+      double s = 0;
+      for (int i = 0; i < nR; ++i) s += phib(i, k) * GinvPhi[static_cast<std::size_t>(l) * nR + i];
+      K(nR + k, nR + l) = s;
+    }
+    K(nR + k, nR + k) += w2[k];
+    red.M[static_cast<std::size_t>(nR + k) * n + nR + k] = 1.0;
+  }
+  for (int j = 0; j < n; ++j)
+    for (int i = j + 1; i < n; ++i) K(i, j) = K(j, i) = 0.5 * (K(i, j) + K(j, i));
+
+  // Recovery rows: u = Phi eta + Res f_b with f_b = G^{-1} (u_b - Phi_b eta), Res = X - Phi Omega^{-2} Phi_b^T.
+  std::vector<double> local(full.eq.size() * n, 0.0), res(nR), a(nR);
+  red.recovery.assign(local.size(), 0.0);
+  {
+    auto x = X.getLocalViewHost(Tpetra::Access::ReadOnly);
+    auto phi = Phi.getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (std::size_t i = 0; i < full.eq.size(); ++i) {
+      const int g = full.eq[i];
+      if (g < 0) continue;
+      if (rIndex[g] >= 0) {
+        if (comm->getRank() == 0) local[i * n + rIndex[g]] = 1.0;
+        continue;
+      }
+      const LO l = rowMap->getLocalElement(g);
+      if (l == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+      for (int c = 0; c < nR; ++c) {
+        double s = x(l, c);
+        for (int k = 0; k < m; ++k) s -= phi(l, k) / w2[k] * phib(c, k);
+        res[c] = s;
+      }
+      for (int c = 0; c < nR; ++c) {
+        double s = 0;
+        for (int r = 0; r < nR; ++r) s += res[r] * Ginv[static_cast<std::size_t>(c) * nR + r];
+        a[c] = s;
+        local[i * n + c] = s;
+      }
+      for (int k = 0; k < m; ++k) {
+        double s = phi(l, k);
+        for (int c = 0; c < nR; ++c) s -= a[c] * phib(c, k);
+        local[i * n + nR + k] = s;
+      }
     }
   }
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), red.recovery.data());

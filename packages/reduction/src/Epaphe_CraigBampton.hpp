@@ -38,6 +38,14 @@ struct ReductionReport {
 ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
                           ReductionReport* report = nullptr);
 
+/// Massless-boundary reduction (MacNeal's residual flexibility; Monjaraz-Tec, Gross & Krack 2022;
+/// the model is described in Epaphe_ReducedModel.hpp): the body's `opt.modes` lowest normal modes
+/// with the retained nodes free, and the static response to forces on the retained DOFs, from one
+/// factor of the full K (the body must be held by its boundary conditions). The retained DOFs carry
+/// no mass, so the highest frequency is the last kept mode's, not the boundary's.
+ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
+                              ReductionReport* report = nullptr);
+
 /// The lowest `count` natural frequencies (Hz) of the full model, by Anasazi on (K, M) with a
 /// small negative shift so that free-free models (rigid-body modes) are handled.
 std::vector<double> fullModelFrequencies(const FullModel& full, int count, const std::string& solver = "MUMPS",

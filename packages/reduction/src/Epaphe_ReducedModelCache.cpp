@@ -45,6 +45,8 @@ void saveReducedModel(const ReducedModel& r, const std::string& path, const std:
     f.writeInts("/retainedNodes", std::vector<long long>(r.retainedNodes.begin(), r.retainedNodes.end()));
     f.writeDoubles("/modeFrequencies", r.modeFrequencies);
     f.writeDoubles("/fullFrequencies", r.fullFrequencies);
+    f.writeDoubles("/boundaryModes", r.boundaryModes);
+    f.writeDoubles("/residualFlexibility", r.residualFlexibility);
     std::string names;
     for (const auto& [name, nodes] : r.nodeSets) {
       f.writeInts("/nodeSets/" + name, std::vector<long long>(nodes.begin(), nodes.end()));
@@ -87,6 +89,12 @@ bool loadReducedModel(const std::string& path, const std::string& key, ReducedMo
   r.retainedNodes = toInts(f.readInts("/retainedNodes"));
   r.modeFrequencies = f.readDoubles("/modeFrequencies");
   r.fullFrequencies = f.readDoubles("/fullFrequencies");
+  r.boundaryModes.clear();  // massless boundary only (files written before it have neither)
+  r.residualFlexibility.clear();
+  if (f.exists("/residualFlexibility")) {
+    r.boundaryModes = f.readDoubles("/boundaryModes");
+    r.residualFlexibility = f.readDoubles("/residualFlexibility");
+  }
   r.nodeSets.clear();
   const std::string names = f.stringAttribute("/", "nodeSetNames");
   for (std::size_t b = 0, e; (e = names.find('\n', b)) != std::string::npos; b = e + 1) {

@@ -114,16 +114,20 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addString(body, "Contact node set", "", "Nodes checked against every surface (empty: no contact)");
     addStringArray(body, "Watched node sets", {}, "Node sets whose displacement and velocity are written");
     auto& red = body.sublist("Reduction", false, "Model reduction (thesis section 2.3)");
-    addEnum(red, "Method", "Craig-Bampton", {"Craig-Bampton", "Guyan", "None", "Full, lumped mass"},
+    addEnum(red, "Method", "Craig-Bampton", {"Craig-Bampton", "Guyan", "None", "Full, lumped mass", "Massless boundary"},
             {int(ReductionMethod::CraigBampton), int(ReductionMethod::Guyan), int(ReductionMethod::None),
-             int(ReductionMethod::FullLumped)},
+             int(ReductionMethod::FullLumped), int(ReductionMethod::MasslessBoundary)},
             "Craig-Bampton (eq. 2.12), Guyan (eq. 2.11, no modes), None (the full model, dense: small models only) "
             "or Full, lumped mass (no reduction: K kept sparse, M lumped to its diagonal by HRZ scaling, a step is "
             "one sparse product and the contact flexibility is diagonal; cheaper than a dense reduced model once "
             "the retained interface is large, see the README; damping: none or Rayleigh with Beta = 0; "
             "'Fixed-interface modes', 'Retained node set' and the cache are unused; 'Frequency check' compares "
-            "the lumped model's frequencies with the consistent-mass model's)");
-    addInt(red, "Fixed-interface modes", 20, "Craig-Bampton: number of fixed-interface modes kept", 0, 100000);
+            "the lumped model's frequencies with the consistent-mass model's), or Massless boundary (MacNeal's "
+            "residual flexibility: the body's own lowest normal modes with the retained nodes free, plus the "
+            "static response to the contact forces; the retained DOFs carry no mass, so the stable step is set by "
+            "the last kept mode, not by the boundary; needs a clamped body and no initial velocity)");
+    addInt(red, "Fixed-interface modes", 20, "Modes kept: Craig-Bampton's fixed-interface modes, or for Massless "
+                                             "boundary the body's normal modes with the retained nodes free", 0, 100000);
     addString(red, "Retained node set", "", "Nodes kept as physical DOFs (empty: the contact node set)");
     addEnum(red, "Linear solver", "MUMPS", {"MUMPS", "KLU2", "Belos CG"},
             {int(LinearSolver::Mumps), int(LinearSolver::Klu2), int(LinearSolver::BelosCg)},

@@ -137,10 +137,24 @@ void checkReductions(const ParameterList& P, const DampingOptions& damping, cons
   const ParameterList& bl = P.sublist("Bodies");
   const ParameterList& dp = P.sublist("Time").sublist("Damping");
   for (auto it = bl.begin(); it != bl.end(); ++it) {
-    const ParameterList& rp = bl.sublist(bl.name(it)).sublist("Reduction");
-    if (deck::getEnum<ReductionMethod>(rp, "Method") != ReductionMethod::FullLumped) continue;
+    const ParameterList& bp = bl.sublist(bl.name(it));
+    const ParameterList& rp = bp.sublist("Reduction");
+    const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
     const std::string ctx = origin + ": body '" + bl.name(it) + "', '" + deck::pathOf(rp, "Method") + "' = '" +
                             rp.get<std::string>("Method") + "'";
+    if (method == ReductionMethod::MasslessBoundary) {
+      const ParameterList& cp = P.sublist("Contact");
+      EPAPHE_REQUIRE(deck::getEnum<ContactMethod>(cp, "Method") == ContactMethod::Lagrange,
+                     ctx << " with '" << deck::pathOf(cp, "Method") << "' = '" << cp.get<std::string>("Method")
+                         << "': a penalty force computed from the predicted gap would ignore the boundary's static "
+                            "residual flexibility (its nodes have no mass to lag behind the force); use 'Lagrange', "
+                            "or 'Craig-Bampton' for penalty contact");
+      const auto v0 = deck::getVec3(bp, "Initial velocity", origin);
+      EPAPHE_REQUIRE(v0[0] == 0 && v0[1] == 0 && v0[2] == 0,
+                     ctx << " with 'Initial velocity' = {" << v0[0] << ", " << v0[1] << ", " << v0[2]
+                         << "}: the body is clamped and its mass is in its modes; remove the key, or use 'Craig-Bampton'");
+    }
+    if (method != ReductionMethod::FullLumped) continue;
     const std::string problem = fullModelDampingProblem(damping);
     EPAPHE_REQUIRE(problem.empty(), ctx << " with '" << deck::pathOf(dp, "Type") << "' = '" << dp.get<std::string>("Type")
                                         << "': " << problem);
@@ -229,6 +243,9 @@ void broadcast(ReducedModel& r, const Teuchos::Comm<int>& comm) {
   Teuchos::broadcast(comm, 0, 2, header);
   r.size = header[0];
   r.numModes = header[1];
+  std::vector<char> method(r.method.begin(), r.method.end());
+  bcastVec(method);
+  r.method.assign(method.begin(), method.end());
   bcastVec(r.K);
   bcastVec(r.M);
   bcastVec(r.recovery);
@@ -236,6 +253,8 @@ void broadcast(ReducedModel& r, const Teuchos::Comm<int>& comm) {
   bcastVec(r.retainedNodes);
   bcastVec(r.modeFrequencies);
   bcastVec(r.fullFrequencies);
+  bcastVec(r.boundaryModes);
+  bcastVec(r.residualFlexibility);
   std::vector<double> xyz;
   if (comm.getRank() == 0)
     for (const auto& c : r.coords) xyz.insert(xyz.end(), c.begin(), c.end());
@@ -388,8 +407,13 @@ void Simulation::setup() {
         EPAPHE_REQUIRE(!retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
                                                  << " needs a 'Retained node set' (or a 'Contact node set')");
         const CraigBamptonOptions cbo = reductionOptions(rp);
-        b->rom = craigBampton(full, full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'"), cbo,
-                              &b->report);
+        const auto retainedNodes = full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'");
+        try {  // the reduction's errors name the body; add the deck
+          b->rom = method == ReductionMethod::MasslessBoundary ? masslessBoundary(full, retainedNodes, cbo, &b->report)
+                                                                : craigBampton(full, retainedNodes, cbo, &b->report);
+        } catch (const Error& e) {
+          throw Error(origin + ": " + e.what());
+        }
         out << "[" << b->name << "] " << b->rom.method << ": " << b->report.retainedDofs << " retained DOFs + "
             << cbo.modes << " modes = " << b->rom.size << " reduced DOFs in " << formatDuration(b->report.seconds)
             << " on " << comm->getSize() << " rank(s) (factor " << formatDuration(b->report.factorSeconds)
@@ -404,7 +428,7 @@ void Simulation::setup() {
     if (b->fromCache) out << "[" << b->name << "] reduced model (" << b->rom.method << ", " << b->rom.size
                           << " DOFs) reused from " << cacheFile << "\n";
     b->fullFrequencies = b->rom.fullFrequencies;
-    if (!b->rom.sparse()) b->reducedFrequencies = denseFrequencies(b->rom.K, b->rom.M, b->rom.size);
+    if (!b->rom.sparse()) b->reducedFrequencies = reducedFrequencies(b->rom);
 
     // Initial velocity: uniform translation, exact in reduced coordinates (retained DOFs).
     const auto v0 = deck::getVec3(bp, "Initial velocity", origin);

@@ -1,0 +1,220 @@
+// Massless-boundary reduction (MacNeal's residual flexibility; Epaphe_ReducedModel.hpp) and its
+// central difference (Epaphe_CentralDifference.cpp): the static response and the recovery of every
+// node are exact, the frequencies are the full model's, the boundary follows the modes in free
+// flight, a correction q += F f moves the modes by P_e Phi_b^T f and leaves the static residual
+// G f on the boundary, and the discrete energy balance closes under arbitrary boundary forces.
+// Each of these fails if A, B, F, K_res or the recovery rows are wrong.
+#include "Epaphe_CentralDifference.hpp"
+#include "Epaphe_CraigBampton.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_FullModel.hpp"
+
+#include <Teuchos_DefaultComm.hpp>
+#include <Teuchos_LAPACK.hpp>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+using namespace epaphe;
+
+namespace {
+
+const Material steel{7800, 2.1e11, 0.3};
+
+/// A steel bar 0.2 x 0.02 x 0.02 m of nx x 2 x 2 hexahedra, clamped at x = 0 (or free).
+FullModel bar(int nx, bool clamped = true) {
+  Mesh mesh = makeBoxMesh({0, 0, 0}, {0.2, 0.02, 0.02}, {nx, 2, 2});
+  const std::vector<int> fixed = clamped ? mesh.nodeSet("x-", "test") : std::vector<int>();
+  return assembleHexModel("bar", mesh, steel, fixed, Teuchos::DefaultComm<int>::getComm());
+}
+
+/// x = A^{-1} b for a dense symmetric positive definite A (column-major).
+std::vector<double> solve(std::vector<double> A, std::vector<double> b) {
+  const int n = static_cast<int>(b.size());
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  lapack.POSV('U', n, 1, A.data(), n, b.data(), n, &info);
+  EXPECT_EQ(info, 0);
+  return b;
+}
+
+/// A fixed pseudo-random vector in [-1, 1).
+std::vector<double> noise(int n, unsigned seed) {
+  std::vector<double> v(static_cast<std::size_t>(n));
+  for (double& x : v) {
+    seed = seed * 1103515245u + 12345u;
+    x = static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
+  }
+  return v;
+}
+
+void set(const DenseVector& v, const std::vector<double>& a) {
+  for (std::size_t i = 0; i < a.size(); ++i) v(i) = a[i];
+}
+
+double maxAbs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+ReducedModel massless(const FullModel& full, int modes) {
+  CraigBamptonOptions o;
+  o.modes = modes;
+  return masslessBoundary(full, full.mesh.nodeSet("x+", "test"), o);
+}
+
+}  // namespace
+
+TEST(MasslessBoundary, StaticResponseRecoveryAndFrequenciesAreTheFullModels) {
+  const FullModel full = bar(12);
+  const ReducedModel red = massless(full, 8);
+  const ReducedModel ref = unreducedModel(full);
+  const int nb = red.boundarySize(), n = red.size;
+  ASSERT_EQ(nb, 27);  // 9 tip nodes
+  ASSERT_EQ(n, nb + 8);
+  ASSERT_TRUE(red.massless());
+  EXPECT_EQ(red.method, "Massless boundary");
+
+  // M = diag(0, I): the boundary carries no mass, the modes are M-orthonormal.
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) EXPECT_EQ(red.m(i, j), (i == j && i >= nb) ? 1.0 : 0.0) << i << ", " << j;
+
+  // Recovery rows of the retained DOFs are unit rows: u_b is a coordinate.
+  for (int node : full.mesh.nodeSet("x+", "test"))
+    for (int d = 0; d < 3; ++d) {
+      const int i = red.nodeDof[3 * node + d];
+      ASSERT_GE(i, 0);
+      for (int j = 0; j < n; ++j) EXPECT_EQ(red.recoveryRow(node, d)[j], j == i ? 1.0 : 0.0);
+    }
+
+  // Static: a force f on the tip. The reduced K q = [f, 0] and u = R q give every node's
+  // displacement of the full K u = f, to round-off (stated: 1e-9 of the largest).
+  const std::vector<double> fb = noise(nb, 7);
+  std::vector<double> fq(static_cast<std::size_t>(n), 0.0), ff(static_cast<std::size_t>(ref.size), 0.0);
+  for (int node : full.mesh.nodeSet("x+", "test"))
+    for (int d = 0; d < 3; ++d) {
+      fq[red.nodeDof[3 * node + d]] = 1e4 * fb[red.nodeDof[3 * node + d]];
+      ff[full.eq[3 * node + d]] = 1e4 * fb[red.nodeDof[3 * node + d]];
+    }
+  const std::vector<double> q = solve(red.K, fq), u = solve(ref.K, ff);
+  double worst = 0;
+  for (int node = 0; node < full.numNodes(); ++node)
+    for (int d = 0; d < 3; ++d) {
+      const int g = full.eq[3 * node + d];
+      const double exact = g >= 0 ? u[g] : 0.0;
+      double rec = 0;
+      for (int j = 0; j < n; ++j) rec += red.recoveryRow(node, d)[j] * q[j];
+      worst = std::max(worst, std::abs(rec - exact));
+    }
+  EXPECT_LT(worst, 1e-9 * maxAbs(u)) << "largest |u| " << maxAbs(u);
+
+  // Frequencies: the kept modes are the full model's lowest (retained nodes free), to Anasazi's tolerance.
+  const std::vector<double> fr = reducedFrequencies(red), fullF = fullModelFrequencies(full, 8);
+  ASSERT_EQ(fr.size(), 8u);
+  for (int k = 0; k < 8; ++k) EXPECT_NEAR(fr[k], fullF[k], 1e-8 * fullF[k]) << "mode " << k;
+
+  // Stable step: the last kept mode's, 2 / omega_8, far above the Craig-Bampton model's (its massive
+  // tip nodes set the highest frequency).
+  const StableStep s = criticalTimeStep(red, {}, 0.0, DampingOptions{});
+  EXPECT_NEAR(s.critical, 2.0 / (2 * M_PI * fullF[7]), 1e-8 * s.critical);
+  CraigBamptonOptions cbo;
+  cbo.modes = 8;
+  const ReducedModel cb = craigBampton(full, full.mesh.nodeSet("x+", "test"), cbo);
+  EXPECT_GT(s.critical, 3 * criticalTimeStep(cb, {}, 0.0, DampingOptions{}).critical);
+}
+
+TEST(MasslessBoundary, RefusesWhatItCannotModel) {
+  auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const FullModel clamped = bar(6);
+  EXPECT_NE(message([&] { massless(bar(6, false), 4); }).find("Clamped node set"), std::string::npos);
+  EXPECT_NE(message([&] { massless(clamped, 0); }).find("'Fixed-interface modes' > 0"), std::string::npos);
+  // With every mode kept the modes carry all the flexibility: G = 0 is refused.
+  EXPECT_NE(message([&] { massless(clamped, clamped.numFree - 27); }).find("keep fewer modes"), std::string::npos);
+}
+
+TEST(MasslessCentralDifference, BoundaryFollowsModesCorrectionLeavesResidualAndEnergyBalances) {
+  const FullModel full = bar(10);
+  const ReducedModel red = massless(full, 6);
+  const int nb = red.boundarySize(), n = red.size, m = red.numModes;
+  const double fmax = reducedFrequencies(red).back();
+  const double h = 0.5 / (2 * M_PI * fmax);  // a quarter of the critical step
+  for (int dampingType = 0; dampingType < 3; ++dampingType) {
+    DampingOptions damping;
+    damping.type = static_cast<DampingType>(dampingType);
+    damping.alpha = 50.0;
+    damping.beta = 2e-7;
+    damping.ratio = 0.02;
+    SCOPED_TRACE("damping type " + std::to_string(dampingType));
+    CentralDifference cd(red, h, damping);
+    const Flexibility F = cd.flexibility();
+    ASSERT_EQ(F.numBlocks(), 1);
+    auto phi = [&](int c, int k) { return red.boundaryModes[static_cast<std::size_t>(k) * nb + c]; };
+    auto G = [&](int c, int c2) { return red.residualFlexibility[static_cast<std::size_t>(c2) * nb + c]; };
+
+    DenseVector q0("q0", n), q1("q1", n), q2("q2", n);
+    std::vector<double> start(static_cast<std::size_t>(n), 0.0);
+    const std::vector<double> eta0 = noise(m, 3);
+    for (int k = 0; k < m; ++k) start[nb + k] = 1e-6 * eta0[k];
+    for (int c = 0; c < nb; ++c)
+      for (int k = 0; k < m; ++k) start[c] += phi(c, k) * start[nb + k];
+    set(q0, start);
+    set(q1, start);   // at rest
+    const double e0 = cd.halfStepEnergy(q0, q1);
+    double work = 0, diss = 0, worstBalance = 0, worstFollow = 0, worstResidual = 0, worstFree = 0;
+    std::vector<double> f(static_cast<std::size_t>(nb), 0.0);
+    for (int step = 0; step < 400; ++step) {
+      cd.predict(q1, q0, q2);
+      // free flight: u_b* = Phi_b eta*
+      for (int c = 0; c < nb; ++c) {
+        double s = 0;
+        for (int k = 0; k < m; ++k) s += phi(c, k) * q2(nb + k);
+        worstFollow = std::max(worstFollow, std::abs(q2(c) - s));
+      }
+      // an arbitrary boundary force on half the steps, corrected through F (eqs. 2.35-2.36)
+      std::fill(f.begin(), f.end(), 0.0);
+      if ((step / 25) % 2 == 1) f = noise(nb, 100u + static_cast<unsigned>(step));
+      for (double& x : f) x *= 1e3;
+      const auto& P = F.pack();
+      auto dense = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dense);
+      for (int i = 0; i < n; ++i) {
+        double s = 0;
+        for (int c = 0; c < nb; ++c) s += dense(static_cast<std::size_t>(c) * n + i) * f[c];
+        q2(i) += s;
+      }
+      // after the correction the boundary is the modes plus the static residual: u_b - Phi_b eta = G f
+      // (relative to the largest G f; on steps without force, relative to the boundary's motion)
+      std::vector<double> r(static_cast<std::size_t>(nb)), g(r.size(), 0.0), ub(r.size());
+      for (int c = 0; c < nb; ++c) {
+        r[c] = ub[c] = q2(c);
+        for (int k = 0; k < m; ++k) r[c] -= phi(c, k) * q2(nb + k);
+        for (int c2 = 0; c2 < nb; ++c2) g[c] += G(c, c2) * f[c2];
+      }
+      for (int c = 0; c < nb; ++c) {
+        if (maxAbs(f) > 0) worstResidual = std::max(worstResidual, std::abs(r[c] - g[c]) / maxAbs(g));
+        else worstFree = std::max(worstFree, std::abs(r[c]) / maxAbs(ub));
+      }
+      for (int c = 0; c < nb; ++c) work += f[c] * (q2(c) - q0(c)) / 2;   // the contact work's formula
+      diss += cd.dampingIncrement(q2, q0);
+      const double balance = cd.halfStepEnergy(q1, q2) - e0 + diss - work;
+      worstBalance = std::max(worstBalance, std::abs(balance) / std::max({std::abs(e0), std::abs(work), 1e-30}));
+      Kokkos::deep_copy(q0, q1);
+      Kokkos::deep_copy(q1, q2);
+    }
+    EXPECT_LT(worstFollow, 1e-12 * maxAbs(start));
+    EXPECT_LT(worstResidual, 1e-10);
+    EXPECT_LT(worstFree, 1e-13);
+    EXPECT_LT(worstBalance, 1e-11);
+    EXPECT_GT(diss, 0.0);   // the residual's lag dissipates (and damping, when on)
+  }
+}
