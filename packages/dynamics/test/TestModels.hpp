@@ -4,6 +4,7 @@
 #include "Epaphe_ReducedModel.hpp"
 
 #include <utility>
+#include <vector>
 
 namespace epaphe::test {
 
@@ -25,6 +26,16 @@ inline ReducedModel oscillator(double m, double k) {
   r.nodeSets["all"] = {0};
   r.retainedNodes = {0};
   return r;
+}
+
+/// A fixed pseudo-random vector in [-1, 1).
+inline std::vector<double> noise(int n, unsigned seed) {
+  std::vector<double> v(static_cast<std::size_t>(n));
+  for (double& x : v) {
+    seed = seed * 1103515245u + 12345u;
+    x = static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
+  }
+  return v;
 }
 
 /// One free node of mass m (K = 0).

@@ -9,6 +9,7 @@
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
+#include "TestBar.hpp"
 #include "TestModels.hpp"
 
 #include <Teuchos_DefaultComm.hpp>
@@ -24,14 +25,10 @@ using namespace epaphe;
 
 namespace {
 
-const Material steel{7800, 2.1e11, 0.3};
+using test::bar;
+using test::noise;
+using test::steel;
 
-/// A steel bar 0.2 x 0.02 x 0.02 m of nx x 2 x 2 hexahedra, clamped at x = 0 or free.
-FullModel bar(int nx, bool clamped) {
-  Mesh mesh = makeBoxMesh({0, 0, 0}, {0.2, 0.02, 0.02}, {nx, 2, 2});
-  const std::vector<int> fixed = clamped ? mesh.nodeSet("x-", "test") : std::vector<int>();
-  return assembleHexModel("bar", mesh, steel, fixed, Teuchos::DefaultComm<int>::getComm());
-}
 FullModel cantilever(int nx) { return bar(nx, true); }
 
 /// The lumped model as a dense ReducedModel (the reference the sparse code must reproduce).
@@ -62,16 +59,6 @@ void set(const DenseVector& v, const std::vector<double>& a) {
 std::vector<double> get(const DenseVector& v) {
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
   return std::vector<double>(h.data(), h.data() + h.extent(0));
-}
-
-/// A fixed pseudo-random vector in [-1, 1).
-std::vector<double> noise(int n, unsigned seed) {
-  std::vector<double> v(static_cast<std::size_t>(n));
-  for (double& x : v) {
-    seed = seed * 1103515245u + 12345u;
-    x = static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
-  }
-  return v;
 }
 
 }  // namespace

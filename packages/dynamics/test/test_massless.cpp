@@ -9,7 +9,9 @@
 #include "Epaphe_Error.hpp"
 #include "Epaphe_FullModel.hpp"
 
-#include <Teuchos_DefaultComm.hpp>
+#include "TestBar.hpp"
+#include "TestModels.hpp"
+
 #include <Teuchos_LAPACK.hpp>
 #include <gtest/gtest.h>
 
@@ -22,14 +24,10 @@ using namespace epaphe;
 
 namespace {
 
-const Material steel{7800, 2.1e11, 0.3};
+using test::noise;
 
-/// A steel bar 0.2 x 0.02 x 0.02 m of nx x 2 x 2 hexahedra, clamped at x = 0 (or free).
-FullModel bar(int nx, bool clamped = true) {
-  Mesh mesh = makeBoxMesh({0, 0, 0}, {0.2, 0.02, 0.02}, {nx, 2, 2});
-  const std::vector<int> fixed = clamped ? mesh.nodeSet("x-", "test") : std::vector<int>();
-  return assembleHexModel("bar", mesh, steel, fixed, Teuchos::DefaultComm<int>::getComm());
-}
+/// The steel bar (TestBar.hpp), clamped at x = 0 unless told otherwise.
+FullModel bar(int nx, bool clamped = true) { return test::bar(nx, clamped); }
 
 /// x = A^{-1} b for a dense symmetric positive definite A (column-major).
 std::vector<double> solve(std::vector<double> A, std::vector<double> b) {
@@ -39,16 +37,6 @@ std::vector<double> solve(std::vector<double> A, std::vector<double> b) {
   lapack.POSV('U', n, 1, A.data(), n, b.data(), n, &info);
   EXPECT_EQ(info, 0);
   return b;
-}
-
-/// A fixed pseudo-random vector in [-1, 1).
-std::vector<double> noise(int n, unsigned seed) {
-  std::vector<double> v(static_cast<std::size_t>(n));
-  for (double& x : v) {
-    seed = seed * 1103515245u + 12345u;
-    x = static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
-  }
-  return v;
 }
 
 void set(const DenseVector& v, const std::vector<double>& a) {

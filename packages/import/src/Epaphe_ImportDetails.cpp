@@ -526,51 +526,18 @@ Teuchos::RCP<CrsMatrix> buildMatrix(const Teuchos::RCP<const Map>& map, const Tr
 }
 
 /// Rank 0 holds every entry; it sends each other rank the entries of the rows that rank owns
-/// (point-to-point, counting sort by owner) and keeps its own, so that no rank but 0 ever holds
-/// more than its share of the model. `map` is contiguous, its ranges ascending with the rank.
+/// (point-to-point, one rank's share packed at a time) and keeps them all, since buildMatrix inserts
+/// only a rank's own rows: no rank but 0 ever holds more than its share of the model. `map` is
+/// contiguous, its ranges ascending with the rank.
 void scatterRows(const Map& map, Triplets& T) {
   const Teuchos::Comm<int>& comm = *map.getComm();
-  const int P = comm.getSize(), me = comm.getRank();
+  const int P = comm.getSize();
   if (P == 1) return;
   std::vector<long long> counts(static_cast<std::size_t>(P)), starts(static_cast<std::size_t>(P) + 1, 0);
   const long long mine = static_cast<long long>(map.getNodeNumElements());
   Teuchos::gatherAll(comm, 1, &mine, P, counts.data());
   for (int r = 0; r < P; ++r) starts[r + 1] = starts[r] + counts[r];
-  if (me == 0) {
-    std::vector<std::size_t> per(static_cast<std::size_t>(P) + 1, 0);
-    std::vector<int> owner(T.row.size());
-    for (std::size_t k = 0; k < T.row.size(); ++k) {
-      owner[k] = static_cast<int>(std::upper_bound(starts.begin(), starts.end(), T.row[k]) - starts.begin()) - 1;
-      ++per[owner[k] + 1];
-    }
-    for (int r = 0; r < P; ++r) per[r + 1] += per[r];
-    Triplets sorted;
-    sorted.row.resize(T.row.size());
-    sorted.col.resize(T.row.size());
-    sorted.val.resize(T.row.size());
-    std::vector<std::size_t> fill(per.begin(), per.end() - 1);
-    for (std::size_t k = 0; k < T.row.size(); ++k) {
-      const std::size_t q = fill[owner[k]]++;
-      sorted.row[q] = T.row[k];
-      sorted.col[q] = T.col[k];
-      sorted.val[q] = T.val[k];
-    }
-    T = Triplets();
-    for (int r = 1; r < P; ++r) {
-      const std::size_t n = per[r + 1] - per[r];
-      EPAPHE_REQUIRE(n <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
-                     "import: " << n << " matrix entries for MPI rank " << r << " exceed one message; use more ranks");
-      const int count = static_cast<int>(n);
-      Teuchos::send(comm, count, r);
-      if (count == 0) continue;
-      Teuchos::send(comm, count, sorted.row.data() + per[r], r);
-      Teuchos::send(comm, count, sorted.col.data() + per[r], r);
-      Teuchos::send(comm, count, sorted.val.data() + per[r], r);
-    }
-    T.row.assign(sorted.row.begin(), sorted.row.begin() + static_cast<std::ptrdiff_t>(per[1]));
-    T.col.assign(sorted.col.begin(), sorted.col.begin() + static_cast<std::ptrdiff_t>(per[1]));
-    T.val.assign(sorted.val.begin(), sorted.val.begin() + static_cast<std::ptrdiff_t>(per[1]));
-  } else {
+  if (comm.getRank() != 0) {
     int count = 0;
     Teuchos::receive(comm, 0, &count);
     T.row.resize(static_cast<std::size_t>(count));
@@ -580,6 +547,25 @@ void scatterRows(const Map& map, Triplets& T) {
     Teuchos::receive(comm, 0, count, T.row.data());
     Teuchos::receive(comm, 0, count, T.col.data());
     Teuchos::receive(comm, 0, count, T.val.data());
+    return;
+  }
+  for (int r = 1; r < P; ++r) {
+    Triplets share;
+    for (std::size_t k = 0; k < T.row.size(); ++k)
+      if (T.row[k] >= starts[r] && T.row[k] < starts[r + 1]) {
+        share.row.push_back(T.row[k]);
+        share.col.push_back(T.col[k]);
+        share.val.push_back(T.val[k]);
+      }
+    EPAPHE_REQUIRE(share.row.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                   "import: " << share.row.size() << " matrix entries for MPI rank " << r
+                              << " exceed one message; use more ranks");
+    const int count = static_cast<int>(share.row.size());
+    Teuchos::send(comm, count, r);
+    if (count == 0) continue;
+    Teuchos::send(comm, count, share.row.data(), r);
+    Teuchos::send(comm, count, share.col.data(), r);
+    Teuchos::send(comm, count, share.val.data(), r);
   }
 }
 

@@ -4,6 +4,7 @@
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_Mesh.hpp"
 
+#include <Teuchos_BLAS.hpp>
 #include <Teuchos_LAPACK.hpp>
 
 #include <algorithm>
@@ -37,6 +38,25 @@ std::vector<double> ReducedModel::modalStiffness() const {
   std::vector<double> w2;
   for (double f : modeFrequencies) w2.push_back((2 * M_PI * f) * (2 * M_PI * f));
   return w2;
+}
+
+std::vector<double> ReducedModel::residualStiffness() const {
+  const int nb = boundarySize(), n = size;
+  const std::vector<double> Ginv = spdInverse(residualFlexibility, nb, "the residual flexibility of body '" + name + "'",
+                                              "keep fewer modes, or recompute the reduction (delete its cache file)");
+  std::vector<double> L(static_cast<std::size_t>(nb) * n, 0.0), GL(L.size(), 0.0), K(static_cast<std::size_t>(n) * n);
+  for (int c = 0; c < nb; ++c) {
+    L[static_cast<std::size_t>(c) * nb + c] = 1.0;
+    for (int k = 0; k < numModes; ++k) L[static_cast<std::size_t>(nb + k) * nb + c] = -boundaryModes[static_cast<std::size_t>(k) * nb + c];
+  }
+  Teuchos::BLAS<int, double> blas;
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, n, nb, 1.0, Ginv.data(), nb, L.data(), nb, 0.0, GL.data(), nb);
+  blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, n, n, nb, 1.0, L.data(), nb, GL.data(), nb, 0.0, K.data(), n);
+  for (int j = 0; j < n; ++j)  // exact symmetry (round-off)
+    for (int i = j + 1; i < n; ++i)
+      K[static_cast<std::size_t>(j) * n + i] = K[static_cast<std::size_t>(i) * n + j] =
+          0.5 * (K[static_cast<std::size_t>(j) * n + i] + K[static_cast<std::size_t>(i) * n + j]);
+  return K;
 }
 
 std::vector<int> ReducedModel::recoveryIndex(const std::vector<int>& nodes) const {

@@ -65,6 +65,9 @@ struct ReducedModel {
   /// Massless boundary: Omega_j^2 = (2 pi f_j)^2 of the kept modes, the one definition that the
   /// reduction's K and the integrator use.
   std::vector<double> modalStiffness() const;
+  /// Massless boundary: K_res = L^T G^{-1} L (size x size, column-major, symmetric), L = [I, -Phi_b],
+  /// the stiffness of the static residual r = u_b - Phi_b eta; K = K_res + diag(0, Omega^2).
+  std::vector<double> residualStiffness() const;
   int numNodes() const { return static_cast<int>(coords.size()); }
   double k(int i, int j) const { return K[static_cast<std::size_t>(j) * size + i]; }
   double m(int i, int j) const { return M[static_cast<std::size_t>(j) * size + i]; }

@@ -126,28 +126,22 @@ std::vector<double> gatherRows(const MultiVector& X, const std::vector<int>& row
   return out;
 }
 
-}  // namespace
-
-ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
-                          ReductionReport* report) {
-  Stopwatch total;
-  ReductionReport rep;
-  const auto comm = full.K->getComm();
-  const int nFree = full.numFree;
-  EPAPHE_REQUIRE(opt.modes >= 0, "body '" << full.name << "': " << opt.modes << " fixed-interface modes asked; use 0 or more");
-
-  // Retained DOFs in the order (retained node, direction): q = [x_R, eta].
+/// The reduced model's mesh data and its retained DOFs, numbered in the order (retained node,
+/// direction) as q's first entries: `rIndex[g]` is free DOF g's index among them (-1: not retained),
+/// `nR` their count.
+ReducedModel retainedShell(const FullModel& full, const std::vector<int>& retained, const std::string& method,
+                           std::vector<int>& rIndex, int& nR) {
   ReducedModel red;
   red.name = full.name;
-  red.method = opt.modes > 0 ? "Craig-Bampton" : "Guyan";
+  red.method = method;
   red.coords = full.mesh.coords;
   red.nodeSets = full.mesh.nodeSets;
   red.nodeGrids = full.mesh.nodeGrids;
   red.hexes = full.mesh.hexes;
   red.retainedNodes = retained;
   red.nodeDof.assign(full.eq.size(), -1);
-  std::vector<int> rIndex(static_cast<std::size_t>(nFree), -1), cIndex(static_cast<std::size_t>(nFree), -1);
-  int nR = 0;
+  rIndex.assign(static_cast<std::size_t>(full.numFree), -1);
+  nR = 0;
   for (int node : retained) {
     EPAPHE_REQUIRE(node >= 0 && node < full.numNodes(),
                    "body '" << full.name << "': retained node " << node << " is not in the model (0.." << full.numNodes() - 1 << ")");
@@ -161,6 +155,23 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
     }
   }
   EPAPHE_REQUIRE(nR > 0, "body '" << full.name << "': no free DOF is retained; name a retained node set with free nodes");
+  return red;
+}
+
+}  // namespace
+
+ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
+                          ReductionReport* report) {
+  Stopwatch total;
+  ReductionReport rep;
+  const auto comm = full.K->getComm();
+  const int nFree = full.numFree;
+  EPAPHE_REQUIRE(opt.modes >= 0, "body '" << full.name << "': " << opt.modes << " fixed-interface modes asked; use 0 or more");
+
+  // Retained DOFs in the order (retained node, direction): q = [x_R, eta].
+  std::vector<int> rIndex, cIndex(static_cast<std::size_t>(nFree), -1);
+  int nR = 0;
+  ReducedModel red = retainedShell(full, retained, opt.modes > 0 ? "Craig-Bampton" : "Guyan", rIndex, nR);
   int nC = 0;
   for (int g = 0; g < nFree; ++g)
     if (rIndex[g] < 0) cIndex[g] = nC++;
@@ -255,30 +266,9 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
                          "boundary conditions, and this body has none; give it a 'Clamped node set', or use "
                          "'Craig-Bampton'");
 
-  ReducedModel red;
-  red.name = full.name;
-  red.method = "Massless boundary";
-  red.coords = full.mesh.coords;
-  red.nodeSets = full.mesh.nodeSets;
-  red.nodeGrids = full.mesh.nodeGrids;
-  red.hexes = full.mesh.hexes;
-  red.retainedNodes = retained;
-  red.nodeDof.assign(full.eq.size(), -1);
-  std::vector<int> rIndex(static_cast<std::size_t>(nFree), -1);
+  std::vector<int> rIndex;
   int nR = 0;
-  for (int node : retained) {
-    EPAPHE_REQUIRE(node >= 0 && node < full.numNodes(),
-                   body << ": retained node " << node << " is not in the model (0.." << full.numNodes() - 1 << ")");
-    for (int d = 0; d < 3; ++d) {
-      const int g = full.eq[3 * node + d];
-      if (g < 0) continue;
-      EPAPHE_REQUIRE(rIndex[g] < 0, body << ": node " << node << " is retained twice");
-      rIndex[g] = nR;
-      red.nodeDof[3 * node + d] = nR;
-      ++nR;
-    }
-  }
-  EPAPHE_REQUIRE(nR > 0, body << ": no free DOF is retained; name a retained node set with free nodes");
+  ReducedModel red = retainedShell(full, retained, "Massless boundary", rIndex, nR);
   EPAPHE_REQUIRE(nR + m <= nFree, body << ": " << nR << " retained DOFs and " << m << " modes exceed the model's "
                                        << nFree << " free DOFs; keep fewer modes");
   rep.retainedDofs = nR;
@@ -347,31 +337,14 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
       spdInverse(G, nR, "the residual flexibility of " + body,
                  "the kept modes already carry (almost) all the flexibility of the retained DOFs; keep fewer modes "
                  "or use 'Craig-Bampton'");
-  // GinvPhi = G^{-1} Phi_b (nR x m)
-  std::vector<double> GinvPhi(static_cast<std::size_t>(nR) * m, 0.0);
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < nR; ++j)
-      for (int i = 0; i < nR; ++i)
-        GinvPhi[static_cast<std::size_t>(k) * nR + i] += Ginv[static_cast<std::size_t>(j) * nR + i] * phib(j, k);
+  // K = K_res + diag(0, Omega^2), M = diag(0, I)
   const int n = red.size;
-  red.K.assign(static_cast<std::size_t>(n) * n, 0.0);
+  red.K = red.residualStiffness();
   red.M.assign(static_cast<std::size_t>(n) * n, 0.0);
-  auto K = [&](int i, int j) -> double& { return red.K[static_cast<std::size_t>(j) * n + i]; };
-  for (int j = 0; j < nR; ++j)
-    for (int i = 0; i < nR; ++i) K(i, j) = Ginv[static_cast<std::size_t>(j) * nR + i];
-  for (int k = 0; k < m; ++k)
-    for (int i = 0; i < nR; ++i) K(i, nR + k) = K(nR + k, i) = -GinvPhi[static_cast<std::size_t>(k) * nR + i];
   for (int k = 0; k < m; ++k) {
-    for (int l = 0; l < m; ++l) {
-      double s = 0;
-      for (int i = 0; i < nR; ++i) s += phib(i, k) * GinvPhi[static_cast<std::size_t>(l) * nR + i];
-      K(nR + k, nR + l) = s;
-    }
-    K(nR + k, nR + k) += w2[k];
+    red.K[static_cast<std::size_t>(nR + k) * n + nR + k] += w2[k];
     red.M[static_cast<std::size_t>(nR + k) * n + nR + k] = 1.0;
   }
-  for (int j = 0; j < n; ++j)
-    for (int i = j + 1; i < n; ++i) K(i, j) = K(j, i) = 0.5 * (K(i, j) + K(j, i));
 
   // Recovery rows: u = Phi eta + Res f_b with f_b = G^{-1} (u_b - Phi_b eta), Res = X - Phi Omega^{-2} Phi_b^T.
   std::vector<double> local(full.eq.size() * n, 0.0), res(nR), a(nR);
