@@ -63,6 +63,8 @@
 // correction) runs as named Kokkos kernels on the default execution space (OpenMP).
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ClosestPoint.hpp"
+#include "Epaphe_ContactDetection.hpp"
+#include "Epaphe_ContactEnforcement.hpp"
 #include "Epaphe_Flexibility.hpp"
 #include "Epaphe_ReducedModel.hpp"
 #include "Epaphe_Runtime.hpp"
@@ -70,23 +72,11 @@
 #include <Kokkos_Core.hpp>
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace epaphe {
-
-enum class ContactMethod { Lagrange = 0, Penalty = 1 };
-
-struct ContactOptions {
-  ContactMethod method = ContactMethod::Lagrange;
-  double penaltyStiffness = 1e10;   // k_p (N/m), penalty only
-  double nrTolerance = 1e-8;        // crit_NR: Newton stop on the parameter step
-  int nrMaxIterations = 50;
-  bool lumped = false;              // lump the contact matrix MC (section 2.5.2)
-  double friction = 0.0;            // Coulomb coefficient mu >= 0 (eq. 2.31); 0: frictionless
-  double edgeTolerance = 1e-3;      // a node beyond an open edge by less (in patches) still touches
-  double timeStep = 0.0;            // h: the rotation of turning surfaces over a step (friction)
-};
 
 /// One body's block of the system coordinates: q[offset, offset + size).
 struct ContactBlock {
@@ -108,26 +98,6 @@ struct ContactNodes {
       X.push_back(x[d]);
     }
   }
-};
-
-/// A surface the nodes may touch. Rigid: `surface` only. Carried by a flexible body: `moving` is
-/// the same surface (rebuilt at each step, in its body's frame), `block` its body, and per grid node
-/// of the input layout (node (i, j) at i * inputNv + j) its 3 DOF indices in q (-1: a clamped DOF)
-/// and its reference position.
-struct ContactSurface {
-  const BSplineSurface* surface = nullptr;
-  BSplineSurface* moving = nullptr;
-  int block = -1;
-  std::vector<int> gridDofs;
-  std::vector<double> gridX;
-  /// A surface (rigid or carried) may turn about `axis` (unit) through `center` at `omega` rad/s in
-  /// the contact nodes' frame (thesis section 3.3: the contact zone of a rotating blade turns, the
-  /// blade stays): at time t (setTime) it is its surface rotated by omega t + phase. Nodes are
-  /// projected in the surface's frame (x_s = c + R^T (x - c)); normals and foot points are turned
-  /// back; a carrying body's grid motion is turned by R in D_a (see the top of this file).
-  double omega = 0.0;
-  double phase = 0.0;  // angle (rad) at t = 0: the surface is turned by omega t + phase
-  std::array<double, 3> axis{0.0, 0.0, 1.0}, center{0.0, 0.0, 0.0};
 };
 
 class SurfaceContact {
@@ -155,7 +125,18 @@ public:
   void correct(const DenseVector& q, CostSplit& cost);
 
   /// Gaps of the nodes at q without correcting anything (for output); gap() then returns them.
+  /// Every node is projected: written gaps are exact whatever the skipping.
   void measureGaps(const DenseVector& q, CostSplit& cost);
+  /// The next step starts as a restart would: every node projects, friction's classification starts
+  /// cold (called at checkpoints, so that restarts are bit for bit).
+  void resetWarmStarts() {
+    detection_->reset();
+    enforcement_->reset();
+  }
+  const ContactDetection& detection() const { return *detection_; }
+  /// Node projections done and skipped by the detections of correct() since construction.
+  long long projections() const { return projections_; }
+  long long projectionsSkipped() const { return projectionsSkipped_; }
 
   /// Work of the contact forces of the last correction over [t_{n-1}, t_{n+1}] / 2:
   /// sum_a lambda_a c_a . D_a (qNext - qPrev) / 2 (on both bodies when the surface is carried), c_a = n_a + mu_a t_a the direction the
@@ -194,25 +175,25 @@ public:
   void setWarmStarts(const std::vector<double>& uv);
   /// Diagonal stiffness the method adds at each contact DOF (k_p for penalty, 0 for Lagrange),
   /// for the stable-step estimate.
-  double addedStiffness() const { return opt_.method == ContactMethod::Penalty ? opt_.penaltyStiffness : 0.0; }
+  double addedStiffness() const { return enforcement_->addedStiffness(); }
+  const ContactEnforcement& enforcement() const { return *enforcement_; }
 
 private:
-  void detect(const DenseVector& q);
+  void detect(const DenseVector& q, bool all);
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
-  void setNormalDirections();
-  Kokkos::View<int*> uploadActive(int nA);  // the first nA of activeH_, in active_
   void motionEntries();     // entries of D_k (spline weights) of every node on a surface
   void relativeColumns();   // Y = F D^T and C_ab = D_a Y_b of the active nodes
-  void prepareFriction(const DenseVector& q, const DenseVector& qn);
-  void solveFriction();
-  void solveLagrange(int nA);
 
   ContactOptions opt_;
   std::vector<int> nodes_, nodeBlock_;
   std::vector<ContactSurface> surfaces_;
   Flexibility::Packed F_;
+  std::unique_ptr<ContactDetection> detection_;
+  std::unique_ptr<ContactEnforcement> enforcement_;
+  ContactStepViews v_;                    // what the enforcement sees (views shared with the members)
+  // the detection's views (shared, not copies): per node the selected surface's foot point, normal,
+  // gap; per surface R and its turning data
   Kokkos::View<int* [3]> dof_;            // q index of each contact node DOF
-  Kokkos::View<double* [3]> X_;           // reference coordinates
   Kokkos::View<int*> nodeBlk_;            // block of each node
   Kokkos::View<int* [2]> blocks_;         // offset, size of each block
   // carried surfaces, concatenated: per surface s, grid DOFs from gridOff_(s), interpolation
@@ -220,11 +201,9 @@ private:
   // input nv, periodic u, periodic v}
   Kokkos::View<int* [3]> gridDof_;
   Kokkos::View<int*> gridOff_;
-  std::vector<int> gridOffH_;
   Kokkos::View<int* [2]> opOff_;
   Kokkos::View<double*> ops_;
   Kokkos::View<int* [6]> info_;
-  std::vector<Kokkos::View<double* [3]>> gridX_, gridPos_;   // per carried surface (empty: rigid)
   Kokkos::View<double* [2]> foot_;        // foot point (u, v) on the selected surface
   Kokkos::View<double**> wu_, wv_;        // spline weights of the active nodes' foot points
   Kokkos::View<int** [3]> entDof_;        // entries of D_k: DOF triples, weights, count
@@ -234,35 +213,23 @@ private:
   Kokkos::View<double**, Kokkos::LayoutLeft> Y_;   // F D_k^T, column 3 k + e (active nodes), dense rows of F only
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
   int maxGrid_[2] = {0, 0};
+  long long projections_ = 0, projectionsSkipped_ = 0;
   double time_ = 0.0;
-  std::vector<Kokkos::View<double* [3]>> xs_;   // nodes in a turning surface's frame
   Kokkos::View<double* [3][3]> rot_;            // per surface: R(omega t)
-  Kokkos::View<double* [7]> turn_;              // per surface: omega, axis, center
+  Kokkos::View<double* [9]> turn_;              // per surface: omega, axis, center, ...
   Kokkos::View<double* [3]> footX_;             // foot point in the bodies' frame
   DenseVector dq_;                        // the correction F G lambda
   Kokkos::View<int*> corrected_;          // nodes added to the active set by the last check
+  Kokkos::View<int*> skipped_, refine_;   // detection: projection skipped, asked again
+  Kokkos::View<double*> bound_;           // detection: lower bound of a skipped node's gap
   double gapTolerance_ = 0.0;
   static constexpr int kMaxAddPasses = 10;
   int lastAddPasses_ = 0;
   Kokkos::View<double* [3]> x_;           // current positions
-  std::vector<Kokkos::View<double* [2]>> uv_;     // warm starts, one per surface
-  std::vector<Kokkos::View<Projection*>> proj_;   // one per surface
   Kokkos::View<double* [3]> normal_;
   Kokkos::View<double* [3]> tangent_;     // t_a (unit, or zero)
   Kokkos::View<double* [3]> dir_;         // c_a = n_a + mu_a t_a (VCT, eq. 2.31)
-  Kokkos::View<double* [3][3]> basis_;   // per node: rows n_a, e1_a, e2_a (tangent-plane basis)
-  Kokkos::View<double* [3]> disp_;        // d_a = u_a(q*) - u_a(q_n)
-  Kokkos::View<int*> state_, nextState_, bestState_;   // kStick, kSlide
-  Kokkos::View<double* [3]> nextTangent_, bestTangent_;
   Kokkos::View<double*> mu_;              // mu_a applied
-  Kokkos::View<double**, Kokkos::LayoutLeft> MCf_;   // friction system, 3 nc x 3 nc
-  Kokkos::View<double**, Kokkos::LayoutLeft>::HostMirror MCfH_;
-  Kokkos::View<double*> sol_;             // its right-hand side / solution (lambda, s1, s2 per active node)
-  Kokkos::View<double*>::HostMirror solH_;
-  static constexpr int kStick = 2, kSlide = 1;
-  static constexpr int kMaxFrictionPasses = 20;
-  static constexpr int kMaxReturns = 2;   // slide -> stick switches per node and solve, then it keeps sliding
-  Kokkos::View<int*> returns_;
   int lastFrictionPasses_ = 0;  // passes of the last stick/slide classification
   Kokkos::View<double*>::HostMirror muH_;
   Kokkos::View<double* [3]>::HostMirror tangentH_;
@@ -271,9 +238,7 @@ private:
   Kokkos::View<double*>::HostMirror gapH_, forceH_;
   Kokkos::View<int*>::HostMirror surfH_;
   Kokkos::View<int*> active_;             // indices of active nodes
-  Kokkos::View<double**, Kokkos::LayoutLeft> MC_;
-  std::vector<int> activeH_, keep_, ipiv_;
-  std::vector<double> lambda_, denseMC_;  // Lagrange solve work space, sized once
+  std::vector<int> activeH_;
   int numActive_ = 0;
   int lastIterations_ = 0;
 };

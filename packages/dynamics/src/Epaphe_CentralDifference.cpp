@@ -1,9 +1,9 @@
 #include "Epaphe_CentralDifference.hpp"
 
+#include "Epaphe_Parallel.hpp"
+
 #include "Epaphe_Error.hpp"
 
-#include <KokkosBlas1_axpby.hpp>
-#include <KokkosBlas1_dot.hpp>
 #include <KokkosSparse_spmv.hpp>
 #include <Teuchos_BLAS.hpp>
 #include <Teuchos_LAPACK.hpp>
@@ -56,6 +56,16 @@ BodyOperator BodyOperator::diagonal(const std::vector<double>& d, const std::str
   for (std::size_t i = 0; i < d.size(); ++i) h(i) = d[i];
   Kokkos::deep_copy(op.diagonal_, h);
   return op;
+}
+
+std::size_t BodyOperator::bytes() const {
+  switch (kind_) {
+    case Kind::Dense: return dense_.span() * sizeof(double);
+    case Kind::Sparse:
+      return sparse_.nnz() * (sizeof(double) + sizeof(int)) + (sparse_.numRows() + 1) * sizeof(std::size_t);
+    case Kind::Diagonal: return diagonal_.span() * sizeof(double);
+    default: return 0;
+  }
 }
 
 void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const DenseVector& y) const {
@@ -218,18 +228,11 @@ StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& s
   if (model.sparse()) {
     s.omegaMax = std::sqrt(highestEigenvalue(model, stiffenedDofs, addedStiffness).value);
   } else if (model.massless()) {
-    // The retained DOFs carry no mass: the modal system Omega^2 + k Phi_s^T Phi_s (M = I) alone.
-    const int m = model.numModes, nb = model.boundarySize();
-    const std::vector<double> w2 = model.modalStiffness();
-    std::vector<double> K(static_cast<std::size_t>(m) * m, 0.0), I(K.size(), 0.0);
-    for (int k = 0; k < m; ++k) K[static_cast<std::size_t>(k) * m + k] = w2[k], I[static_cast<std::size_t>(k) * m + k] = 1.0;
-    for (int sdof : stiffenedDofs)
-      if (sdof < nb)
-        for (int l = 0; l < m; ++l)
-          for (int k = 0; k < m; ++k)
-            K[static_cast<std::size_t>(l) * m + k] += addedStiffness * model.boundaryModes[static_cast<std::size_t>(k) * nb + sdof] *
-                                                      model.boundaryModes[static_cast<std::size_t>(l) * nb + sdof];
-    s.omegaMax = 2 * M_PI * denseFrequencies(K, I, m).back();
+    // The retained DOFs carry no mass: the last kept mode sets the step. (Penalty springs, which would
+    // stiffen the modes through Phi_b, are refused for such a body: see Simulation's checkReductions.)
+    EPAPHE_REQUIRE(addedStiffness == 0.0, "body '" << model.name << "' has a massless boundary: no penalty springs "
+                                                     "on it (use Lagrange contact)");
+    s.omegaMax = 2 * M_PI * model.modeFrequencies.back();
   } else {
     const int n = model.size;
     std::vector<double> K = model.K;
@@ -300,14 +303,14 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     auto phi = [&](int c, int k) { return Phi[static_cast<std::size_t>(k) * nb + c]; };
     auto at = [n](std::vector<double>& X, int i, int j) -> double& { return X[static_cast<std::size_t>(j) * n + i]; };
     std::vector<double> A(static_cast<std::size_t>(n) * n, 0.0), B(A.size(), 0.0), P(A.size(), 0.0), D(A.size(), 0.0),
-        Kmid(A.size(), 0.0), Kres(A.size(), 0.0);
+        Kmid(static_cast<std::size_t>(n), 0.0);
     for (int k = 0; k < m; ++k) {
       const double Pe = 1.0 / (1.0 / (h * h) + d[k] / (2 * h)), Ae = -Pe * w2[k], Be = -Pe * d[k] / h;
       at(A, nb + k, nb + k) = Ae;
       at(B, nb + k, nb + k) = Be;
       at(P, nb + k, nb + k) = Pe;
       at(D, nb + k, nb + k) = d[k];
-      at(Kmid, nb + k, nb + k) = w2[k];
+      Kmid[nb + k] = w2[k];
       for (int c = 0; c < nb; ++c) {
         at(A, c, nb + k) = phi(c, k) * (1.0 + Ae);
         at(B, c, nb + k) = phi(c, k) * (1.0 + Be);
@@ -320,27 +323,14 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
       at(B, c, c) = -1.0;
       for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += model.residualFlexibility[static_cast<std::size_t>(c2) * nb + c];
     }
-    // K_res = L^T G^{-1} L, L = [I, -Phi_b]: the stiffness of the residual r = L q
-    const std::vector<double> Ginv = spdInverse(model.residualFlexibility, nb, "the residual flexibility of body '" +
-                                                model.name + "'", "recompute the reduction (delete its cache file)");
-    std::vector<double> L(static_cast<std::size_t>(nb) * n, 0.0), GL(L.size(), 0.0);
-    for (int c = 0; c < nb; ++c) {
-      L[static_cast<std::size_t>(c) * nb + c] = 1.0;
-      for (int k = 0; k < m; ++k) L[static_cast<std::size_t>(nb + k) * nb + c] = -phi(c, k);
-    }
-    Teuchos::BLAS<int, double> blas;
-    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, n, nb, 1.0, Ginv.data(), nb, L.data(), nb, 0.0, GL.data(), nb);
-    blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, n, n, nb, 1.0, L.data(), nb, GL.data(), nb, 0.0, Kres.data(), n);
-    std::vector<double> K(A.size()), Ddiss(A.size());
-    for (std::size_t k = 0; k < K.size(); ++k) {
-      K[k] = Kmid[k] + Kres[k];
-      Ddiss[k] = D[k] + h * Kres[k];
-    }
+    const std::vector<double> Kres = model.residualStiffness();   // of the residual r = u_b - Phi_b eta
+    std::vector<double> Ddiss(A.size());
+    for (std::size_t k = 0; k < Ddiss.size(); ++k) Ddiss[k] = D[k] + h * Kres[k];
     damped_ = true;   // B carries the boundary's rows; the residual dissipates
     A_ = BodyOperator::dense(A, n, "epaphe::dynamics::A");
     B_ = BodyOperator::dense(B, n, "epaphe::dynamics::B");
-    K_ = BodyOperator::dense(K, n, "epaphe::dynamics::K");
-    Kmid_ = BodyOperator::dense(Kmid, n, "epaphe::dynamics::Kmid");
+    K_ = BodyOperator::dense(model.K, n, "epaphe::dynamics::K");   // = K_res + diag(Kmid)
+    Kmid_ = BodyOperator::diagonal(Kmid, "epaphe::dynamics::Kmid");
     Kres_ = BodyOperator::dense(Kres, n, "epaphe::dynamics::Kres");
     M_ = BodyOperator::dense(model.M, n, "epaphe::dynamics::M");
     D_ = BodyOperator::dense(Ddiss, n, "epaphe::dynamics::D");
@@ -410,45 +400,45 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
 double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const {
   // 1/2 v^T M v with v = (q_{n+1} - q_n)/h, plus 1/2 q_n^T K q_{n+1}
   Kokkos::deep_copy(tmp2_, qnp1);
-  KokkosBlas::axpby(-1.0 / h_, qn, 1.0 / h_, tmp2_);
+  epaphe::axpby(-1.0 / h_, qn, 1.0 / h_, tmp2_);
   M_.apply(1.0, tmp2_, 0.0, tmp_);
-  const double kin = 0.5 * KokkosBlas::dot(tmp2_, tmp_);
+  const double kin = 0.5 * epaphe::dot(tmp2_, tmp_);
   if (!residual_) {
     K_.apply(1.0, qnp1, 0.0, tmp_);
-    return kin + 0.5 * KokkosBlas::dot(qn, tmp_);
+    return kin + 0.5 * epaphe::dot(qn, tmp_);
   }
   // massless boundary: modes as above, plus 1/4 (q_n^T K_res q_n + q_{n+1}^T K_res q_{n+1})
   Kmid_.apply(1.0, qnp1, 0.0, tmp_);
-  double e = kin + 0.5 * KokkosBlas::dot(qn, tmp_);
+  double e = kin + 0.5 * epaphe::dot(qn, tmp_);
   Kres_.apply(1.0, qnp1, 0.0, tmp_);
-  e += 0.25 * KokkosBlas::dot(qnp1, tmp_);
+  e += 0.25 * epaphe::dot(qnp1, tmp_);
   Kres_.apply(1.0, qn, 0.0, tmp_);
-  return e + 0.25 * KokkosBlas::dot(qn, tmp_);
+  return e + 0.25 * epaphe::dot(qn, tmp_);
 }
 
 double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
   if (!damped_) return 0.0;
   Kokkos::deep_copy(tmp2_, qnp1);
-  KokkosBlas::axpy(-1.0, qnm1, tmp2_);
+  epaphe::axpby(-1.0, qnm1, 1.0, tmp2_);
   D_.apply(1.0, tmp2_, 0.0, tmp_);
-  return KokkosBlas::dot(tmp2_, tmp_) / (4 * h_);
+  return epaphe::dot(tmp2_, tmp_) / (4 * h_);
 }
 
 double CentralDifference::externalWorkIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
   if (!forced_) return 0.0;
   Kokkos::deep_copy(tmp2_, qnp1);
-  KokkosBlas::axpy(-1.0, qnm1, tmp2_);
-  return 0.5 * KokkosBlas::dot(f_, tmp2_);
+  epaphe::axpby(-1.0, qnm1, 1.0, tmp2_);
+  return 0.5 * epaphe::dot(f_, tmp2_);
 }
 
 double CentralDifference::strain(const DenseVector& q) const {
   K_.apply(1.0, q, 0.0, tmp_);
-  return 0.5 * KokkosBlas::dot(q, tmp_);
+  return 0.5 * epaphe::dot(q, tmp_);
 }
 
 double CentralDifference::kinetic(const DenseVector& v) const {
   M_.apply(1.0, v, 0.0, tmp_);
-  return 0.5 * KokkosBlas::dot(v, tmp_);
+  return 0.5 * epaphe::dot(v, tmp_);
 }
 
 }  // namespace epaphe

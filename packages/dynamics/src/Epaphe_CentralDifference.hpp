@@ -68,6 +68,8 @@ public:
   /// y = alpha A x + beta y (beta = 0: y is overwritten).
   void apply(double alpha, const DenseVector& x, double beta, const DenseVector& y) const;
   const DenseMatrix& denseMatrix() const { return dense_; }
+  /// Bytes one apply() reads of the operator's own storage (values and indices).
+  std::size_t bytes() const;
   const DenseVector& diagonalEntries() const { return diagonal_; }
 
 private:
@@ -137,6 +139,9 @@ public:
   Flexibility flexibility() const;
   double step() const { return h_; }
   bool damped() const { return damped_; }
+  /// Bytes of the operators one predict() reads (A, and B when damped): the memory traffic floor of
+  /// a step's integration.
+  std::size_t predictBytes() const { return A_.bytes() + (damped_ ? B_.bytes() : 0); }
 
   /// Energy terms of the identity above.
   double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;   // E_{n+1/2}

@@ -185,20 +185,7 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
                                         "for the other side");
 
     auto& contact = pl->sublist("Contact", false, "Contact treatment (thesis section 2.5)");
-    addEnum(contact, "Method", "Lagrange", {"Lagrange", "Penalty"},
-            {int(ContactMethod::Lagrange), int(ContactMethod::Penalty)},
-            "Lagrange: forward-increment multipliers (eqs. 2.30-2.33); Penalty: lambda = kp * penetration (eq. 2.34)");
-    addDouble(contact, "Penalty stiffness", 1e10, "kp (N/m) of the penalty method", 1e-300);
-    addDouble(contact, "Newton tolerance", 1e-8, "crit_NR: closest-point Newton stops when the parameter step is "
-                                                 "below it", 1e-300, 1.0);
-    addInt(contact, "Newton max iterations", 50, "Closest-point Newton iterations at most", 1, 10000);
-    addDouble(contact, "Edge tolerance", 1e-3, "A node beyond the edge of an open surface by less than this "
-                                               "fraction of a patch still touches it (nodes on a shared edge, "
-                                               "lateral round-off); farther, it is beyond the surface", 0.0, 1.0);
-    addBool(contact, "Lump contact matrix", false, "Lump the Lagrange contact matrix MC (section 2.5.2)");
-    addDouble(contact, "Friction coefficient", 0.0, "Coulomb mu: the correction acts along n + mu t, t opposing the "
-                                                    "sliding (eqs. 2.29, 2.31), capped so that a node sticks rather "
-                                                    "than slides back", 0.0);
+    contact.setParameters(*contactValidParameters());  // each strategy's own keys
 
     auto& time = pl->sublist("Time", false, "Explicit central difference (thesis eq. 2.2)");
     addDouble(time, "Time step", 1e-7, "h (s)", 1e-300);

@@ -6,17 +6,17 @@
 #include "Epaphe_Error.hpp"
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_Hdf5File.hpp"
+#include "Epaphe_Parallel.hpp"
 #include "Epaphe_ReducedModelCache.hpp"
 #include "Epaphe_Version.hpp"
 
-#include <KokkosBlas1_axpby.hpp>
-#include <KokkosBlas1_dot.hpp>
-#include <KokkosBlas2_gemv.hpp>
+#include <Teuchos_BLAS.hpp>
 #include <Teuchos_CommHelpers.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -51,8 +51,9 @@ struct NodeRecovery {
   }
   std::size_t rows() const { return R.extent(0) > 0 ? R.extent(0) : index.size(); }
   void apply(const DenseVector& q, const DenseVector& u) const {
-    if (index.empty()) {
-      KokkosBlas::gemv("N", 1.0, R, q, 0.0, u);
+    if (index.empty()) {  // u = R q: one BLAS dgemv on the host (no kernel launch for a few rows)
+      const int m = static_cast<int>(R.extent(0)), n = static_cast<int>(R.extent(1));
+      Teuchos::BLAS<int, double>().GEMV(Teuchos::NO_TRANS, m, n, 1.0, R.data(), m, q.data(), 1, 0.0, u.data(), 1);
       return;
     }
     auto uh = Kokkos::create_mirror_view(u);
@@ -60,6 +61,25 @@ struct NodeRecovery {
     for (std::size_t i = 0; i < index.size(); ++i) uh(i) = index[i] >= 0 ? qh(index[i]) : 0.0;
     Kokkos::deep_copy(u, uh);
   }
+  /// u = R q and w = R v in one pass over R ([u w] = R [q v], one dgemm): a record of many watched
+  /// nodes reads R once, the memory traffic that bounds it.
+  void apply(const DenseVector& q, const DenseVector& v, const DenseVector& u, const DenseVector& w) const {
+    if (!index.empty()) {
+      apply(q, u);
+      apply(v, w);
+      return;
+    }
+    const int m = static_cast<int>(R.extent(0)), n = static_cast<int>(R.extent(1));
+    X.resize(2 * static_cast<std::size_t>(n));
+    Y.resize(2 * static_cast<std::size_t>(m));
+    std::copy(q.data(), q.data() + n, X.begin());
+    std::copy(v.data(), v.data() + n, X.begin() + n);
+    Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, m, 2, n, 1.0, R.data(), m, X.data(), n, 0.0,
+                                      Y.data(), m);
+    std::copy(Y.begin(), Y.begin() + m, u.data());
+    std::copy(Y.begin() + m, Y.end(), w.data());
+  }
+  mutable std::vector<double> X, Y;  // [q v] and [u w], sized at the first record
 };
 
 }  // namespace
@@ -112,9 +132,6 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
                                       << "; every edge length must be positive");
   }
   const ParameterList& surfs = P.sublist("Surfaces");
-  EPAPHE_REQUIRE(surfs.numParams() <= 2, origin << ": 'Epaphe->Surfaces' has " << surfs.numParams()
-                                                << " surfaces; a contact node is checked against at most 2: "
-                                                   "remove one or split the scene into several runs");
   for (auto it = surfs.begin(); it != surfs.end(); ++it) {
     const ParameterList& s = surfs.sublist(surfs.name(it));
     if (deck::getEnum<SurfaceType>(s, "Type") != SurfaceType::Plane) continue;
@@ -345,15 +362,7 @@ void Simulation::setup() {
     rayleighFromRatios(f[0], xi[0], f[1], xi[1], damping.alpha, damping.beta);
   }
   const ParameterList& cp = P.sublist("Contact");
-  ContactOptions copt;
-  copt.method = deck::getEnum<ContactMethod>(cp, "Method");
-  copt.penaltyStiffness = cp.get<double>("Penalty stiffness");
-  copt.nrTolerance = cp.get<double>("Newton tolerance");
-  copt.nrMaxIterations = cp.get<int>("Newton max iterations");
-  copt.lumped = cp.get<bool>("Lump contact matrix");
-  copt.friction = cp.get<double>("Friction coefficient");
-  copt.edgeTolerance = cp.get<double>("Edge tolerance");
-  copt.timeStep = h;
+  const ContactOptions copt = contactOptions(cp, h);
   checkReductions(P, damping, origin);
 
   for (auto it = bl.begin(); it != bl.end(); ++it) {
@@ -886,6 +895,7 @@ const RunSummary& Simulation::run() {
       const auto uv = contact_->warmStarts();
       file.writeDoubles(c + "/warm_start", {uv.size() / (2 * contact_->numNodes()),
                                              static_cast<std::uint64_t>(contact_->numNodes()), 2}, uv.data());
+      contact_->resetWarmStarts();  // as a restart from here will: projections and friction start anew
     }
     std::vector<long long> lengths;
     for (const io::Series* s : series) lengths.push_back(static_cast<long long>(s->size()));
@@ -956,6 +966,9 @@ const RunSummary& Simulation::run() {
 
   // ---- the explicit loop -------------------------------------------------------------------------
   Stopwatch loop, sinceProgress, sinceCheckpoint;
+  // EPAPHE_COUNT_KERNELS=1 (benchmarks): count the loop's Kokkos parallel regions and allocations
+  std::unique_ptr<KernelCounter> kernels;
+  if (const char* e = std::getenv("EPAPHE_COUNT_KERNELS"); e && std::string(e) == "1") kernels = std::make_unique<KernelCounter>();
   CostSplit& cost = summary_.cost;
   summary_.status = "complete";
   long long n = 0;
@@ -1018,9 +1031,9 @@ const RunSummary& Simulation::run() {
         BodyRun& r = runs[ib];
         // v_n = (q_{n+1} - q_{n-1}) / 2h
         Kokkos::deep_copy(r.v, r.qNext);
-        KokkosBlas::axpby(-0.5 / h, r.qPrev, 0.5 / h, r.v);
+        epaphe::axpby(-0.5 / h, r.qPrev, 0.5 / h, r.v);
         kin += b.integrator->kinetic(r.v);
-        const double p[3] = {KokkosBlas::dot(r.Mt[0], r.v), KokkosBlas::dot(r.Mt[1], r.v), KokkosBlas::dot(r.Mt[2], r.v)};
+        const double p[3] = {epaphe::dot(r.Mt[0], r.v), epaphe::dot(r.Mt[1], r.v), epaphe::dot(r.Mt[2], r.v)};
         r.momentum->append(p);
         total += b.integrator->halfStepEnergy(r.q, r.qNext);
         strain += b.integrator->strain(r.q);
@@ -1028,8 +1041,7 @@ const RunSummary& Simulation::run() {
         diss += r.diss;
         e0 += r.e0;
         if (!r.disp.empty()) {
-          b.recoveryWatched.apply(r.q, r.uw);
-          b.recoveryWatched.apply(r.v, r.vw);
+          b.recoveryWatched.apply(r.q, r.v, r.uw, r.vw);
           auto uh = Kokkos::create_mirror_view(r.uw);
           auto vh = Kokkos::create_mirror_view(r.vw);
           Kokkos::deep_copy(uh, r.uw);
@@ -1165,6 +1177,22 @@ const RunSummary& Simulation::run() {
   file.setAttribute("/run", "setup_time", summary_.setupSeconds);
   file.setAttribute("/run", "wall_time", summary_.loopSeconds + summary_.setupSeconds);
   file.setAttribute("/run", "steps_per_second", summary_.stepsPerSecond);
+  if (kernels) {
+    out << "Kokkos parallel regions in the loop, per step:";
+    for (const auto& [name, count] : kernels->byName()) out << " " << name << " " << double(count) / (nSteps - firstStep);
+    out << "\n";
+    file.setAttribute("/run", "kernel_launches", static_cast<long long>(kernels->launches()));
+    file.setAttribute("/run", "kernel_allocations", static_cast<long long>(kernels->allocations()));
+  }
+  {
+    long long bytes = 0;  // what one step's integration must read
+    for (const auto& b : bodies_) bytes += static_cast<long long>(b->integrator->predictBytes());
+    file.setAttribute("/run", "step_matrix_bytes", bytes);
+  }
+  if (contact_) {  // the correction's detections of this run (output steps' measurements not counted)
+    file.setAttribute("/run", "projections", contact_->projections());
+    file.setAttribute("/run", "projections_skipped", contact_->projectionsSkipped());
+  }
   for (const auto& [phase, s] : cost.all()) file.setAttribute("/run/cost", phase, s);
   file.setAttribute("/", "status", "complete");
   file.close();

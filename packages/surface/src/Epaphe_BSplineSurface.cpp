@@ -213,8 +213,10 @@ void BSplineSurface::loadGrid(const double* points, const char* where) {
 
 void BSplineSurface::computeControlPoints() {
   const int mu = view_.nu, mv = view_.nv;
-  // T = B_u P  (nuExt x nv x 3), then Qext = T B_v^T (nuExt x nvExt x 3).
-  std::vector<double> T(std::size_t(nuExt_) * mv * 3, 0.0);
+  // T = B_u P  (nuExt x nv x 3), then Qext = T B_v^T (nuExt x nvExt x 3); T is kept between updates
+  // (a carried surface is updated at every step: no allocation there).
+  std::vector<double>& T = work_;
+  T.assign(std::size_t(nuExt_) * mv * 3, 0.0);
   for (int a = 0; a < nuExt_; ++a)
     for (int i = 0; i < mu; ++i) {
       const double w = Bu_[std::size_t(a) * mu + i];

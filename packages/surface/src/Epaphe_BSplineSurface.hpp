@@ -238,6 +238,7 @@ class BSplineSurface {
   int inNu_ = 0, inNv_ = 0;
   int nuExt_ = 0, nvExt_ = 0;
   std::vector<double> Bu_, Bv_;
+  std::vector<double> work_;  ///< computeControlPoints' B_u P
   SurfaceView view_;
   SurfaceView::Points::HostMirror hostCtrl_, hostGrid_;
   SurfaceView::Indices::HostMirror hostBinStart_, hostBinNodes_;

@@ -1,0 +1,276 @@
+#include "Epaphe_ContactDetection.hpp"
+
+#include "Epaphe_Deck.hpp"
+#include "Epaphe_Error.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace epaphe {
+
+static_assert(parallel_detail::kHostAccessible,
+              "contact detection fills its per-surface data on the host: it needs a host-accessible memory space");
+
+ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vector<double>& X,
+                                   std::vector<ContactSurface> surfaces, const DetectionOptions& options)
+    : opt_(options), surfaces_(std::move(surfaces)) {
+  const int nc = static_cast<int>(dofs.size() / 3);
+  const int ns = static_cast<int>(surfaces_.size());
+  EPAPHE_REQUIRE(nc > 0 && dofs.size() == 3 * std::size_t(nc) && X.size() == dofs.size(),
+                 "contact: " << dofs.size() << " node DOFs and " << X.size() << " coordinates; give 3 of each per node");
+  EPAPHE_REQUIRE(ns > 0, "contact: no surface to contact");
+  EPAPHE_REQUIRE(opt_.nrTolerance > 0.0 && opt_.nrMaxIterations > 0,
+                 "contact: Newton tolerance " << opt_.nrTolerance << " and " << opt_.nrMaxIterations
+                                              << " iterations; both must be > 0");
+  DetectionViews& v = v_;
+  v.dof = Kokkos::View<int* [3]>("epaphe::contact::dof", nc);
+  v.X = DetectionViews::Vec3("epaphe::contact::X", nc);
+  v.x = DetectionViews::Vec3("epaphe::contact::x", nc);
+  for (int k = 0; k < nc; ++k)
+    for (int d = 0; d < 3; ++d) {
+      v.dof(k, d) = dofs[3 * k + d];
+      v.X(k, d) = X[3 * k + d];
+    }
+  v.surf = Kokkos::View<SurfaceView*>("epaphe::contact::surfaces", ns);
+  v.rot = Kokkos::View<double* [3][3]>("epaphe::contact::rotation", ns);
+  v.turn = Kokkos::View<double* [9]>("epaphe::contact::turning", ns);
+  v.carried = Kokkos::View<int*>("epaphe::contact::carried", ns);
+  for (int s = 0; s < ns; ++s) {
+    ContactSurface& cs = surfaces_[s];
+    if (cs.moving) cs.surface = cs.moving;
+    EPAPHE_REQUIRE(cs.surface, "contact: surface " << s << " is null");
+    EPAPHE_REQUIRE(std::isfinite(cs.omega), "contact: surface '" << cs.surface->name() << "' turns at " << cs.omega
+                                                                  << " rad/s; give a finite speed");
+    EPAPHE_REQUIRE(std::isfinite(cs.phase), "contact: surface '" << cs.surface->name() << "' has the initial angle "
+                                                                  << cs.phase << " rad; give a finite angle");
+    const double l = std::sqrt(cs.axis[0] * cs.axis[0] + cs.axis[1] * cs.axis[1] + cs.axis[2] * cs.axis[2]);
+    EPAPHE_REQUIRE(l > 0.0, "contact: surface '" << cs.surface->name() << "' has a zero rotation axis");
+    for (double& a : cs.axis) a /= l;
+    v.surf(s) = cs.surface->view();
+    v.carried(s) = cs.moving ? 1 : 0;
+    anyCarried_ = anyCarried_ || cs.moving;
+    v.turn(s, 0) = cs.omega;
+    for (int d = 0; d < 3; ++d) {
+      v.turn(s, 1 + d) = cs.axis[d];
+      v.turn(s, 4 + d) = cs.center[d];
+    }
+    // r_s: the largest distance of a control point from the axis (the spline lies in their hull)
+    double r = 0.0;
+    const HostSurfaceView h = cs.surface->hostView();
+    for (std::size_t i = 0; i < h.ctrl.extent(0); ++i)
+      for (std::size_t j = 0; j < h.ctrl.extent(1); ++j) {
+        double p[3], pa = 0.0;
+        for (int d = 0; d < 3; ++d) {
+          p[d] = h.ctrl(i, j, d) - cs.center[d];
+          pa += p[d] * cs.axis[d];
+        }
+        double rr = 0.0;
+        for (int d = 0; d < 3; ++d) rr += (p[d] - pa * cs.axis[d]) * (p[d] - pa * cs.axis[d]);
+        r = std::max(r, std::sqrt(rr));
+      }
+    v.turn(s, 7) = r;
+    v.turn(s, 8) = cs.omega != 0.0 || cs.phase != 0.0 ? 1.0 : 0.0;
+    gridX_.emplace_back();
+    gridPos_.emplace_back();
+    gridDof_.emplace_back();
+    gridPosH_.emplace_back();
+    if (!cs.moving) continue;
+    const BSplineSurface& S = *cs.surface;
+    const std::size_t ng = std::size_t(S.inputNu()) * S.inputNv();
+    EPAPHE_REQUIRE(cs.gridDofs.size() == 3 * ng && cs.gridX.size() == 3 * ng,
+                   "contact: surface '" << S.name() << "' has " << ng << " grid nodes but " << cs.gridDofs.size() / 3
+                                        << " grid DOF triples and " << cs.gridX.size() / 3 << " positions");
+    gridX_.back() = Kokkos::View<double* [3]>("epaphe::contact::grid_X", ng);
+    gridPos_.back() = Kokkos::View<double* [3]>("epaphe::contact::grid_x", ng);
+    gridDof_.back() = Kokkos::View<int* [3]>("epaphe::contact::grid_dof", ng);
+    gridPosH_.back() = Kokkos::create_mirror_view(gridPos_.back());
+    for (std::size_t g = 0; g < ng; ++g)
+      for (int d = 0; d < 3; ++d) {
+        gridX_.back()(g, d) = cs.gridX[3 * g + d];
+        gridDof_.back()(g, d) = cs.gridDofs[3 * g + d];
+      }
+  }
+  v.uv = Kokkos::View<double** [2]>("epaphe::contact::uv", nc, ns);
+  Kokkos::deep_copy(v.uv, std::nan(""));  // cold start from the nearest grid node
+  v.gap = Kokkos::View<double*>("epaphe::contact::gap", nc);
+  v.selected = Kokkos::View<int*>("epaphe::contact::surface", nc);
+  v.normal = DetectionViews::Vec3("epaphe::contact::normal", nc);
+  v.foot = Kokkos::View<double* [2]>("epaphe::contact::foot", nc);
+  v.footX = DetectionViews::Vec3("epaphe::contact::foot_point", nc);
+  v.iterations = Kokkos::View<int*>("epaphe::contact::iterations", nc);
+  v.xLast = DetectionViews::Vec3("epaphe::contact::x_last", nc);
+  v.tLast = Kokkos::View<double*>("epaphe::contact::t_last", nc);
+  v.gLast = Kokkos::View<double*>("epaphe::contact::g_last", nc);
+  v.eligible = Kokkos::View<int*>("epaphe::contact::eligible", nc);
+  v.skipped = Kokkos::View<int*>("epaphe::contact::skipped", nc);
+  v.refine = Kokkos::View<int*>("epaphe::contact::refine", nc);
+  v.bound = Kokkos::View<double*>("epaphe::contact::gap_bound", nc);
+  q_ = DenseVector();
+}
+
+Teuchos::RCP<const Teuchos::ParameterList> ContactDetection::getValidParameters() {
+  auto pl = Teuchos::rcp(new Teuchos::ParameterList("Detection"));
+  deck::addDouble(*pl, "Newton tolerance", 1e-8, "crit_NR: closest-point Newton stops when the parameter step is "
+                                                 "below it", 1e-300, 1.0);
+  deck::addInt(*pl, "Newton max iterations", 50, "Closest-point Newton iterations at most", 1, 10000);
+  deck::addDouble(*pl, "Edge tolerance", 1e-3, "A node beyond the edge of an open surface by less than this "
+                                               "fraction of a patch still touches it (nodes on a shared edge, "
+                                               "lateral round-off); farther, it is beyond the surface", 0.0, 1.0);
+  deck::addBool(*pl, "Skip distant nodes", true, "Skip the Newton projection of a node whose last gap exceeds twice "
+                                                 "how far it and the surfaces can have moved since (results "
+                                                 "unchanged to round-off; output steps project every node); false "
+                                                 "projects every node at every step");
+  return pl;
+}
+
+void ContactDetection::reset() { Kokkos::deep_copy(v_.eligible, 0); }
+
+std::vector<double> ContactDetection::warmStarts() const {
+  const std::size_t nc = static_cast<std::size_t>(numNodes()), ns = surfaces_.size();
+  std::vector<double> all(2 * nc * ns);
+  Kokkos::fence();
+  for (std::size_t s = 0; s < ns; ++s)
+    for (std::size_t k = 0; k < nc; ++k)
+      for (int c = 0; c < 2; ++c) all[2 * (s * nc + k) + c] = v_.uv(k, s, c);
+  return all;
+}
+
+void ContactDetection::setWarmStarts(const std::vector<double>& all) {
+  const std::size_t nc = static_cast<std::size_t>(numNodes()), ns = surfaces_.size();
+  EPAPHE_REQUIRE(all.size() == 2 * nc * ns, "contact: " << all.size() << " warm-start parameters given, "
+                                                        << 2 * nc * ns << " expected (2 per node, " << nc
+                                                        << " nodes, " << ns << " surfaces)");
+  Kokkos::fence();
+  for (std::size_t s = 0; s < ns; ++s)
+    for (std::size_t k = 0; k < nc; ++k)
+      for (int c = 0; c < 2; ++c) v_.uv(k, s, c) = all[2 * (s * nc + k) + c];
+  reset();
+}
+
+void ContactDetection::rebuildCarried(const DenseVector& q) {
+  // Surfaces carried by a body: rebuilt from their moved grid nodes (operators reused, eq. 2.26).
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
+    if (!surfaces_[s].moving) continue;
+    const auto gX = gridX_[s];
+    const auto gx = gridPos_[s];
+    const auto gdof = gridDof_[s];
+    forEach("epaphe::contact::surface_nodes", gx.extent(0), 5, KOKKOS_LAMBDA(const int g) {
+      for (int d = 0; d < 3; ++d) gx(g, d) = gX(g, d) + (gdof(g, d) >= 0 ? q(gdof(g, d)) : 0.0);
+    });
+    Kokkos::deep_copy(gridPosH_[s], gx);
+    surfaces_[s].moving->update(gridPosH_[s].data());  // (ng x 3, LayoutRight: the layout update() reads)
+    v_.surf(s) = surfaces_[s].moving->view();          // its broad-phase bins may have moved
+  }
+}
+
+void ContactDetection::detect(const DenseVector& q, double t, bool all) {
+  Kokkos::fence();
+  time_ = t;
+  q_ = q;
+  if (anyCarried_) rebuildCarried(q);
+  // Turning surfaces: R(omega t + phase) by Rodrigues' formula.
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) {
+    const ContactSurface& cs = surfaces_[s];
+    const double th = cs.omega * t + cs.phase, c = std::cos(th), sn = std::sin(th);
+    const auto& a = cs.axis;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double cross = (i == j) ? 0.0 : ((j == (i + 1) % 3) ? -a[3 - i - j] : a[3 - i - j]);
+        v_.rot(s, i, j) = (i == j ? c : 0.0) + (1 - c) * a[i] * a[j] + sn * cross;
+      }
+  }
+  project(all, false);
+}
+
+int ContactDetection::refine() {
+  Kokkos::fence();
+  int n = 0;
+  for (int k = 0; k < numNodes(); ++k) n += v_.refine(k) != 0;
+  if (n > 0) project(true, true);
+  return n;
+}
+
+void ContactDetection::project(bool all, bool refineOnly) {
+  const DetectionViews v = v_;
+  const DenseVector q = q_;
+  const int nc = numNodes(), ns = numSurfaces();
+  const double tol = opt_.nrTolerance;
+  const int maxIt = opt_.nrMaxIterations;
+  const double edgeTol = opt_.edgeTolerance > opt_.nrTolerance ? opt_.edgeTolerance : opt_.nrTolerance;
+  const bool skip = opt_.skipDistant && !all;
+  const double t = time_;
+  // about 0.6 us per projection of a node on a surface on one thread (warm-started Newton on a
+  // bicubic patch), 30 ns per skipped node; as many projections expected as at the last step
+  const long expected = skip && !refineOnly ? std::max(lastProjected_, 1) : nc;
+  forEach("epaphe::contact::detect", nc, 30L + 600L * ns * expected / nc, KOKKOS_LAMBDA(const int k) {
+    if (refineOnly && !v.refine(k)) return;
+    double x[3];
+    for (int d = 0; d < 3; ++d) x[d] = v.X(k, d) + q(v.dof(k, d));
+    for (int d = 0; d < 3; ++d) v.x(k, d) = x[d];
+    if (skip && v.eligible(k)) {
+      double dx = 0.0;
+      for (int d = 0; d < 3; ++d) dx += (x[d] - v.xLast(k, d)) * (x[d] - v.xLast(k, d));
+      double move = ::sqrt(dx);
+      for (int s = 0; s < ns; ++s) move += ::fabs(v.turn(s, 0)) * (t - v.tLast(k)) * v.turn(s, 7);
+      const double b = v.gLast(k) - 2.0 * move;
+      if (b > 0.0) {
+        v.skipped(k) = 1;
+        v.bound(k) = b;
+        v.iterations(k) = 0;
+        return;
+      }
+    }
+    v.skipped(k) = 0;
+    v.refine(k) = 0;
+    int best = -1, its = 0;
+    double g = 1e300, gmin = 1e300;
+    bool eligible = true;
+    for (int s = 0; s < ns; ++s) {
+      const SurfaceView S = v.surf(s);
+      double xs[3] = {x[0], x[1], x[2]};
+      if (v.turn(s, 8) != 0.0) {
+        // in the surface's frame: x_s = c + R^T (x - c)
+        const double c0 = v.turn(s, 4), c1 = v.turn(s, 5), c2 = v.turn(s, 6);
+        const double r[3] = {x[0] - c0, x[1] - c1, x[2] - c2}, cc[3] = {c0, c1, c2};
+        for (int i = 0; i < 3; ++i) xs[i] = cc[i] + v.rot(s, 0, i) * r[0] + v.rot(s, 1, i) * r[1] + v.rot(s, 2, i) * r[2];
+      }
+      double u0 = v.uv(k, s, 0), v0 = v.uv(k, s, 1);
+      if (!(u0 == u0) || !(v0 == v0)) nearestGridPoint(S, xs, u0, v0);
+      const Projection p = closestPoint(S, xs, u0, v0, tol, maxIt);
+      v.uv(k, s, 0) = p.u;
+      v.uv(k, s, 1) = p.v;
+      its = p.iterations > its ? p.iterations : its;
+      eligible = eligible && !v.carried(s) && p.converged && !(p.beyond > 0.0);
+      gmin = p.gap < gmin ? p.gap : gmin;
+      if (!(p.beyond > edgeTol) && p.gap < g) {
+        g = p.gap;
+        best = s;
+        for (int d = 0; d < 3; ++d) {  // back to the bodies' frame: n = R n_s, S = c + R (S_s - c)
+          v.normal(k, d) = v.rot(s, d, 0) * p.normal[0] + v.rot(s, d, 1) * p.normal[1] + v.rot(s, d, 2) * p.normal[2];
+          double y = v.turn(s, 4 + d);
+          for (int e = 0; e < 3; ++e) y += v.rot(s, d, e) * (p.point[e] - v.turn(s, 4 + e));
+          v.footX(k, d) = y;
+        }
+        v.foot(k, 0) = p.u;
+        v.foot(k, 1) = p.v;
+      }
+    }
+    v.gap(k) = g;
+    v.selected(k) = best;
+    v.iterations(k) = its;
+    for (int d = 0; d < 3; ++d) v.xLast(k, d) = x[d];
+    v.tLast(k) = t;
+    v.gLast(k) = gmin;
+    v.eligible(k) = eligible && gmin > 0.0 ? 1 : 0;
+  });
+  Kokkos::fence();
+  int projected = 0, iters = 0;
+  for (int k = 0; k < nc; ++k) {
+    projected += v.iterations(k) > 0;
+    iters = std::max(iters, v.iterations(k));
+  }
+  lastProjected_ = projected;  // after refine(): this step's projections so far
+  lastIterations_ = iters;
+}
+
+}  // namespace epaphe

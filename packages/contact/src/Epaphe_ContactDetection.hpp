@@ -1,0 +1,136 @@
+#pragma once
+// Contact detection (thesis section 2.5.1, eq. 2.28): where each contact node is, which surface
+// it faces, its closest point there and its gap, for any number of surfaces.
+//
+// One fused kernel per step over the contact nodes does, per node k:
+//   x_k = X_k + u_k(q)                        (contact nodes are retained DOFs)
+//   for each surface s:  x_s = c_s + R_s^T (x_k - c_s)   (a turning surface: its own frame)
+//                        Newton-Raphson closest point from the last foot point (warm start)
+//   select the surface of smallest gap among those the node is not beyond (an open edge),
+//   and turn its normal and foot point back into the bodies' frame (n = R n_s).
+// Carried surfaces (on a flexible body) are rebuilt from their moved grid nodes before it.
+//
+// Model only what the step needs: a node whose last projection found it at gap g_k > 0 from every
+// surface (foot point inside every surface, Newton converged) cannot touch any before it has moved
+// by g_k relative to them. Its gap is a 1-Lipschitz function of its position on a surface it faces
+// (a signed distance), so while
+//     g_k - 2 (|x_k - x_k,last| + sum_s |omega_s| (t - t_last) r_s) > 0
+// (r_s: the largest distance of surface s's control points from its axis; 2: a safety factor for
+// the foot point's motion near an edge), the node is out of contact whatever its projection would
+// give: it skips its Newton projection and keeps its last foot point and gap, and `skipped(k)` is
+// set with the lower bound `bound(k)` of its true gap. A consumer that needs such a node's exact
+// gap (the Lagrange add-pass test when the bound does not decide) calls refine(). Carried surfaces
+// deform: nodes facing one are always projected. forceAll() (output steps, measureGaps) and
+// reset() (checkpoints, restarts) make every node project, so written gaps are exact and restarts
+// bit for bit.
+#include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_ClosestPoint.hpp"
+#include "Epaphe_Flexibility.hpp"
+#include "Epaphe_Parallel.hpp"
+#include "Epaphe_Runtime.hpp"
+
+#include <Kokkos_Core.hpp>
+#include <Teuchos_ParameterList.hpp>
+
+#include <array>
+#include <vector>
+
+namespace epaphe {
+
+/// A surface the nodes may touch. Rigid: `surface` only. Carried by a flexible body: `moving` is
+/// the same surface (rebuilt at each step, in its body's frame), `block` its body, and per grid node
+/// of the input layout (node (i, j) at i * inputNv + j) its 3 DOF indices in q (-1: a clamped DOF)
+/// and its reference position.
+struct ContactSurface {
+  const BSplineSurface* surface = nullptr;
+  BSplineSurface* moving = nullptr;
+  int block = -1;
+  std::vector<int> gridDofs;
+  std::vector<double> gridX;
+  /// A surface (rigid or carried) may turn about `axis` (unit) through `center` at `omega` rad/s in
+  /// the contact nodes' frame (thesis section 3.3: the contact zone of a rotating blade turns, the
+  /// blade stays): at time t (setTime) it is its surface rotated by omega t + phase. Nodes are
+  /// projected in the surface's frame (x_s = c + R^T (x - c)); normals and foot points are turned
+  /// back; a carrying body's grid motion is turned by R in D_a (see Epaphe_SurfaceContact.hpp).
+  double omega = 0.0;
+  double phase = 0.0;  // angle (rad) at t = 0: the surface is turned by omega t + phase
+  std::array<double, 3> axis{0.0, 0.0, 1.0}, center{0.0, 0.0, 0.0};
+};
+
+struct DetectionOptions {
+  double nrTolerance = 1e-8;    // crit_NR: Newton stop on the parameter step
+  int nrMaxIterations = 50;
+  double edgeTolerance = 1e-3;  // a node beyond an open edge by less (in patches) still touches
+  bool skipDistant = true;      // skip the projection of nodes certified out of contact
+};
+
+/// Everything the detection kernel reads and writes, allocated once at setup; copied by value into
+/// the kernel (views only). Per node k unless said; per surface s for the surface data.
+struct DetectionViews {
+  using Vec3 = Kokkos::View<double* [3]>;
+  Kokkos::View<int* [3]> dof;        // q index of each contact node DOF
+  Vec3 X;                            // reference positions
+  Vec3 x;                            // positions at the last detect()
+  Kokkos::View<SurfaceView*> surf;   // [s] the surfaces (a carried one re-copied after its update)
+  Kokkos::View<double* [3][3]> rot;  // [s] R(omega t + phase)
+  Kokkos::View<double* [9]> turn;    // [s] omega, axis (3), center (3), r_s, turning (1) or not (0)
+  Kokkos::View<int*> carried;        // [s] 1: on a flexible body
+  Kokkos::View<double** [2]> uv;     // [k][s] warm start (NaN: cold start from the nearest grid node)
+  Kokkos::View<double*> gap;         // selected gap (1e300: beyond every surface)
+  Kokkos::View<int*> selected;       // selected surface (-1: none)
+  Vec3 normal;                       // unit normal n_k at the foot point, bodies' frame
+  Kokkos::View<double* [2]> foot;    // foot point parameters (u, v) on the selected surface
+  Vec3 footX;                        // foot point, bodies' frame
+  Kokkos::View<int*> iterations;     // Newton iterations of this step (max over surfaces; 0: skipped)
+  // skipping: position, time and smallest gap of the last projection; eligible: it may be skipped
+  Vec3 xLast;
+  Kokkos::View<double*> tLast, gLast;
+  Kokkos::View<int*> eligible, skipped, refine;
+  Kokkos::View<double*> bound;       // a lower bound of a skipped node's gap
+};
+
+class ContactDetection {
+public:
+  /// `dofs` and `X`: 3 per node. Surfaces outlive this object.
+  ContactDetection(const std::vector<int>& dofs, const std::vector<double>& X, std::vector<ContactSurface> surfaces,
+                   const DetectionOptions& options);
+  /// Its deck keys in the Contact list: Newton tolerance, Newton max iterations, Edge tolerance,
+  /// Skip distant nodes.
+  static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
+
+  /// Detects at q and time t. `all`: project every node (no skipping).
+  void detect(const DenseVector& q, double t, bool all);
+  /// Projects the nodes flagged in views().refine (at the q and t of the last detect()), clears
+  /// the flags and their `skipped` state; returns how many.
+  int refine();
+  /// Every node projects at the next detect() (checkpoints, restarts, a changed warm start).
+  void reset();
+
+  const DetectionViews& views() const { return v_; }
+  int numNodes() const { return static_cast<int>(v_.gap.extent(0)); }
+  int numSurfaces() const { return static_cast<int>(surfaces_.size()); }
+  const std::vector<ContactSurface>& surfaces() const { return surfaces_; }
+  /// Nodes projected by the last detect() (with refine()), and their Newton iterations (max).
+  int lastProjected() const { return lastProjected_; }
+  int lastIterations() const { return lastIterations_; }
+  /// Warm starts, surface s and node k at 2 (s numNodes() + k) (see SurfaceContact::warmStarts).
+  std::vector<double> warmStarts() const;
+  void setWarmStarts(const std::vector<double>& uv);
+
+private:
+  void rebuildCarried(const DenseVector& q);
+  void project(bool all, bool refineOnly);
+
+  DetectionOptions opt_;
+  std::vector<ContactSurface> surfaces_;
+  DetectionViews v_;
+  std::vector<Kokkos::View<double* [3]>> gridX_, gridPos_;   // [s] carried surfaces' grid (empty: rigid)
+  std::vector<Kokkos::View<int* [3]>> gridDof_;
+  std::vector<Kokkos::View<double* [3]>::HostMirror> gridPosH_;
+  double time_ = 0.0;
+  int lastProjected_ = 0, lastIterations_ = 0;
+  bool anyCarried_ = false;
+  DenseVector q_;   // the coordinates of the last detect() (for refine())
+};
+
+}  // namespace epaphe

@@ -1,0 +1,88 @@
+#pragma once
+// Contact enforcement: the law that turns the detected gaps of the active nodes into contact forces
+// (thesis section 2.5.2), behind one interface, made by a factory from the deck's Contact list.
+//
+//   ForwardIncrementLagrange  eqs. 2.30-2.33: MC lambda = -g*, the gaps close exactly
+//   PenaltyContact            eq. 2.34: lambda = k_p (-g*)
+//   CoulombFriction           eqs. 2.29, 2.31: a joint normal-tangential solve with either normal law
+//
+// A strategy sees the step through ContactStepViews (views allocated once by SurfaceContact and
+// shared with the detection) and the host list of active nodes; it writes, per active node, the
+// force lambda_k and the direction c_k = n_k + mu_k t_k of the correction, and removes from the
+// list the nodes it releases. The correction q += F G lambda and the add passes are the operator's
+// (Epaphe_SurfaceContact.cpp). Each strategy owns its deck parameters (getValidParameters()).
+#include "Epaphe_RelativeMotion.hpp"
+
+#include <Kokkos_Core.hpp>
+#include <Teuchos_ParameterList.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace epaphe {
+
+enum class ContactMethod { Lagrange = 0, Penalty = 1 };
+
+struct ContactOptions {
+  ContactMethod method = ContactMethod::Lagrange;
+  double penaltyStiffness = 1e10;   // k_p (N/m), penalty only
+  double nrTolerance = 1e-8;        // crit_NR: Newton stop on the parameter step
+  int nrMaxIterations = 50;
+  bool lumped = false;              // lump the contact matrix MC (section 2.5.2)
+  double friction = 0.0;            // Coulomb coefficient mu >= 0 (eq. 2.31); 0: frictionless
+  double edgeTolerance = 1e-3;      // a node beyond an open edge by less (in patches) still touches
+  double timeStep = 0.0;            // h: the rotation of turning surfaces over a step (friction)
+  bool skipDistant = true;          // skip the projection of nodes certified out of contact (detection)
+  bool warmFriction = true;         // start the stick/slip classification from the last step's state
+};
+
+/// What a strategy reads and writes at a step, per contact node k unless said. Views only: copy
+/// members into kernels by value.
+struct ContactStepViews {
+  using Vec3 = Kokkos::View<double* [3]>;
+  Kokkos::View<double*> gap;         // g*_k (detection)
+  Kokkos::View<int*> surf;           // selected surface (-1: none)
+  Vec3 normal, x, footX;             // n_k, position, foot point (bodies' frame)
+  Kokkos::View<double* [9]> turn;    // [s] omega, axis, center, ... (ContactDetection)
+  RelativeMotion D;                  // D_k's entries (valid for the nodes on a surface)
+  Kokkos::View<double** [3][3]> C;   // C_ab = D_a F D_b^T of the active pairs
+  Kokkos::View<int*> active;         // the active nodes (first nA entries, see upload())
+  Kokkos::View<double*> force;       // lambda_k (N)
+  Kokkos::View<double*> mu;          // mu_k applied (friction)
+  Vec3 dir;                          // c_k = n_k + mu_k t_k
+  Vec3 tangent;                      // t_k (unit, or zero)
+  /// Copies the host list into `active` (no allocation) and returns the view of its entries.
+  Kokkos::View<int*> upload(const std::vector<int>& list) const;
+};
+
+class ContactEnforcement {
+public:
+  virtual ~ContactEnforcement() = default;
+  virtual const char* name() const = 0;
+  /// Forces and directions of the nodes in `active` (C of their pairs is up to date). q: predicted
+  /// coordinates q*; qn: q_n (nullptr: no motion over the step, no friction direction). Nodes the
+  /// law releases (lambda < 0) are removed from `active`, and their force is zero.
+  virtual void enforce(const ContactStepViews& v, std::vector<int>& active, const DenseVector& q,
+                       const DenseVector* qn) = 0;
+  /// True when the law closes the gaps exactly (Lagrange): nodes that the correction of the others
+  /// makes penetrate are added and the law applied again.
+  virtual bool closesGaps() const = 0;
+  /// Diagonal stiffness the law adds at each contact DOF (k_p for penalty), for the stable step.
+  virtual double addedStiffness() const { return 0.0; }
+  /// Classification passes of the last step (friction), 0 otherwise.
+  virtual int lastPasses() const { return 0; }
+  /// Forgets what the law carries from step to step (friction's warm start): the next step starts
+  /// as a restart from a checkpoint would.
+  virtual void reset() {}
+};
+
+/// The strategy the options ask for: Lagrange or penalty, wrapped in Coulomb friction when mu > 0.
+/// `numNodes`: the contact nodes (work arrays are sized once for all of them).
+std::unique_ptr<ContactEnforcement> makeContactEnforcement(const ContactOptions& options, int numNodes);
+
+/// The deck's Contact list: Method, then every strategy's and the detection's parameters.
+Teuchos::RCP<const Teuchos::ParameterList> contactValidParameters();
+/// Reads a validated Contact list; h is the time step.
+ContactOptions contactOptions(const Teuchos::ParameterList& contact, double h);
+
+}  // namespace epaphe

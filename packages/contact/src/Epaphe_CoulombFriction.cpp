@@ -1,0 +1,395 @@
+#include "Epaphe_CoulombFriction.hpp"
+
+#include "Epaphe_Deck.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_Parallel.hpp"
+#include "Epaphe_SmallDense.hpp"
+
+#include <cmath>
+
+namespace epaphe {
+
+CoulombFriction::CoulombFriction(double mu, bool penalty, double kp, double h, int nc,
+                                 std::unique_ptr<ContactEnforcement> frictionless, bool warm)
+    : mu_(mu), kp_(kp), h_(h), penalty_(penalty), warm_(warm), frictionless_(std::move(frictionless)) {
+  EPAPHE_REQUIRE(std::isfinite(mu_) && mu_ > 0.0,
+                 "contact: friction coefficient mu = " << mu_ << "; Coulomb friction needs a finite value > 0");
+  basis_ = Kokkos::View<double* [3][3]>("epaphe::contact::basis", nc);
+  disp_ = Kokkos::View<double* [3]>("epaphe::contact::motion", nc);
+  state_ = Kokkos::View<int*>("epaphe::contact::state", nc);
+  nextState_ = Kokkos::View<int*>("epaphe::contact::next_state", nc);
+  returns_ = Kokkos::View<int*>("epaphe::contact::slide_to_stick", nc);
+  bestState_ = Kokkos::View<int*>("epaphe::contact::best_state", nc);
+  nextTangent_ = Kokkos::View<double* [3]>("epaphe::contact::next_tangent", nc);
+  bestTangent_ = Kokkos::View<double* [3]>("epaphe::contact::best_tangent", nc);
+  MCf_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::friction_matrix", 3 * nc, 3 * nc);
+  sol_ = Kokkos::View<double*>("epaphe::contact::friction_solution", 3 * nc);
+  MCfH_ = Kokkos::create_mirror_view(MCf_);
+  solH_ = Kokkos::create_mirror_view(sol_);
+  prev_ = Kokkos::View<int*>("epaphe::contact::previous_state", nc);
+  prevTangent_ = Kokkos::View<double* [3]>("epaphe::contact::previous_tangent", nc);
+  keep_.reserve(nc);
+  ipiv_.reserve(3 * static_cast<std::size_t>(nc));
+}
+
+Teuchos::RCP<const Teuchos::ParameterList> CoulombFriction::getValidParameters() {
+  auto pl = Teuchos::rcp(new Teuchos::ParameterList("Coulomb friction"));
+  deck::addDouble(*pl, "Friction coefficient", 0.0, "Coulomb mu: the correction acts along n + mu t, t opposing the "
+                                                    "sliding (eqs. 2.29, 2.31), capped so that a node sticks rather "
+                                                    "than slides back", 0.0);
+  deck::addBool(*pl, "Warm friction start", true, "A node in contact at the last step starts its stick/slip "
+                                                  "classification from that step's final state and sliding "
+                                                  "direction (usually one pass) instead of from its predicted "
+                                                  "motion; false: always from the predicted motion");
+  return pl;
+}
+
+void CoulombFriction::enforce(const ContactStepViews& v, std::vector<int>& active, const DenseVector& q,
+                              const DenseVector* qn) {
+  if (qn == nullptr) {  // no motion over the step: no friction direction
+    frictionless_->enforce(v, active, q, qn);
+    return;
+  }
+  prepare(v, q, *qn);
+  solve(v, active);
+}
+
+namespace {
+/// Column vectors of node k's unknowns (lambda, s1, s2): stuck, force lambda n + s1 e1 + s2 e2;
+/// sliding, lambda (n + mu t) and no tangential unknowns (their rows are s1 = s2 = 0).
+template <class B, class T, class S>
+KOKKOS_INLINE_FUNCTION void frictionColumns(const B& basis, const T& tangent, const S& state, int k, double mu,
+                                            int slide, double c[3][3]) {
+  const bool sl = state(k) == slide;
+  for (int e = 0; e < 3; ++e) {
+    c[0][e] = basis(k, 0, e) + (sl ? mu * tangent(k, e) : 0.0);
+    c[1][e] = sl ? 0.0 : basis(k, 1, e);
+    c[2][e] = sl ? 0.0 : basis(k, 2, e);
+  }
+}
+}  // namespace
+
+void CoulombFriction::prepare(const ContactStepViews& v, const DenseVector& q, const DenseVector& qn) {
+  // Per node: d_a = u_a(q*) - u_a(q_n), the tangent-plane basis (e1, e2) of n_a, and the initial
+  // state: sliding against the predicted tangential motion (t = -d_t / |d_t|) when there is one,
+  // stuck otherwise.
+  const auto normal = v.normal;
+  const auto basis = basis_;
+  const auto disp = disp_;
+  const auto tangent = v.tangent;
+  const auto state = state_;
+  const auto returns = returns_;
+  const auto x = v.x;
+  const RelativeMotion D = v.D;
+  const Difference<DenseVector> dq{q, qn};
+  const auto surfOf = v.surf;
+  const auto turn = v.turn;
+  const auto footX = v.footX;
+  const double h = h_;
+  const bool warm = warm_;
+  const auto prev = prev_;
+  const auto prevTangent = prevTangent_;
+  forEach(
+      "epaphe::contact::friction_prepare", normal.extent(0), 60, KOKKOS_LAMBDA(const int k) {
+        double n[3], dsp[3], dn = 0.0, dd = 0.0, xx = 0.0;
+        for (int e = 0; e < 3; ++e) n[e] = normal(k, e);
+        D.apply(k, dq, dsp);  // relative motion d_a = D_a (q* - q_n)
+        if (surfOf(k) >= 0 && turn(surfOf(k), 0) != 0.0) {
+          // less the turning surface's own motion over the step, h omega a x (S - c)
+          const int s = surfOf(k);
+          const double w = h * turn(s, 0);
+          const double r[3] = {footX(k, 0) - turn(s, 4), footX(k, 1) - turn(s, 5), footX(k, 2) - turn(s, 6)};
+          const double a[3] = {turn(s, 1), turn(s, 2), turn(s, 3)};
+          dsp[0] -= w * (a[1] * r[2] - a[2] * r[1]);
+          dsp[1] -= w * (a[2] * r[0] - a[0] * r[2]);
+          dsp[2] -= w * (a[0] * r[1] - a[1] * r[0]);
+        }
+        for (int e = 0; e < 3; ++e) {
+          disp(k, e) = dsp[e];
+          dn += dsp[e] * n[e];
+          dd += dsp[e] * dsp[e];
+          xx += x(k, e) * x(k, e);
+        }
+        // e1: the coordinate axis least aligned with n, made orthogonal to n; e2 = n x e1
+        const int ax = ::fabs(n[0]) <= ::fabs(n[1]) && ::fabs(n[0]) <= ::fabs(n[2]) ? 0 : (::fabs(n[1]) <= ::fabs(n[2]) ? 1 : 2);
+        double e1[3] = {0.0, 0.0, 0.0};
+        e1[ax] = 1.0;
+        double an = n[ax], l1 = 0.0;
+        for (int e = 0; e < 3; ++e) {
+          e1[e] -= an * n[e];
+          l1 += e1[e] * e1[e];
+        }
+        l1 = ::sqrt(l1);
+        for (int e = 0; e < 3; ++e) e1[e] /= l1;
+        const double e2[3] = {n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+        for (int e = 0; e < 3; ++e) {
+          basis(k, 0, e) = n[e];
+          basis(k, 1, e) = e1[e];
+          basis(k, 2, e) = e2[e];
+        }
+        double dt[3], tt = 0.0;
+        for (int e = 0; e < 3; ++e) {
+          dt[e] = dsp[e] - dn * n[e];
+          tt += dt[e] * dt[e];
+        }
+        const double len = ::sqrt(tt);
+        const bool moving = len > 1e-14 * (::sqrt(xx) + ::sqrt(dd));
+        for (int e = 0; e < 3; ++e) tangent(k, e) = moving ? -dt[e] / len : 0.0;
+        state(k) = moving ? kSlide : kStick;
+        returns(k) = 0;
+        if (warm && prev(k) == kStick) {
+          state(k) = kStick;
+        } else if (warm && prev(k) == kSlide) {
+          // last step's sliding direction, in this step's tangent plane
+          double t[3], tn = 0.0, tl = 0.0;
+          for (int e = 0; e < 3; ++e) tn += prevTangent(k, e) * n[e];
+          for (int e = 0; e < 3; ++e) {
+            t[e] = prevTangent(k, e) - tn * n[e];
+            tl += t[e] * t[e];
+          }
+          tl = ::sqrt(tl);
+          if (tl > 0.5) {
+            state(k) = kSlide;
+            for (int e = 0; e < 3; ++e) tangent(k, e) = t[e] / tl;
+          }
+        }
+      });
+  Kokkos::fence();
+}
+
+void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH) {
+  // Joint solve over the active set, 3 unknowns per active node a (lambda_a, s1_a, s2_a):
+  //   normal row:     g*_a + n_a^T sum_b F_ab f_b = 0, f_b the force on node b (the gap closes;
+  //                   penalty: lambda_a = k_p (-g*_a) instead);
+  //   stuck, rows i:  e_i,a^T (d_a + sum_b F_ab f_b) = 0  (no tangential motion over the step);
+  //   sliding:        s1_a = s2_a = 0, the node's force being lambda_a (n_a + mu t_a).
+  // Then classify: stuck -> sliding when |s_a| > mu lambda_a (t_a = s_a / |s_a|); sliding -> stuck
+  // when the corrected tangential motion w_a does not oppose t_a (w_a . t_a > 0), else t_a follows
+  // -w_a / |w_a|. Repeat while anything changes (at most kMaxFrictionPasses; then the pass with the
+  // fewest changes is solved again and kept). Lagrange nodes with lambda_a < 0 are released.
+  const bool penalty = penalty_;
+  const double mu = mu_, kp = kp_;
+  const int nc = static_cast<int>(v.force.extent(0));
+  const int ld = 3 * nc;
+  int bestChanges = -1, passes = 0, releases = 0;
+  bool restored = false;
+  int nA = static_cast<int>(activeH.size());
+  for (;;) {
+    const auto active = v.upload(activeH);
+    const auto C = v.C;
+    const auto basis = basis_;
+    const auto tangent = v.tangent;
+    const auto state = state_;
+    const auto disp = disp_;
+    const auto gap = v.gap;
+    const auto A = MCf_;
+    const auto sol = sol_;
+    constexpr int slide = kSlide;
+    forEach(
+        "epaphe::contact::friction_matrix", nA, 60L * nA, KOKKOS_LAMBDA(const int a) {
+          const int ka = active(a);
+          const bool sl = state(ka) == slide;
+          for (int b = 0; b < nA; ++b) {
+            const int kb = active(b);
+            double c[3][3];
+            frictionColumns(basis, tangent, state, kb, mu, slide, c);
+            double G[3][3];  // G[d][j] = (F_ab c_j)_d
+            for (int d = 0; d < 3; ++d)
+              for (int j = 0; j < 3; ++j) {
+                double s = 0.0;
+                for (int e = 0; e < 3; ++e) s += C(ka, kb, d, e) * c[j][e];
+                G[d][j] = s;
+              }
+            for (int i = 0; i < 3; ++i) {
+              const bool identity = (i == 0 && penalty) || (i > 0 && sl);
+              for (int j = 0; j < 3; ++j) {
+                double s = 0.0;
+                if (identity)
+                  s = (a == b && i == j) ? 1.0 : 0.0;
+                else
+                  for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
+                A(3 * a + i, 3 * b + j) = s;
+              }
+            }
+          }
+          sol(3 * a) = penalty ? kp * (-gap(ka)) : -gap(ka);
+          for (int i = 1; i < 3; ++i) {
+            double s = 0.0;
+            if (!sl)
+              for (int d = 0; d < 3; ++d) s -= basis(ka, i, d) * disp(ka, d);
+            sol(3 * a + i) = s;
+          }
+        });
+    Kokkos::fence();
+    Kokkos::deep_copy(MCfH_, MCf_);
+    Kokkos::deep_copy(solH_, sol_);
+    const int m = 3 * nA;
+    const int info = solveDense(m, MCfH_.data(), ld, solH_.data(), ipiv_);
+    EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of " << nA << " active nodes is singular (zero pivot at unknown "
+                                                                        << info << ")");
+    Kokkos::deep_copy(sol_, solH_);
+    if (!penalty) {  // release the nodes the surface would pull
+      keep_.clear();
+      for (int a = 0; a < nA; ++a)
+        if (solH_(3 * a) >= 0.0) keep_.push_back(activeH[a]);
+      if (static_cast<int>(keep_.size()) < nA && releases < nc) {
+        ++releases;
+        activeH.swap(keep_);
+        nA = static_cast<int>(activeH.size());
+        if (nA == 0) break;
+        continue;
+      }
+    }
+    if (restored) break;
+    // classify: proposed next state and direction per active node
+    const auto nextState = nextState_;
+    const auto nextTangent = nextTangent_;
+    const auto returns = returns_;
+    int changes = 0;
+    reduce(
+        "epaphe::contact::friction_classify", nA, 40L * nA,
+        KOKKOS_LAMBDA(const int a, int& count) {
+          const int ka = active(a);
+          const double lambda = sol(3 * a);
+          double t[3];
+          for (int e = 0; e < 3; ++e) t[e] = tangent(ka, e);
+          int next = state(ka);
+          if (state(ka) != slide) {
+            double s[3], ss = 0.0;
+            for (int e = 0; e < 3; ++e) {
+              s[e] = sol(3 * a + 1) * basis(ka, 1, e) + sol(3 * a + 2) * basis(ka, 2, e);
+              ss += s[e] * s[e];
+            }
+            ss = ::sqrt(ss);
+            if (ss > mu * lambda) {  // outside the cone: slide, friction along the sticking force
+              next = slide;
+              for (int e = 0; e < 3; ++e) t[e] = s[e] / ss;
+            }
+          } else {
+            // w = d_a + sum_b F_ab f_b, its tangential part
+            double w[3];
+            for (int e = 0; e < 3; ++e) w[e] = disp(ka, e);
+            for (int b = 0; b < nA; ++b) {
+              const int kb = active(b);
+              double c[3][3];
+              frictionColumns(basis, tangent, state, kb, mu, slide, c);
+              double f[3];
+              for (int e = 0; e < 3; ++e)
+                f[e] = sol(3 * b) * c[0][e] + sol(3 * b + 1) * c[1][e] + sol(3 * b + 2) * c[2][e];
+              for (int d = 0; d < 3; ++d)
+                for (int e = 0; e < 3; ++e) w[d] += C(ka, kb, d, e) * f[e];
+            }
+            // radial return: the tangential force that would stop the node, the others' forces
+            // fixed, s_trial = mu lambda t - K^{-1} w_t, K_ij = e_i^T F_aa e_j (2 x 2); inside the
+            // cone it sticks, outside it slides along s_trial (stable when w is small)
+            double w1 = 0.0, w2 = 0.0, K[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+            for (int e = 0; e < 3; ++e) {
+              w1 += w[e] * basis(ka, 1, e);
+              w2 += w[e] * basis(ka, 2, e);
+            }
+            for (int i = 0; i < 2; ++i)
+              for (int j = 0; j < 2; ++j)
+                for (int d = 0; d < 3; ++d)
+                  for (int e = 0; e < 3; ++e) K[i][j] += basis(ka, 1 + i, d) * C(ka, ka, d, e) * basis(ka, 1 + j, e);
+            const double det = K[0][0] * K[1][1] - K[0][1] * K[1][0];
+            const double d1 = -(K[1][1] * w1 - K[0][1] * w2) / det, d2 = -(-K[1][0] * w1 + K[0][0] * w2) / det;
+            double st[3], ss = 0.0;
+            for (int e = 0; e < 3; ++e) {
+              st[e] = mu * lambda * t[e] + d1 * basis(ka, 1, e) + d2 * basis(ka, 2, e);
+              ss += st[e] * st[e];
+            }
+            ss = ::sqrt(ss);
+            if (!(ss > mu * lambda) && returns(ka) < kMaxReturns) {
+              next = kStick;
+            } else if (ss > 0.0) {
+              for (int e = 0; e < 3; ++e) t[e] = st[e] / ss;
+            }
+          }
+          double dt = 0.0;
+          for (int e = 0; e < 3; ++e) {
+            dt += (t[e] - tangent(ka, e)) * (t[e] - tangent(ka, e));
+            nextTangent(ka, e) = t[e];
+          }
+          nextState(ka) = next;
+          if (next != state(ka) || (next == slide && dt > 1e-12)) ++count;  // |t change| > 1e-6
+        },
+        Kokkos::Sum<int>(changes));
+    if (changes == 0) break;
+    if (bestChanges < 0 || changes < bestChanges) {
+      bestChanges = changes;
+      Kokkos::deep_copy(bestState_, state_);
+      Kokkos::deep_copy(bestTangent_, v.tangent);
+    }
+    if (++passes == kMaxFrictionPasses) {  // not settled: solve again with the best pass's states
+      Kokkos::deep_copy(state_, bestState_);
+      Kokkos::deep_copy(v.tangent, bestTangent_);
+      restored = true;
+      continue;
+    }
+    const auto returns2 = returns_;
+    forEach(
+        "epaphe::contact::friction_commit", nA, 5, KOKKOS_LAMBDA(const int a) {
+          const int ka = active(a);
+          if (state(ka) == slide && nextState(ka) != slide) ++returns2(ka);
+          state(ka) = nextState(ka);
+          for (int e = 0; e < 3; ++e) tangent(ka, e) = nextTangent(ka, e);
+        });
+    Kokkos::fence();
+  }
+  lastPasses_ = passes + 1;
+  // forces: lambda_a, and the direction c_a = n_a + mu_a t_a with mu_a t_a = s_a / lambda_a
+  for (int k = 0; k < nc; ++k) v.force(k) = 0.0;
+  for (int a = 0; a < nA; ++a) v.force(activeH[a]) = solH_(3 * a);
+  const auto active = v.upload(activeH);
+  const auto normal = v.normal;
+  const auto basis = basis_;
+  const auto tangent = v.tangent;
+  const auto state = state_;
+  const auto dir = v.dir;
+  const auto muA = v.mu;
+  const auto sol = sol_;
+  const auto force = v.force;
+  forEach(
+      "epaphe::contact::friction_reset", nc, 5, KOKKOS_LAMBDA(const int k) {
+        for (int e = 0; e < 3; ++e) {
+          dir(k, e) = normal(k, e);
+          if (force(k) == 0.0) tangent(k, e) = 0.0;
+        }
+        muA(k) = 0.0;
+      });
+  Kokkos::fence();
+  forEach(
+      "epaphe::contact::friction_force", nA, 15, KOKKOS_LAMBDA(const int a) {
+        const int ka = active(a);
+        const double l = sol(3 * a);
+        if (state(ka) == kSlide) {
+          muA(ka) = l > 0.0 ? mu : 0.0;
+          for (int e = 0; e < 3; ++e) dir(ka, e) = normal(ka, e) + mu * tangent(ka, e);
+          return;
+        }
+        double s[3], ss = 0.0;
+        for (int e = 0; e < 3; ++e) {
+          s[e] = sol(3 * a + 1) * basis(ka, 1, e) + sol(3 * a + 2) * basis(ka, 2, e);
+          ss += s[e] * s[e];
+        }
+        ss = ::sqrt(ss);
+        if (!(l > 0.0) || !(ss > 0.0)) {
+          for (int e = 0; e < 3; ++e) tangent(ka, e) = 0.0;
+          return;
+        }
+        muA(ka) = ss / l;
+        for (int e = 0; e < 3; ++e) {
+          tangent(ka, e) = s[e] / ss;
+          dir(ka, e) = normal(ka, e) + s[e] / l;
+        }
+      });
+  Kokkos::fence();
+  for (int k = 0; k < nc; ++k) {  // the warm start of the next step's classification
+    prev_(k) = v.force(k) > 0.0 ? state_(k) : 0;
+    for (int e = 0; e < 3; ++e) prevTangent_(k, e) = v.tangent(k, e);
+  }
+}
+
+void CoulombFriction::reset() { Kokkos::deep_copy(prev_, 0); }
+
+}  // namespace epaphe

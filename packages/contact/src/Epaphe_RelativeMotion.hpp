@@ -1,0 +1,67 @@
+#pragma once
+// Node k's motion relative to its surface, D_k v (Epaphe_SurfaceContact.hpp, point 3), as kernel
+// accessors: the operator's entries, a column of F D^T, and the difference of two vectors.
+#include "Epaphe_Flexibility.hpp"
+
+#include <Kokkos_Core.hpp>
+
+namespace epaphe {
+
+/// D_k as a list of entries (DOF triple, weight): the node itself with weight 1, then the grid
+/// nodes of a carried surface with weights -w_p w_q (DOF -1: clamped, fixed), whose motion is in
+/// the carrying body's frame and turned into the node's by rot(k) (R of a turning surface, else the
+/// identity). Copy into kernels by value.
+struct RelativeMotion {
+  Kokkos::View<int** [3]> dof;
+  Kokkos::View<double**> w;
+  Kokkos::View<int*> count;
+  Kokkos::View<double* [3][3]> rot;
+
+  /// r = D_k v for any accessor v(i) of the system coordinates:
+  ///   r_d = v(node DOF d) + sum_e R_k(d, e) sum_(m >= 1) w_m v(grid DOF (m, e)).
+  template <class V>
+  KOKKOS_INLINE_FUNCTION void apply(int k, const V& v, double r[3]) const {
+    double g[3] = {0.0, 0.0, 0.0};
+    for (int m = 1; m < count(k); ++m)
+      for (int e = 0; e < 3; ++e) {
+        const int i = dof(k, m, e);
+        if (i >= 0) g[e] += w(k, m) * v(i);
+      }
+    for (int d = 0; d < 3; ++d)
+      r[d] = w(k, 0) * v(dof(k, 0, d)) + rot(k, d, 0) * g[0] + rot(k, d, 1) * g[1] + rot(k, d, 2) * g[2];
+  }
+  /// The entry of D_k in row e at DOF (m, e2): w_0 at the node's own DOF e, w_m R_k(e, e2) at a
+  /// grid node's (turned into the node's frame).
+  KOKKOS_INLINE_FUNCTION double coefficient(int k, int m, int e, int e2) const {
+    return m == 0 ? (e2 == e ? w(k, 0) : 0.0) : w(k, m) * rot(k, e, e2);
+  }
+};
+
+/// Column 3 k + e of F D^T as an accessor of the system rows, for RelativeMotion::apply: Y, stored
+/// on the dense rows of F; in a diagonal block of F, F_ii times the weights of node k's entries at
+/// DOF i (the only rows where D_k^T is not zero).
+template <class Y>
+struct FlexibleColumn {
+  Y y;
+  Flexibility::Packed F;
+  RelativeMotion D;
+  int k, e;
+  KOKKOS_INLINE_FUNCTION double operator()(int i) const {
+    const int r = F.denseRow(i);
+    if (r >= 0) return y(r, 3 * k + e);
+    double s = 0.0;
+    for (int m = 0; m < D.count(k); ++m)
+      for (int e2 = 0; e2 < 3; ++e2)
+        if (D.dof(k, m, e2) == i) s += D.coefficient(k, m, e, e2);
+    return F.diag(i) * s;
+  }
+};
+
+/// a(i) - b(i) as an accessor.
+template <class V>
+struct Difference {
+  V a, b;
+  KOKKOS_INLINE_FUNCTION double operator()(int i) const { return a(i) - b(i); }
+};
+
+}  // namespace epaphe

@@ -1,0 +1,190 @@
+// Contact detection (Epaphe_ContactDetection.hpp): any number of surfaces in one fused kernel, and
+// the skipping of nodes certified out of contact, checked against projecting every node.
+#include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_ContactDetection.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+using namespace epaphe;
+
+namespace {
+
+/// The plane through `o` spanned by a and b (4 x 4 grid over [-2, 2]^2 in (a, b)), normal
+/// orientation * (a x b).
+std::unique_ptr<BSplineSurface> plane(const char* name, const double o[3], const double a[3], const double b[3],
+                                      int orientation) {
+  std::vector<double> g;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const double s = -2.0 + 4.0 * i / 3.0, t = -2.0 + 4.0 * j / 3.0;
+      for (int d = 0; d < 3; ++d) g.push_back(o[d] + s * a[d] + t * b[d]);
+    }
+  SurfaceOptions opt;
+  opt.closureU = opt.closureV = Closure::Open;
+  opt.orientation = orientation;
+  return std::make_unique<BSplineSurface>(name, 4, 4, g, opt);
+}
+
+/// A closed cylinder of radius r about z, z in [-1, 1], normal inwards (nodes inside it).
+std::unique_ptr<BSplineSurface> cylinder(double r) {
+  const int nu = 24, nv = 5;
+  std::vector<double> g;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double th = 2 * M_PI * i / nu;
+      g.insert(g.end(), {r * std::cos(th), r * std::sin(th), -1.0 + 2.0 * j / (nv - 1)});
+    }
+  SurfaceOptions opt;
+  opt.closureU = Closure::Periodic;
+  opt.closureV = Closure::Open;
+  opt.orientation = -1;
+  return std::make_unique<BSplineSurface>("cylinder", nu, nv, g, opt);
+}
+
+/// Nodes 0..n-1 with DOFs 3k..3k+2 at the given reference positions.
+std::vector<int> dofsOf(int n) {
+  std::vector<int> d(3 * static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < d.size(); ++i) d[i] = static_cast<int>(i);
+  return d;
+}
+
+}  // namespace
+
+TEST(ContactDetection, SelectsTheNearestOfAnyNumberOfSurfaces) {
+  // Four surfaces around the nodes: floor z = -1 (normal +z), ceiling z = 1 (normal -z), wall
+  // x = 1 (normal -x) and a wall y = -1 turned by 30 degrees about z (normal +y before turning).
+  const double ex[3] = {1, 0, 0}, ey[3] = {0, 1, 0}, ez[3] = {0, 0, 1};
+  const double o1[3] = {0, 0, -1}, o2[3] = {0, 0, 1}, o3[3] = {1, 0, 0}, o4[3] = {0, -1, 0};
+  auto floor = plane("floor", o1, ex, ey, 1), ceiling = plane("ceiling", o2, ex, ey, -1),
+       wall = plane("wall", o3, ey, ez, -1), turned = plane("turned", o4, ex, ez, -1);
+  std::vector<ContactSurface> all(4);
+  all[0].surface = floor.get();
+  all[1].surface = ceiling.get();
+  all[2].surface = wall.get();
+  all[3].surface = turned.get();
+  all[3].phase = M_PI / 6;
+  const std::vector<double> X = {0.1, 0.2, -0.7,   0.3, -0.1, 0.8,  0.85, 0.0, 0.0,
+                                 0.0, -0.6, 0.05,  0.2, 0.3, -1.2,  -0.4, 0.1, 0.3};
+  const int nc = 6;
+  ContactDetection together(dofsOf(nc), X, all, {});
+  DenseVector q("q", 3 * nc);
+  together.detect(q, 0.0, true);
+  EXPECT_EQ(together.numSurfaces(), 4);
+  EXPECT_EQ(together.lastProjected(), nc);
+  const auto& v = together.views();
+  for (int k = 0; k < nc; ++k) {
+    double best = 1e300;
+    int which = -1;
+    for (int s = 0; s < 4; ++s) {  // each surface alone
+      ContactDetection alone(dofsOf(nc), X, {all[s]}, {});
+      alone.detect(q, 0.0, true);
+      const double g = alone.views().gap(k);
+      if (alone.views().selected(k) == 0 && g < best) {
+        best = g;
+        which = s;
+      }
+    }
+    EXPECT_EQ(v.selected(k), which) << "node " << k;
+    EXPECT_NEAR(v.gap(k), best, 1e-12) << "node " << k;
+  }
+  // by hand: node 0 is 0.3 above the floor, node 1 0.2 below the ceiling, node 2 0.15 from the
+  // wall, node 4 0.2 through the floor
+  EXPECT_NEAR(v.gap(0), 0.3, 1e-12);
+  EXPECT_NEAR(v.gap(1), 0.2, 1e-12);
+  EXPECT_NEAR(v.gap(2), 0.15, 1e-12);
+  EXPECT_NEAR(v.gap(4), -0.2, 1e-12);
+  EXPECT_EQ(v.selected(4), 0);
+}
+
+TEST(ContactDetection, SkippingChangesNoGapOfANodeInContactAndBoundsTheOthers) {
+  // 40 nodes flying through a cylinder of radius 1 (normal inwards) and against a floor z = -1
+  // tilting about x at 2 rad/s, over 400 steps: with and without skipping, every projected node's
+  // gap agrees to round-off, a skipped node's bound lies below its true gap, and the set of
+  // penetrating nodes is the same at every step.
+  auto cyl = cylinder(1.0);
+  const double ex[3] = {1, 0, 0}, ey[3] = {0, 1, 0}, o[3] = {0, 0, -0.9};
+  auto floor = plane("floor", o, ex, ey, 1);
+  std::vector<ContactSurface> surfaces(2);
+  surfaces[0].surface = cyl.get();
+  surfaces[1].surface = floor.get();
+  surfaces[1].omega = 2.0;
+  surfaces[1].axis = {1.0, 0.0, 0.0};
+  const int nc = 40, steps = 400;
+  std::vector<double> X(3 * nc), V(3 * nc);
+  for (int k = 0; k < nc; ++k) {
+    const double th = 2 * M_PI * k / nc, r = 0.2 + 0.6 * ((k * 7) % 10) / 10.0;
+    X[3 * k] = r * std::cos(th);
+    X[3 * k + 1] = r * std::sin(th);
+    X[3 * k + 2] = 0.5 * std::sin(3.0 * k);
+    V[3 * k] = 0.9 * std::cos(th + 0.3 * k);  // outwards, some fast, some slow
+    V[3 * k + 1] = 0.9 * std::sin(th + 0.3 * k);
+    V[3 * k + 2] = -0.4 * std::cos(1.7 * k);
+  }
+  DetectionOptions on, off;
+  off.skipDistant = false;
+  ContactDetection skipping(dofsOf(nc), X, surfaces, on), every(dofsOf(nc), X, surfaces, off);
+  DenseVector q("q", 3 * nc);
+  const double h = 2e-3;
+  long projected = 0, skippedTotal = 0, contacts = 0;
+  for (int n = 1; n <= steps; ++n) {
+    for (int i = 0; i < 3 * nc; ++i) q(i) = n * h * V[i];
+    skipping.detect(q, n * h, n % 100 == 0);  // every 100th step: an output step
+    every.detect(q, n * h, false);
+    EXPECT_EQ(every.lastProjected(), nc);
+    projected += skipping.lastProjected();
+    const auto& a = skipping.views();
+    const auto& b = every.views();
+    for (int k = 0; k < nc; ++k) {
+      const bool inB = b.selected(k) >= 0 && b.gap(k) < 0.0;
+      contacts += inB;
+      if (a.skipped(k)) {
+        ++skippedTotal;
+        ASSERT_GE(b.selected(k), 0) << "step " << n << " node " << k;
+        EXPECT_GT(a.bound(k), 0.0);
+        EXPECT_LE(a.bound(k), b.gap(k) + 1e-12) << "step " << n << " node " << k << ": the bound is no bound";
+        EXPECT_FALSE(inB);
+        continue;
+      }
+      ASSERT_EQ(a.selected(k), b.selected(k)) << "step " << n << " node " << k;
+      if (b.selected(k) < 0) continue;
+      EXPECT_NEAR(a.gap(k), b.gap(k), 1e-12) << "step " << n << " node " << k;
+      for (int d = 0; d < 3; ++d) EXPECT_NEAR(a.normal(k, d), b.normal(k, d), 1e-10);
+    }
+  }
+  // the scene must exercise both: contacts and skipped projections
+  EXPECT_GT(contacts, 100);
+  EXPECT_GT(skippedTotal, steps * nc / 4);
+  EXPECT_EQ(projected + skippedTotal, static_cast<long>(steps) * nc);
+  std::printf("skipping: %ld of %d projections skipped, %ld node-steps in contact\n", skippedTotal, steps * nc,
+              contacts);
+}
+
+TEST(ContactDetection, RefineProjectsExactlyTheFlaggedNodes) {
+  const double ex[3] = {1, 0, 0}, ey[3] = {0, 1, 0}, o[3] = {0, 0, 0};
+  auto floor = plane("floor", o, ex, ey, 1);
+  std::vector<ContactSurface> surfaces(1);
+  surfaces[0].surface = floor.get();
+  const std::vector<double> X = {0, 0, 0.5, 0.5, 0, 0.8};
+  ContactDetection d(dofsOf(2), X, surfaces, {});
+  DenseVector q("q", 6);
+  d.detect(q, 0.0, false);
+  EXPECT_EQ(d.lastProjected(), 2);  // first step: nothing to skip from
+  q(2) = -0.1;                      // node 0 moves down by 0.1: 0.5 - 2 * 0.1 > 0, still skipped
+  d.detect(q, 1e-3, false);
+  EXPECT_EQ(d.lastProjected(), 0);
+  EXPECT_EQ(d.views().skipped(0), 1);
+  EXPECT_NEAR(d.views().bound(0), 0.3, 1e-14);
+  EXPECT_NEAR(d.views().gap(0), 0.5, 1e-14);  // the last projection's
+  d.views().refine(0) = 1;
+  EXPECT_EQ(d.refine(), 1);
+  EXPECT_EQ(d.views().skipped(0), 0);
+  EXPECT_EQ(d.views().skipped(1), 1);
+  EXPECT_NEAR(d.views().gap(0), 0.4, 1e-14);
+  d.reset();
+  d.detect(q, 2e-3, false);
+  EXPECT_EQ(d.lastProjected(), 2);
+}

@@ -1,0 +1,169 @@
+// Contact enforcement strategies (Epaphe_ContactEnforcement.hpp), each checked by hand on point
+// masses against the plane z = 0, where F = h^2 / m per DOF and every law has a closed form.
+#include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_ContactEnforcement.hpp"
+#include "Epaphe_CoulombFriction.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_ForwardIncrementLagrange.hpp"
+#include "Epaphe_SmallDense.hpp"
+#include "Epaphe_SurfaceContact.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+using namespace epaphe;
+
+namespace {
+
+BSplineSurface floorPlane() {
+  std::vector<double> g;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) g.insert(g.end(), {-2.0 + 4.0 * i / 3.0, -2.0 + 4.0 * j / 3.0, 0.0});
+  SurfaceOptions o;
+  o.closureU = o.closureV = Closure::Open;
+  return BSplineSurface("floor", 4, 4, g, o);
+}
+
+constexpr double kF = 2e-4;  // F = h^2 / m per DOF (m = 5 kg, h = 1e-3 s... any positive value)
+
+/// n free point masses at z = 0 (x spread along x), F = kF I.
+struct Masses {
+  BSplineSurface floor = floorPlane();
+  int n;
+  explicit Masses(int count) : n(count) {}
+  SurfaceContact make(const ContactOptions& o) {
+    ContactNodes nodes;
+    for (int k = 0; k < n; ++k) {
+      const int dof[3] = {3 * k, 3 * k + 1, 3 * k + 2};
+      const double x[3] = {-1.0 + 0.5 * k, 0.1, 0.0};
+      nodes.add(k, 0, dof, x);
+    }
+    DenseVector d("F", 3 * n);
+    Kokkos::deep_copy(d, kF);
+    return SurfaceContact(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, 3 * n}}, o,
+                          Flexibility::diagonal(d));
+  }
+};
+
+ContactOptions options(ContactMethod m, double mu = 0.0) {
+  ContactOptions o;
+  o.method = m;
+  o.friction = mu;
+  o.penaltyStiffness = 1e6;
+  o.timeStep = 1e-3;
+  return o;
+}
+
+}  // namespace
+
+TEST(ContactEnforcement, TheFactoryMakesTheLawTheOptionsAskFor) {
+  EXPECT_STREQ(makeContactEnforcement(options(ContactMethod::Lagrange), 4)->name(), "Lagrange");
+  EXPECT_STREQ(makeContactEnforcement(options(ContactMethod::Penalty), 4)->name(), "Penalty");
+  auto f = makeContactEnforcement(options(ContactMethod::Penalty, 0.3), 4);
+  EXPECT_STREQ(f->name(), "Coulomb friction");
+  EXPECT_DOUBLE_EQ(f->addedStiffness(), 1e6);   // the normal law's
+  EXPECT_FALSE(f->closesGaps());
+  EXPECT_TRUE(makeContactEnforcement(options(ContactMethod::Lagrange, 0.3), 4)->closesGaps());
+  EXPECT_THROW(makeContactEnforcement(options(ContactMethod::Lagrange, -0.1), 4), Error);
+  ContactOptions bad = options(ContactMethod::Penalty);
+  bad.penaltyStiffness = 0.0;
+  EXPECT_THROW(makeContactEnforcement(bad, 4), Error);
+}
+
+TEST(ContactEnforcement, EachStrategyOwnsItsKeysAndTheContactListHasThemAll) {
+  const auto all = contactValidParameters();
+  for (const auto& part : {ForwardIncrementLagrange::getValidParameters(), PenaltyContact::getValidParameters(),
+                           CoulombFriction::getValidParameters(), ContactDetection::getValidParameters()})
+    for (auto it = part->begin(); it != part->end(); ++it) EXPECT_TRUE(all->isParameter(part->name(it))) << part->name(it);
+  EXPECT_TRUE(all->isParameter("Method"));
+  Teuchos::ParameterList deck("Contact");
+  deck.setParameters(*all);
+  deck.set("Friction coefficient", 0.25);
+  const ContactOptions o = contactOptions(deck, 2e-6);
+  EXPECT_EQ(o.method, ContactMethod::Lagrange);
+  EXPECT_DOUBLE_EQ(o.friction, 0.25);
+  EXPECT_DOUBLE_EQ(o.timeStep, 2e-6);
+  EXPECT_TRUE(o.skipDistant);
+}
+
+TEST(ContactEnforcement, LagrangeClosesEveryGapAndReleasesNothingOnAFloor) {
+  // Node k predicted at z = -1e-3 (k odd) or above the floor: lambda = -g / F, the node lands on it.
+  Masses m(4);
+  SurfaceContact c = m.make(options(ContactMethod::Lagrange));
+  DenseVector q("q", 12);
+  for (int k = 0; k < 4; ++k) q(3 * k + 2) = k % 2 ? -1e-3 : 2e-3;
+  CostSplit cost;
+  c.correct(q, cost);
+  EXPECT_EQ(c.numActive(), 2);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(c.force()(k), k % 2 ? 1e-3 / kF : 0.0, 1e-9) << k;
+    EXPECT_NEAR(q(3 * k + 2), k % 2 ? 0.0 : 2e-3, 1e-15) << k;
+  }
+}
+
+TEST(ContactEnforcement, PenaltyPushesByItsStiffnessAndLeavesTheRest) {
+  Masses m(2);
+  SurfaceContact c = m.make(options(ContactMethod::Penalty));
+  DenseVector q("q", 6);
+  q(2) = -1e-3;
+  q(5) = 1e-3;
+  CostSplit cost;
+  c.correct(q, cost);
+  EXPECT_NEAR(c.force()(0), 1e6 * 1e-3, 1e-6);
+  EXPECT_EQ(c.force()(1), 0.0);
+  EXPECT_NEAR(q(2), -1e-3 + kF * 1e3, 1e-15);  // dq = F lambda n
+  EXPECT_DOUBLE_EQ(c.addedStiffness(), 1e6);
+}
+
+TEST(ContactEnforcement, CoulombFrictionSticksInsideTheConeAndSlidesOnItsEdge) {
+  // One node pressed 1e-3 into the floor while moving dx sideways over the step. Sticking needs the
+  // tangential force dx / F, the normal one is 1e-3 / F: it sticks when dx < mu 1e-3, else it slides
+  // with s = mu lambda against the motion.
+  for (const double dx : {2e-4, 8e-4}) {
+    Masses m(1);
+    const double mu = 0.5;
+    SurfaceContact c = m.make(options(ContactMethod::Lagrange, mu));
+    DenseVector q("q", 3), qn("qn", 3);
+    q(0) = dx;
+    q(2) = -1e-3;
+    CostSplit cost;
+    c.correct(q, qn, cost);
+    const double lambda = 1e-3 / kF;
+    EXPECT_NEAR(c.force()(0), lambda, 1e-9 * lambda);
+    EXPECT_NEAR(q(2), 0.0, 1e-15);
+    if (dx < mu * 1e-3) {  // stuck: no tangential motion over the step, mu_a = |s| / lambda
+      EXPECT_NEAR(q(0), 0.0, 1e-15) << dx;
+      EXPECT_NEAR(c.appliedFriction()(0), dx / 1e-3, 1e-9);
+    } else {  // sliding on the cone: s = mu lambda, the node moves dx - F mu lambda
+      EXPECT_NEAR(c.appliedFriction()(0), mu, 1e-12) << dx;
+      EXPECT_NEAR(c.tangent()(0, 0), -1.0, 1e-12);
+      EXPECT_NEAR(q(0), dx - kF * mu * lambda, 1e-15);
+    }
+  }
+}
+
+TEST(SmallDense, EliminationWithPivotingSolvesAsLapackDoes) {
+  for (const int n : {1, 3, 12, 48, 100}) {  // 100: the LAPACK path
+    std::vector<double> A(static_cast<std::size_t>(n) * n), x(n), b(n, 0.0);
+    unsigned seed = 12345u + n;
+    auto rnd = [&] {
+      seed = seed * 1103515245u + 12345u;
+      return static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
+    };
+    for (double& a : A) a = rnd();
+    for (int i = 0; i < n; ++i) A[static_cast<std::size_t>(i) * n + (i + 3) % n] += 0.5;  // not diagonally dominant
+    for (double& v : x) v = rnd();
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) b[i] += A[static_cast<std::size_t>(j) * n + i] * x[j];
+    std::vector<int> ipiv;
+    ASSERT_EQ(solveDense(n, A.data(), n, b.data(), ipiv), 0);
+    for (int i = 0; i < n; ++i) EXPECT_NEAR(b[i], x[i], 1e-9) << "n = " << n << ", unknown " << i;
+  }
+  std::vector<double> S = {1, 2, 2, 4};  // singular
+  std::vector<double> r = {1, 1};
+  std::vector<int> ipiv;
+  EXPECT_EQ(solveDense(2, S.data(), 2, r.data(), ipiv), 2);
+}

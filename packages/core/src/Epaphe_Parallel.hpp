@@ -1,0 +1,116 @@
+#pragma once
+// Loops of the explicit step over nodes, pairs or DOFs: a Kokkos parallel region when the loop has
+// enough work to pay for waking the thread team, the same functor on the calling thread otherwise.
+//
+// Why: an OpenMP parallel region costs a fork and a join (a few microseconds on 2 threads, see
+// benchmark.launch-overhead), while most loops of a contact step do well under a microsecond of
+// work (16 tip nodes of a blade, 100 DOFs of a bar). Run in parallel, they made 2 threads slower
+// than 1 (bar-on-wall: 0.44x). Every loop states its work per item in nanoseconds (measured on one
+// thread, rounded up); a loop whose total is below serialWorkNs() runs serially. Results do not
+// depend on the choice: the functors write per item, and the reductions used here (max, integer
+// sums) are exact in any order.
+//
+// The serial path calls the functor on the host, so the views must be host-accessible: with a
+// device backend (CUDA) every loop goes to Kokkos.
+#include <Kokkos_Core.hpp>
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+namespace epaphe {
+
+/// Work (ns) below which a loop runs on the calling thread: EPAPHE_SERIAL_WORK_NS if set, else
+/// kDefaultSerialWorkNs (4x the fork-join cost measured on this project's 2-core machines).
+long serialWorkNs();
+constexpr long kDefaultSerialWorkNs = 20000;
+/// Sets the threshold for this process (tests and benchmarks: 0 makes every loop a Kokkos kernel).
+void setSerialWorkNs(long ns);
+
+namespace parallel_detail {
+constexpr bool kHostAccessible =
+    Kokkos::SpaceAccessibility<Kokkos::HostSpace, Kokkos::DefaultExecutionSpace::memory_space>::accessible;
+inline bool serial(long n, long nsPerItem) {
+  return kHostAccessible &&
+         (Kokkos::DefaultExecutionSpace().concurrency() == 1 || n * nsPerItem < serialWorkNs());
+}
+/// While alive, copies of views on this thread do not count references, as inside a Kokkos parallel
+/// region (a kernel body that copies a struct of views per item would otherwise pay two atomic
+/// operations per view and copy: measured 6.7 % of a blade run's instructions). Thread-local.
+struct UntrackedViews {
+  using Record = Kokkos::Impl::SharedAllocationRecord<void, void>;
+  const bool was = Record::tracking_enabled();
+  UntrackedViews() { Record::tracking_disable(); }
+  ~UntrackedViews() {
+    if (was) Record::tracking_enable();
+  }
+  UntrackedViews(const UntrackedViews&) = delete;
+  UntrackedViews& operator=(const UntrackedViews&) = delete;
+};
+}  // namespace parallel_detail
+
+/// f(i) for i in [0, n): in parallel (named kernel `name`) when n * nsPerItem >= serialWorkNs().
+template <class F>
+void forEach(const char* name, long n, long nsPerItem, const F& f) {
+  if (n <= 0) return;
+  if (parallel_detail::serial(n, nsPerItem)) {
+    const parallel_detail::UntrackedViews untracked;
+    for (long i = 0; i < n; ++i) f(static_cast<int>(i));
+  } else {
+    Kokkos::parallel_for(name, Kokkos::RangePolicy<>(0, n), f);
+  }
+}
+
+/// result = reduction over i of f(i, partial), with Kokkos' reducer R (Kokkos::Max<T>, Sum<T>...).
+template <class F, class R>
+void reduce(const char* name, long n, long nsPerItem, const F& f, const R& reducer) {
+  if (parallel_detail::serial(n, nsPerItem)) {
+    const parallel_detail::UntrackedViews untracked;
+    typename R::value_type v;
+    reducer.init(v);
+    for (long i = 0; i < n; ++i) f(static_cast<int>(i), v);
+    reducer.reference() = v;
+  } else {
+    Kokkos::parallel_reduce(name, Kokkos::RangePolicy<>(0, n), f, reducer);
+  }
+}
+
+/// x . y of two 1-D views (serial below the threshold, as forEach; on one thread in index order).
+template <class X, class Y>
+double dot(const X& x, const Y& y) {
+  double s = 0.0;
+  reduce("epaphe::dot", static_cast<long>(x.extent(0)), 2,
+         KOKKOS_LAMBDA(const int i, double& t) { t += x(i) * y(i); }, Kokkos::Sum<double>(s));
+  return s;
+}
+
+/// y = a x + b y for 1-D views.
+template <class X, class Y>
+void axpby(double a, const X& x, double b, const Y& y) {
+  forEach("epaphe::axpby", static_cast<long>(y.extent(0)), 1, KOKKOS_LAMBDA(const int i) { y(i) = a * x(i) + b * y(i); });
+}
+
+/// x(i) = value for a 1-D view.
+template <class X, class T>
+void fill(const X& x, T value) {
+  forEach("epaphe::fill", static_cast<long>(x.extent(0)), 1, KOKKOS_LAMBDA(const int i) { x(i) = value; });
+}
+
+/// Counts, while alive, the Kokkos parallel regions (for, reduce, scan), allocations and deep
+/// copies of this process through Kokkos Tools callbacks: the budget tests of the explicit step use
+/// it. One at a time; restores the callbacks it found.
+class KernelCounter {
+public:
+  KernelCounter();
+  ~KernelCounter();
+  KernelCounter(const KernelCounter&) = delete;
+  KernelCounter& operator=(const KernelCounter&) = delete;
+  std::int64_t launches() const;
+  std::int64_t allocations() const;
+  std::int64_t deepCopies() const;
+  /// Launches per kernel name.
+  std::map<std::string, std::int64_t> byName() const;
+  void reset();
+};
+
+}  // namespace epaphe
