@@ -138,6 +138,7 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   Kokkos::deep_copy(info_, infoH);
   Kokkos::deep_copy(gridOff_, goH);
   Kokkos::deep_copy(opOff_, ooH);
+  controlColumns();
   DetectionOptions dopt;
   dopt.nrTolerance = opt_.nrTolerance;
   dopt.nrMaxIterations = opt_.nrMaxIterations;
@@ -428,6 +429,63 @@ void SurfaceContact::motionEntries() {
       });
 }
 
+void SurfaceContact::controlColumns() {
+  // Per carried surface on a dense block, per direction e2 and control point (a, b) of the
+  // extended grid: G(:, e2, a, b) = sum_pq B_u(a, p) B_v(b, q) F(:, grid DOF (p, q, e2)) over the
+  // block's rows. The grid nodes' weights at a foot point are w_pq = sum_rs b_r b_s B_u(i + r, p)
+  // B_v(j + s, q) (eqs. 2.22, 2.26), so a node's column F D^T on that block is -R sum_rs b_r b_s
+  // G(:, ., i + r, j + s): 16 columns of the block instead of every grid node with a weight (up to
+  // 46 x 46). F and the operators do not change: built once here.
+  const int ns = static_cast<int>(surfaces_.size());
+  ctrlOff_ = Kokkos::View<long*>("epaphe::contact::control_offset", ns);
+  ctrlDim_ = Kokkos::View<int* [2]>("epaphe::contact::control_dims", ns);
+  std::vector<double> G;
+  for (int s = 0; s < ns; ++s) {
+    ctrlOff_(s) = -1;
+    const ContactSurface& cs = surfaces_[s];
+    if (!cs.moving) continue;
+    const int blk = cs.block, b0 = F_.blocks(blk, 0), n = F_.blocks(blk, 1);
+    if (F_.denseRow(b0) < 0) continue;  // a diagonal block: the entries' path
+    const BSplineSurface& S = *cs.surface;
+    const int nu = S.nu(), nv = S.nv(), inNv = S.inputNv();
+    const int nuE = static_cast<int>(S.operatorU().size()) / nu, nvE = static_cast<int>(S.operatorV().size()) / nv;
+    const std::vector<double>&Bu = S.operatorU(), &Bv = S.operatorV();
+    ctrlOff_(s) = static_cast<long>(G.size());
+    ctrlDim_(s, 0) = nuE;
+    ctrlDim_(s, 1) = nvE;
+    G.resize(G.size() + 3 * static_cast<std::size_t>(nuE) * nvE * n, 0.0);
+    std::vector<double> T(static_cast<std::size_t>(nuE) * nv * n);
+    const std::size_t start = F_.start(blk);
+    for (int e2 = 0; e2 < 3; ++e2) {
+      std::fill(T.begin(), T.end(), 0.0);  // T(:, a, q) = sum_p B_u(a, p) F(:, (p, q, e2))
+      for (int p = 0; p < nu; ++p)
+        for (int q = 0; q < nv; ++q) {
+          const int j = cs.gridDofs[3 * (static_cast<std::size_t>(p) * inNv + q) + e2];
+          if (j < 0) continue;  // clamped
+          const double* col = &F_.dense(start + static_cast<std::size_t>(j - b0) * n);
+          for (int a = 0; a < nuE; ++a) {
+            const double w = Bu[static_cast<std::size_t>(a) * nu + p];
+            if (w == 0.0) continue;
+            double* t = &T[(static_cast<std::size_t>(a) * nv + q) * n];
+            for (int r = 0; r < n; ++r) t[r] += w * col[r];
+          }
+        }
+      for (int a = 0; a < nuE; ++a)  // G(:, e2, a, b) = sum_q B_v(b, q) T(:, a, q)
+        for (int b = 0; b < nvE; ++b) {
+          double* g = &G[ctrlOff_(s) + ((static_cast<std::size_t>(e2) * nuE + a) * nvE + b) * n];
+          for (int q = 0; q < nv; ++q) {
+            const double w = Bv[static_cast<std::size_t>(b) * nv + q];
+            if (w == 0.0) continue;
+            const double* t = &T[(static_cast<std::size_t>(a) * nv + q) * n];
+            for (int r = 0; r < n; ++r) g[r] += w * t[r];
+          }
+        }
+    }
+  }
+  ctrlF_ = Kokkos::View<double*>("epaphe::contact::control_columns", G.size());
+  for (std::size_t i = 0; i < G.size(); ++i) ctrlF_(i) = G[i];
+}
+
 void SurfaceContact::relativeColumns() {
   // For the active nodes: Y_k = F D_k^T (N x 3; only the rows of the node's block and of the
   // surface's block are not zero) and C_ab = D_a Y_b (3 x 3 per active pair).
@@ -443,6 +501,11 @@ void SurfaceContact::relativeColumns() {
   const auto nodeBlk = nodeBlk_;
   const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   const int rows = F.denseRows;
+  const auto ctrl = ctrlF_;
+  const auto ctrlOff = ctrlOff_;
+  const auto ctrlDim = ctrlDim_;
+  const auto foot = foot_;
+  const auto rot = entRot_;
   // Y(:, 3k + e) = sum_m w_m F(:, dof_m,e) on the dense rows: axpys of contiguous columns over the
   // entry's block (a diagonal block's part of F D^T is read from the entries, FlexibleColumn)
   forEach(
@@ -450,7 +513,31 @@ void SurfaceContact::relativeColumns() {
         const int k = active(ae / 3), e = ae % 3, c = 3 * k + e;
         for (int r = 0; r < rows; ++r) Y(r, c) = 0.0;
         const int s = surf(k);
-        for (int m = 0; m < entN(k); ++m) {
+        // a carried surface with its control columns: its part of the column from the 4 x 4
+        // control points of the foot point's patch (eq. 2.22) instead of the grid nodes' entries
+        const bool patch = s >= 0 && ctrlOff(s) >= 0 && entN(k) > 1;
+        if (patch) {
+          const int blk = info(s, 0), n = blocks(blk, 1), r0 = F.denseRow(blocks(blk, 0));
+          const int nuE = ctrlDim(s, 0), nvE = ctrlDim(s, 1);
+          int i, j;
+          double tu, tv, bu[4], bv[4], d1[4], d2[4];
+          surface_detail::locate(foot(k, 0), info(s, 1), info(s, 4) != 0, i, tu);
+          surface_detail::locate(foot(k, 1), info(s, 2), info(s, 5) != 0, j, tv);
+          surface_detail::cubicBasis(tu, bu, d1, d2);
+          surface_detail::cubicBasis(tv, bv, d1, d2);
+          for (int e2 = 0; e2 < 3; ++e2) {
+            const double w = -rot(k, e, e2);  // D_k's grid part: -R sum w_pq u_pq
+            if (w == 0.0) continue;
+            for (int a = 0; a < 4; ++a)
+              for (int b = 0; b < 4; ++b) {
+                const double wab = w * bu[a] * bv[b];
+                const std::size_t col =
+                    ctrlOff(s) + ((static_cast<std::size_t>(e2) * nuE + i + a) * nvE + j + b) * static_cast<std::size_t>(n);
+                for (int r = 0; r < n; ++r) Y(r0 + r, c) += wab * ctrl(col + r);
+              }
+          }
+        }
+        for (int m = 0; m < (patch ? 1 : entN(k)); ++m) {
           const int blk = m == 0 ? nodeBlk(k) : info(s, 0);
           const int b0 = blocks(blk, 0), n = blocks(blk, 1), r0 = F.denseRow(b0);
           for (int e2 = 0; e2 < 3; ++e2) {

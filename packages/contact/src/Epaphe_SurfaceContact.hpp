@@ -183,6 +183,7 @@ private:
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
   void motionEntries();     // entries of D_k (spline weights) of every node on a surface
   void relativeColumns();   // Y = F D^T and C_ab = D_a Y_b of the active nodes
+  void controlColumns();    // ctrlF_: F times the carried surfaces' interpolation, once
 
   ContactOptions opt_;
   std::vector<int> nodes_, nodeBlock_;
@@ -212,6 +213,11 @@ private:
   Kokkos::View<double* [3][3]> entRot_;   // R of each node's surface when its entries were made
   Kokkos::View<double**, Kokkos::LayoutLeft> Y_;   // F D_k^T, column 3 k + e (active nodes), dense rows of F only
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
+  // per carried surface on a dense block (offset -1 otherwise): F (B_u x B_v) on the block's rows,
+  // column (e2, a, b) of the extended control grid (nuE x nvE) at ctrlOff_(s) + ((e2 nuE + a) nvE + b) n
+  Kokkos::View<double*> ctrlF_;
+  Kokkos::View<long*> ctrlOff_;
+  Kokkos::View<int* [2]> ctrlDim_;
   int maxGrid_[2] = {0, 0};
   long long projections_ = 0, projectionsSkipped_ = 0;
   double time_ = 0.0;

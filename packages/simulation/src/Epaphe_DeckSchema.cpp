@@ -42,9 +42,10 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     auto& run = pl->sublist("Run", false, "What the run is called and how it uses the machine");
     addString(run, "Name", "epaphe", "Name of the run, printed and stored in the output");
     addInt(run, "Threads", 1, "OpenMP threads of the Kokkos kernels (0: OMP_NUM_THREADS, else all cores); the "
-                              "command line option --threads overrides it. Threads pay off with many contact nodes: "
-                              "measured, the cube (133 contact nodes, 2 surfaces) runs 1.4x faster on 2 threads, the "
-                              "bar (4 contact nodes) 0.57x (a kernel launch costs more than its work)", 0, 1024);
+                              "command line option --threads overrides it. A loop of less than 20 us of work runs on "
+                              "one thread whatever this says (EPAPHE_SERIAL_WORK_NS), so 2 threads are never much "
+                              "slower than 1; they pay off where a step has much contact work (the cube between two "
+                              "flexible rings: 1.5x)", 0, 1024);
     addDouble(run, "Progress interval", 2.0, "Wall-clock seconds between progress lines (0: none)", 0.0);
 
     auto& body = pl->sublist("Bodies", false, "One sublist per flexible body, named by the user").sublist(
