@@ -8,6 +8,8 @@
 #include "Epaphe_SmallDense.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
+#include "TestSurfaces.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,16 +18,10 @@
 
 using namespace epaphe;
 
+using test::floorPlane;
+
 namespace {
 
-BSplineSurface floorPlane() {
-  std::vector<double> g;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) g.insert(g.end(), {-2.0 + 4.0 * i / 3.0, -2.0 + 4.0 * j / 3.0, 0.0});
-  SurfaceOptions o;
-  o.closureU = o.closureV = Closure::Open;
-  return BSplineSurface("floor", 4, 4, g, o);
-}
 
 constexpr double kF = 2e-4;  // F = h^2 / m per DOF (m = 5 kg, h = 1e-3 s... any positive value)
 

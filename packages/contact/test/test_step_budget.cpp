@@ -7,6 +7,8 @@
 #include "Epaphe_Parallel.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
+#include "TestSurfaces.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -14,17 +16,10 @@
 
 using namespace epaphe;
 
+using test::floorPlane;
+
 namespace {
 
-/// The plane z = 0 over [-2, 2]^2, normal +z.
-BSplineSurface floorPlane() {
-  std::vector<double> g;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) g.insert(g.end(), {-2.0 + 4.0 * i / 3.0, -2.0 + 4.0 * j / 3.0, 0.0});
-  SurfaceOptions o;
-  o.closureU = o.closureV = Closure::Open;
-  return BSplineSurface("floor", 4, 4, g, o);
-}
 
 constexpr int kNodes = 12, kN = 3 * kNodes;
 

@@ -7,6 +7,7 @@
 #include "Epaphe_SurfaceContact.hpp"
 
 #include "TestModels.hpp"
+#include "TestSurfaces.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,7 @@
 
 using namespace epaphe;
 using epaphe::test::pointMass;
+using epaphe::test::floorPlane;
 
 namespace {
 
@@ -49,15 +51,6 @@ ReducedModel coupledPair() {
   return r;
 }
 
-/// The plane z = 0 over [-2, 2]^2 as a 4 x 4 grid: S_u along x, S_v along y, normal +z.
-BSplineSurface floorPlane() {
-  std::vector<double> g;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) g.insert(g.end(), {-2.0 + 4.0 * i / 3.0, -2.0 + 4.0 * j / 3.0, 0.0});
-  SurfaceOptions o;
-  o.closureU = o.closureV = Closure::Open;
-  return BSplineSurface("floor", 4, 4, g, o);
-}
 
 void set(const DenseVector& v, const std::vector<double>& a) {
   auto h = Kokkos::create_mirror_view(v);
