@@ -105,7 +105,6 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.skipped = Kokkos::View<int*>("epaphe::contact::skipped", nc);
   v.refine = Kokkos::View<int*>("epaphe::contact::refine", nc);
   v.bound = Kokkos::View<double*>("epaphe::contact::gap_bound", nc);
-  q_ = DenseVector();
 }
 
 Teuchos::RCP<const Teuchos::ParameterList> ContactDetection::getValidParameters() {
