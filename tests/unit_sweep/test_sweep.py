@@ -6,7 +6,8 @@
                   * the CSV has one row per run (the reference included), the expected columns, the
                     unstable step reported as "refused: unstable time step", the others complete;
                   * every error of a complete run is finite, and the displacement error falls by at
-                    least 2x per halving of h (central difference: second order, about 4x);
+                    least 3.5x per halving of h (central difference: second order, 4x in the limit;
+                    first order would give 2x);
                   * the PNGs (force, gap, displacement, work-precision) are valid, non-blank images;
                 then the same runs against the exact solution (--reference exact:bar-on-wall): no run
                 again (the histories are cached), an "exact" row (t0 = 2e-5 s, t1 = 1e-4 s, F = 1.6 MN,
@@ -127,8 +128,13 @@ def case_study(a):
     d = [fnum(by_h[h]["displacement_rms_error"]) for h in steps if h in by_h]
     print("displacement error vs h = 2.5e-8:", ", ".join(f"h={h}: {x:.3e}" for h, x in zip(steps, d)),
           "; ratios", ", ".join(f"{d[i] / d[i + 1]:.2f}" for i in range(len(d) - 1)))
-    check(len(d) == 3 and all(d[i + 1] < 0.5 * d[i] for i in range(2)),
-          f"the displacement error does not fall by 2x per halving of h: {d}")
+    # Second order is what theory gives for this measure: the RMS displacement difference of the
+    # x- face to the h = 2.5e-8 run. Between contact events central difference is second order;
+    # the impact instant (t0 = 2e-5 s) is a multiple of every step, so the velocity jump falls on
+    # the grid, and the Lagrange force falls continuously to zero at release (no O(h) event error).
+    # Asserted: a ratio of at least 3.5 (2^1.8) per halving, which first order (2) cannot reach.
+    check(len(d) == 3 and all(d[i] >= 3.5 * d[i + 1] for i in range(2)),
+          f"the displacement error does not fall by 3.5x per halving of h (second order): {d}")
     for kind in ("force", "gap", "displacement", "work-precision"):
         p = os.path.join(out, f"tiny-{kind}.png")
         if check(os.path.isfile(p) and os.path.getsize(p) > 0, f"{p} missing or empty"):

@@ -9,6 +9,12 @@ import xml.etree.ElementTree as ET
 import h5py
 import numpy as np
 
+# The tests check with `assert` too: under python -O (or PYTHONOPTIMIZE) those checks vanish and a
+# test would pass whatever it measures. Refuse to run rather than lie.
+if sys.flags.optimize:
+    raise SystemExit("epaphe tests: Python runs with -O / PYTHONOPTIMIZE, which strips `assert`: "
+                     "unset PYTHONOPTIMIZE and run again")
+
 
 def parse_args(*extra):
     """The common command line of the test scripts: --run EPAPHE_RUN --deck DECK --workdir DIR
@@ -85,7 +91,7 @@ def load_script(path, name):
 
 
 def exact_solution(name, run, deck):
-    """epaphe-sweep's exact solution `name` ('bar-on-wall', 'two-bars'; VERIFICATION.md V1, V2) for
+    """epaphe-sweep's exact solution `name` ('bar-on-wall', 'two-bars'; docs/verification.md V1, V2) for
     a deck, read through epaphe-run's schema: the one the studies measure against."""
     path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "drivers", "epaphe-sweep")
     sweep = load_script(path, "epaphe_sweep")
@@ -96,3 +102,29 @@ def verdict(failures):
     """Prints PASSED, or FAILED with one line per failure; returns the exit code (0 or 1)."""
     print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
     return 1 if failures else 0
+
+
+
+def engine_order_lines(eo, amp, revolutions, low=0.5, top=40):
+    """Reads an engine-order spectrum (epaphe-rotor spectrum over `revolutions` whole revolutions:
+    bins 1/revolutions of an order apart, so neighbouring whole orders are `revolutions` bins apart;
+    Hann window: a line spreads over its bin and one bin either side). Above EO `low` (the mean and
+    slow drift sit below) returns dict(
+      peak   the EO of the largest bin, order: the nearest whole order, off: |peak - order| in bins;
+      lines  {k: the amplitude on the bin of whole order k} for k = 1..top;
+      even_fraction  the share of the spectral energy within one bin of even whole orders;
+      off_line_ratio the largest bin / the largest bin farther than one bin from every even order)."""
+    sel = eo > low
+    eo, amp = eo[sel], amp[sel]
+    k = int(np.argmax(amp))
+    order = int(round(eo[k]))
+    bins = eo * revolutions
+    lines = {}
+    for o in range(1, top + 1):
+        on = np.abs(bins - o * revolutions) <= 0.5
+        lines[o] = float(amp[on].max()) if on.any() else 0.0
+    even = np.abs(bins - 2 * np.round(eo / 2) * revolutions) <= 1.01
+    off = amp[~even]
+    return dict(peak=float(eo[k]), order=order, off=abs(eo[k] - order) * revolutions, lines=lines,
+                even_fraction=float((amp[even] ** 2).sum() / (amp ** 2).sum()),
+                off_line_ratio=float(amp[k] / off.max()) if off.size else float("inf"))

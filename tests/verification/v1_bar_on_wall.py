@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""V1 (VERIFICATION.md): elastic bar on a rigid wall, the setting of code_aster's SDNV100.
+"""V1 (docs/verification.md): elastic bar on a rigid wall, the setting of code_aster's SDNV100.
 
 Exact 1-D solution: contact from t0 = U0/v0 = 2.0e-5 s to t1 = t0 + 2L/c = 1.0e-4 s, force plateau
 F = rho c S v0 = 1.6e6 N, contact-face velocity zero during contact, rebound at v0 = 100 m/s.
@@ -24,6 +24,7 @@ TOL_TIME, TOL_FORCE, TOL_VEL = 0.01, 0.02, 0.02
 # kp = 1e10 N/m lets the face penetrate 40 um (0.2 % of the 2 mm gap), and its spring stays below
 # the stable-step limit at h = 1e-7 s (Epaphe checks that before running).
 KP = 1e10
+ORDER2_RATIO = 3.5  # least error ratio per halving of h for second order (4 in the limit; first order: 2)
 
 
 def measure(path):
@@ -110,7 +111,13 @@ def main():
     # model's (modes, mesh), not the time step's; so the time discretization is measured against
     # the same model run with a 16x smaller step: the largest difference of the free-end
     # displacement over the run, at the instants the runs share. Central difference is second
-    # order: the difference must fall, by about 4 for each halving.
+    # order for the smooth motion between contact events. The events cost no order here: the impact
+    # instant t0 = U0 / v0 = 2e-5 s is a multiple of every step tested (50, 100, 200 and 800 steps),
+    # so the velocity jump falls on the time grid (an impact between two steps would shift the
+    # motion by O(h) and make the displacement first order); the release needs no event location,
+    # as the Lagrange force falls continuously to zero, so missing it by less than a step changes
+    # the impulse by O(h^2). The difference must therefore fall by about 4 per halving: asserted at
+    # least ORDER2_RATIO = 3.5 (2^1.8), which first order (2) cannot reach.
     steps = [4e-7, 2e-7, 1e-7]
     ref_h = 2.5e-8
 
@@ -133,8 +140,10 @@ def main():
     print("largest free-end displacement difference to h = 2.5e-8:",
           ", ".join(f"h={h:g}: {d:.3e} m" for h, d in zip(steps, diffs)),
           "; ratios", ", ".join(f"{diffs[i] / diffs[i + 1]:.2f}" for i in range(len(diffs) - 1)))
-    if not all(diffs[i + 1] < 0.5 * diffs[i] for i in range(len(diffs) - 1)):
-        failures.append(f"time-step error does not fall (at least 2x per halving): {diffs}")
+    ratios = [diffs[i] / diffs[i + 1] for i in range(len(diffs) - 1)]
+    if not all(r >= ORDER2_RATIO for r in ratios):
+        failures.append(f"time-step error falls by {', '.join(f'{r:.2f}' for r in ratios)} per halving of h, "
+                        f"not the >= {ORDER2_RATIO} of a second-order method: {diffs}")
 
     return verdict(failures)
 
