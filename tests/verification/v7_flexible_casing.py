@@ -10,9 +10,17 @@ flanges) whose inner face turns at -1000 rad/s, 5 revolutions, Lagrange. Asserte
   - the energy balance closes to 1e-8 (the casing's deformation energy included);
   - the tip never penetrates the casing by more than 1e-9 m after the correction.
 Compared with the rigid casing of the same clearance law (inputs/blade-casing.xml, same time step,
-same 5 revolutions): the contact impulse (time integral of the total force) with the flexible casing
-is lower, between 0.6 and 0.95 of the rigid casing's (the casing gives way; it does not lose the
-rubbing). The ratio, the peak forces, the wall times and the blade's amplitudes are printed."""
+same 5 revolutions), the contact impulse (time integral of the total force):
+  - is strictly lower with the flexible casing (ratio < 1), and so is the peak force. Argument: the
+    clearance law imposes the interference; the casing's compliance acts in series with the
+    blade's, so the same interference takes a smaller force (quasi-statically
+    F = delta / (c_blade + c_casing) against delta / c_blade), over the same rubbing arcs;
+  - is a converged property of the casing's reduction: the ratio with the deck's 10 fixed-interface
+    modes of the casing differs from the ratio with 20 by less than 10 % of the casing's effect
+    (1 - ratio at 20 modes). The casing's inner face is all retained, so its static compliance is
+    exact at any number of modes; the modes add its inertia, and the effect of the casing must not
+    depend on how many are kept.
+The ratios, the peak forces, the wall times and the blade's amplitudes are printed."""
 import math
 import os
 import re
@@ -57,7 +65,10 @@ def main():
             "rigid": variant(a.rigid_deck, os.path.join(a.workdir, "rigid.xml"),
                              dict(common, **{"Output->File": "rigid.h5", "Time->Time step": (repr(h), "double"),
                                              "Time->End revolutions": (repr(revs), "double"),
-                                             "Output->Every": (every, "int")}))}
+                                             "Output->Every": (every, "int")})),
+            "flexible-20": variant(a.deck, os.path.join(a.workdir, "flexible-20.xml"),
+                                   dict(common, **{"Output->File": "flexible-20.h5",
+                                                   "Bodies->Casing->Reduction->Fixed-interface modes": ("20", "int")}))}
     res = {}
     for name, deck in runs.items():
         start = time.time()
@@ -102,10 +113,22 @@ def main():
     if not umax > 1e-6:
         failures.append(f"the casing's inner face moves by {umax:.2e} m only (expected > 1 um)")
     ratio = res["flexible"]["impulse"] / res["rigid"]["impulse"]
-    print(f"flexible / rigid casing: contact impulse {ratio:.3f}, peak force "
-          f"{res['flexible']['peak'] / res['rigid']['peak']:.3f}")
-    if not 0.6 <= ratio <= 0.95:
-        failures.append(f"flexible / rigid contact impulse {ratio:.3f} outside [0.6, 0.95]")
+    ratio20 = res["flexible-20"]["impulse"] / res["rigid"]["impulse"]
+    print(f"flexible / rigid casing: contact impulse {ratio:.4f} (casing 10 modes), {ratio20:.4f} (20 modes); "
+          f"peak force {res['flexible']['peak'] / res['rigid']['peak']:.3f}, "
+          f"{res['flexible-20']['peak'] / res['rigid']['peak']:.3f}")
+    if not ratio < 1:
+        failures.append(f"flexible / rigid contact impulse {ratio:.4f}: not below 1 (a compliance in series with the "
+                        "contact must lower the force)")
+    if not res["flexible"]["peak"] < res["rigid"]["peak"]:
+        failures.append(f"peak contact force {res['flexible']['peak']:.4g} N with the flexible casing, not below the "
+                        f"rigid casing's {res['rigid']['peak']:.4g} N")
+    change = abs(ratio - ratio20)
+    print(f"casing modes 10 -> 20: the ratio changes by {change:.2e}, {change / max(1 - ratio20, 1e-300):.3f} of the "
+          f"casing's effect 1 - ratio = {1 - ratio20:.4f} (allowed 0.1)")
+    if not change <= 0.1 * (1 - ratio20):
+        failures.append(f"the impulse ratio is not converged in the casing's modes: {ratio:.4f} (10) against "
+                        f"{ratio20:.4f} (20), more than 10 % of 1 - ratio = {1 - ratio20:.4f}")
     return verdict(failures)
 
 
