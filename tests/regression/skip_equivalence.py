@@ -30,6 +30,9 @@ HORIZON = {
     "rotor37-casing": {"Time->End revolutions": ("1", "double")},
     "rotor37-massless": {"Time->End revolutions": ("10", "double")},
     "cube-flexible-rings": {"Time->End time": ("6e-4", "double")},
+    # the thesis-regime decks (E = 2.1 GPa, h = 1e-6 s): contacts from 0.06 ms to about 2 ms
+    "cube-rings-thesis": {"Time->End time": ("3e-3", "double")},
+    "cube-flexible-rings-thesis": {"Time->End time": ("3e-3", "double")},
 }
 # datasets that are not results: wall-clock costs, Newton iteration counts (a warm start from an
 # older foot point takes other iterations to the same point)
