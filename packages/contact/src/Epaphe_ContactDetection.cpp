@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace epaphe {
 
@@ -69,6 +70,22 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
         r = std::max(r, std::sqrt(rr));
       }
     v.turn(s, 7) = r;
+    // patch size: the shortest edge between neighbouring grid nodes
+    const BSplineSurface& G = *cs.surface;
+    for (int i = 0; i < G.nu(); ++i)
+      for (int j = 0; j < G.nv(); ++j) {
+        const auto p = G.gridPoint(i, j);
+        for (const auto& [di, dj] : {std::pair{1, 0}, std::pair{0, 1}}) {
+          if ((i + di >= G.nu() && !G.periodicU()) || (j + dj >= G.nv() && !G.periodicV())) continue;
+          const auto n = G.gridPoint((i + di) % G.nu(), (j + dj) % G.nv());
+          const double edge = std::sqrt((n[0] - p[0]) * (n[0] - p[0]) + (n[1] - p[1]) * (n[1] - p[1]) +
+                                     (n[2] - p[2]) * (n[2] - p[2]));
+          if (edge > 0.0 && edge < smallestPatch_) {
+            smallestPatch_ = edge;
+            smallestPatchSurface_ = s;
+          }
+        }
+      }
     v.turn(s, 8) = cs.omega != 0.0 || cs.phase != 0.0 ? 1.0 : 0.0;
     gridX_.emplace_back();
     gridPos_.emplace_back();
@@ -105,6 +122,25 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.skipped = Kokkos::View<int*>("epaphe::contact::skipped", nc);
   v.refine = Kokkos::View<int*>("epaphe::contact::refine", nc);
   v.bound = Kokkos::View<double*>("epaphe::contact::gap_bound", nc);
+  v.offset = Kokkos::View<double*>("epaphe::contact::penetration_offset", nc);
+  v.offsetSurf = Kokkos::View<int*>("epaphe::contact::penetration_surface", nc);
+  Kokkos::deep_copy(v.offsetSurf, -1);
+}
+
+void ContactDetection::setPenetrationOffsets(const std::vector<double>& depth, double rampEnd) {
+  EPAPHE_REQUIRE(depth.size() == std::size_t(numNodes()), "contact: " << depth.size() << " penetration depths for "
+                                                                      << numNodes() << " nodes");
+  EPAPHE_REQUIRE(std::isfinite(rampEnd) && rampEnd > 0.0, "contact: the initial penetrations' ramp ends at "
+                                                              << rampEnd << " s; it must be a finite time > 0");
+  Kokkos::fence();
+  for (int k = 0; k < numNodes(); ++k) {
+    EPAPHE_REQUIRE(std::isfinite(depth[k]) && depth[k] >= 0.0, "contact: penetration depth " << depth[k]
+                                                                   << " of node " << k << "; give a finite value >= 0");
+    v_.offset(k) = depth[k];
+    v_.offsetSurf(k) = depth[k] > 0.0 ? v_.selected(k) : -1;
+  }
+  rampEnd_ = rampEnd;
+  reset();
 }
 
 Teuchos::RCP<const Teuchos::ParameterList> ContactDetection::getValidParameters() {
@@ -119,7 +155,30 @@ Teuchos::RCP<const Teuchos::ParameterList> ContactDetection::getValidParameters(
                                                  "how far it and the surfaces can have moved since (results "
                                                  "unchanged to round-off; output steps project every node); false "
                                                  "projects every node at every step");
+  deck::addBool(*pl, "Allow large motion per step", false,
+                "A contact node that moves farther in one time step than the smallest patch of the surfaces (the "
+                "shortest distance between neighbouring grid nodes) can cross an open surface between two "
+                "detections and never be seen in contact (tunnelling); such an initial velocity is refused and such "
+                "a step stops the run, unless true (then a warning, counted in the summary)");
+  deck::addEnum(*pl, "Initial penetration", "Refuse", {"Refuse", "Resolve gently"},
+                {int(InitialPenetration::Refuse), int(InitialPenetration::ResolveGently)},
+                "Contact nodes inside a surface at t = 0 (deeper than 1e-6 of the smallest patch). Refuse: the run "
+                "stops at setup with the count, the deepest node and where; Resolve gently: each such node's gap is "
+                "raised by its initial depth, ramped down to zero over 'Penetration ramp time', so the bodies are "
+                "pushed apart over the ramp instead of in one step");
+  deck::addDouble(*pl, "Penetration ramp time", 0.0,
+                  "With 'Initial penetration' = 'Resolve gently': the time (s) over which initial penetrations are "
+                  "pushed out; 0: 100 time steps",
+                  0.0, deck::inf);
   return pl;
+}
+
+GuardOptions guardOptions(const Teuchos::ParameterList& cp) {
+  GuardOptions o;
+  o.allowLargeMotion = cp.get<bool>("Allow large motion per step");
+  o.initialPenetration = deck::getEnum<InitialPenetration>(cp, "Initial penetration");
+  o.rampTime = cp.get<double>("Penetration ramp time");
+  return o;
 }
 
 void ContactDetection::reset() { Kokkos::deep_copy(v_.eligible, 0); }
@@ -198,6 +257,7 @@ void ContactDetection::project(bool all, bool refineOnly) {
   const double edgeTol = opt_.edgeTolerance > opt_.nrTolerance ? opt_.edgeTolerance : opt_.nrTolerance;
   const bool skip = opt_.skipDistant && !all;
   const double t = time_;
+  const double rampEnd = t < rampEnd_ ? rampEnd_ : 0.0;  // 0: no offsets any more
   // about 0.6 us per projection of a node on a surface on one thread (warm-started Newton on a
   // bicubic patch), 30 ns per skipped node; as many projections expected as at the last step
   const long expected = skip && !refineOnly ? std::max(lastProjected_, 1) : nc;
@@ -253,6 +313,10 @@ void ContactDetection::project(bool all, bool refineOnly) {
         v.foot(k, 0) = p.u;
         v.foot(k, 1) = p.v;
       }
+    }
+    if (rampEnd > 0.0 && best >= 0 && best == v.offsetSurf(k)) {
+      g += v.offset(k) * (1.0 - t / rampEnd);  // a gently resolved initial penetration
+      eligible = false;
     }
     v.gap(k) = g;
     v.selected(k) = best;

@@ -64,6 +64,17 @@ struct DetectionOptions {
   bool skipDistant = true;      // skip the projection of nodes certified out of contact
 };
 
+/// What a detection cannot see, guarded (Epaphe_ContactGuards.hpp): a node moving farther than a
+/// patch per step, and nodes inside a surface at t = 0.
+enum class InitialPenetration { Refuse = 0, ResolveGently = 1 };
+struct GuardOptions {
+  bool allowLargeMotion = false;
+  InitialPenetration initialPenetration = InitialPenetration::Refuse;
+  double rampTime = 0.0;  // T (s); 0: 100 time steps
+};
+/// The guards' keys of a validated Contact list (see ContactDetection::getValidParameters).
+GuardOptions guardOptions(const Teuchos::ParameterList& contact);
+
 /// Everything the detection kernel reads and writes, allocated once at setup; copied by value into
 /// the kernel (views only). Per node k unless said; per surface s for the surface data.
 struct DetectionViews {
@@ -87,6 +98,10 @@ struct DetectionViews {
   Kokkos::View<double*> tLast, gLast;
   Kokkos::View<int*> eligible, skipped, refine;
   Kokkos::View<double*> bound;       // a lower bound of a skipped node's gap
+  // initial penetrations resolved gently (setPenetrationOffsets): the depth d_k >= 0 added to the
+  // gap on surface offsetSurf(k) (-1: none), ramped down to 0 at the ramp's end
+  Kokkos::View<double*> offset;
+  Kokkos::View<int*> offsetSurf;
 };
 
 class ContactDetection {
@@ -95,7 +110,8 @@ public:
   ContactDetection(const std::vector<int>& dofs, const std::vector<double>& X, std::vector<ContactSurface> surfaces,
                    const DetectionOptions& options);
   /// Its deck keys in the Contact list: Newton tolerance, Newton max iterations, Edge tolerance,
-  /// Skip distant nodes.
+  /// Skip distant nodes, and the guards' Allow large motion per step, Initial penetration,
+  /// Penetration ramp time.
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
 
   /// Detects at q and time t. `all`: project every node (no skipping).
@@ -110,6 +126,16 @@ public:
   int numNodes() const { return static_cast<int>(v_.gap.extent(0)); }
   int numSurfaces() const { return static_cast<int>(surfaces_.size()); }
   const std::vector<ContactSurface>& surfaces() const { return surfaces_; }
+  /// The smallest distance between neighbouring grid nodes of any surface (its patch size, at the
+  /// reference configuration), and that surface's index: the scale of the run guards
+  /// (Epaphe_ContactGuards.hpp).
+  double smallestPatch() const { return smallestPatch_; }
+  int smallestPatchSurface() const { return smallestPatchSurface_; }
+  /// Initial penetrations resolved gently: node k's gap on the surface selected by the last
+  /// detect() is raised by depth[k] (0: none) times (1 - t / rampEnd) while t < rampEnd, so the
+  /// enforcement pushes the bodies apart over the ramp instead of in one step. Such nodes are never
+  /// skipped during the ramp. The gaps written during the ramp are these effective gaps.
+  void setPenetrationOffsets(const std::vector<double>& depth, double rampEnd);
   /// Nodes projected by the last detect() (with refine()), and their Newton iterations (max).
   int lastProjected() const { return lastProjected_; }
   int lastIterations() const { return lastIterations_; }
@@ -128,6 +154,9 @@ private:
   std::vector<Kokkos::View<int* [3]>> gridDof_;
   std::vector<Kokkos::View<double* [3]>::HostMirror> gridPosH_;
   double time_ = 0.0;
+  double rampEnd_ = 0.0;  // offsets vanish at this time (0: no offsets)
+  double smallestPatch_ = 1e300;
+  int smallestPatchSurface_ = -1;
   int lastProjected_ = 0, lastIterations_ = 0;
   bool anyCarried_ = false;
   DenseVector q_;   // the coordinates of the last detect() (for refine())

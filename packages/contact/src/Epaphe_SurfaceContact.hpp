@@ -134,6 +134,10 @@ public:
     enforcement_->reset();
   }
   const ContactDetection& detection() const { return *detection_; }
+  /// See ContactDetection::setPenetrationOffsets (initial penetrations resolved gently).
+  void setPenetrationOffsets(const std::vector<double>& depth, double rampEnd) {
+    detection_->setPenetrationOffsets(depth, rampEnd);
+  }
   /// Node projections done and skipped by the detections of correct() since construction.
   long long projections() const { return projections_; }
   long long projectionsSkipped() const { return projectionsSkipped_; }

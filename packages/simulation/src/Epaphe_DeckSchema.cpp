@@ -51,9 +51,10 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     auto& body = pl->sublist("Bodies", false, "One sublist per flexible body, named by the user").sublist(
         "*", false, "A flexible body: mesh, material, reduction, contact nodes");
     auto& mesh = body.sublist("Mesh", false, "The body's finite-element mesh");
-    addEnum(mesh, "Type", "Box", {"Box", "Ring segment", "Blade", "Casing", "CalculiX", "Matrix Market", "code_aster"},
+    addEnum(mesh, "Type", "Box",
+            {"Box", "Ring segment", "Blade", "Casing", "Sphere", "CalculiX", "Matrix Market", "code_aster"},
             {int(MeshType::Box), int(MeshType::RingSegment), int(MeshType::Blade), int(MeshType::Casing),
-             int(MeshType::Calculix), int(MeshType::MatrixMarket), int(MeshType::CodeAster)},
+             int(MeshType::Sphere), int(MeshType::Calculix), int(MeshType::MatrixMarket), int(MeshType::CodeAster)},
             "Box: structured 8-node hexahedra, node sets all, x-, x+, y-, y+, z-, z+. Ring segment: a thick "
             "cylindrical arc about the z axis through Origin, node sets all, inner, outer, end-, end+, z-, z+. "
             "Blade: a twisted, cambered blade standing along +y about the engine axis z (Hub radius .. Tip radius, "
@@ -65,6 +66,10 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
             "Thickness outside it; Elements {through the thickness, around the circumference (at least 4), along "
             "the axis}; node sets all, inner, outer, front and back (the faces at the first and last z, where it is "
             "clamped); the node grids inner and outer are closed around the axis (their B-splines are periodic). "
+            "Sphere: a solid ball of Radius about Center, a cube of Elements {nx, ny, nz} (nx, ny even) mapped "
+            "onto it shell by shell (smooth cube-to-sphere map), optionally graded towards the lower pole (Pole "
+            "grading); node sets all, the six caps x-, x+, y-, y+, z- (the lower cap, around the pole (0, 0, "
+            "-Radius) from Center), z+ (each with its node grid, outward), and z-pole (the pole's node). "
             "CalculiX, Matrix Market, code_aster: K and M imported from the files below (paths relative to the deck "
             "file's directory); the body's Material is then unused, its boundary conditions and node sets are the "
             "files' own (CalculiX *BOUNDARY and *NSET; a node set file), plus node set 'all'");
@@ -86,13 +91,22 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addDoubleArray(mesh, "Lengths", {0.2, 0.02, 0.02}, "Box: edge lengths along x, y, z (m)");
     addIntArray(mesh, "Elements", {100, 1, 1}, "Box: hexahedra along x, y, z; Ring segment: through the "
                                                "thickness, along the arc, along the axis; Casing: through the "
-                                               "thickness, around the circumference, along the axis");
+                                               "thickness, around the circumference, along the axis; Sphere: "
+                                               "hexahedra along x, y, z of the mapped cube (x, y even)");
     addDouble(mesh, "Inner radius", 0.15, "Ring segment: inner radius; Casing: radius of the inner cone at the Axial "
                                           "position, before the clearance law (m)", 1e-300);
     addDouble(mesh, "Thickness", 0.03, "Ring segment, Casing: radial thickness (m)", 1e-300);
     addDoubleArray(mesh, "Angles", {135, 225}, "Ring segment: first and last angle (degrees, from +x to +y)");
     addDoubleArray(mesh, "Axial range", {-0.05, 0.05}, "Ring segment: first and last z, from Origin; Casing: first "
                                                        "and last z (m)");
+    addDoubleArray(mesh, "Center", {0, 0, 0}, "Sphere: centre of the ball (m)");
+    addDouble(mesh, "Radius", 0.01, "Sphere: radius of the ball (m)", 1e-300);
+    addDouble(mesh, "Pole grading", 1.0, "Sphere: element size at the lower pole (and across the z axis) as a "
+                                         "fraction of the uniform size, in [0.02, 1]; 1: no grading. Geometric "
+                                         "spacing: the elements grow away from the pole and the axis (to 3.2 "
+                                         "times the uniform size for 0.15). Refines where a ball dropped along -z "
+                                         "touches (Hertz contact radius sqrt(R delta))",
+              0.02, 1.0);
     addDouble(mesh, "Hub radius", 0.2, "Blade: radius of the root (m)", 1e-300);
     addDouble(mesh, "Tip radius", 0.3, "Blade: radius of the tip at the Axial position (m)", 1e-300);
     addDouble(mesh, "Chord", 0.06, "Blade: chord length (m)", 1e-300);
@@ -112,6 +126,11 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addString(body, "Clamped node set", "", "Node set fixed in all directions (empty: none); built-in meshes only (an "
                                             "imported model carries its own boundary conditions)");
     addDoubleArray(body, "Initial velocity", {0, 0, 0}, "Uniform initial velocity of the body (m/s)");
+    addDoubleArray(body, "Gravity", {0, 0, 0},
+                   "Uniform acceleration of gravity on the body (m/s^2), e.g. {0, 0, -9.81}: the constant reduced "
+                   "force f = sum_d g_d T^T M e_d, exact when a rigid translation is a motion of the model (a body "
+                   "without clamps, any reduction but Massless boundary) or the mass is lumped (Full, lumped mass); "
+                   "refused otherwise. Its work is the run's external work in the energy balance");
     addString(body, "Contact node set", "", "Nodes checked against every surface (empty: no contact)");
     addStringArray(body, "Watched node sets", {}, "Node sets whose displacement and velocity are written");
     auto& red = body.sublist("Reduction", false, "Model reduction (thesis section 2.3)");

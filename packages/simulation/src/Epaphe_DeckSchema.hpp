@@ -9,7 +9,7 @@
 
 namespace epaphe {
 
-enum class MeshType { Box = 0, RingSegment = 1, Blade = 2, Calculix = 3, MatrixMarket = 4, CodeAster = 5, Casing = 6 };
+enum class MeshType { Box = 0, RingSegment = 1, Blade = 2, Calculix = 3, MatrixMarket = 4, CodeAster = 5, Casing = 6, Sphere = 7 };
 enum class LinearSolver { Mumps = 0, Klu2 = 1, BelosCg = 2 };
 enum class ReductionMethod { CraigBampton = 0, Guyan = 1, None = 2, FullLumped = 3, MasslessBoundary = 4 };
 enum class SurfaceType { Plane = 0, CylinderArc = 1, BodyFace = 2, Casing = 3 };

@@ -93,6 +93,7 @@ struct Simulation::Body {
   std::vector<int> contactNodes;
   std::string contactSet;
   std::vector<double> v0;
+  std::vector<double> a0;  // initial acceleration M^{-1} f of the constant force (gravity), reduced coordinates
   std::vector<std::pair<std::string, std::vector<int>>> watched;
   NodeRecovery recoveryWatched;  // the watched nodes, in order
   StableStep stable;
@@ -170,6 +171,12 @@ void checkReductions(const ParameterList& P, const DampingOptions& damping, cons
       EPAPHE_REQUIRE(v0[0] == 0 && v0[1] == 0 && v0[2] == 0,
                      ctx << " with 'Initial velocity' = {" << v0[0] << ", " << v0[1] << ", " << v0[2]
                          << "}: the body is clamped and its mass is in its modes; remove the key, or use 'Craig-Bampton'");
+      const auto g = deck::getVec3(bp, "Gravity", origin);
+      EPAPHE_REQUIRE(g[0] == 0 && g[1] == 0 && g[2] == 0,
+                     ctx << " with 'Gravity' = {" << g[0] << ", " << g[1] << ", " << g[2]
+                         << "}: the weight of a massless-boundary model would need its modes' participation T^T M e_d, "
+                            "which the reduction does not keep; remove the key, or use 'Full, lumped mass' (exact for "
+                            "a clamped body)");
     }
     if (method != ReductionMethod::FullLumped) continue;
     const std::string problem = fullModelDampingProblem(damping);
@@ -451,6 +458,51 @@ void Simulation::setup() {
 
     if (!b->contactSet.empty()) b->contactNodes = b->rom.nodeSet(b->contactSet, ctx + ", 'Contact node set'");
     b->integrator = std::make_unique<CentralDifference>(b->rom, h, damping);
+
+    // Gravity g: the consistent weight f = sum_d g_d T^T M e_d (e_d: every node translated by 1
+    // along d), a constant force. When a rigid translation is a motion of the model, T t_d = e_d
+    // (t_d = rigidTranslation(d)), so T^T M e_d = (T^T M T) t_d = M t_d, the vector of the momentum
+    // p = (M t_d) . v below: exact for every reduction. With lumped mass M t_d is the free DOFs' nodal
+    // masses, exact for a clamped body too. The initial acceleration is M^{-1} f = sum_d g_d t_d.
+    const auto grav = deck::getVec3(bp, "Gravity", origin);
+    b->a0.assign(static_cast<std::size_t>(b->rom.size), 0.0);
+    if (grav[0] != 0 || grav[1] != 0 || grav[2] != 0) {
+      const int n = b->rom.size;
+      std::vector<double> f(static_cast<std::size_t>(n), 0.0);
+      for (int d = 0; d < 3; ++d) {
+        if (grav[d] == 0) continue;
+        const auto t = b->rom.rigidTranslation(d);
+        const auto Mt = b->rom.massTimes(t);
+        if (!b->rom.sparse()) {
+          // t_d is a rigid motion when its Rayleigh quotient t^T K t / t^T M t is round-off against the
+          // largest eigenvalue (bounded below by max_i K_ii / M_ii); a clamped body's is at least its
+          // lowest eigenvalue.
+          double tKt = 0, tMt = 0, scale = 0;
+          for (int j = 0; j < n; ++j) {
+            tMt += t[j] * Mt[j];
+            if (b->rom.m(j, j) > 0) scale = std::max(scale, b->rom.k(j, j) / b->rom.m(j, j));
+            if (t[j] != 0)
+              for (int i = 0; i < n; ++i) tKt += t[i] * b->rom.k(i, j) * t[j];
+          }
+          const double rayleigh = tMt > 0 ? tKt / tMt : 1e300;
+          const std::string clamped = bp.get<std::string>("Clamped node set");
+          EPAPHE_REQUIRE(rayleigh <= 1e-10 * scale,
+                         ctx << ", 'Gravity' = {" << grav[0] << ", " << grav[1] << ", " << grav[2]
+                             << "}: a rigid translation along " << "xyz"[d] << " is not a motion of its "
+                             << b->rom.method << " model (t^T K t / t^T M t = " << rayleigh
+                             << " s^-2, against " << scale << " for its stiffest DOF): the body is held"
+                             << (clamped.empty() ? " by the imported model's boundary conditions"
+                                                 : " by 'Clamped node set' = '" + clamped + "'")
+                             << ", so M t is not its weight T^T M e; use 'Full, lumped mass' (weight exact "
+                                "with clamps), or remove the key");
+        }
+        for (int i = 0; i < n; ++i) {
+          f[i] += grav[d] * Mt[i];
+          b->a0[i] += grav[d] * t[i];
+        }
+      }
+      b->integrator->setConstantForce(f);
+    }
     std::vector<int> watchedNodes;
     for (const auto& w : b->watched) watchedNodes.insert(watchedNodes.end(), w.second.begin(), w.second.end());
     b->recoveryWatched = NodeRecovery(b->rom, watchedNodes, "epaphe::watched::R");
@@ -460,6 +512,29 @@ void Simulation::setup() {
   }
 
   const auto carriedDofs = setupSurfacesAndContact(copt);
+  if (contact_) {  // refuse what would run to nonsense: tunnelling, bodies that start inside each other
+    std::vector<std::string> names;
+    std::vector<double> speeds;
+    for (const auto& b : bodies_) {
+      names.push_back(b->name);
+      const auto v0 = deck::getVec3(bl.sublist(b->name), "Initial velocity", origin);
+      speeds.push_back(std::sqrt(v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]));
+    }
+    guards_ = std::make_unique<ContactGuards>(guardOptions(cp), names, origin);
+    guards_->checkInitialVelocities(*contact_, speeds, h, summary_.warnings);
+    const DenseVector q0("epaphe::q0", static_cast<std::size_t>(systemSize_));
+    CostSplit setupCost;
+    const PenetrationReport pr = guards_->checkInitialPenetration(*contact_, q0, h, setupCost);
+    if (pr.facing == 0)  // e.g. a surface placed in mm in a deck in m
+      summary_.warnings.push_back("no contact node lies over any surface at t = 0 (every projection falls beyond an "
+                                  "open edge): check the surfaces' positions, extents and units");
+    summary_.initialPenetrations = pr.count;
+    summary_.initialPenetrationDepth = pr.deepest;
+    for (const auto& w : summary_.warnings) out << "warning: " << w << "\n";
+    if (pr.count > 0)
+      out << "initial penetration: " << pr.count << " contact node(s), deepest " << pr.deepest
+          << " m, resolved gently (Contact->Initial penetration)\n";
+  }
 
   // Stable step of each body, with the penalty springs on its contact and surface DOFs.
   for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
@@ -747,9 +822,10 @@ const RunSummary& Simulation::run() {
     r.v = DenseVector("v", n);
     r.uw = DenseVector("uw", b.recoveryWatched.rows());
     r.vw = DenseVector("vw", b.recoveryWatched.rows());
-    // q_0 = 0, q_{-1} = q_0 - h v_0 (no force at rest: a_0 = 0)
+    // q_0 = 0, q_{-1} = q_0 - h v_0 + h^2/2 a_0, a_0 = M^{-1} f (gravity; K q_0 = 0, no contact
+    // force yet): a uniform acceleration is then integrated exactly, q_n = h n v_0 + (h n)^2/2 a_0
     auto qp = Kokkos::create_mirror_view(r.qPrev);
-    for (int i = 0; i < n; ++i) qp(i) = -h * b.v0[i];
+    for (int i = 0; i < n; ++i) qp(i) = -h * b.v0[i] + 0.5 * h * h * b.a0[i];
     Kokkos::deep_copy(r.qPrev, qp);
     r.e0 = b.integrator->halfStepEnergy(r.qPrev, r.q);
     // Linear momentum p_d = t_d^T M v and rigid mass m = t_x^T M t_x (rebound velocity = p / m).
@@ -991,6 +1067,10 @@ const RunSummary& Simulation::run() {
       // eqs. 2.28-2.36 on all bodies at once (eq. 2.33), friction from the motion q_n -> q*
       contact_->setTime(t + h);
       contact_->correct(Q[iNext], Q[iCur], cost);
+      if (const std::string large = guards_->checkStep(*contact_, Q[iNext], Q[iCur], t, h); !large.empty()) {
+        if (!guards_->options().allowLargeMotion) fail(large);
+        if (summary_.largeMotionSteps++ == 0) out << "warning: " << large << " (further such steps are counted)\n";
+      }
       ScopedPhase phase(cost, "energy");
       contactWork += contact_->workIncrement(Q[iNext], Q[iPrev]);
       if (penalty && n == 0) {
@@ -1306,6 +1386,18 @@ void Simulation::printSummary(std::ostream& os) const {
   } else {
     os << "contact: none\n";
   }
+  if (summary_.initialPenetrations > 0) {
+    std::snprintf(buf, sizeof buf, "initial penetration: %d node(s), deepest %.3e m, resolved gently\n",
+                  summary_.initialPenetrations, summary_.initialPenetrationDepth);
+    os << buf;
+  }
+  if (summary_.largeMotionSteps > 0) {
+    std::snprintf(buf, sizeof buf, "warning: %lld step(s) moved a contact node farther than the smallest patch "
+                  "(allowed by 'Contact->Allow large motion per step'): contact may have been missed\n",
+                  summary_.largeMotionSteps);
+    os << buf;
+  }
+  for (const auto& w : summary_.warnings) os << "warning: " << w << "\n";
   if (summary_.firstStep > 0) {
     std::snprintf(buf, sizeof buf, "restarted at step %lld\n", summary_.firstStep);
     os << buf;

@@ -22,6 +22,7 @@
 // and the last checkpoint (overwritten in place at each checkpoint, see run()):
 //   /checkpoint/{counters, q_prev, q, accumulators, warm_start, series_paths, series_lengths}
 #include "Epaphe_CentralDifference.hpp"
+#include "Epaphe_ContactGuards.hpp"
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Runtime.hpp"
@@ -47,6 +48,13 @@ struct RunSummary {
   double checkpointSeconds = 0;      // their total wall time
   int stopSignal = 0;                // SIGINT or SIGTERM when interrupted
   bool stoppedEarly = false;         // interrupted, or stopped by setStopAfterSteps
+  // run guards (Epaphe_ContactGuards.hpp): initial penetrations resolved gently (count, deepest in
+  // m), steps whose contact-node motion exceeded the smallest patch (allowed by the deck), and
+  // the setup's warnings
+  int initialPenetrations = 0;
+  double initialPenetrationDepth = 0;
+  long long largeMotionSteps = 0;
+  std::vector<std::string> warnings;
 };
 
 class Simulation {
@@ -90,6 +98,7 @@ private:
   std::vector<bool> surfaceCarried_;       // per surface: carried by a body (else rigid)
   int systemSize_ = 0;                      // all bodies' reduced coordinates, stacked
   std::unique_ptr<SurfaceContact> contact_; // null without contact nodes or surfaces
+  std::unique_ptr<ContactGuards> guards_;   // with contact_
   RunSummary summary_;
   std::string restart_;
   long long stopAfterSteps_ = -1;
