@@ -130,6 +130,55 @@ Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius
       {"inner", "outer", "end-", "end+", "z-", "z+"});
 }
 
+Mesh makeSphereMesh(const std::array<double, 3>& center, double radius, const std::array<int, 3>& elements,
+                    double poleGrading) {
+  EPAPHE_REQUIRE(radius > 0, "sphere mesh: radius " << radius << " m; it must be > 0");
+  EPAPHE_REQUIRE(poleGrading >= 0.02 && poleGrading <= 1, "sphere mesh: pole grading " << poleGrading
+                                                              << "; give a ratio in [0.02, 1] (1: no grading)");
+  for (int d = 0; d < 2; ++d)
+    EPAPHE_REQUIRE(elements[d] >= 2 && elements[d] % 2 == 0,
+                   "sphere mesh: " << elements[d] << " elements along " << "xy"[d]
+                                   << "; give an even number >= 2 (the lower pole must be a node)");
+  EPAPHE_REQUIRE(elements[2] >= 2, "sphere mesh: " << elements[2] << " elements along z; give at least 2");
+  // H(u) = (exp(l u) - 1) / (exp(l) - 1), geometric spacing with H'(0) = l / (exp(l) - 1) = g:
+  // l solved by bisection (g decreases with l); g = 1 is l = 0, H(u) = u
+  double l = 0;
+  if (poleGrading < 1) {
+    double lo = 0, hi = 60;
+    for (int it = 0; it < 200; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (mid / std::expm1(mid) > poleGrading ? lo : hi) = mid;
+    }
+    l = 0.5 * (lo + hi);
+  }
+  auto H = [l](double u) { return l == 0 ? u : std::expm1(l * u) / std::expm1(l); };
+  // cube coordinates of node i of n: along x and y graded towards 0 (the z axis), along z
+  // towards -1 (the lower pole)
+  auto across = [&](int i, int n) {
+    if (2 * i == n) return 0.0;
+    const double s = 2.0 * i / n - 1;
+    return s < 0 ? -H(-s) : H(s);
+  };
+  auto along = [&](int k, int n) { return k == n ? 1.0 : -1 + 2 * H(double(k) / n); };
+  Mesh m = structuredMesh(
+      elements,
+      [&](int i, int j, int k) -> std::array<double, 3> {
+        const std::array<double, 3> c{across(i, elements[0]), across(j, elements[1]), along(k, elements[2])};
+        const double r = std::max({std::abs(c[0]), std::abs(c[1]), std::abs(c[2])});
+        if (r == 0) return center;
+        const double x = c[0] / r, y = c[1] / r, z = c[2] / r;  // on the cube's surface
+        const double x2 = x * x, y2 = y * y, z2 = z * z;
+        // the smooth cube-to-sphere map (onto the unit sphere), scaled to the shell of radius r
+        const double p[3] = {x * std::sqrt(std::max(0.0, 1 - y2 / 2 - z2 / 2 + y2 * z2 / 3)),
+                             y * std::sqrt(std::max(0.0, 1 - z2 / 2 - x2 / 2 + z2 * x2 / 3)),
+                             z * std::sqrt(std::max(0.0, 1 - x2 / 2 - y2 / 2 + x2 * y2 / 3))};
+        return {center[0] + radius * r * p[0], center[1] + radius * r * p[1], center[2] + radius * r * p[2]};
+      },
+      {"x-", "x+", "y-", "y+", "z-", "z+"});
+  m.nodeSets["z-pole"] = {elements[0] / 2 + (elements[0] + 1) * (elements[1] / 2)};
+  return m;
+}
+
 Mesh makeBladeMesh(const BladeGeometry& g, const std::array<int, 3>& elements) {
   EPAPHE_REQUIRE(g.hubRadius > 0 && g.tipRadius > g.hubRadius, "blade mesh: hub radius " << g.hubRadius << " m and tip radius "
                                                                  << g.tipRadius << " m; 0 < hub < tip is needed");

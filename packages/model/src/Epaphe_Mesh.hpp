@@ -53,6 +53,27 @@ Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius
                          const std::array<double, 2>& angles, const std::array<double, 2>& axial,
                          const std::array<int, 3>& elements);
 
+/// A solid ball of `radius` about `center`, made of one structured block: the cube [-1, 1]^3 of
+/// elements = {nx, ny, nz} hexahedra (nx, ny even, so the lower pole is a node) mapped onto the
+/// ball shell by shell. A cube point c lies on the cube surface of half-side r = max_d |c_d|; that
+/// surface goes to the sphere of radius r by the smooth cube-to-sphere map
+///   x' = x sqrt(1 - y^2/2 - z^2/2 + y^2 z^2/3), and cyclically, (x, y, z) = c / r,
+/// so the position is center + radius r (x', y', z'): the faces of the cube become six caps, and no
+/// element degenerates (the corner elements of the cube keep angles of 120 degrees at the surface).
+/// `poleGrading` g in [0.02, 1] refines towards the lower pole (0, 0, -radius), where a ball lands
+/// on a plane below it: before the map the cube coordinates are spaced geometrically, H(u) =
+/// (exp(l u) - 1) / (exp(l) - 1) with H'(0) = l / (exp(l) - 1) = g: a = sign(s) H(|s|) along x and
+/// y (s uniform in [-1, 1]; elements g times the uniform size at the z axis, g exp(l) times at the
+/// surface) and c = -1 + 2 H((1 + s) / 2) along z (g times the uniform size at the lower pole,
+/// g exp(l) times at the upper one). g = 1 is the uniform map; g = 0.15 (l = 3.06) makes the
+/// elements at the lower pole 0.15 times, and those at the equator and the upper pole 3.2 times,
+/// the uniform size.
+/// Node sets: all, the caps x-, x+, y-, y+, z- (the lower cap), z+ (the faces of the mapped cube,
+/// with their node grids, S_u x S_v pointing out of the ball, as makeBoxMesh's), and z-pole (the
+/// lower pole's node).
+Mesh makeSphereMesh(const std::array<double, 3>& center, double radius, const std::array<int, 3>& elements,
+                    double poleGrading = 1.0);
+
 /// A twisted, cambered blade (thesis chapter 5, a parametric stand-in for a compressor blade).
 /// The engine axis is z; the blade stands along +y from the hub to the tip. Section at span
 /// fraction s in [0, 1]: chord coordinate xi in [-chord/2, chord/2], thickness coordinate eta (plus

@@ -241,6 +241,14 @@ FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const
     } catch (const Error& e) {
       throw Error(ctx + ", Mesh Type Casing: " + e.what());
     }
+  } else if (f.type == MeshType::Sphere) {
+    try {
+      mesh = makeSphereMesh(deck::getVec3(mp, "Center", deckPath), mp.get<double>("Radius"), {el[0], el[1], el[2]},
+                            mp.get<double>("Pole grading"));
+    } catch (const Error& e) {
+      throw Error(ctx + ", Mesh Type Sphere ('" + deck::pathOf(mp, "Elements") + "', 'Radius', 'Pole grading'): " +
+                  e.what());
+    }
   } else {
     const auto ang = deck::getDoubles(mp, "Angles"), ax = deck::getDoubles(mp, "Axial range");
     EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2, ctx << ": 'Mesh->Angles' and 'Mesh->Axial range' must each "
