@@ -180,15 +180,21 @@ elif a.case == "kill9-storm":
     rng = random.Random(20261121)
     storm = variant(a.deck, os.path.join(W, "storm.xml"), dict(bar_overrides, **{
         "Time->End time": "1.0", "Output->Every": ("1", "int"), "Output->Fields every": ("20", "int"),
-        "Output->Checkpoint every": ("100", "int")}))
+        "Output->Checkpoint every": ("100", "int"), "Run->Progress interval": ("0.05", "double")}))
     run([storm, "--output", "warm.h5", "--stop-after-steps", "10"], 3)  # the reduction, cached for all
     intact, kills = 0, 12
     for k in range(kills):
         out = f"storm-{k}.h5"
         path = os.path.join(W, out)
         proc = subprocess.Popen([a.run, storm, "--output", out, "--threads", "1"], cwd=W, env=ENV,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-        time.sleep(0.4 + 1.2 * rng.random())
+                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        # the kill must land in the loop, not in the setup or the file's creation, however loaded the
+        # machine: wait for the first progress line (printed from the loop, after the checkpoint of
+        # step 0), then a random delay
+        for line in proc.stdout:
+            if line.startswith("  t = "):
+                break
+        time.sleep(0.2 + 1.2 * rng.random())
         proc.kill()
         proc.wait()
         try:

@@ -28,6 +28,26 @@ def parse_args(*extra):
     return a
 
 
+def deck_child(node, tag, name):
+    """The child <tag name="name"> of an XML deck node, matched by attribute, not by an XPath predicate
+    (names hold quotes: "Young's modulus"); None when absent."""
+    return next((c for c in node.findall(tag) if c.get("name") == name), None)
+
+
+def deck_value(root, path):
+    """The value of the deck parameter at `path` ("Bodies->Bar->Mesh->Lengths") under the XML root:
+    a list of floats for an array "{...}", else the string."""
+    node = root
+    *lists, name = path.split("->")
+    for l in lists:
+        node = deck_child(node, "ParameterList", l)
+        assert node is not None, f"deck: no list '{l}' on the way to '{path}'"
+    p = deck_child(node, "Parameter", name)
+    assert p is not None, f"deck: no parameter '{path}'"
+    v = p.get("value")
+    return [float(x) for x in v.strip("{}").split(",")] if v.startswith("{") else v
+
+
 def variant(base_deck, out_path, overrides):
     """Writes a copy of base_deck with overrides {"Time->Time step": "5e-8", ...}.
 
@@ -42,11 +62,11 @@ def variant(base_deck, out_path, overrides):
         *lists, name = path.split("->")
         node = root
         for l in lists:
-            child = node.find(f"./ParameterList[@name='{l}']")
+            child = deck_child(node, "ParameterList", l)
             if child is None:
                 child = ET.SubElement(node, "ParameterList", name=l)
             node = child
-        p = node.find(f"./Parameter[@name='{name}']")
+        p = deck_child(node, "Parameter", name)
         if p is None:
             p = ET.SubElement(node, "Parameter", name=name, type=ptype or "string", value=str(value))
         p.set("value", str(value))

@@ -52,7 +52,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
+from epaphe_testing import deck_value, history, parse_args, run, variant, verdict  # noqa: E402
 
 # elements per direction of the mapped cube, coarse to fine (V4_MESHES=16,24 for a study; 24^3 takes
 # about 2 min on 1 thread, too long for the ctest)
@@ -60,23 +60,6 @@ MESHES = tuple(int(x) for x in os.environ.get("V4_MESHES", "8,12,16").split(",")
 TOL = 0.05                  # finest mesh against Hertz, see the docstring
 BALANCE_TOL = 1e-6          # Output->Energy balance tolerance's default
 STEP_FRACTION = 0.9         # time step / critical step
-
-
-def child(node, tag, name):
-    """The child <tag name="name">, matched by attribute (a name may hold a quote: Young's modulus)."""
-    return next((c for c in node.findall(tag) if c.get("name") == name), None)
-
-
-def deck_value(root, path):
-    node = root
-    *lists, name = path.split("->")
-    for l in lists:
-        node = child(node, "ParameterList", l)
-        assert node is not None, f"deck: no list '{l}' on the way to '{path}'"
-    p = child(node, "Parameter", name)
-    assert p is not None, f"deck: no parameter '{path}'"
-    v = p.get("value")
-    return [float(x) for x in v.strip("{}").split(",")] if v.startswith("{") else v
 
 
 def hertz(deck):
