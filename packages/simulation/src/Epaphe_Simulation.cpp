@@ -93,6 +93,7 @@ struct Simulation::Body {
   std::vector<int> contactNodes;
   std::string contactSet;
   std::vector<double> v0;
+  double speed = 0;  // |initial velocity| (m/s), for the run guards
   std::vector<double> a0;  // initial acceleration M^{-1} f of the constant force (gravity), reduced coordinates
   std::vector<std::pair<std::string, std::vector<int>>> watched;
   NodeRecovery recoveryWatched;  // the watched nodes, in order
@@ -449,6 +450,7 @@ void Simulation::setup() {
     // Initial velocity: uniform translation, exact in reduced coordinates (retained DOFs).
     const auto v0 = deck::getVec3(bp, "Initial velocity", origin);
     b->v0.assign(static_cast<std::size_t>(b->rom.size), 0.0);
+    b->speed = std::sqrt(v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]);
     for (int d = 0; d < 3; ++d) {
       const auto t = b->rom.rigidTranslation(d);
       for (int i = 0; i < b->rom.size; ++i) b->v0[i] += v0[d] * t[i];
@@ -517,8 +519,7 @@ void Simulation::setup() {
     std::vector<double> speeds;
     for (const auto& b : bodies_) {
       names.push_back(b->name);
-      const auto v0 = deck::getVec3(bl.sublist(b->name), "Initial velocity", origin);
-      speeds.push_back(std::sqrt(v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]));
+      speeds.push_back(b->speed);
     }
     guards_ = std::make_unique<ContactGuards>(guardOptions(cp), names, origin);
     guards_->checkInitialVelocities(*contact_, speeds, h, summary_.warnings);
