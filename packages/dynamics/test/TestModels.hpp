@@ -12,7 +12,6 @@ namespace epaphe::test {
 inline ReducedModel oscillator(double m, double k) {
   ReducedModel r;
   r.name = "oscillator";
-  r.method = "None";
   r.size = 3;
   r.K.assign(9, 0.0);
   r.M.assign(9, 0.0);

@@ -29,7 +29,6 @@ namespace {
 ReducedModel coupledPair() {
   ReducedModel r;
   r.name = "pair";
-  r.method = "None";
   r.size = 6;
   double A[36];
   for (int i = 0; i < 36; ++i) A[i] = 0.1 * ((i * 7) % 11) - 0.4;

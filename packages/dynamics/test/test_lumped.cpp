@@ -35,7 +35,7 @@ FullModel cantilever(int nx) { return bar(nx, true); }
 ReducedModel denseCopy(const ReducedModel& sparse) {
   ReducedModel d = sparse;
   const int n = sparse.size;
-  d.method = "None";
+  d.kind = ReductionKind::None;
   d.K.assign(static_cast<std::size_t>(n) * n, 0.0);
   d.M.assign(d.K.size(), 0.0);
   for (int i = 0; i < n; ++i) {

@@ -65,7 +65,7 @@ TEST(MasslessBoundary, StaticResponseRecoveryAndFrequenciesAreTheFullModels) {
   ASSERT_EQ(nb, 27);  // 9 tip nodes
   ASSERT_EQ(n, nb + 8);
   ASSERT_TRUE(red.massless());
-  EXPECT_EQ(red.method, "Massless boundary");
+  EXPECT_EQ(red.method(), "Massless boundary");
 
   // M = diag(0, I): the boundary carries no mass, the modes are M-orthonormal.
   for (int j = 0; j < n; ++j)

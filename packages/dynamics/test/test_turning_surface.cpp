@@ -28,7 +28,6 @@ constexpr int kGrid = 16, kN = 3 + 3 * kGrid;  // system: the node's 3 DOFs, the
 ReducedModel freeNodes(int n, double m, double k) {
   ReducedModel r;
   r.name = "carrier";
-  r.method = "None";
   r.size = 3 * n;
   r.K.assign(std::size_t(r.size) * r.size, 0.0);
   r.M = r.K;

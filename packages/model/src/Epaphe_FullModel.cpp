@@ -174,4 +174,47 @@ SparseRows gatherRows(const CrsMatrix& A) {
   return S;
 }
 
+namespace {
+
+/// What an unreduced model takes from the full one: every free DOF as a coordinate, the mesh, its
+/// sets and grids, every node retained.
+ReducedModel unreducedShell(const FullModel& full, ReductionKind kind) {
+  ReducedModel r;
+  r.name = full.name;
+  r.kind = kind;
+  r.size = full.numFree;
+  r.nodeDof = full.eq;
+  r.coords = full.mesh.coords;
+  r.nodeSets = full.mesh.nodeSets;
+  r.nodeGrids = full.mesh.nodeGrids;
+  r.hexes = full.mesh.hexes;
+  for (int n = 0; n < full.numNodes(); ++n) r.retainedNodes.push_back(n);
+  return r;
+}
+
+}  // namespace
+
+ReducedModel unreducedModel(const FullModel& full) {
+  ReducedModel r = unreducedShell(full, ReductionKind::None);
+  r.K = gatherDense(*full.K);
+  r.M = gatherDense(*full.M);
+  r.recovery.assign(3 * static_cast<std::size_t>(full.numNodes()) * r.size, 0.0);
+  for (std::size_t i = 0; i < full.eq.size(); ++i)
+    if (full.eq[i] >= 0) r.recovery[i * r.size + full.eq[i]] = 1.0;
+  return r;
+}
+
+ReducedModel sparseModel(const FullModel& full) {
+  ReducedModel r = unreducedShell(full, ReductionKind::FullLumped);
+  r.sparseK = gatherRows(*full.K);
+  const SparseRows M = gatherRows(*full.M);
+  r.lumpedMass.assign(static_cast<std::size_t>(r.size), 0.0);
+  for (int i = 0; i < r.size; ++i) {
+    EPAPHE_REQUIRE(M.rowStart[i + 1] == M.rowStart[i] + 1 && M.cols[M.rowStart[i]] == i,
+                   "body '" << full.name << "': the mass matrix is not diagonal (row " << i << "); lump it first");
+    r.lumpedMass[i] = M.values[M.rowStart[i]];
+  }
+  return r;
+}
+
 }  // namespace epaphe

@@ -54,4 +54,11 @@ FullModel withLumpedMass(const FullModel& model);
 /// The rows of a distributed matrix on every rank, columns sorted in each row.
 SparseRows gatherRows(const CrsMatrix& A);
 
+/// The unreduced model as a ReducedModel with R = I (dense; for small models and references).
+ReducedModel unreducedModel(const FullModel& full);
+
+/// A full model whose mass is lumped (see lumpedMass()) as a ReducedModel kept sparse: q = u, K in
+/// compressed rows and diag(M), on every rank. `full.M` must be diagonal.
+ReducedModel sparseModel(const FullModel& full);
+
 }  // namespace epaphe

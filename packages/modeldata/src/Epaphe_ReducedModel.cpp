@@ -1,7 +1,6 @@
 #include "Epaphe_ReducedModel.hpp"
 
 #include "Epaphe_Error.hpp"
-#include "Epaphe_FullModel.hpp"
 #include "Epaphe_Mesh.hpp"
 
 #include <Teuchos_BLAS.hpp>
@@ -66,48 +65,24 @@ std::vector<int> ReducedModel::recoveryIndex(const std::vector<int>& nodes) cons
   return index;
 }
 
-namespace {
-
-/// What an unreduced model takes from the full one: every free DOF as a coordinate, the mesh, its
-/// sets and grids, every node retained.
-ReducedModel unreducedShell(const FullModel& full, const char* method) {
-  ReducedModel r;
-  r.name = full.name;
-  r.method = method;
-  r.size = full.numFree;
-  r.nodeDof = full.eq;
-  r.coords = full.mesh.coords;
-  r.nodeSets = full.mesh.nodeSets;
-  r.nodeGrids = full.mesh.nodeGrids;
-  r.hexes = full.mesh.hexes;
-  for (int n = 0; n < full.numNodes(); ++n) r.retainedNodes.push_back(n);
-  return r;
-}
-
-}  // namespace
-
-ReducedModel unreducedModel(const FullModel& full) {
-  ReducedModel r = unreducedShell(full, "None");
-  r.K = gatherDense(*full.K);
-  r.M = gatherDense(*full.M);
-  r.recovery.assign(3 * static_cast<std::size_t>(full.numNodes()) * r.size, 0.0);
-  for (std::size_t i = 0; i < full.eq.size(); ++i)
-    if (full.eq[i] >= 0) r.recovery[i * r.size + full.eq[i]] = 1.0;
-  return r;
-}
-
-ReducedModel sparseModel(const FullModel& full) {
-  ReducedModel r = unreducedShell(full, "Full, lumped mass");
-  r.sparseK = gatherRows(*full.K);
-  const SparseRows M = gatherRows(*full.M);
-  r.lumpedMass.assign(static_cast<std::size_t>(r.size), 0.0);
-  for (int i = 0; i < r.size; ++i) {
-    EPAPHE_REQUIRE(M.rowStart[i + 1] == M.rowStart[i] + 1 && M.cols[M.rowStart[i]] == i,
-                   "body '" << full.name << "': the mass matrix is not diagonal (row " << i << "); lump it first");
-    r.lumpedMass[i] = M.values[M.rowStart[i]];
+const char* reductionName(ReductionKind kind) {
+  switch (kind) {
+    case ReductionKind::CraigBampton: return "Craig-Bampton";
+    case ReductionKind::Guyan: return "Guyan";
+    case ReductionKind::None: return "None";
+    case ReductionKind::FullLumped: return "Full, lumped mass";
+    case ReductionKind::MasslessBoundary: return "Massless boundary";
   }
-  return r;
+  return "?";
 }
+
+ReductionKind reductionKindNamed(const std::string& name) {
+  for (ReductionKind k : {ReductionKind::CraigBampton, ReductionKind::Guyan, ReductionKind::None,
+                          ReductionKind::FullLumped, ReductionKind::MasslessBoundary})
+    if (name == reductionName(k)) return k;
+  throw Error("reduction '" + name + "': give Craig-Bampton, Guyan, None, Full, lumped mass or Massless boundary");
+}
+
 
 std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vector<double>& M, int n,
                                     std::vector<double>* vectors) {

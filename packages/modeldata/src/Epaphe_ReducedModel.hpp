@@ -1,6 +1,6 @@
 #pragma once
 // The reduced model: plain data (dense matrices and recovery rows), produced by the reduction
-// package and consumed by the online loop, which never sees Tpetra.
+// package and consumed by the online loop, which never sees Tpetra (package modeldata: no Tpetra).
 //
 // Reduced coordinates q (size n): for Craig-Bampton, the physical DOFs of the retained nodes
 // (3 per node) followed by the amplitudes of the fixed-interface modes (thesis eq. 2.12); for the
@@ -29,8 +29,6 @@
 
 namespace epaphe {
 
-struct FullModel;
-
 /// A sparse matrix in compressed rows (0-based column indices, sorted in each row).
 struct SparseRows {
   std::vector<std::size_t> rowStart;   // rows + 1 entries
@@ -39,9 +37,19 @@ struct SparseRows {
   int rows() const { return rowStart.empty() ? 0 : static_cast<int>(rowStart.size()) - 1; }
 };
 
+/// How a body's model was made from its full model: the deck's 'Reduction->Method', the same values.
+enum class ReductionKind { CraigBampton = 0, Guyan = 1, None = 2, FullLumped = 3, MasslessBoundary = 4 };
+
+/// The deck's name of a kind: "Craig-Bampton", "Guyan", "None", "Full, lumped mass", "Massless boundary".
+const char* reductionName(ReductionKind kind);
+
+/// The kind of a deck name (reductionName's inverse); an Error names the valid ones otherwise.
+ReductionKind reductionKindNamed(const std::string& name);
+
 struct ReducedModel {
   std::string name;
-  std::string method;                 // "Craig-Bampton", "Guyan", "None" or "Full, lumped mass"
+  ReductionKind kind = ReductionKind::None;  // what it is; method(), sparse() and massless() follow
+
   int size = 0;
   int numModes = 0;                   // fixed-interface modes kept
   std::vector<double> K, M;           // size x size, column-major, symmetric
@@ -59,8 +67,10 @@ struct ReducedModel {
   std::vector<double> boundaryModes;    // massless boundary: Phi_b, (size - numModes) x numModes, column-major
   std::vector<double> residualFlexibility;  // massless boundary: G, square on the retained DOFs, column-major
 
-  bool sparse() const { return !lumpedMass.empty(); }
-  bool massless() const { return !residualFlexibility.empty(); }
+  /// The deck's name of its kind ("Craig-Bampton", ...), for messages and files.
+  std::string method() const { return reductionName(kind); }
+  bool sparse() const { return kind == ReductionKind::FullLumped; }
+  bool massless() const { return kind == ReductionKind::MasslessBoundary; }
   int boundarySize() const { return size - numModes; }
   /// Massless boundary: Omega_j^2 = (2 pi f_j)^2 of the kept modes, the one definition that the
   /// reduction's K and the integrator use.
@@ -86,13 +96,6 @@ struct ReducedModel {
   /// k's DOF d (-1: clamped, u = 0).
   std::vector<int> recoveryIndex(const std::vector<int>& nodes) const;
 };
-
-/// The unreduced model as a ReducedModel with R = I (dense; for small models and references).
-ReducedModel unreducedModel(const FullModel& full);
-
-/// A full model whose mass is lumped (see lumpedMass()) as a ReducedModel kept sparse: q = u, K in
-/// compressed rows and diag(M), on every rank. `full.M` must be diagonal.
-ReducedModel sparseModel(const FullModel& full);
 
 /// K x = lambda M x for dense symmetric K and positive definite M (n x n, column-major) by LAPACK
 /// dsygv: ascending eigenvalues; with `vectors`, the M-orthonormal eigenvectors (column-major).
