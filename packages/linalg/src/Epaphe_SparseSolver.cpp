@@ -120,10 +120,25 @@ std::unique_ptr<SparseSolver> makeBelosCgSolver(const Teuchos::RCP<const CrsMatr
   return std::make_unique<BelosCgSolver>(A, tolerance, what);
 }
 
-std::unique_ptr<SparseSolver> makeSolver(const Teuchos::RCP<const CrsMatrix>& A, const std::string& solverName,
+std::string solverName(LinearSolver solver) {
+  switch (solver) {
+    case LinearSolver::Mumps: return "MUMPS";
+    case LinearSolver::Klu2: return "KLU2";
+    case LinearSolver::BelosCg: return "Belos CG";
+  }
+  return "?";
+}
+
+LinearSolver linearSolverNamed(const std::string& name) {
+  for (LinearSolver s : {LinearSolver::Mumps, LinearSolver::Klu2, LinearSolver::BelosCg})
+    if (solverName(s) == name) return s;
+  throw Error("linear solver '" + name + "': give MUMPS, KLU2 or Belos CG");
+}
+
+std::unique_ptr<SparseSolver> makeSolver(const Teuchos::RCP<const CrsMatrix>& A, LinearSolver solver,
                                          const std::string& what, double tolerance) {
-  if (solverName == "Belos CG") return makeBelosCgSolver(A, tolerance, what);
-  return makeDirectSolver(A, solverName, what);
+  if (solver == LinearSolver::BelosCg) return makeBelosCgSolver(A, tolerance, what);
+  return makeDirectSolver(A, solverName(solver), what);
 }
 
 std::unique_ptr<SparseSolver> makeDirectSolver(const Teuchos::RCP<const CrsMatrix>& A,

@@ -1,6 +1,7 @@
 #pragma once
 // Solves A X = B for a sparse symmetric matrix factored once and reused for any number of
 // right-hand sides (constraint modes, shift-invert inside Anasazi).
+#include "Epaphe_LinearSolver.hpp"
 #include "Epaphe_TpetraTypes.hpp"
 
 #include <Teuchos_RCP.hpp>
@@ -34,8 +35,8 @@ std::unique_ptr<SparseSolver> makeDirectSolver(const Teuchos::RCP<const CrsMatri
 std::unique_ptr<SparseSolver> makeBelosCgSolver(const Teuchos::RCP<const CrsMatrix>& A, double tolerance,
                                                 const std::string& what);
 
-/// "MUMPS", "KLU2" (Amesos2, makeDirectSolver) or "Belos CG" (makeBelosCgSolver with `tolerance`).
-std::unique_ptr<SparseSolver> makeSolver(const Teuchos::RCP<const CrsMatrix>& A, const std::string& solverName,
+/// MUMPS, KLU2 (Amesos2, makeDirectSolver) or Belos CG (makeBelosCgSolver with `tolerance`).
+std::unique_ptr<SparseSolver> makeSolver(const Teuchos::RCP<const CrsMatrix>& A, LinearSolver solver,
                                          const std::string& what, double tolerance = 1e-12);
 
 }  // namespace epaphe
