@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     const double importSeconds = sw.seconds();
     epaphe::CraigBamptonOptions o;
     o.modes = std::atoi(argv[4]);
-    o.solver = argv[5];
+    o.solver = epaphe::linearSolverNamed(argv[5]);
     if (argc > 6) o.iterativeTolerance = std::atof(argv[6]);
     epaphe::ReductionReport rep;
     const epaphe::ReducedModel red = epaphe::craigBampton(full, full.mesh.nodeSets.at(argv[3]), o, &rep);
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, mb, Teuchos::outArg(sumMb));
     std::ostringstream js;
     js.precision(17);
-    js << "{\"ranks\": " << comm->getSize() << ", \"solver\": \"" << o.solver << "\", \"free_dofs\": " << full.numFree
+    js << "{\"ranks\": " << comm->getSize() << ", \"solver\": \"" << epaphe::solverName(o.solver) << "\", \"free_dofs\": " << full.numFree
        << ", \"nnz_K\": " << full.K->getGlobalNumEntries() << ", \"retained_dofs\": " << rep.retainedDofs
        << ", \"modes\": " << o.modes << ", \"import_s\": " << importSeconds << ", \"factor_s\": " << rep.factorSeconds
        << ", \"constraint_s\": " << rep.constraintSeconds << ", \"eigen_s\": " << rep.eigenSeconds

@@ -129,11 +129,11 @@ std::vector<double> gatherRows(const MultiVector& X, const std::vector<int>& row
 /// The reduced model's mesh data and its retained DOFs, numbered in the order (retained node,
 /// direction) as q's first entries: `rIndex[g]` is free DOF g's index among them (-1: not retained),
 /// `nR` their count.
-ReducedModel retainedShell(const FullModel& full, const std::vector<int>& retained, const std::string& method,
+ReducedModel retainedShell(const FullModel& full, const std::vector<int>& retained, ReductionKind kind,
                            std::vector<int>& rIndex, int& nR) {
   ReducedModel red;
   red.name = full.name;
-  red.method = method;
+  red.kind = kind;
   red.coords = full.mesh.coords;
   red.nodeSets = full.mesh.nodeSets;
   red.nodeGrids = full.mesh.nodeGrids;
@@ -171,7 +171,7 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
   // Retained DOFs in the order (retained node, direction): q = [x_R, eta].
   std::vector<int> rIndex, cIndex(static_cast<std::size_t>(nFree), -1);
   int nR = 0;
-  ReducedModel red = retainedShell(full, retained, opt.modes > 0 ? "Craig-Bampton" : "Guyan", rIndex, nR);
+  ReducedModel red = retainedShell(full, retained, opt.modes > 0 ? ReductionKind::CraigBampton : ReductionKind::Guyan, rIndex, nR);
   int nC = 0;
   for (int g = 0; g < nFree; ++g)
     if (rIndex[g] < 0) cIndex[g] = nC++;
@@ -268,7 +268,7 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
 
   std::vector<int> rIndex;
   int nR = 0;
-  ReducedModel red = retainedShell(full, retained, "Massless boundary", rIndex, nR);
+  ReducedModel red = retainedShell(full, retained, ReductionKind::MasslessBoundary, rIndex, nR);
   EPAPHE_REQUIRE(nR + m <= nFree, body << ": " << nR << " retained DOFs and " << m << " modes exceed the model's "
                                        << nFree << " free DOFs; keep fewer modes");
   rep.retainedDofs = nR;
@@ -386,12 +386,20 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   return red;
 }
 
-std::vector<double> fullModelFrequencies(const FullModel& full, int count, const std::string& solver,
-                                         double iterativeTolerance) {
-  // Shift below zero so that K - sigma M is positive definite even with rigid-body modes:
-  // sigma = -1e-4 * max_i K_ii / M_ii, far below the highest and well below typical low modes.
-  double ratio = 0;
-  {
+std::vector<double> fullModelFrequencies(const FullModel& full, int count, LinearSolver solver,
+                                         double iterativeTolerance, const std::vector<double>& upperBoundsHz) {
+  double sigma = 0;
+  // The lowest elastic bound: above 1e-6 of the highest (rigid-body modes of a reduced model are
+  // round-off, many orders below); the shift halfway from it to minus itself.
+  const double top = upperBoundsHz.empty() ? 0.0 : *std::max_element(upperBoundsHz.begin(), upperBoundsHz.end());
+  double elastic = 0;
+  for (double f : upperBoundsHz)
+    if (f > 1e-6 * top && (elastic == 0 || f < elastic)) elastic = f;
+  if (elastic > 0) {
+    const double omega = 2 * M_PI * elastic;
+    sigma = -0.5 * omega * omega;
+  } else {
+    double ratio = 0;
     Tpetra::Vector<double, LO, GO> dk(full.K->getRowMap()), dm(full.M->getRowMap());
     full.K->getLocalDiagCopy(dk);
     full.M->getLocalDiagCopy(dm);
@@ -400,8 +408,8 @@ std::vector<double> fullModelFrequencies(const FullModel& full, int count, const
     double local = 0;
     for (std::size_t i = 0; i < k.extent(0); ++i) local = std::max(local, k(i, 0) / m(i, 0));
     Teuchos::reduceAll(*full.K->getComm(), Teuchos::REDUCE_MAX, local, Teuchos::outArg(ratio));
+    sigma = -1e-4 * ratio;
   }
-  const double sigma = -1e-4 * ratio;
   auto shifted = Tpetra::MatrixMatrix::add(1.0, false, *full.K, -sigma, false, *full.M);
   auto factor = makeSolver(shifted, solver, "K - sigma M of body '" + full.name + "'", iterativeTolerance);
   EigenOptions eo;

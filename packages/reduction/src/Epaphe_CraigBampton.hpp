@@ -10,6 +10,7 @@
 // Craig-Bampton with zero modes (eq. 2.11).
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_ReducedModel.hpp"
+#include "Epaphe_SparseSolver.hpp"
 
 #include <string>
 #include <vector>
@@ -18,7 +19,7 @@ namespace epaphe {
 
 struct CraigBamptonOptions {
   int modes = 0;                       // fixed-interface modes kept
-  std::string solver = "MUMPS";        // K_CC: Amesos2 "MUMPS" or "KLU2" (one factor), or "Belos CG" (iterative)
+  LinearSolver solver = LinearSolver::Mumps;  // K_CC: Amesos2 MUMPS or KLU2 (one factor), or Belos CG (iterative)
   double iterativeTolerance = 1e-12;   // Belos CG: relative residual of each solve
   double eigenTolerance = 1e-10;
 };
@@ -46,9 +47,15 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
 ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
                               ReductionReport* report = nullptr);
 
-/// The lowest `count` natural frequencies (Hz) of the full model, by Anasazi on (K, M) with a
-/// small negative shift so that free-free models (rigid-body modes) are handled.
-std::vector<double> fullModelFrequencies(const FullModel& full, int count, const std::string& solver = "MUMPS",
-                                         double iterativeTolerance = 1e-12);
+/// The lowest `count` natural frequencies (Hz) of the full model, by Anasazi's shift-invert on
+/// (K, M) with a negative shift sigma, so that K - sigma M is positive definite also with rigid-body
+/// modes. The shift-invert spectrum 1/(lambda - sigma) separates the lowest modes only when sigma
+/// is not far below them: `upperBoundsHz`, frequencies of a reduced model of the same body (Rayleigh-
+/// Ritz values, upper bounds of the full model's; a lumped-mass model's are close estimates), give
+/// sigma = -omega_e^2 / 2 with omega_e the lowest elastic one of them. Without them, sigma = -1e-4 max_i K_ii / M_ii, which a fine mesh (large
+/// K_ii / M_ii) puts so far below the lowest modes that Anasazi needs minutes.
+std::vector<double> fullModelFrequencies(const FullModel& full, int count, LinearSolver solver = LinearSolver::Mumps,
+                                         double iterativeTolerance = 1e-12,
+                                         const std::vector<double>& upperBoundsHz = {});
 
 }  // namespace epaphe

@@ -31,7 +31,7 @@ void saveReducedModel(const ReducedModel& r, const std::string& path, const std:
     const auto nn = static_cast<std::uint64_t>(r.numNodes());
     f.setAttribute("/", "key", key);
     f.setAttribute("/", "name", r.name);
-    f.setAttribute("/", "method", r.method);
+    f.setAttribute("/", "method", r.method());
     f.setAttribute("/", "size", static_cast<long long>(r.size));
     f.setAttribute("/", "modes", static_cast<long long>(r.numModes));
     f.writeDoubles("/K", {n, n}, r.K.data());
@@ -72,7 +72,7 @@ bool loadReducedModel(const std::string& path, const std::string& key, ReducedMo
   if (!f.hasAttribute("/", "key") || f.stringAttribute("/", "key") != key) return false;
   auto toInts = [](const std::vector<long long>& v) { return std::vector<int>(v.begin(), v.end()); };
   r.name = f.stringAttribute("/", "name");
-  r.method = f.stringAttribute("/", "method");
+  r.kind = reductionKindNamed(f.stringAttribute("/", "method"));
   r.size = static_cast<int>(f.intAttribute("/", "size"));
   r.numModes = static_cast<int>(f.intAttribute("/", "modes"));
   r.K = f.readDoubles("/K");
