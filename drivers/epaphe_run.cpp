@@ -2,10 +2,12 @@
 //
 //   epaphe-run DECK.xml [--threads N] [--output FILE] [--check] [--restart FILE.h5]
 //   epaphe-run DECK.xml --speeds W1,W2,... [--revolutions R] [--threads N]
-//   epaphe-run --print-parameters
+//   epaphe-run --print-parameters[=xml]
 //
-// --check validates the deck and stops; --print-parameters prints every valid parameter with its
-// type, default, allowed values and documentation. --restart continues the run stored in FILE.h5
+// --check validates the deck (its schema, then every check that needs no reduced model: the same
+// messages as a run) and stops; --print-parameters prints every valid parameter with its
+// type, default, allowed values and documentation (=xml: the same as a Teuchos XML parameter list
+// with its validators, for programs). --restart continues the run stored in FILE.h5
 // (an output of the same deck) from its last checkpoint, appending to it. SIGINT and SIGTERM stop
 // the run at the end of the current step with a checkpoint and the status "stopped: interrupted by
 // ..."; the exit code is then 128 + the signal (130, 143). Errors go to stderr on rank 0 as one
@@ -21,10 +23,12 @@
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Error.hpp"
 #include "Epaphe_Runtime.hpp"
+#include "Epaphe_SceneCheck.hpp"
 #include "Epaphe_Simulation.hpp"
 #include "Epaphe_Version.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_XMLParameterListHelpers.hpp>
 
 #include <cstdlib>
 #include <cstring>
@@ -38,7 +42,7 @@ namespace {
 const char* usage =
     "usage: epaphe-run DECK.xml [--threads N] [--output FILE] [--check] [--restart FILE.h5]\n"
     "       epaphe-run DECK.xml --speeds W1,W2,... [--revolutions R] [--threads N]\n"
-    "       epaphe-run --print-parameters\n";
+    "       epaphe-run --print-parameters[=xml]\n";
 
 /// "600,1000,1.4e3" -> {600, 1000, 1400}; false when an item is not a number.
 bool parseList(const std::string& text, std::vector<double>& values) {
@@ -94,7 +98,12 @@ int main(int argc, char** argv) {
   double revolutions = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--print-parameters") {
+    if (a == "--print-parameters=xml") {
+      // Machine-readable: the valid parameter list as Teuchos XML, with each entry's type, default,
+      // docString and validator (ranges, enum values) -- what python/epaphe's schema reads.
+      if (rt.rank() == 0) Teuchos::writeParameterListToXmlOStream(*epaphe::validDeckParameters(), std::cout);
+      return 0;
+    } else if (a == "--print-parameters") {
       if (rt.rank() == 0) {
         std::cout << "Epaphe " << epaphe::version << ": every deck parameter (lists in brackets)\n\n";
         epaphe::deck::printDocumentation(std::cout, *epaphe::validDeckParameters());
@@ -142,7 +151,9 @@ int main(int argc, char** argv) {
   }
   try {
     epaphe::Deck deck = epaphe::readDeck(deckPath);
-    if (check) {
+    if (check) {  // everything a run checks before its reduction (Epaphe_SceneCheck.hpp)
+      epaphe::checkScene(deck, output.empty() ? deck.params->sublist("Output").get<std::string>("File") : output,
+                         !restart.empty());
       rt.out() << deckPath << ": valid\n";
       return 0;
     }

@@ -3,6 +3,7 @@
 #include "Epaphe_Error.hpp"
 
 #include <hdf5.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -604,6 +605,23 @@ void readNumericAttribute(FileState& f, const std::string& rawPath, const std::s
 
 // ---- Hdf5File ----------------------------------------------------------------------------------
 
+void Hdf5File::checkCreatable(const std::string& path) {
+  std::error_code ec;
+  const fs::path p(path);
+  fs::path dir = p.parent_path();
+  if (dir.empty()) dir = ".";
+  if (!fs::exists(dir, ec))
+    fail(path, "cannot create the file: directory " + sq(dir.string()) +
+                   " does not exist; create it (mkdir -p " + dir.string() + ") or choose another path", false);
+  if (!fs::is_directory(dir, ec))
+    fail(path, "cannot create the file: " + sq(dir.string()) + " is not a directory", false);
+  if (fs::is_directory(p, ec))
+    fail(path, "cannot create the file: a directory of that name exists; choose another name", false);
+  if (access(dir.c_str(), W_OK) != 0)
+    fail(path, "cannot create the file: directory " + sq(dir.string()) + " is not writable; choose another path",
+         false);
+}
+
 Hdf5File::Hdf5File(const std::string& path, Mode mode) : state_(std::make_unique<FileState>()) {
   silenceHdf5();
   state_->path = path;
@@ -612,15 +630,9 @@ Hdf5File::Hdf5File(const std::string& path, Mode mode) : state_(std::make_unique
   std::error_code ec;
   const fs::path p(path);
   if (mode == Mode::Create) {
+    checkCreatable(path);
     fs::path dir = p.parent_path();
     if (dir.empty()) dir = ".";
-    if (!fs::exists(dir, ec))
-      fail(path, "cannot create the file: directory " + sq(dir.string()) +
-                     " does not exist; create it (mkdir -p " + dir.string() + ") or choose another path", false);
-    if (!fs::is_directory(dir, ec))
-      fail(path, "cannot create the file: " + sq(dir.string()) + " is not a directory", false);
-    if (fs::is_directory(p, ec))
-      fail(path, "cannot create the file: a directory of that name exists; choose another name", false);
     state_->fid = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     if (state_->fid < 0)
       fail(path, "cannot create the file: check that directory " + sq(dir.string()) +

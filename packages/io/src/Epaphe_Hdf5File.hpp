@@ -36,6 +36,9 @@ public:
   /// Opens or creates `path`. Errors: directory missing or unwritable (Create), file missing,
   /// not an HDF5 file, file locked by another program.
   Hdf5File(const std::string& path, Mode mode);
+  /// Throws the error Create would for `path` (directory missing, not a directory, not writable, a
+  /// directory of that name), without creating anything: for checks made before any work.
+  static void checkCreatable(const std::string& path);
   /// Flushes the live Series of this file, then closes it. Never throws (errors go to stderr;
   /// call close() to see them as exceptions).
   ~Hdf5File();

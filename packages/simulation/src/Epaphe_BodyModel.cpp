@@ -7,7 +7,9 @@
 #include "Epaphe_Error.hpp"
 #include "Epaphe_MatrixMarketImport.hpp"
 #include "Epaphe_ReducedModelCache.hpp"
+#include "Epaphe_Runtime.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -208,21 +210,27 @@ void checkCasingMesh(const std::string& body, const ParameterList& mp, const std
   casingGeometry(mp, "Inner radius", origin);
 }
 
-FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const std::string& deckPath,
-                         const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
-  const ImportFiles f = importFiles(body, bp, deckPath);
-  const std::string ctx = deckPath + ": body '" + body + "'";
-  if (f.type == MeshType::Calculix) return importCalculix(f.ccx, body, comm);
-  if (f.type == MeshType::MatrixMarket) return importMatrixMarket(f.mm, body, comm);
-  if (f.type == MeshType::CodeAster) return importCodeAster(f.aster, body, comm);
+bool hasBuiltInMesh(const ParameterList& bp) {
+  const auto type = deck::getEnum<MeshType>(bp.sublist("Mesh"), "Type");
+  return type != MeshType::Calculix && type != MeshType::MatrixMarket && type != MeshType::CodeAster;
+}
 
+Mesh buildBodyMesh(const std::string& body, const ParameterList& bp, const std::string& deckPath) {
+  const std::string ctx = deckPath + ": body '" + body + "'";
   const ParameterList& mp = bp.sublist("Mesh");
+  const auto type = deck::getEnum<MeshType>(mp, "Type");
+  EPAPHE_REQUIRE(hasBuiltInMesh(bp), ctx << ": buildBodyMesh called on an imported model");
   const auto el = deck::getInts(mp, "Elements");
   EPAPHE_REQUIRE(el.size() == 3, ctx << ": 'Mesh->Elements' has " << el.size() << " values; give {nx, ny, nz}");
   Mesh mesh;
-  if (f.type == MeshType::Box) {
-    mesh = makeBoxMesh(deck::getVec3(mp, "Origin", deckPath), deck::getVec3(mp, "Lengths", deckPath), {el[0], el[1], el[2]});
-  } else if (f.type == MeshType::Blade) {
+  if (type == MeshType::Box) {
+    const auto origin = deck::getVec3(mp, "Origin", deckPath), lengths = deck::getVec3(mp, "Lengths", deckPath);
+    try {
+      mesh = makeBoxMesh(origin, lengths, {el[0], el[1], el[2]});
+    } catch (const Error& e) {
+      throw Error(ctx + ", Mesh Type Box ('" + deck::pathOf(mp, "Elements") + "', 'Lengths'): " + e.what());
+    }
+  } else if (type == MeshType::Blade) {
     BladeGeometry g;
     g.hubRadius = mp.get<double>("Hub radius");
     g.tipRadius = mp.get<double>("Tip radius");
@@ -234,14 +242,14 @@ FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const
     g.coneAngle = mp.get<double>("Cone angle");
     g.axialPosition = mp.get<double>("Axial position");
     mesh = makeBladeMesh(g, {el[0], el[1], el[2]});
-  } else if (f.type == MeshType::Casing) {
+  } else if (type == MeshType::Casing) {
     checkCasingMesh(body, mp, deckPath);
     try {
       mesh = makeCasingMesh(casingGeometry(mp, "Inner radius", deckPath), mp.get<double>("Thickness"), {el[0], el[1], el[2]});
     } catch (const Error& e) {
       throw Error(ctx + ", Mesh Type Casing: " + e.what());
     }
-  } else if (f.type == MeshType::Sphere) {
+  } else if (type == MeshType::Sphere) {
     try {
       mesh = makeSphereMesh(deck::getVec3(mp, "Center", deckPath), mp.get<double>("Radius"), {el[0], el[1], el[2]},
                             mp.get<double>("Pole grading"));
@@ -256,6 +264,17 @@ FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const
     mesh = makeRingSegmentMesh(deck::getVec3(mp, "Origin", deckPath), mp.get<double>("Inner radius"), mp.get<double>("Thickness"),
                                {ang[0], ang[1]}, {ax[0], ax[1]}, {el[0], el[1], el[2]});
   }
+  return mesh;
+}
+
+FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const std::string& deckPath,
+                         const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+  const ImportFiles f = importFiles(body, bp, deckPath);
+  const std::string ctx = deckPath + ": body '" + body + "'";
+  if (f.type == MeshType::Calculix) return importCalculix(f.ccx, body, comm);
+  if (f.type == MeshType::MatrixMarket) return importMatrixMarket(f.mm, body, comm);
+  if (f.type == MeshType::CodeAster) return importCodeAster(f.aster, body, comm);
+  Mesh mesh = buildBodyMesh(body, bp, deckPath);
   Material mat;
   mat.density = bp.sublist("Material").get<double>("Density");
   mat.young = bp.sublist("Material").get<double>("Young's modulus");
@@ -269,9 +288,52 @@ FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const
 CraigBamptonOptions reductionOptions(const ParameterList& rp) {
   CraigBamptonOptions o;
   o.modes = deck::getEnum<ReductionMethod>(rp, "Method") == ReductionMethod::Guyan ? 0 : rp.get<int>("Fixed-interface modes");
-  o.solver = rp.get<std::string>("Linear solver");
+  o.solver = deck::getEnum<LinearSolver>(rp, "Linear solver");
   o.iterativeTolerance = rp.get<double>("Iterative tolerance");
   return o;
+}
+
+ReducedModel reduceBody(const FullModel& full, const std::vector<int>& retainedNodes, const ParameterList& rp,
+                        const CraigBamptonOptions& options, ReductionReport* report) {
+  switch (deck::getEnum<ReductionMethod>(rp, "Method")) {
+    case ReductionMethod::MasslessBoundary:
+      return masslessBoundary(full, retainedNodes, options, report);
+    case ReductionMethod::CraigBampton:
+      return craigBampton(full, retainedNodes, options, report);
+    case ReductionMethod::Guyan: {
+      CraigBamptonOptions guyan = options;
+      guyan.modes = 0;
+      return craigBampton(full, retainedNodes, guyan, report);
+    }
+    case ReductionMethod::None:
+      return unreducedModel(full);
+    case ReductionMethod::FullLumped:
+      return sparseModel(withLumpedMass(full));
+  }
+  throw Error("body '" + full.name + "': unknown '" + deck::pathOf(rp, "Method") + "'");
+}
+
+FrequencyCheck frequencyCheck(const FullModel& full, const ReducedModel& model, const CraigBamptonOptions& o,
+                              int count) {
+  FrequencyCheck c;
+  Stopwatch sw;
+  count = std::min(count, full.numFree - 1);
+  if (model.kind == ReductionKind::MasslessBoundary) {
+    // Its modes are the full model's lowest (retained nodes free), from the reduction's own solve;
+    // its reduced model has no other frequency (the boundary carries no mass) to compare.
+    const auto& f = model.modeFrequencies;
+    c.full.assign(f.begin(), f.begin() + std::min<std::ptrdiff_t>(count, static_cast<std::ptrdiff_t>(f.size())));
+    c.reused = true;
+    return c;
+  }
+  if (model.sparse())  // the lumped model's own frequencies, against the consistent model's
+    c.lumped = fullModelFrequencies(withLumpedMass(full), count, o.solver, o.iterativeTolerance);
+  // The reduced model's frequencies (Rayleigh-Ritz upper bounds; a lumped model's, close) place the
+  // shift just below the lowest modes: a shift far below them costs minutes on a fine mesh.
+  c.full = fullModelFrequencies(full, count, o.solver, o.iterativeTolerance,
+                                model.sparse() ? c.lumped : reducedFrequencies(model));
+  c.seconds = sw.seconds();
+  return c;
 }
 
 }  // namespace epaphe

@@ -28,6 +28,12 @@ std::vector<std::string> bodyModelFiles(const std::string& body, const Teuchos::
 std::string bodyModelKeyText(const std::string& body, const Teuchos::ParameterList& bodyParams,
                              const std::string& deckPath);
 
+/// True for the built-in meshes (Box, Ring segment, Blade, Casing, Sphere), false for imported models.
+bool hasBuiltInMesh(const Teuchos::ParameterList& bodyParams);
+
+/// The built-in mesh of a body (not its matrices): cheap, for the checks made before any work.
+Mesh buildBodyMesh(const std::string& body, const Teuchos::ParameterList& bodyParams, const std::string& deckPath);
+
 /// Builds (built-in) or imports the body's full model on every rank of `comm`.
 FullModel buildBodyModel(const std::string& body, const Teuchos::ParameterList& bodyParams, const std::string& deckPath,
                          const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
@@ -42,5 +48,26 @@ void checkCasingMesh(const std::string& body, const Teuchos::ParameterList& mesh
 
 /// The Craig-Bampton options of the body's Reduction sublist (modes: its 'Fixed-interface modes').
 CraigBamptonOptions reductionOptions(const Teuchos::ParameterList& reductionParams);
+
+/// The reduction factory of epaphe-run and epaphe-modes: the body's model by its Reduction sublist's
+/// 'Method' -- Craig-Bampton, Guyan (Craig-Bampton with no modes), Massless boundary (with
+/// `retainedNodes` and `options`: reductionOptions(), or another mode count), None (the full model,
+/// dense) or Full, lumped mass (K sparse, M lumped). The model carries its kind.
+ReducedModel reduceBody(const FullModel& full, const std::vector<int>& retainedNodes,
+                        const Teuchos::ParameterList& reductionParams, const CraigBamptonOptions& options,
+                        ReductionReport* report);
+
+/// The frequency check of a body ('Reduction->Frequency check' = count > 0): the full model's lowest
+/// `count` frequencies (Hz), at the cost of what the reduction has not computed yet: a massless
+/// boundary's modes are the full model's lowest (reused); otherwise Anasazi on the full model, its
+/// shift placed by the reduced model's frequencies. A lumped model's own frequencies (it has no
+/// dense matrices to give them) come in `lumped`.
+struct FrequencyCheck {
+  std::vector<double> full, lumped;
+  bool reused = false;
+  double seconds = 0;
+};
+FrequencyCheck frequencyCheck(const FullModel& full, const ReducedModel& model, const CraigBamptonOptions& options,
+                              int count);
 
 }  // namespace epaphe

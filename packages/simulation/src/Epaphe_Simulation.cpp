@@ -8,6 +8,7 @@
 #include "Epaphe_Hdf5File.hpp"
 #include "Epaphe_Parallel.hpp"
 #include "Epaphe_ReducedModelCache.hpp"
+#include "Epaphe_SceneCheck.hpp"
 #include "Epaphe_Version.hpp"
 
 #include <Teuchos_BLAS.hpp>
@@ -119,123 +120,6 @@ double fastestRotation(const ParameterList& P) {
   return omega;
 }
 
-/// Checks of the deck that need no model, made before any body is built: box edge lengths, casing
-/// meshes, the number of surfaces, degenerate planes.
-void checkGeometry(const ParameterList& P, const std::string& origin) {
-  const ParameterList& bl = P.sublist("Bodies");
-  for (auto it = bl.begin(); it != bl.end(); ++it) {
-    const ParameterList& mp = bl.sublist(bl.name(it)).sublist("Mesh");
-    if (deck::getEnum<MeshType>(mp, "Type") == MeshType::Casing) checkCasingMesh(bl.name(it), mp, origin);
-    if (deck::getEnum<MeshType>(mp, "Type") != MeshType::Box) continue;
-    const auto L = deck::getVec3(mp, "Lengths", origin);
-    for (int d = 0; d < 3; ++d)
-      EPAPHE_REQUIRE(L[d] > 0, origin << ": '" << deck::pathOf(mp, "Lengths") << "' = {" << L[0] << ", " << L[1] << ", "
-                                      << L[2] << "}: the length along " << "xyz"[d] << " is " << L[d]
-                                      << "; every edge length must be positive");
-  }
-  const ParameterList& surfs = P.sublist("Surfaces");
-  for (auto it = surfs.begin(); it != surfs.end(); ++it) {
-    const ParameterList& s = surfs.sublist(surfs.name(it));
-    if (deck::getEnum<SurfaceType>(s, "Type") != SurfaceType::Plane) continue;
-    const auto U = deck::getVec3(s, "U", origin), V = deck::getVec3(s, "V", origin);
-    const std::array<double, 3> n = {U[1] * V[2] - U[2] * V[1], U[2] * V[0] - U[0] * V[2], U[0] * V[1] - U[1] * V[0]};
-    const double nu = std::sqrt(U[0] * U[0] + U[1] * U[1] + U[2] * U[2]);
-    const double nv = std::sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2]);
-    const double area = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    EPAPHE_REQUIRE(area > 1e-12 * nu * nv && nu > 0 && nv > 0,
-                   origin << ": surface '" << surfs.name(it) << "': 'U' = {" << U[0] << ", " << U[1] << ", " << U[2]
-                          << "} and 'V' = {" << V[0] << ", " << V[1] << ", " << V[2]
-                          << "} are parallel or zero; a plane needs two independent edge vectors");
-  }
-}
-
-/// Checks of the bodies' Reduction lists that need no model, made before any body is built: a
-/// full model with lumped mass takes no retained set and only damping that keeps M/h^2 + D/2h
-/// diagonal.
-void checkReductions(const ParameterList& P, const DampingOptions& damping, const std::string& origin) {
-  const ParameterList& bl = P.sublist("Bodies");
-  const ParameterList& dp = P.sublist("Time").sublist("Damping");
-  for (auto it = bl.begin(); it != bl.end(); ++it) {
-    const ParameterList& bp = bl.sublist(bl.name(it));
-    const ParameterList& rp = bp.sublist("Reduction");
-    const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
-    const std::string ctx = origin + ": body '" + bl.name(it) + "', '" + deck::pathOf(rp, "Method") + "' = '" +
-                            rp.get<std::string>("Method") + "'";
-    if (method == ReductionMethod::MasslessBoundary) {
-      const ParameterList& cp = P.sublist("Contact");
-      EPAPHE_REQUIRE(deck::getEnum<ContactMethod>(cp, "Method") == ContactMethod::Lagrange,
-                     ctx << " with '" << deck::pathOf(cp, "Method") << "' = '" << cp.get<std::string>("Method")
-                         << "': a penalty force computed from the predicted gap would ignore the boundary's static "
-                            "residual flexibility (its nodes have no mass to lag behind the force); use 'Lagrange', "
-                            "or 'Craig-Bampton' for penalty contact");
-      const auto v0 = deck::getVec3(bp, "Initial velocity", origin);
-      EPAPHE_REQUIRE(v0[0] == 0 && v0[1] == 0 && v0[2] == 0,
-                     ctx << " with 'Initial velocity' = {" << v0[0] << ", " << v0[1] << ", " << v0[2]
-                         << "}: the body is clamped and its mass is in its modes; remove the key, or use 'Craig-Bampton'");
-      const auto g = deck::getVec3(bp, "Gravity", origin);
-      EPAPHE_REQUIRE(g[0] == 0 && g[1] == 0 && g[2] == 0,
-                     ctx << " with 'Gravity' = {" << g[0] << ", " << g[1] << ", " << g[2]
-                         << "}: the weight of a massless-boundary model would need its modes' participation T^T M e_d, "
-                            "which the reduction does not keep; remove the key, or use 'Full, lumped mass' (exact for "
-                            "a clamped body)");
-    }
-    if (method != ReductionMethod::FullLumped) continue;
-    const std::string problem = fullModelDampingProblem(damping);
-    EPAPHE_REQUIRE(problem.empty(), ctx << " with '" << deck::pathOf(dp, "Type") << "' = '" << dp.get<std::string>("Type")
-                                        << "': " << problem);
-    EPAPHE_REQUIRE(rp.get<std::string>("Retained node set").empty(),
-                   ctx << " keeps every node, but '" << deck::pathOf(rp, "Retained node set") << "' = '"
-                       << rp.get<std::string>("Retained node set") << "'; remove the key (or reduce the body)");
-  }
-}
-
-/// Grid (i along the arc, j along the axis) of a Cylinder arc surface: with e1 the reference
-/// direction and e2 = axis x e1, S_u x S_v points away from the axis.
-std::vector<double> cylinderArcGrid(const ParameterList& s, int na, int nz, const std::string& origin) {
-  const auto c = deck::getVec3(s, "Center", origin);
-  auto a = deck::getVec3(s, "Axis", origin), e1 = deck::getVec3(s, "Reference", origin);
-  const double R = s.get<double>("Radius");
-  const auto ang = deck::getDoubles(s, "Angles"), ax = deck::getDoubles(s, "Axial range");
-  EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2 && ang[1] > ang[0] && ax[1] > ax[0],
-                 origin << ": '" << deck::pathOf(s, "Angles") << "' and 'Axial range' must each be {first, last} with "
-                        "last > first");
-  auto norm = [](std::array<double, 3>& v) {
-    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (double& x : v) x /= l;
-    return l;
-  };
-  EPAPHE_REQUIRE(norm(a) > 0, origin << ": '" << deck::pathOf(s, "Axis") << "' is the zero vector");
-  const double along = e1[0] * a[0] + e1[1] * a[1] + e1[2] * a[2];
-  for (int d = 0; d < 3; ++d) e1[d] -= along * a[d];
-  EPAPHE_REQUIRE(norm(e1) > 1e-12, origin << ": '" << deck::pathOf(s, "Reference") << "' is parallel to the axis");
-  const std::array<double, 3> e2 = {a[1] * e1[2] - a[2] * e1[1], a[2] * e1[0] - a[0] * e1[2], a[0] * e1[1] - a[1] * e1[0]};
-  std::vector<double> grid;
-  for (int i = 0; i < na; ++i) {
-    const double t = (ang[0] + (ang[1] - ang[0]) * i / (na - 1)) * M_PI / 180.0;
-    for (int j = 0; j < nz; ++j) {
-      const double z = ax[0] + (ax[1] - ax[0]) * j / (nz - 1);
-      for (int d = 0; d < 3; ++d) grid.push_back(c[d] + R * (std::cos(t) * e1[d] + std::sin(t) * e2[d]) + z * a[d]);
-    }
-  }
-  return grid;
-}
-
-/// Grid of a Casing surface: around the z axis, the casing's radius(theta, z) (cone and clearance
-/// law, CasingGeometry::radiusAt, the law the Casing mesh's inner face follows too); nt distinct
-/// angles and the first repeated (a closed surface), nz axial positions over the Axial range.
-std::vector<double> casingGrid(const ParameterList& s, int nt, int nz, const std::string& origin) {
-  const CasingGeometry g = casingGeometry(s, "Radius", origin);
-  std::vector<double> grid;
-  for (int i = 0; i <= nt; ++i) {
-    const double th = 2.0 * M_PI * (i % nt) / nt;
-    for (int j = 0; j < nz; ++j) {
-      const double z = g.axialStation(j, nz), r = g.radiusAt(th, z);
-      grid.insert(grid.end(), {r * std::cos(th), r * std::sin(th), z});
-    }
-  }
-  return grid;
-}
-
 /// The rotation of a surface (thesis section 3.3), rigid or carried by a body: 'Rotation speed',
 /// 'Initial angle', 'Rotation axis', 'Rotation center'.
 void setRotation(ContactSurface& cs, const ParameterList& s, const std::string& origin) {
@@ -248,13 +132,6 @@ void setRotation(ContactSurface& cs, const ParameterList& s, const std::string& 
                                                                         "{0, 0, 1}");
 }
 
-std::string stem(const std::string& path) {
-  const auto dot = path.rfind('.');
-  const auto slash = path.rfind('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path;
-  return path.substr(0, dot);
-}
-
 /// Rank 0 builds or loads; the result is broadcast so every rank holds the same reduced model.
 void broadcast(ReducedModel& r, const Teuchos::Comm<int>& comm) {
   if (comm.getSize() == 1) return;
@@ -264,13 +141,11 @@ void broadcast(ReducedModel& r, const Teuchos::Comm<int>& comm) {
     v.resize(static_cast<std::size_t>(n));
     if (n > 0) Teuchos::broadcast(comm, 0, n, v.data());
   };
-  int header[2] = {r.size, r.numModes};
-  Teuchos::broadcast(comm, 0, 2, header);
+  int header[3] = {r.size, r.numModes, static_cast<int>(r.kind)};
+  Teuchos::broadcast(comm, 0, 3, header);
   r.size = header[0];
   r.numModes = header[1];
-  std::vector<char> method(r.method.begin(), r.method.end());
-  bcastVec(method);
-  r.method.assign(method.begin(), method.end());
+  r.kind = static_cast<ReductionKind>(header[2]);
   bcastVec(r.K);
   bcastVec(r.M);
   bcastVec(r.recovery);
@@ -349,41 +224,49 @@ void Simulation::setup() {
   Stopwatch watch;
   const ParameterList& P = *deck_.params;
   const std::string& origin = deck_.origin;
-  auto comm = rt_.comm();
-  std::ostream& out = rt_.out();
 
   // ---- bodies -------------------------------------------------------------------------------
+  checkScene(deck_, output_, !restart_.empty());  // everything that needs no reduced model, as --check
   const ParameterList& bl = P.sublist("Bodies");
-  EPAPHE_REQUIRE(bl.numParams() > 0, origin << ": 'Epaphe->Bodies' is empty; add a <ParameterList name=\"MyBody\">");
-  checkGeometry(P, origin);
   const ParameterList& tp = P.sublist("Time");
   const double h = tp.get<double>("Time step");
-  DampingOptions damping;
-  damping.type = deck::getEnum<DampingType>(tp.sublist("Damping"), "Type");
-  damping.alpha = tp.sublist("Damping").get<double>("Alpha");
-  damping.beta = tp.sublist("Damping").get<double>("Beta");
-  damping.ratio = tp.sublist("Damping").get<double>("Ratio");
-  if (const auto f = deck::getDoubles(tp.sublist("Damping"), "Rayleigh frequencies"); !f.empty()) {
-    const auto xi = deck::getDoubles(tp.sublist("Damping"), "Rayleigh ratios");
-    EPAPHE_REQUIRE(f.size() == 2 && xi.size() == 2, origin << ": 'Time->Damping->Rayleigh frequencies' and "
-                                                            "'Rayleigh ratios' must both have 2 values");
-    rayleighFromRatios(f[0], xi[0], f[1], xi[1], damping.alpha, damping.beta);
-  }
+  const DampingOptions damping = dampingOptions(tp, origin);
   const ParameterList& cp = P.sublist("Contact");
   const ContactOptions copt = contactOptions(cp, h);
-  checkReductions(P, damping, origin);
 
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     auto b = std::make_unique<Body>();
     b->name = bl.name(it);
     const ParameterList& bp = bl.sublist(b->name);
-    const ParameterList& rp = bp.sublist("Reduction");
-    const std::string ctx = origin + ": body '" + b->name + "'";
     b->contactSet = bp.get<std::string>("Contact node set");
-    std::string retainedSet = rp.get<std::string>("Retained node set");
-    if (retainedSet.empty()) retainedSet = b->contactSet;
-    const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
-    const int checkCount = rp.get<int>("Frequency check");
+    loadOrReduce(b.get(), bp);
+    setInitialState(b.get(), bp, h, damping);
+    b->offset = systemSize_;
+    systemSize_ += b->rom.size;
+    bodies_.push_back(std::move(b));
+  }
+
+  const auto carriedDofs = setupSurfacesAndContact(copt);
+  checkContactAtStart(cp, h);
+  checkStableSteps(carriedDofs, copt, damping);
+  summary_.timeStep = h;
+  summary_.criticalStep = 1e300;
+  for (const auto& b : bodies_) summary_.criticalStep = std::min(summary_.criticalStep, b->stable.critical);
+  summary_.setupSeconds = watch.seconds();
+}
+
+/// The body's reduced model: from its cache when the key (model files, mesh, reduction parameters)
+/// matches, else built and reduced by the factory (reduceBody), frequency-checked and cached.
+void Simulation::loadOrReduce(Body* b, const ParameterList& bp) {
+  const std::string& origin = deck_.origin;
+  auto comm = rt_.comm();
+  std::ostream& out = rt_.out();
+  const ParameterList& rp = bp.sublist("Reduction");
+  const std::string ctx = origin + ": body '" + b->name + "'";
+  std::string retainedSet = rp.get<std::string>("Retained node set");
+  if (retainedSet.empty()) retainedSet = b->contactSet;
+  const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
+  const int checkCount = rp.get<int>("Frequency check");
 
     // Cache key: everything the reduced model depends on (imported files: their content hashes, on rank 0).
     bodyModelFiles(b->name, bp, origin);  // every rank checks the files exist before anything waits on rank 0
@@ -394,8 +277,7 @@ void Simulation::setup() {
                        "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
                        "\ncheck=" + std::to_string(checkCount) + "\nsolver=" + rp.get<std::string>("Linear solver") +
                        "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")));
-    std::string cacheFile = rp.get<std::string>("Cache file");
-    if (cacheFile.empty()) cacheFile = stem(output_) + "." + b->name + ".rom.h5";
+    const std::string cacheFile = cacheFileOf(rp, output_, b->name);
     const bool useCache = rp.get<bool>("Cache") && method != ReductionMethod::FullLumped;  // nothing to reduce
 
     int cached = 0;
@@ -406,47 +288,50 @@ void Simulation::setup() {
       b->rom.name = b->name;
       b->fromCache = true;
     } else {
+      Stopwatch built;
       FullModel full = buildBodyModel(b->name, bp, origin, comm);
       out << "[" << b->name << "] full model: " << full.numNodes() << " nodes, " << full.numFree << " free DOFs, "
-          << full.mesh.hexes.size() << " hexahedra\n";
-      if (method == ReductionMethod::None) {
-        b->rom = unreducedModel(full);
-      } else if (method == ReductionMethod::FullLumped) {
-        const FullModel lumped = withLumpedMass(full);
-        b->rom = sparseModel(lumped);
+          << full.mesh.hexes.size() << " hexahedra, " << (hasBuiltInMesh(bp) ? "built" : "imported") << " in "
+          << formatDuration(built.seconds()) << "\n";
+      const CraigBamptonOptions cbo = reductionOptions(rp);
+      const bool retains = method != ReductionMethod::None && method != ReductionMethod::FullLumped;
+      EPAPHE_REQUIRE(!retains || !retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
+                                                          << " needs a 'Retained node set' (or a 'Contact node set')");
+      const auto retainedNodes = retains ? full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'")
+                                         : std::vector<int>{};
+      try {  // the reduction's errors name the body; add the deck
+        b->rom = reduceBody(full, retainedNodes, rp, cbo, &b->report);
+      } catch (const Error& e) {
+        throw Error(origin + ": " + e.what());
+      }
+      if (b->rom.sparse())
         out << "[" << b->name << "] full model kept: K sparse (" << b->rom.sparseK.values.size()
             << " entries), mass lumped to its diagonal (HRZ)\n";
-        if (checkCount > 0)  // the lumped model's own frequencies, against the consistent model's (below)
-          b->reducedFrequencies = fullModelFrequencies(lumped, std::min(checkCount, full.numFree - 1),
-                                                       rp.get<std::string>("Linear solver"),
-                                                       rp.get<double>("Iterative tolerance"));
-      } else {
-        EPAPHE_REQUIRE(!retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
-                                                 << " needs a 'Retained node set' (or a 'Contact node set')");
-        const CraigBamptonOptions cbo = reductionOptions(rp);
-        const auto retainedNodes = full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'");
-        try {  // the reduction's errors name the body; add the deck
-          b->rom = method == ReductionMethod::MasslessBoundary ? masslessBoundary(full, retainedNodes, cbo, &b->report)
-                                                                : craigBampton(full, retainedNodes, cbo, &b->report);
-        } catch (const Error& e) {
-          throw Error(origin + ": " + e.what());
-        }
-        out << "[" << b->name << "] " << b->rom.method << ": " << b->report.retainedDofs << " retained DOFs + "
+      else if (retains)
+        out << "[" << b->name << "] " << b->rom.method() << ": " << b->report.retainedDofs << " retained DOFs + "
             << cbo.modes << " modes = " << b->rom.size << " reduced DOFs in " << formatDuration(b->report.seconds)
             << " on " << comm->getSize() << " rank(s) (factor " << formatDuration(b->report.factorSeconds)
             << ", constraint modes " << formatDuration(b->report.constraintSeconds) << ", eigenmodes "
             << formatDuration(b->report.eigenSeconds) << ")\n";
+      if (checkCount > 0) {
+        const FrequencyCheck fc = frequencyCheck(full, b->rom, cbo, checkCount);
+        b->rom.fullFrequencies = fc.full;
+        if (b->rom.sparse()) b->reducedFrequencies = fc.lumped;
+        out << "[" << b->name << "] frequency check: the full model's lowest " << fc.full.size() << " frequencies "
+            << (fc.reused ? std::string("are the reduction's own modes") : "in " + formatDuration(fc.seconds)) << "\n";
       }
-      if (checkCount > 0)
-        b->rom.fullFrequencies = fullModelFrequencies(full, std::min(checkCount, full.numFree - 1), rp.get<std::string>("Linear solver"),
-                                                         rp.get<double>("Iterative tolerance"));
       if (useCache && comm->getRank() == 0) saveReducedModel(b->rom, cacheFile, key);
     }
-    if (b->fromCache) out << "[" << b->name << "] reduced model (" << b->rom.method << ", " << b->rom.size
+    if (b->fromCache) out << "[" << b->name << "] reduced model (" << b->rom.method() << ", " << b->rom.size
                           << " DOFs) reused from " << cacheFile << "\n";
     b->fullFrequencies = b->rom.fullFrequencies;
     if (!b->rom.sparse()) b->reducedFrequencies = reducedFrequencies(b->rom);
+}
 
+/// Initial velocity, watched and contact node sets, the integrator and gravity of a reduced body.
+void Simulation::setInitialState(Body* b, const ParameterList& bp, double h, const DampingOptions& damping) {
+  const std::string& origin = deck_.origin;
+  const std::string ctx = origin + ": body '" + b->name + "'";
     // Initial velocity: uniform translation, exact in reduced coordinates (retained DOFs).
     const auto v0 = deck::getVec3(bp, "Initial velocity", origin);
     b->v0.assign(static_cast<std::size_t>(b->rom.size), 0.0);
@@ -491,7 +376,7 @@ void Simulation::setup() {
           EPAPHE_REQUIRE(rayleigh <= 1e-10 * scale,
                          ctx << ", 'Gravity' = {" << grav[0] << ", " << grav[1] << ", " << grav[2]
                              << "}: a rigid translation along " << "xyz"[d] << " is not a motion of its "
-                             << b->rom.method << " model (t^T K t / t^T M t = " << rayleigh
+                             << b->rom.method() << " model (t^T K t / t^T M t = " << rayleigh
                              << " s^-2, against " << scale << " for its stiffest DOF): the body is held"
                              << (clamped.empty() ? " by the imported model's boundary conditions"
                                                  : " by 'Clamped node set' = '" + clamped + "'")
@@ -508,13 +393,15 @@ void Simulation::setup() {
     std::vector<int> watchedNodes;
     for (const auto& w : b->watched) watchedNodes.insert(watchedNodes.end(), w.second.begin(), w.second.end());
     b->recoveryWatched = NodeRecovery(b->rom, watchedNodes, "epaphe::watched::R");
-    b->offset = systemSize_;
-    systemSize_ += b->rom.size;
-    bodies_.push_back(std::move(b));
-  }
+}
 
-  const auto carriedDofs = setupSurfacesAndContact(copt);
-  if (contact_) {  // refuse what would run to nonsense: tunnelling, bodies that start inside each other
+/// Refuses what would run to nonsense at t = 0 (ContactGuards): a step longer than a surface patch,
+/// bodies that start inside a surface (or resolves them gently, as the deck says).
+void Simulation::checkContactAtStart(const ParameterList& cp, double h) {
+  const std::string& origin = deck_.origin;
+  std::ostream& out = rt_.out();
+  if (!contact_) return;
+  {
     std::vector<std::string> names;
     std::vector<double> speeds;
     for (const auto& b : bodies_) {
@@ -536,7 +423,16 @@ void Simulation::setup() {
       out << "initial penetration: " << pr.count << " contact node(s), deepest " << pr.deepest
           << " m, resolved gently (Contact->Initial penetration)\n";
   }
+}
 
+/// The stable step of each body (with the penalty springs on its contact and carried surface DOFs)
+/// against the deck's time step: an Error, or a warning with 'Allow unstable time step'.
+void Simulation::checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, const ContactOptions& copt,
+                                  const DampingOptions& damping) {
+  const std::string& origin = deck_.origin;
+  std::ostream& out = rt_.out();
+  const ParameterList& tp = deck_.params->sublist("Time");
+  const double h = tp.get<double>("Time step");
   // Stable step of each body, with the penalty springs on its contact and surface DOFs.
   for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
     Body* b = bodies_[ib].get();
@@ -562,10 +458,6 @@ void Simulation::setup() {
       out << "warning: " << os.str() << "\n";
     }
   }
-  summary_.timeStep = h;
-  summary_.criticalStep = 1e300;
-  for (const auto& b : bodies_) summary_.criticalStep = std::min(summary_.criticalStep, b->stable.critical);
-  summary_.setupSeconds = watch.seconds();
 }
 
 std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactOptions& copt) {
@@ -584,15 +476,8 @@ std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactO
     const auto type = deck::getEnum<SurfaceType>(s, "Type");
     if (type == SurfaceType::BodyFace) {
       const std::string bodyName = s.get<std::string>("Body"), gridName = s.get<std::string>("Node grid");
-      int ib = -1;
-      for (std::size_t b = 0; b < bodies_.size(); ++b)
-        if (bodies_[b]->name == bodyName) ib = static_cast<int>(b);
-      if (ib < 0) {
-        ErrorBuilder eb;
-        eb << origin << ": '" << deck::pathOf(s, "Body") << "' = '" << bodyName << "' is not a body; the deck has:";
-        for (const auto& b : bodies_) eb << " '" << b->name << "'";
-        eb.raise();
-      }
+      int ib = 0;  // checkScene: the body exists
+      while (bodies_[static_cast<std::size_t>(ib)]->name != bodyName) ++ib;
       const Body& b = *bodies_[ib];
       const auto git = b.rom.nodeGrids.find(gridName);
       if (git == b.rom.nodeGrids.end()) {
@@ -616,7 +501,7 @@ std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactO
       const std::set<int> retained(b.rom.retainedNodes.begin(), b.rom.retainedNodes.end());
       int free = 0;
       for (int node : g.nodes) {
-        const bool kept = b.rom.method == "None" || retained.count(node) > 0;
+        const bool kept = b.rom.kind == ReductionKind::None || retained.count(node) > 0;
         EPAPHE_REQUIRE(kept, origin << ": surface '" << name << "': node " << node << " of grid '" << gridName
                                     << "' is not a retained node of body '" << bodyName << "'; add the grid's node set to "
                                     "its 'Reduction->Retained node set'");
@@ -632,14 +517,6 @@ std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactO
       }
       EPAPHE_REQUIRE(free > 0, origin << ": surface '" << name << "': every node of grid '" << gridName
                                       << "' is clamped; use a rigid surface");
-      EPAPHE_REQUIRE(b.contactSet.empty(),
-                     origin << ": surface '" << name << "' is carried by body '" << bodyName << "' ('"
-                            << deck::pathOf(s, "Body") << "'), whose own nodes are contact nodes ('"
-                            << deck::pathOf(P.sublist("Bodies").sublist(bodyName), "Contact node set") << "' = '"
-                            << b.contactSet << "'): a node cannot touch a surface of its own body"
-                            << (s.get<double>("Rotation speed") != 0.0 ? " (nor can a surface turn relative to its own "
-                                                                         "body)" : "")
-                            << "; carry the surface by another body, or remove that 'Contact node set'");
       surfaces_.push_back(std::make_unique<BSplineSurface>(name, g.nu, g.nv, cs.gridX, so));
       cs.surface = cs.moving = surfaces_.back().get();
       setRotation(cs, s, origin);
@@ -647,26 +524,9 @@ std::vector<std::vector<int>> Simulation::setupSurfacesAndContact(const ContactO
       contactSurfaces.push_back(std::move(cs));
       continue;
     }
-    const auto pts = deck::getInts(s, "Points");
-    EPAPHE_REQUIRE(pts.size() == 2, origin << ": '" << deck::pathOf(s, "Points") << "' has " << pts.size()
-                                           << " values; give the grid size as {nu, nv}");
-    EPAPHE_REQUIRE(pts[0] >= 4 && pts[1] >= 4, origin << ": '" << deck::pathOf(s, "Points") << "' = {" << pts[0]
-                                                      << ", " << pts[1] << "}; a bicubic surface needs at least 4 points "
-                                                      "in each direction");
-    std::vector<double> grid;
-    if (type == SurfaceType::Plane) {
-      const auto o = deck::getVec3(s, "Origin", origin), U = deck::getVec3(s, "U", origin), V = deck::getVec3(s, "V", origin);
-      for (int i = 0; i < pts[0]; ++i)
-        for (int j = 0; j < pts[1]; ++j)
-          for (int d = 0; d < 3; ++d) grid.push_back(o[d] + U[d] * i / (pts[0] - 1) + V[d] * j / (pts[1] - 1));
-    } else if (type == SurfaceType::Casing) {
-      grid = casingGrid(s, pts[0], pts[1], origin);
-      so.orientation = -so.orientation;  // towards the axis
-    } else {
-      grid = cylinderArcGrid(s, pts[0], pts[1], origin);
-    }
-    const int nu = type == SurfaceType::Casing ? pts[0] + 1 : pts[0];  // the casing repeats its first row: closed
-    surfaces_.push_back(std::make_unique<BSplineSurface>(name, nu, pts[1], grid, so));
+    const RigidGrid grid = rigidSurfaceGrid(s, origin);
+    if (grid.towardsAxis) so.orientation = -so.orientation;
+    surfaces_.push_back(std::make_unique<BSplineSurface>(name, grid.nu, grid.nv, grid.points, so));
     ContactSurface cs{surfaces_.back().get(), nullptr, -1, {}, {}};
     setRotation(cs, s, origin);
     contactSurfaces.push_back(std::move(cs));
@@ -817,7 +677,7 @@ const RunSummary& Simulation::run() {
       file.writeDoubles(g + "/frequencies/reduced", b.reducedFrequencies);
       file.writeDoubles(g + "/frequencies/full", b.fullFrequencies);
       file.writeDoubles(g + "/frequencies/fixed_interface", b.rom.modeFrequencies);
-      file.setAttribute(g, "reduction", b.rom.method);
+      file.setAttribute(g, "reduction", b.rom.method());
       file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
     }
     r.v = DenseVector("v", n);
@@ -1344,10 +1204,10 @@ void Simulation::printSummary(std::ostream& os) const {
      << deck_.origin << ") ====\n";
   for (const auto& b : bodies_) {
     if (b->rom.sparse())
-      os << "body '" << b->name << "': " << b->rom.method << ", " << b->rom.size << " DOFs (sparse K, "
+      os << "body '" << b->name << "': " << b->rom.method() << ", " << b->rom.size << " DOFs (sparse K, "
          << b->rom.sparseK.values.size() << " entries)\n";
     else
-      os << "body '" << b->name << "': " << b->rom.method << ", " << b->rom.size << " reduced DOFs ("
+      os << "body '" << b->name << "': " << b->rom.method() << ", " << b->rom.size << " reduced DOFs ("
          << b->rom.numModes << " modes)" << (b->fromCache ? ", from cache" : "") << "\n";
     const std::size_t nf = std::min(b->fullFrequencies.size(), b->reducedFrequencies.size());
     if (nf > 0) {

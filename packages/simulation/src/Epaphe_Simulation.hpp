@@ -89,6 +89,12 @@ private:
   /// Builds the surfaces and the contact; returns, per body, the reduced DOFs of the surfaces it
   /// carries (penalty springs act on them too, for the stable step).
   std::vector<std::vector<int>> setupSurfacesAndContact(const ContactOptions& options);
+  // The steps of setup(), in order.
+  void loadOrReduce(Body* body, const Teuchos::ParameterList& bodyParams);
+  void setInitialState(Body* body, const Teuchos::ParameterList& bodyParams, double h, const DampingOptions& damping);
+  void checkContactAtStart(const Teuchos::ParameterList& contactParams, double h);
+  void checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, const ContactOptions& copt,
+                        const DampingOptions& damping);
   void writeXdmf(long long frames) const;
   Deck deck_;
   const Runtime& rt_;

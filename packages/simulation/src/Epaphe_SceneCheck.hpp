@@ -1,0 +1,45 @@
+#pragma once
+// Every check of a scene that needs no reduced model, in one place: the deck's cross-key and
+// cross-section checks (bodies, reductions against damping and contact, surfaces), the built-in
+// meshes with the node sets and grids the deck names, and the files the run will create.
+// Simulation::setup() runs it before any work and `epaphe-run --check` runs it alone, so a deck is
+// refused by both with the same message. What needs the reduced model or the contact detection
+// is checked in the setup only: the critical time step (the reduced model's highest frequency),
+// gravity on a held imported model, bodies that start inside a surface, a step longer than a
+// surface patch (tests/badinput/check_bad_decks.py lists them).
+#include "Epaphe_CentralDifference.hpp"
+#include "Epaphe_DeckSchema.hpp"
+
+#include <Teuchos_ParameterList.hpp>
+
+#include <string>
+#include <vector>
+
+namespace epaphe {
+
+/// The checks above; `outputPath` is the history file the run will write (the deck's or the
+/// command line's), `restart` true when the run continues an existing one. Throws an Error naming
+/// the deck, the key, the value and the fix.
+void checkScene(const Deck& scene, const std::string& outputPath, bool restart);
+
+/// The damping of the deck's 'Time->Damping' list (Rayleigh from two frequencies and ratios when given).
+DampingOptions dampingOptions(const Teuchos::ParameterList& timeParams, const std::string& origin);
+
+/// The point grid of a rigid surface (Plane, Cylinder, Casing) from its deck list: nu x nv points
+/// (i along u, j along v), a Casing's first row repeated (closed). `towardsAxis`: a Casing's normal
+/// points inwards (flip its orientation).
+struct RigidGrid {
+  int nu = 0, nv = 0;
+  std::vector<double> points;
+  bool towardsAxis = false;
+};
+RigidGrid rigidSurfaceGrid(const Teuchos::ParameterList& surface, const std::string& origin);
+
+/// 'Output->File' without its extension, the stem of the cache, XDMF and other files of a run.
+std::string stem(const std::string& path);
+
+/// The reduced-model cache file of a body: 'Reduction->Cache file', else <output stem>.<body>.rom.h5.
+std::string cacheFileOf(const Teuchos::ParameterList& reductionParams, const std::string& outputPath,
+                        const std::string& body);
+
+}  // namespace epaphe
