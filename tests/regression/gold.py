@@ -56,6 +56,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "verification"))
 from epaphe_testing import variant  # noqa: E402
+import epaphe  # noqa: E402  (epaphe_testing put python/ on the path)
 
 MAX_RECORDS = 200   # records kept per dataset (windows of the run) at most ...
 BUDGET = 10000      # ... and fewer on a deck with many datasets: about this many values in all (< 100 kB)
@@ -165,20 +166,11 @@ def reduce_history(h5path, stdout, selection=None, records=None):
     from `selection`, the gold file's, when given, so that the same nodes are compared), over
     `records` windows (the gold file's; else MAX_RECORDS, or fewer to hold BUDGET values)."""
     out, chosen = {}, {}
-    with h5py.File(h5path, "r") as f:
-        status = f.attrs["status"]
-        status = status.decode() if isinstance(status, bytes) else status
-        if status != "complete":
-            raise RuntimeError(f"{h5path}: status '{status}', not complete")
-        n = f["time"].shape[0]
-        raw = {}
-
-        def visit(name, obj):
-            if isinstance(obj, h5py.Dataset) and obj.dtype.kind == "f" and not IGNORE.search(name):
-                if kind_of(name) is not None:
-                    raw[name] = obj[()]
-
-        f.visititems(visit)
+    with epaphe.open(h5path) as run:
+        if not run.complete:
+            raise RuntimeError(f"{h5path}: status '{run.status}', not complete")
+        n = run.records
+        raw = run.flat("f", select=lambda name: not IGNORE.search(name) and kind_of(name) is not None)
         if records is None:
             per_record = sum(columns(k, a.shape) for k, a in raw.items())
             records = max(50, min(MAX_RECORDS, BUDGET // max(per_record, 1)))
@@ -434,8 +426,8 @@ def main():
             print(f"{name}: REGENERATED {gold_path} ({os.path.getsize(gold_path) / 1024:.1f} kB, {n} records -> "
                   f"{len(idx)}, {len(data)} datasets; run {seconds[0]:.1f} s, CPU {seconds[1]:.1f} s)")
             continue
-        with h5py.File(out, "r") as f:
-            times = f["time"][()][idx]
+        with epaphe.open(out) as run:
+            times = run.time[idx]
         fails, worst = [], {}
         if n != gattrs["records"] or not np.array_equal(idx, gidx):
             fails.append(f"{name}: the run wrote {n} records, the gold run {gattrs['records']} (the deck's time step, "

@@ -16,11 +16,11 @@ import glob
 import os
 import sys
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "verification"))
 from epaphe_testing import run, variant  # noqa: E402
+import epaphe  # noqa: E402  (epaphe_testing put python/ on the path)
 
 RTOL = 1e-7   # of each dataset's largest magnitude (the balance error: absolute, it is already relative)
 # horizons: long decks are cut to what holds their first contacts
@@ -40,20 +40,10 @@ IGNORE = ("cost", "iterations", "wall", "seconds", "projected")
 
 
 def datasets(path):
-    out = {}
-    with h5py.File(path, "r") as f:
-        status = f.attrs["status"]
-        status = status.decode() if isinstance(status, bytes) else status
-        assert status == "complete", f"{path}: status {status}"
-
-        def visit(name, obj):
-            if isinstance(obj, h5py.Dataset) and obj.dtype.kind in "fi" and not any(s in name for s in IGNORE):
-                if not name.startswith("checkpoint"):
-                    out[name] = obj[()]
-
-        f.visititems(visit)
-        attrs = dict(f["/run"].attrs)
-    return out, attrs
+    with epaphe.open(path) as f:
+        assert f.complete, f"{path}: status {f.status}"
+        out = f.flat("fi", select=lambda name: not any(s in name for s in IGNORE) and not name.startswith("checkpoint"))
+        return out, dict(f.attrs)
 
 
 def main():

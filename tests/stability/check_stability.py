@@ -15,25 +15,21 @@ import os
 import re
 import sys
 import time
-import xml.etree.ElementTree as ET
 
-import h5py
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "verification"))
 import epaphe_testing as et  # noqa: E402
+import epaphe  # noqa: E402  (epaphe_testing put python/ on the path)
 
 BEYOND = 1e299  # gap of a node beyond every surface is 1e300
 
 
 def read(path):
-    with h5py.File(path, "r") as f:
-        status = f.attrs["status"]
-        status = status.decode() if isinstance(status, bytes) else status
-        data = {}
-        f.visititems(lambda n, o: data.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset) and o.dtype.kind in "fi" else None)
-    return status, data
+    """(status, {dataset path: array} of every numeric dataset) of a run."""
+    with epaphe.open(path) as run:
+        return run.status, run.flat()
 
 
 def bodies(data):
@@ -234,18 +230,7 @@ BOUNDS = {}  # the running case's bounds, for its extra check
 
 def deck_parameters(path):
     """{"Time->Time step": "1e-7", "Surfaces->Floor->Type": "Plane", ...} of a deck."""
-    out = {}
-
-    def walk(node, prefix):
-        for child in node:
-            name = child.get("name")
-            if child.tag == "ParameterList":
-                walk(child, prefix + [name])
-            elif child.tag == "Parameter":
-                out["->".join(prefix + [name])] = child.get("value")
-
-    walk(ET.parse(path).getroot(), [])
-    return out
+    return epaphe.read_deck(path).parameters()
 
 
 def numbers(text):
@@ -360,7 +345,7 @@ CASES = {
 def critical_penalty(run, deck, workdir):
     """The penalty stiffness at which the deck's time step is the critical step: kp -> h_crit(kp) from
     runs of one step (h_crit ~ kp^-1/2 once the springs dominate), refined by the secant in log-log."""
-    h = float(re.search(r'name="Time step" type="double" value="([^"]+)"', open(deck).read()).group(1))
+    h = float(et.deck_value(deck, "Time->Time step"))
     kp, pts = 1e8, []
     for it in range(8):
         v = et.variant(deck, os.path.join(workdir, "kp.xml"), {"Contact->Penalty stiffness": (f"{kp:.17g}", "double"),
@@ -368,8 +353,8 @@ def critical_penalty(run, deck, workdir):
                                                                "Time->Allow unstable time step": ("true", "bool"),
                                                                "Output->File": "kp.h5"})
         et.run([run, v], workdir)
-        with h5py.File(os.path.join(workdir, "kp.h5"), "r") as f:
-            hc = float(f["/run"].attrs["critical_time_step"])
+        with epaphe.open(os.path.join(workdir, "kp.h5")) as f:
+            hc = float(f.attrs["critical_time_step"])
         pts.append((np.log(kp), np.log(hc)))
         if abs(hc / h - 1) < 1e-6:
             break

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""drivers/epaphe-plot: figures from Epaphe HDF5 histories.
+"""drivers/epaphe-plot (python/epaphe/cli/plot.py): figures from Epaphe HDF5 histories.
 
 Runs two short variants of the bar-on-wall deck (Lagrange and penalty contact, End time 1.2e-4 s),
 plots them overlaid and checks:
@@ -10,15 +10,13 @@ plots them overlaid and checks:
     velocity of node K or of the set mean, energies) equal the HDF5 datasets, for each file;
     --tmin/--tmax keep exactly the records of the window; legends default to the root `name`,
     or to the file stems when the names are shared;
-  * the time unit and SI prefixes chosen from the ranges (the script imported as a module);
+  * the time unit and SI prefixes chosen from the ranges (epaphe.plots);
   * errors are exit status 1 with one line on stderr: unknown node set (naming the valid ones),
     unknown body (naming the bodies), missing file, a non-HDF5 file, an HDF5 file without /time,
     --node out of range, --label count; a file whose status is not "complete" is plotted with a
     warning, and refused with --strict.
 """
 import csv
-import importlib.machinery
-import importlib.util
 import os
 import shutil
 import struct
@@ -250,12 +248,8 @@ def main():
         probs = png_problems(os.path.join(out3, "energy.png"))
         check(not probs, f"windowed energy.png: {probs}")
 
-    # ---- 4. units, from the script imported as a module ---------------------------------------
-    sys.dont_write_bytecode = True          # no __pycache__ next to the driver in the source tree
-    loader = importlib.machinery.SourceFileLoader("epaphe_plot", tool)
-    spec = importlib.util.spec_from_loader("epaphe_plot", loader)
-    mod = importlib.util.module_from_spec(spec)
-    loader.exec_module(mod)
+    # ---- 4. units, from the package (python/epaphe/plots.py, what epaphe-plot draws with) -------
+    from epaphe import plots as mod         # epaphe_testing put python/ on the path
     for span, unit in ((END_TIME, "\u00b5s"), (5e-3, "ms"), (0.5, "ms"), (3.0, "s")):
         check(mod.time_unit(span)[0] == unit, f"time_unit({span:g}) = {mod.time_unit(span)}, expected {unit}")
     for vals, u, want in (([1.6e6], "N", "MN"), ([2e-3, -4e-5], "m", "mm"), ([3200.0], "J", "kJ"),

@@ -30,7 +30,7 @@ import numpy as np
 import epaphe_testing as et
 
 a = et.parse_args()
-ex = et.exact_solution("two-bars", a.run, a.deck)   # epaphe-sweep's, from the deck (E, rho, L, v)
+ex = et.exact_solution("two-bars", a.deck, a.run)   # epaphe-sweep's, from the deck (E, rho, L, v)
 c, T, v = ex.c, ex.T, ex.v0
 
 

@@ -27,11 +27,12 @@ import os
 import subprocess
 import sys
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import engine_order_lines, history, load_script, parse_args, run, variant, verdict  # noqa: E402
+from epaphe_testing import engine_order_lines, history, parse_args, run, variant, verdict  # noqa: E402
+import epaphe  # noqa: E402  (epaphe_testing put python/ on the path)
+from epaphe import measures as rotor  # noqa: E402  (epaphe-rotor's contact events and spectra)
 
 SKIP, REVS = 3, 20   # the transient, and the deck's End revolutions
 DOMINANCE = 2.0      # "dominant": the contact count's line over every non-harmonic order's line, at least 2x (6 dB)
@@ -42,10 +43,9 @@ deck = variant(a.deck, os.path.join(a.workdir, "blade.xml"), {"Run->Progress int
 out = run([a.run, deck], a.workdir)
 print("\n".join(l for l in out.stdout.splitlines() if "steps/s" in l or "per-step" in l or "contact:" in l))
 h5 = os.path.join(a.workdir, "blade-casing.h5")
-rotor = load_script(a.rotor, "epaphe_rotor")
 failures = []
-with h5py.File(h5, "r") as f:   # the blade's natural frequencies (reduced model) in engine orders
-    modes_eo = f["/bodies/Blade/frequencies/reduced"][()] / (rotor.rotation_speed(f) / (2 * np.pi))
+with epaphe.open(h5) as f:   # the blade's natural frequencies (reduced model) in engine orders
+    modes_eo = f.bodies["Blade"].frequencies["reduced"] / (rotor.rotation_speed(f) / (2 * np.pi))
 res = rotor.contact_events(h5, "Blade", ["tip-le", "tip-te"], skip=SKIP)
 for name, expected in (("tip-le", 2), ("tip-te", 6)):
     r = res[name]

@@ -26,35 +26,24 @@ import os
 import re
 import sys
 import time
-import xml.etree.ElementTree as ET
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import history, load_script, parse_args, run, variant, verdict  # noqa: E402
-
-
-def deck_value(deck, path):
-    *lists, name = path.split("->")
-    node = ET.parse(deck).getroot()
-    for l in lists:
-        node = node.find(f"./ParameterList[@name='{l}']")
-    return node.find(f"./Parameter[@name='{name}']").get("value")
+from epaphe_testing import deck_value, history, parse_args, run, variant, verdict  # noqa: E402
+import epaphe  # noqa: E402  (epaphe_testing put python/ on the path)
+from epaphe import measures as rotor  # noqa: E402  (epaphe-rotor's contact events)
 
 
 def finite(path):
     """Datasets holding NaN or Inf, but the checkpoints' warm starts (NaN there: a cold start)."""
-    bad = []
-    with h5py.File(path, "r") as f:
-        f.visititems(lambda n, o: bad.append(n) if isinstance(o, h5py.Dataset) and o.dtype.kind == "f"
-                     and not n.endswith("warm_start") and not np.isfinite(o[()]).all() else None)
-    return bad
+    with epaphe.open(path) as out:
+        data = out.flat("f", select=lambda n: not n.endswith("warm_start"))
+    return [n for n, v in data.items() if not np.isfinite(v).all()]
 
 
 def main():
     a = parse_args("--rigid-deck", "--rotor")
-    rotor = load_script(a.rotor, "epaphe_rotor")
     failures = []
     h = float(deck_value(a.deck, "Time->Time step"))
     revs = float(deck_value(a.deck, "Time->End revolutions"))

@@ -26,7 +26,8 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import engine_order_lines, load_script  # noqa: E402
+from epaphe_testing import engine_order_lines  # noqa: E402
+from epaphe import measures as rotor  # noqa: E402  (epaphe-rotor's spectra)
 
 SPEEDS = (600, 1000, 1400)
 REVS, SKIP = 16, 8   # 8 whole revolutions analyzed: bins 1/8 of an engine order apart
@@ -55,7 +56,6 @@ with h5py.File(os.path.join(a.workdir, "map.h5"), "r") as f:
             failures.append(f"{s}: map shape {amp.shape} or non-finite values")
         if not os.path.getsize(os.path.join(a.workdir, f"map-{s}.png")) > 1000:
             failures.append(f"{s}: no map picture")
-rotor = load_script(a.rotor, "epaphe_rotor")
 for w in SPEEDS:
     h5 = os.path.join(a.workdir, f"speed-{w:g}.h5")
     for s in ("tip-le", "tip-te"):

@@ -1,0 +1,223 @@
+"""Decks: read (with line numbers), get values (with the schema's defaults), override keys
+"Time->Time step" (creating missing lists and parameters), write.
+
+    d = read_deck("inputs/bar-on-wall.xml")
+    d.get("Time->Time step")                      # '1e-7' (text, as in the deck)
+    d.line("Time->Time step")                     # 45
+    d.override({"Time->End time": "1e-4", "Output->File": ("short.h5", "string")}).write("short.xml")
+"""
+import xml.etree.ElementTree as ET
+from xml.parsers import expat
+
+from .errors import EpapheError, UnknownName
+
+
+# ---- XML with line numbers ----------------------------------------------------------------------
+class XNode:
+    def __init__(self, tag, attrs, line):
+        self.tag, self.attrs, self.line, self.children = tag, attrs, line, []
+
+    @property
+    def name(self):
+        return self.attrs.get("name")
+
+
+def read_xml(path):
+    """The XML file at `path` as a tree of XNode (tag, attrs, line, children)."""
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read()
+    except OSError as e:
+        raise EpapheError(f"{path}: cannot be read ({e.strerror})") from None
+    parser = expat.ParserCreate()
+    stack, root = [], []
+
+    def start(tag, attrs):
+        n = XNode(tag, attrs, parser.CurrentLineNumber)
+        (stack[-1].children if stack else root).append(n)
+        stack.append(n)
+
+    parser.StartElementHandler = start
+    parser.EndElementHandler = lambda tag: stack.pop()
+    try:
+        parser.Parse(data, True)
+    except expat.ExpatError as e:
+        raise EpapheError(f"{path}:{e.lineno}: not well-formed XML: {expat.ErrorString(e.code)}") from None
+    return root[0]
+
+
+# ---- values -------------------------------------------------------------------------------------
+def split_top(text, sep=","):
+    """Splits on `sep` outside braces: '{0, -10, 0}, {0, -50, 0}' -> two items."""
+    out, depth, cur = [], 0, ""
+    for ch in text:
+        if ch == "{":
+            depth += 1
+        elif ch == "}":
+            depth -= 1
+        if ch == sep and depth == 0:
+            out.append(cur.strip())
+            cur = ""
+        else:
+            cur += ch
+    if cur.strip():
+        out.append(cur.strip())
+    return out
+
+
+def numbers(text):
+    """'{0.2, 0.02, 0.02}' or '0.2' -> [floats]."""
+    t = text.strip()
+    if t.startswith("{") and t.endswith("}"):
+        t = t[1:-1]
+    return [float(x) for x in t.split(",") if x.strip()]
+
+
+def deck_child(node, tag, name):
+    """The child <tag name="name"> of an XML deck node, matched by attribute, not by an XPath predicate
+    (names hold quotes: "Young's modulus"); None when absent."""
+    return next((c for c in node.findall(tag) if c.get("name") == name), None)
+
+
+# ---- decks --------------------------------------------------------------------------------------
+class Deck:
+    """A deck as an ElementTree (`root`), its parameters read through the schema's defaults; `path`
+    is where it came from (for messages), `lines` {key: line} when it was read from a file."""
+
+    def __init__(self, path=None, text=None):
+        self.path = path
+        self.lines = {}
+        try:
+            self.root = ET.fromstring(text) if text is not None else ET.parse(path).getroot()
+        except ET.ParseError as e:
+            raise EpapheError(f"{path}: not well-formed XML ({e})") from None
+        except OSError as e:
+            raise EpapheError(f"{path}: cannot be read ({e.strerror})") from None
+        if text is None:
+            def walk(node, prefix):
+                for c in node.children:
+                    key = prefix + [c.name or ""]
+                    self.lines["->".join(key)] = c.line
+                    walk(c, key)
+            walk(read_xml(path), [])
+
+    def line(self, key):
+        """The line of the parameter or list `key` in the file read, or None."""
+        return self.lines.get(key)
+
+    def node(self, path):
+        """The <ParameterList> at 'Bodies->Bar' ('' for the root), or None."""
+        node = self.root
+        for name in [p for p in path.split("->") if p]:
+            node = deck_child(node, "ParameterList", name)
+            if node is None:
+                return None
+        return node
+
+    def sublists(self, path):
+        """The names of the lists in the list `path`: deck.sublists("Bodies") -> ["Bar"]."""
+        node = self.node(path)
+        return [] if node is None else [c.get("name") for c in node.findall("./ParameterList")]
+
+    def parameters(self):
+        """{"Time->Time step": "1e-7", "Surfaces->Wall->Type": "Plane", ...}: every parameter the deck
+        gives, as text, in document order."""
+        out = {}
+
+        def walk(node, prefix):
+            for c in node:
+                name = c.get("name")
+                if c.tag == "ParameterList":
+                    walk(c, prefix + [name])
+                elif c.tag == "Parameter":
+                    out["->".join(prefix + [name])] = c.get("value")
+
+        walk(self.root, [])
+        return out
+
+    def has(self, key):
+        *lists, name = key.split("->")
+        node = self.node("->".join(lists))
+        return node is not None and deck_child(node, "Parameter", name) is not None
+
+    def get(self, key, schema=None, default=None):
+        """The text of parameter `key`; when the deck has none, the schema's default (else `default`)."""
+        *lists, name = key.split("->")
+        node = self.node("->".join(lists))
+        p = None if node is None else deck_child(node, "Parameter", name)
+        if p is not None:
+            return p.get("value")
+        found = schema.default(key) if schema is not None else None
+        return found if found is not None else default
+
+    def override(self, overrides, schema=None):
+        """A new Deck with {key: value} applied; a value may be (value, type). Missing lists and
+        parameters are created; a parameter's type is the one given, else the schema's, else the
+        deck's, else string."""
+        d = Deck.__new__(Deck)
+        d.path, d.lines = self.path, dict(self.lines)
+        d.root = ET.fromstring(ET.tostring(self.root))
+        for key, value in overrides.items():
+            ptype = None
+            if isinstance(value, tuple):
+                value, ptype = value
+            *lists, name = key.split("->")
+            node = d.root
+            for sub_name in lists:
+                sub = deck_child(node, "ParameterList", sub_name)
+                if sub is None:
+                    sub = ET.SubElement(node, "ParameterList", name=sub_name)
+                node = sub
+            p = deck_child(node, "Parameter", name)
+            if p is None:
+                p = ET.SubElement(node, "Parameter", name=name)
+            if ptype is None and schema is not None:
+                found = schema.param(key)
+                ptype = found.type if found is not None else None
+            p.set("type", ptype or p.get("type", "string"))
+            p.set("value", str(value))
+        return d
+
+    def text(self):
+        return ET.tostring(self.root, encoding="unicode") + "\n"
+
+    def with_overrides(self, overrides, schema=None):
+        """The deck text with {key: value} applied (see override)."""
+        return self.override(overrides, schema).text()
+
+    def write(self, path):
+        with open(path, "w", encoding="utf-8") as fh:
+            fh.write(self.text())
+        return path
+
+
+def read_deck(path):
+    """The deck file at `path`, with the line of every list and parameter."""
+    return Deck(path)
+
+
+def deck_value(root, path):
+    """The value of the deck parameter at `path` ("Bodies->Bar->Mesh->Lengths") under an XML root, of
+    a Deck or of a deck file: a list of floats for an array "{...}", else the string."""
+    if isinstance(root, str):
+        root = Deck(root)
+    node = root.root if isinstance(root, Deck) else root
+    *lists, name = path.split("->")
+    for sub_name in lists:
+        nxt = deck_child(node, "ParameterList", sub_name)
+        if nxt is None:
+            raise UnknownName(f"deck: no list '{sub_name}' on the way to '{path}' (lists there: "
+                              + (", ".join(c.get("name") for c in node.findall("ParameterList")) or "none") + ")")
+        node = nxt
+    p = deck_child(node, "Parameter", name)
+    if p is None:
+        raise UnknownName(f"deck: no parameter '{path}' (parameters there: "
+                          + (", ".join(c.get("name") for c in node.findall("Parameter")) or "none") + ")")
+    v = p.get("value")
+    return [float(x) for x in v.strip("{}").split(",")] if v.startswith("{") else v
+
+
+def variant(base_deck, out_path, overrides, schema=None):
+    """Writes a copy of the deck file `base_deck` with overrides {"Time->Time step": "5e-8", ...} to
+    `out_path` (see Deck.override: a value may be (value, type)); returns out_path."""
+    return Deck(base_deck).override(overrides, schema).write(out_path)
