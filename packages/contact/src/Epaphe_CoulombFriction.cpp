@@ -168,7 +168,6 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
   // -w_a / |w_a|. Repeat while anything changes (at most kMaxFrictionPasses; then the pass with the
   // fewest changes is solved again and kept). Lagrange nodes with lambda_a < 0 are released.
   const bool penalty = penalty_;
-  const double mu = mu_, kp = kp_;
   const int nc = static_cast<int>(v.force.extent(0));
   const int ld = 3 * nc;
   int bestChanges = -1, passes = 0, releases = 0;
@@ -176,144 +175,14 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
   int nA = static_cast<int>(activeH.size());
   for (;;) {
     const auto active = v.upload(activeH);
-    const auto C = v.C;
-    const auto basis = basis_;
-    const auto tangent = v.tangent;
-    const auto state = state_;
-    const auto disp = disp_;
-    const auto gap = v.gap;
-    const auto A = MCf_;
-    const auto sol = sol_;
-    constexpr int slide = kSlide;
-    forEach(
-        "epaphe::contact::friction_matrix", nA, 60L * nA, KOKKOS_LAMBDA(const int a) {
-          const int ka = active(a);
-          const bool sl = state(ka) == slide;
-          for (int b = 0; b < nA; ++b) {
-            const int kb = active(b);
-            double c[3][3];
-            frictionColumns(basis, tangent, state, kb, mu, slide, c);
-            double G[3][3];  // G[d][j] = (F_ab c_j)_d
-            for (int d = 0; d < 3; ++d)
-              for (int j = 0; j < 3; ++j) {
-                double s = 0.0;
-                for (int e = 0; e < 3; ++e) s += C(ka, kb, d, e) * c[j][e];
-                G[d][j] = s;
-              }
-            for (int i = 0; i < 3; ++i) {
-              const bool identity = (i == 0 && penalty) || (i > 0 && sl);
-              for (int j = 0; j < 3; ++j) {
-                double s = 0.0;
-                if (identity)
-                  s = (a == b && i == j) ? 1.0 : 0.0;
-                else
-                  for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
-                A(3 * a + i, 3 * b + j) = s;
-              }
-            }
-          }
-          sol(3 * a) = penalty ? kp * (-gap(ka)) : -gap(ka);
-          for (int i = 1; i < 3; ++i) {
-            double s = 0.0;
-            if (!sl)
-              for (int d = 0; d < 3; ++d) s -= basis(ka, i, d) * disp(ka, d);
-            sol(3 * a + i) = s;
-          }
-        });
-    Kokkos::fence();
-    Kokkos::deep_copy(MCfH_, MCf_);
-    Kokkos::deep_copy(solH_, sol_);
-    const int m = 3 * nA;
-    const int info = solveDense(m, MCfH_.data(), ld, solH_.data(), ipiv_);
-    EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of " << nA << " active nodes is singular (zero pivot at unknown "
-                                                                        << info << ")");
-    Kokkos::deep_copy(sol_, solH_);
-    if (!penalty) {  // release the nodes the surface would pull
-      keep_.clear();
-      for (int a = 0; a < nA; ++a)
-        if (solH_(3 * a) >= 0.0) keep_.push_back(activeH[a]);
-      if (static_cast<int>(keep_.size()) < nA && releases < nc) {
-        ++releases;
-        activeH.swap(keep_);
-        nA = static_cast<int>(activeH.size());
-        if (nA == 0) break;
-        continue;
-      }
+    assembleSystem(v, active, nA);
+    solveSystem(nA, ld);
+    if (!penalty && releasePulled(activeH, nA, releases, nc)) {  // release the nodes the surface would pull
+      if (nA == 0) break;
+      continue;
     }
     if (restored) break;
-    // classify: proposed next state and direction per active node
-    const auto nextState = nextState_;
-    const auto nextTangent = nextTangent_;
-    const auto returns = returns_;
-    int changes = 0;
-    reduce(
-        "epaphe::contact::friction_classify", nA, 40L * nA,
-        KOKKOS_LAMBDA(const int a, int& count) {
-          const int ka = active(a);
-          const double lambda = sol(3 * a);
-          double t[3];
-          for (int e = 0; e < 3; ++e) t[e] = tangent(ka, e);
-          int next = state(ka);
-          if (state(ka) != slide) {
-            double s[3], ss = 0.0;
-            for (int e = 0; e < 3; ++e) {
-              s[e] = sol(3 * a + 1) * basis(ka, 1, e) + sol(3 * a + 2) * basis(ka, 2, e);
-              ss += s[e] * s[e];
-            }
-            ss = ::sqrt(ss);
-            if (ss > mu * lambda) {  // outside the cone: slide, friction along the sticking force
-              next = slide;
-              for (int e = 0; e < 3; ++e) t[e] = s[e] / ss;
-            }
-          } else {
-            // w = d_a + sum_b F_ab f_b, its tangential part
-            double w[3];
-            for (int e = 0; e < 3; ++e) w[e] = disp(ka, e);
-            for (int b = 0; b < nA; ++b) {
-              const int kb = active(b);
-              double c[3][3];
-              frictionColumns(basis, tangent, state, kb, mu, slide, c);
-              double f[3];
-              for (int e = 0; e < 3; ++e)
-                f[e] = sol(3 * b) * c[0][e] + sol(3 * b + 1) * c[1][e] + sol(3 * b + 2) * c[2][e];
-              for (int d = 0; d < 3; ++d)
-                for (int e = 0; e < 3; ++e) w[d] += C(ka, kb, d, e) * f[e];
-            }
-            // radial return: the tangential force that would stop the node, the others' forces
-            // fixed, s_trial = mu lambda t - K^{-1} w_t, K_ij = e_i^T F_aa e_j (2 x 2); inside the
-            // cone it sticks, outside it slides along s_trial (stable when w is small)
-            double w1 = 0.0, w2 = 0.0, K[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
-            for (int e = 0; e < 3; ++e) {
-              w1 += w[e] * basis(ka, 1, e);
-              w2 += w[e] * basis(ka, 2, e);
-            }
-            for (int i = 0; i < 2; ++i)
-              for (int j = 0; j < 2; ++j)
-                for (int d = 0; d < 3; ++d)
-                  for (int e = 0; e < 3; ++e) K[i][j] += basis(ka, 1 + i, d) * C(ka, ka, d, e) * basis(ka, 1 + j, e);
-            const double det = K[0][0] * K[1][1] - K[0][1] * K[1][0];
-            const double d1 = -(K[1][1] * w1 - K[0][1] * w2) / det, d2 = -(-K[1][0] * w1 + K[0][0] * w2) / det;
-            double st[3], ss = 0.0;
-            for (int e = 0; e < 3; ++e) {
-              st[e] = mu * lambda * t[e] + d1 * basis(ka, 1, e) + d2 * basis(ka, 2, e);
-              ss += st[e] * st[e];
-            }
-            ss = ::sqrt(ss);
-            if (!(ss > mu * lambda) && returns(ka) < kMaxReturns) {
-              next = kStick;
-            } else if (ss > 0.0) {
-              for (int e = 0; e < 3; ++e) t[e] = st[e] / ss;
-            }
-          }
-          double dt = 0.0;
-          for (int e = 0; e < 3; ++e) {
-            dt += (t[e] - tangent(ka, e)) * (t[e] - tangent(ka, e));
-            nextTangent(ka, e) = t[e];
-          }
-          nextState(ka) = next;
-          if (next != state(ka) || (next == slide && dt > 1e-12)) ++count;  // |t change| > 1e-6
-        },
-        Kokkos::Sum<int>(changes));
+    const int changes = classify(v, active, nA);
     if (changes == 0) break;
     if (bestChanges < 0 || changes < bestChanges) {
       bestChanges = changes;
@@ -326,17 +195,190 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
       restored = true;
       continue;
     }
-    const auto returns2 = returns_;
-    forEach(
-        "epaphe::contact::friction_commit", nA, 5, KOKKOS_LAMBDA(const int a) {
-          const int ka = active(a);
-          if (state(ka) == slide && nextState(ka) != slide) ++returns2(ka);
-          state(ka) = nextState(ka);
-          for (int e = 0; e < 3; ++e) tangent(ka, e) = nextTangent(ka, e);
-        });
-    Kokkos::fence();
+    commitClassification(v, active, nA);
   }
   lastPasses_ = passes + 1;
+  storeForces(v, activeH, nA);
+}
+
+void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
+  const bool penalty = penalty_;
+  const double mu = mu_, kp = kp_;
+  const auto C = v.C;
+  const auto basis = basis_;
+  const auto tangent = v.tangent;
+  const auto state = state_;
+  const auto disp = disp_;
+  const auto gap = v.gap;
+  const auto A = MCf_;
+  const auto sol = sol_;
+  constexpr int slide = kSlide;
+  forEach(
+      "epaphe::contact::friction_matrix", nA, 60L * nA, KOKKOS_LAMBDA(const int a) {
+        const int ka = active(a);
+        const bool sl = state(ka) == slide;
+        for (int b = 0; b < nA; ++b) {
+          const int kb = active(b);
+          double c[3][3];
+          frictionColumns(basis, tangent, state, kb, mu, slide, c);
+          double G[3][3];  // G[d][j] = (F_ab c_j)_d
+          for (int d = 0; d < 3; ++d)
+            for (int j = 0; j < 3; ++j) {
+              double s = 0.0;
+              for (int e = 0; e < 3; ++e) s += C(ka, kb, d, e) * c[j][e];
+              G[d][j] = s;
+            }
+          for (int i = 0; i < 3; ++i) {
+            const bool identity = (i == 0 && penalty) || (i > 0 && sl);
+            for (int j = 0; j < 3; ++j) {
+              double s = 0.0;
+              if (identity)
+                s = (a == b && i == j) ? 1.0 : 0.0;
+              else
+                for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
+              A(3 * a + i, 3 * b + j) = s;
+            }
+          }
+        }
+        sol(3 * a) = penalty ? kp * (-gap(ka)) : -gap(ka);
+        for (int i = 1; i < 3; ++i) {
+          double s = 0.0;
+          if (!sl)
+            for (int d = 0; d < 3; ++d) s -= basis(ka, i, d) * disp(ka, d);
+          sol(3 * a + i) = s;
+        }
+      });
+  Kokkos::fence();
+}
+
+void CoulombFriction::solveSystem(int nA, int ld) {
+  Kokkos::deep_copy(MCfH_, MCf_);
+  Kokkos::deep_copy(solH_, sol_);
+  const int m = 3 * nA;
+  const int info = solveDense(m, MCfH_.data(), ld, solH_.data(), ipiv_);
+  EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of " << nA << " active nodes is singular (zero pivot at unknown "
+                                                                      << info << ")");
+  Kokkos::deep_copy(sol_, solH_);
+}
+
+bool CoulombFriction::releasePulled(std::vector<int>& activeH, int& nA, int& releases, int nc) {
+  keep_.clear();
+  for (int a = 0; a < nA; ++a)
+    if (solH_(3 * a) >= 0.0) keep_.push_back(activeH[a]);
+  if (static_cast<int>(keep_.size()) < nA && releases < nc) {
+    ++releases;
+    activeH.swap(keep_);
+    nA = static_cast<int>(activeH.size());
+    return true;
+  }
+  return false;
+}
+
+int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
+  // classify: proposed next state and direction per active node
+  const double mu = mu_;
+  const auto C = v.C;
+  const auto basis = basis_;
+  const auto tangent = v.tangent;
+  const auto state = state_;
+  const auto disp = disp_;
+  const auto sol = sol_;
+  constexpr int slide = kSlide;
+  const auto nextState = nextState_;
+  const auto nextTangent = nextTangent_;
+  const auto returns = returns_;
+  int changes = 0;
+  reduce(
+      "epaphe::contact::friction_classify", nA, 40L * nA,
+      KOKKOS_LAMBDA(const int a, int& count) {
+        const int ka = active(a);
+        const double lambda = sol(3 * a);
+        double t[3];
+        for (int e = 0; e < 3; ++e) t[e] = tangent(ka, e);
+        int next = state(ka);
+        if (state(ka) != slide) {
+          double s[3], ss = 0.0;
+          for (int e = 0; e < 3; ++e) {
+            s[e] = sol(3 * a + 1) * basis(ka, 1, e) + sol(3 * a + 2) * basis(ka, 2, e);
+            ss += s[e] * s[e];
+          }
+          ss = ::sqrt(ss);
+          if (ss > mu * lambda) {  // outside the cone: slide, friction along the sticking force
+            next = slide;
+            for (int e = 0; e < 3; ++e) t[e] = s[e] / ss;
+          }
+        } else {
+          // w = d_a + sum_b F_ab f_b, its tangential part
+          double w[3];
+          for (int e = 0; e < 3; ++e) w[e] = disp(ka, e);
+          for (int b = 0; b < nA; ++b) {
+            const int kb = active(b);
+            double c[3][3];
+            frictionColumns(basis, tangent, state, kb, mu, slide, c);
+            double f[3];
+            for (int e = 0; e < 3; ++e)
+              f[e] = sol(3 * b) * c[0][e] + sol(3 * b + 1) * c[1][e] + sol(3 * b + 2) * c[2][e];
+            for (int d = 0; d < 3; ++d)
+              for (int e = 0; e < 3; ++e) w[d] += C(ka, kb, d, e) * f[e];
+          }
+          // radial return: the tangential force that would stop the node, the others' forces
+          // fixed, s_trial = mu lambda t - K^{-1} w_t, K_ij = e_i^T F_aa e_j (2 x 2); inside the
+          // cone it sticks, outside it slides along s_trial (stable when w is small)
+          double w1 = 0.0, w2 = 0.0, K[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+          for (int e = 0; e < 3; ++e) {
+            w1 += w[e] * basis(ka, 1, e);
+            w2 += w[e] * basis(ka, 2, e);
+          }
+          for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j)
+              for (int d = 0; d < 3; ++d)
+                for (int e = 0; e < 3; ++e) K[i][j] += basis(ka, 1 + i, d) * C(ka, ka, d, e) * basis(ka, 1 + j, e);
+          const double det = K[0][0] * K[1][1] - K[0][1] * K[1][0];
+          const double d1 = -(K[1][1] * w1 - K[0][1] * w2) / det, d2 = -(-K[1][0] * w1 + K[0][0] * w2) / det;
+          double st[3], ss = 0.0;
+          for (int e = 0; e < 3; ++e) {
+            st[e] = mu * lambda * t[e] + d1 * basis(ka, 1, e) + d2 * basis(ka, 2, e);
+            ss += st[e] * st[e];
+          }
+          ss = ::sqrt(ss);
+          if (!(ss > mu * lambda) && returns(ka) < kMaxReturns) {
+            next = kStick;
+          } else if (ss > 0.0) {
+            for (int e = 0; e < 3; ++e) t[e] = st[e] / ss;
+          }
+        }
+        double dt = 0.0;
+        for (int e = 0; e < 3; ++e) {
+          dt += (t[e] - tangent(ka, e)) * (t[e] - tangent(ka, e));
+          nextTangent(ka, e) = t[e];
+        }
+        nextState(ka) = next;
+        if (next != state(ka) || (next == slide && dt > 1e-12)) ++count;  // |t change| > 1e-6
+      },
+      Kokkos::Sum<int>(changes));
+  return changes;
+}
+
+void CoulombFriction::commitClassification(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
+  const auto state = state_;
+  const auto tangent = v.tangent;
+  const auto nextState = nextState_;
+  const auto nextTangent = nextTangent_;
+  constexpr int slide = kSlide;
+  const auto returns2 = returns_;
+  forEach(
+      "epaphe::contact::friction_commit", nA, 5, KOKKOS_LAMBDA(const int a) {
+        const int ka = active(a);
+        if (state(ka) == slide && nextState(ka) != slide) ++returns2(ka);
+        state(ka) = nextState(ka);
+        for (int e = 0; e < 3; ++e) tangent(ka, e) = nextTangent(ka, e);
+      });
+  Kokkos::fence();
+}
+
+void CoulombFriction::storeForces(const ContactStepViews& v, const std::vector<int>& activeH, int nA) {
+  const double mu = mu_;
+  const int nc = static_cast<int>(v.force.extent(0));
   // forces: lambda_a, and the direction c_a = n_a + mu_a t_a with mu_a t_a = s_a / lambda_a
   for (int k = 0; k < nc; ++k) v.force(k) = 0.0;
   for (int a = 0; a < nA; ++a) v.force(activeH[a]) = solH_(3 * a);

@@ -30,6 +30,19 @@ public:
 private:
   void prepare(const ContactStepViews& v, const DenseVector& q, const DenseVector& qn);
   void solve(const ContactStepViews& v, std::vector<int>& active);
+  // the phases of one solve (`active`: the uploaded active set, its first nA entries):
+  // friction system MCf_ and right-hand side sol_ of the current states
+  void assembleSystem(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);
+  // solves it in place by LAPACK (solH_, then sol_, hold the solution; ld: MCf_'s leading dimension)
+  void solveSystem(int nA, int ld);
+  // Lagrange: drops the nodes with lambda < 0 from activeH (nA updated); true when any was dropped
+  bool releasePulled(std::vector<int>& activeH, int& nA, int& releases, int nc);
+  // proposed next state and direction of each active node; returns how many change
+  int classify(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);
+  // the proposed states and directions become the current ones (slide -> stick switches counted)
+  void commitClassification(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);
+  // v.force, v.dir, v.mu, v.tangent from the solution, and the next step's warm start
+  void storeForces(const ContactStepViews& v, const std::vector<int>& activeH, int nA);
 
   static constexpr int kStick = 2, kSlide = 1;
   static constexpr int kMaxFrictionPasses = 20;

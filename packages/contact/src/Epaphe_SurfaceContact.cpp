@@ -37,6 +37,12 @@ std::vector<ContactSurface> rigidSurfaces(const std::vector<const BSplineSurface
   return r;
 }
 
+/// True when system DOF `dof` lies in block b, [offset, offset + size) of the blocks' host copy bH.
+bool inBlock(const Kokkos::View<int* [2]>::HostMirror& bH, int dof, int b) {
+  const int nb = static_cast<int>(bH.extent(0));
+  return b >= 0 && b < nb && dof >= bH(b, 0) && dof < bH(b, 0) + bH(b, 1);
+}
+
 }  // namespace
 
 SurfaceContact::SurfaceContact(const ReducedModel& body, const std::vector<int>& nodes,
@@ -54,6 +60,19 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   const int N = flexibility.size();
   EPAPHE_REQUIRE(nc > 0, "contact: the contact node set is empty");
   EPAPHE_REQUIRE(!surfaces_.empty(), "contact: no surface to contact");
+  const auto bH = initBlocks(blocks, flexibility);
+  const auto blkH = initNodeBlocks(nodes, bH);
+  initCarriedSurfaces(bH, blkH);
+  controlColumns();
+  initDetection(nodes);
+  initWorkViews(nodes, N);
+  enforcement_ = makeContactEnforcement(opt_, nc);
+  initStepViews();
+}
+
+Kokkos::View<int* [2]>::HostMirror SurfaceContact::initBlocks(const std::vector<ContactBlock>& blocks,
+                                                              const Flexibility& flexibility) {
+  const int N = flexibility.size();
   EPAPHE_REQUIRE(flexibility.numBlocks() == static_cast<int>(blocks.size()),
                  "contact: the flexibility has " << flexibility.numBlocks() << " blocks, the bodies " << blocks.size());
   for (std::size_t b = 0; b < blocks.size(); ++b)
@@ -72,7 +91,12 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
     bH(b, 1) = blocks[b].size;
   }
   Kokkos::deep_copy(blocks_, bH);
-  auto inBlock = [&](int dof, int b) { return b >= 0 && b < nb && dof >= bH(b, 0) && dof < bH(b, 0) + bH(b, 1); };
+  return bH;
+}
+
+Kokkos::View<int*>::HostMirror SurfaceContact::initNodeBlocks(const ContactNodes& nodes,
+                                                              const Kokkos::View<int* [2]>::HostMirror& bH) {
+  const int nc = static_cast<int>(nodes_.size());
   nodeBlk_ = Kokkos::View<int*>("epaphe::contact::node_block", nc);
   auto blkH = Kokkos::create_mirror_view(nodeBlk_);
   EPAPHE_REQUIRE(nodes.dofs.size() == 3 * std::size_t(nc) && nodes.X.size() == 3 * std::size_t(nc) &&
@@ -81,12 +105,17 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   for (int k = 0; k < nc; ++k) {
     blkH(k) = nodeBlock_[k];
     for (int d = 0; d < 3; ++d)
-      EPAPHE_REQUIRE(inBlock(nodes.dofs[3 * k + d], blkH(k)), "contact: node " << nodes_[k] << " DOF " << nodes.dofs[3 * k + d]
-                                                                             << " is outside its body's block " << blkH(k));
+      EPAPHE_REQUIRE(inBlock(bH, nodes.dofs[3 * k + d], blkH(k)), "contact: node " << nodes_[k] << " DOF " << nodes.dofs[3 * k + d]
+                                                                                 << " is outside its body's block " << blkH(k));
   }
   Kokkos::deep_copy(nodeBlk_, blkH);
+  return blkH;
+}
 
+void SurfaceContact::initCarriedSurfaces(const Kokkos::View<int* [2]>::HostMirror& bH,
+                                         const Kokkos::View<int*>::HostMirror& blkH) {
   // Carried surfaces: grid DOFs and interpolation operators, concatenated.
+  const int nc = static_cast<int>(nodes_.size());
   const int ns = static_cast<int>(surfaces_.size());
   info_ = Kokkos::View<int* [6]>("epaphe::contact::surface_info", ns);
   gridOff_ = Kokkos::View<int*>("epaphe::contact::grid_offset", ns);
@@ -118,8 +147,8 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
                    "contact: surface '" << S.name() << "' has " << ng << " grid nodes but " << cs.gridDofs.size() / 3
                                         << " grid DOF triples and " << cs.gridX.size() / 3 << " positions");
     for (std::size_t g = 0; g < 3 * ng; ++g)
-      EPAPHE_REQUIRE(cs.gridDofs[g] < 0 || inBlock(cs.gridDofs[g], cs.block), "contact: surface '" << S.name() << "' grid DOF "
-                                                                             << cs.gridDofs[g] << " is outside its body's block");
+      EPAPHE_REQUIRE(cs.gridDofs[g] < 0 || inBlock(bH, cs.gridDofs[g], cs.block), "contact: surface '" << S.name() << "' grid DOF "
+                                                                                 << cs.gridDofs[g] << " is outside its body's block");
     for (int k = 0; k < nc; ++k)
       EPAPHE_REQUIRE(blkH(k) != cs.block, "contact: node " << nodes_[k] << " belongs to the body that carries surface '"
                                                             << S.name() << "'; self-contact is not supported");
@@ -138,7 +167,9 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   Kokkos::deep_copy(info_, infoH);
   Kokkos::deep_copy(gridOff_, goH);
   Kokkos::deep_copy(opOff_, ooH);
-  controlColumns();
+}
+
+void SurfaceContact::initDetection(const ContactNodes& nodes) {
   DetectionOptions dopt;
   dopt.nrTolerance = opt_.nrTolerance;
   dopt.nrMaxIterations = opt_.nrMaxIterations;
@@ -159,6 +190,10 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   skipped_ = dv.skipped;
   refine_ = dv.refine;
   bound_ = dv.bound;
+}
+
+void SurfaceContact::initWorkViews(const ContactNodes& nodes, int N) {
+  const int nc = static_cast<int>(nodes_.size());
   wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, maxGrid_[0]);
   wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, maxGrid_[1]);
   Y_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::FDt", F_.denseRows, 3 * nc);
@@ -190,7 +225,9 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   forceH_ = Kokkos::create_mirror_view(force_);
   surfH_ = Kokkos::create_mirror_view(surf_);
   activeH_.reserve(nc);
-  enforcement_ = makeContactEnforcement(opt_, nc);
+}
+
+void SurfaceContact::initStepViews() {
   v_.gap = gap_;
   v_.surf = surf_;
   v_.normal = normal_;

@@ -188,6 +188,21 @@ private:
   void motionEntries();     // entries of D_k (spline weights) of every node on a surface
   void relativeColumns();   // Y = F D^T and C_ab = D_a Y_b of the active nodes
   void controlColumns();    // ctrlF_: F times the carried surfaces' interpolation, once
+  // construction, in this order:
+  // blocks_ checked against the flexibility and filled; returns its host copy
+  Kokkos::View<int* [2]>::HostMirror initBlocks(const std::vector<ContactBlock>& blocks,
+                                                const Flexibility& flexibility);
+  // nodeBlk_ checked (each node's DOFs in its body's block) and filled; returns its host copy
+  Kokkos::View<int*>::HostMirror initNodeBlocks(const ContactNodes& nodes,
+                                                const Kokkos::View<int* [2]>::HostMirror& bH);
+  // info_, gridOff_, opOff_, gridDof_, ops_, maxGrid_ of the surfaces (grid DOFs of the carried ones checked)
+  void initCarriedSurfaces(const Kokkos::View<int* [2]>::HostMirror& bH, const Kokkos::View<int*>::HostMirror& blkH);
+  // detection_ and the views shared with it
+  void initDetection(const ContactNodes& nodes);
+  // the per-node work views, their host mirrors and gapTolerance_ (N: system size)
+  void initWorkViews(const ContactNodes& nodes, int N);
+  // v_: the views the enforcement sees
+  void initStepViews();
 
   ContactOptions opt_;
   std::vector<int> nodes_, nodeBlock_;
