@@ -1,6 +1,7 @@
 #pragma once
-// A run described by a deck: bodies built and reduced (on every MPI rank), surfaces (rigid, or
-// carried by a body), the explicit loop with contact (on rank 0), monitors and the HDF5 history.
+// A run described by a deck: the scene (Epaphe_Scene.hpp: bodies built and reduced on every MPI
+// rank, surfaces, contact) and, on rank 0, the explicit loop (Epaphe_ExplicitLoop.hpp) with its
+// observers: energy monitor, HDF5 history, field frames, checkpoints, stop control and progress.
 //
 // Output layout (HDF5), one record every `Output->Every` steps, record k at time t_k:
 //   /                      attributes: epaphe_version, name, status ("running", "complete",
@@ -19,13 +20,16 @@
 //   /fields/time (frames);  /bodies/<b>/mesh/{coordinates, hexahedra};
 //   /bodies/<b>/fields/{position, displacement} (frames x nodes x 3);  /surfaces/<s>/points
 //   ((nu nv) x 3, grid node (i, j) at row i nv + j)
-// and the last checkpoint (overwritten in place at each checkpoint, see run()):
+// and the last checkpoint (overwritten in place at each checkpoint, see Epaphe_Checkpoints.hpp):
 //   /checkpoint/{counters, q_prev, q, accumulators, warm_start, series_paths, series_lengths}
 #include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_ContactGuards.hpp"
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_DeckSchema.hpp"
+#include "Epaphe_ExplicitLoop.hpp"
+#include "Epaphe_Hdf5File.hpp"
 #include "Epaphe_Runtime.hpp"
+#include "Epaphe_Scene.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
 #include <memory>
@@ -35,26 +39,21 @@
 
 namespace epaphe {
 
+class KernelCounter;
+
 struct RunSummary {
   std::string status = "not run";
   long long steps = 0;
-  double setupSeconds = 0, loopSeconds = 0, stepsPerSecond = 0;
-  double timeStep = 0, criticalStep = 0;
-  double maxBalanceError = 0;        // relative to the largest energy
-  double firstContact = -1, lastContact = -1, maxForce = 0, impulse = 0;
+  double loopSeconds = 0, stepsPerSecond = 0;
+  SetupReport setup;         // time step, critical step, setup time, initial penetrations, warnings
+  LoopAccumulators totals;   // contact times, impulse, peak force, worst balance error (relative),
+                             // steps whose contact-node motion exceeded the smallest patch
   CostSplit cost;
   long long firstStep = 0;           // > 0 when restarted from a checkpoint
   long long checkpoints = 0;         // written by this run
   double checkpointSeconds = 0;      // their total wall time
   int stopSignal = 0;                // SIGINT or SIGTERM when interrupted
   bool stoppedEarly = false;         // interrupted, or stopped by setStopAfterSteps
-  // run guards (Epaphe_ContactGuards.hpp): initial penetrations resolved gently (count, deepest in
-  // m), steps whose contact-node motion exceeded the smallest patch (allowed by the deck), and
-  // the setup's warnings
-  int initialPenetrations = 0;
-  double initialPenetrationDepth = 0;
-  long long largeMotionSteps = 0;
-  std::vector<std::string> warnings;
 };
 
 class Simulation {
@@ -85,26 +84,14 @@ public:
   const std::string& outputFile() const { return output_; }
 
 private:
-  struct Body;
-  /// Builds the surfaces and the contact; returns, per body, the reduced DOFs of the surfaces it
-  /// carries (penalty springs act on them too, for the stable step).
-  std::vector<std::vector<int>> setupSurfacesAndContact(const ContactOptions& options);
-  // The steps of setup(), in order.
-  void loadOrReduce(Body* body, const Teuchos::ParameterList& bodyParams);
-  void setInitialState(Body* body, const Teuchos::ParameterList& bodyParams, double h, const DampingOptions& damping);
-  void checkContactAtStart(const Teuchos::ParameterList& contactParams, double h);
-  void checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, const ContactOptions& copt,
-                        const DampingOptions& damping);
-  void writeXdmf(long long frames) const;
+  // The steps of run().
+  long long numberOfSteps(double h) const;
+  io::Hdf5File openOutput(double h) const;
+  void writeRunFigures(io::Hdf5File& file, const ExplicitLoop& loop, const KernelCounter* kernels);
   Deck deck_;
   const Runtime& rt_;
   std::string output_;
-  std::vector<std::unique_ptr<Body>> bodies_;
-  std::vector<std::unique_ptr<BSplineSurface>> surfaces_;
-  std::vector<bool> surfaceCarried_;       // per surface: carried by a body (else rigid)
-  int systemSize_ = 0;                      // all bodies' reduced coordinates, stacked
-  std::unique_ptr<SurfaceContact> contact_; // null without contact nodes or surfaces
-  std::unique_ptr<ContactGuards> guards_;   // with contact_
+  std::unique_ptr<Scene> scene_;  // built by setup()
   RunSummary summary_;
   std::string restart_;
   long long stopAfterSteps_ = -1;

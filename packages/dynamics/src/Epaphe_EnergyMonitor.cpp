@@ -1,0 +1,78 @@
+#include "Epaphe_EnergyMonitor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace epaphe {
+
+EnergyMonitor::EnergyMonitor(const ExplicitLoop& loop, const EnergyMonitorOptions& options) : opt_(options) {
+  for (std::size_t b = 0; b < loop.bodies().size(); ++b) {
+    e0_.push_back(loop.bodies()[b].integrator->halfStepEnergy(loop.part(loop.previous(), b), loop.part(loop.current(), b)));
+    energyRef_ += std::abs(e0_.back());
+  }
+  energyRef_ = std::max(energyRef_, 1e-300);
+}
+
+void EnergyMonitor::afterCorrect(ExplicitLoop& loop) {
+  if (opt_.penaltyStiffness > 0 && loop.step() == 0 && loop.contact()) {  // springs of initial penetrations
+    const auto f0 = loop.contact()->force();
+    for (std::size_t k = 0; k < f0.extent(0); ++k) springEnergy0_ += f0(k) * f0(k) / (2 * opt_.penaltyStiffness);
+  }
+  if (!measures(loop)) return;
+  ScopedPhase phase(loop.cost(), "output");
+  const LoopAccumulators& acc = loop.accumulators();
+  EnergySnapshot s;
+  s.time = loop.time();
+  s.step = loop.step();
+  s.contactWork = acc.contactWork;
+  for (std::size_t b = 0; b < loop.bodies().size(); ++b) {
+    const CentralDifference& cd = *loop.bodies()[b].integrator;
+    const DenseVector q = loop.part(loop.current(), b);
+    s.kinetic += cd.kinetic(loop.velocity(b));
+    s.total += cd.halfStepEnergy(q, loop.part(loop.next(), b));
+    s.strain += cd.strain(q);
+    s.externalWork += acc.externalWork[b];
+    s.damping += acc.damping[b];
+    s.initial += e0_[b];
+  }
+  s.balance = (s.total + s.damping - s.contactWork - s.externalWork - s.initial) / std::max(energyRef_, std::abs(s.total));
+  last_ = s;
+  pending_ = true;
+}
+
+// The checks come at the end of the step, after the observers that follow this one recorded the
+// measured step: a run stopped by them keeps its last record.
+void EnergyMonitor::endStep(ExplicitLoop& loop) {
+  if (!pending_) return;
+  pending_ = false;
+  const EnergySnapshot& s = last_;
+  LoopAccumulators& acc = loop.accumulators();
+  acc.maxBalanceError = std::max(acc.maxBalanceError, std::abs(s.balance));
+  if (!std::isfinite(s.total)) {
+    std::ostringstream os;
+    os << "the solution is no longer finite at t = " << s.time << " s (step " << s.step
+       << "): the time step is probably too large for the contact stiffness";
+    loop.fail(os.str());
+  }
+  if (opt_.penaltyStiffness > 0) {
+    const double given = s.initial + s.externalWork - s.damping + springEnergy0_;
+    if (s.total > given + 1e-3 * std::max(std::abs(given), energyRef_)) {
+      std::ostringstream os;
+      os << "the energy of the bodies grew to " << s.total << " J at t = " << s.time << " s, more than the " << given
+         << " J they were given (initial, external work, initial penalty springs): the penalty contact is "
+            "unstable at this time step (the penalty on the predicted gap is stable for h^2 kp / m below "
+            "4/3); use a smaller 'Penalty stiffness' or 'Time step'";
+      loop.fail(os.str());
+    }
+  }
+  if (std::abs(s.balance) > opt_.tolerance) {
+    std::ostringstream os;
+    os << "energy balance error " << s.balance << " at t = " << s.time
+       << " s exceeds 'Output->Energy balance tolerance' = " << opt_.tolerance << " (total " << s.total
+       << " J, contact work " << s.contactWork << " J, damping " << s.damping << " J, initial " << s.initial << " J)";
+    loop.fail(os.str());
+  }
+}
+
+}  // namespace epaphe

@@ -1,0 +1,51 @@
+#pragma once
+// The energy balance of a run as a loop observer (thesis section 2.2): at every output step the
+// kinetic, strain and half-step total energies of the bodies, and the balance
+//   (E_total + damping - contact work - external work - E_0) / max(E_ref, |E_total|),
+// E_ref the sum of the bodies' initial |E_{1/2}|. The run stops (ExplicitLoop::fail) when the
+// solution is no longer finite, when the balance error exceeds its tolerance, or, with penalty
+// contact on still surfaces, when the bodies hold more energy than they were given.
+#include "Epaphe_ExplicitLoop.hpp"
+
+namespace epaphe {
+
+struct EnergySnapshot {
+  double time = 0;
+  long long step = 0;
+  double kinetic = 0, strain = 0, total = 0;  // J: sum over the bodies; total = E_{n+1/2}
+  double contactWork = 0, externalWork = 0, damping = 0, initial = 0;  // J
+  double balance = 0;                                                  // relative
+};
+
+struct EnergyMonitorOptions {
+  int every = 1;                    // Output->Every: the steps measured (and the last)
+  double tolerance = 1e-2;          // Output->Energy balance tolerance
+  double penaltyStiffness = 0;      // > 0: check the penalty bound (penalty contact, no turning surface)
+};
+
+class EnergyMonitor : public LoopObserver {
+public:
+  /// Takes E_0 from the loop's state now: construct it after the initial state is set and before
+  /// a restart overwrites it.
+  EnergyMonitor(const ExplicitLoop& loop, const EnergyMonitorOptions& options);
+
+  /// True at the steps the monitor measures (and the history records).
+  bool measures(const ExplicitLoop& loop) const {
+    return loop.step() % opt_.every == 0 || loop.lastStep();
+  }
+  /// The last measurement (valid from afterCorrect of a measured step).
+  const EnergySnapshot& last() const { return last_; }
+  double reference() const { return energyRef_; }
+
+  void afterCorrect(ExplicitLoop& loop) override;
+  void endStep(ExplicitLoop& loop) override;
+
+private:
+  EnergyMonitorOptions opt_;
+  std::vector<double> e0_;
+  double energyRef_ = 0, springEnergy0_ = 0;
+  EnergySnapshot last_;
+  bool pending_ = false;
+};
+
+}  // namespace epaphe

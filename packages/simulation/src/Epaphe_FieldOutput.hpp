@@ -1,0 +1,44 @@
+#pragma once
+// Frames of the whole bodies for ParaView as a loop observer (Output->Fields every > 0): every
+// `every` steps (and the last) /fields/time and each body's /bodies/<b>/fields/{position,
+// displacement} (u = R q, eq. 2.5); fresh runs also get the meshes and the rigid surfaces' grids.
+// writeXdmf() then describes the frames in an XDMF file beside the HDF5 one.
+#include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_ExplicitLoop.hpp"
+#include "Epaphe_Hdf5File.hpp"
+#include "Epaphe_SceneBody.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace epaphe {
+
+class FieldOutput : public LoopObserver {
+public:
+  /// `drawn[s]`: surface s is drawn on its own (rigid); carried surfaces move with their body.
+  FieldOutput(io::Hdf5File& file, const std::vector<std::unique_ptr<SceneBody>>& bodies,
+              const std::vector<const BSplineSurface*>& drawn, int every, bool fresh);
+  ~FieldOutput() override;
+
+  std::vector<io::Series*> series();
+  long long frames() const { return frames_; }
+  void setFrames(long long frames) { frames_ = frames; }
+
+  void afterCorrect(ExplicitLoop& loop) override;
+
+  /// <stem>.xmf for `h5path` (closed): a temporal collection per body whose frames pick one record
+  /// of the fields by hyperslab, and the rigid surfaces as quads.
+  void writeXdmf(const std::string& h5path, const std::string& xmfPath) const;
+
+private:
+  struct BodyFields;
+  const std::vector<std::unique_ptr<SceneBody>>& bodies_;
+  std::vector<const BSplineSurface*> drawn_;
+  int every_;
+  std::vector<std::unique_ptr<BodyFields>> perBody_;
+  io::Series time_;
+  long long frames_ = 0;
+};
+
+}  // namespace epaphe

@@ -1,0 +1,150 @@
+#include "Epaphe_HistoryOutput.hpp"
+
+namespace epaphe {
+
+struct HistoryOutput::BodySeries {
+  std::vector<DenseVector> Mt;  // M t_d: rigid translations through the mass matrix
+  DenseVector uw, vw;           // the watched nodes' displacement and velocity
+  std::vector<std::unique_ptr<io::Series>> disp, vel;
+  std::unique_ptr<io::Series> gap, force, totalForce, momentum;
+  std::vector<double> gapRec, forceRec;
+};
+
+HistoryOutput::HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_ptr<SceneBody>>& bodies,
+                             SurfaceContact* contact, const EnergyMonitor& monitor, bool fresh)
+    : file_(file), bodies_(bodies), contact_(contact), monitor_(monitor), time_(file, "/time", {}),
+      kinetic_(file, "/energy/kinetic", {}), strain_(file, "/energy/strain", {}), total_(file, "/energy/total", {}),
+      work_(file, "/energy/contact_work", {}), external_(file, "/energy/external_work", {}),
+      damping_(file, "/energy/damping", {}), balance_(file, "/energy/balance_error", {}) {
+  for (const auto& bp : bodies_) {
+    const SceneBody& b = *bp;
+    auto r = std::make_unique<BodySeries>();
+    const int n = b.rom.size;
+    const std::string g = "/bodies/" + b.name;
+    if (fresh) {
+      file.writeDoubles(g + "/frequencies/reduced", b.reducedFrequencies);
+      file.writeDoubles(g + "/frequencies/full", b.fullFrequencies);
+      file.writeDoubles(g + "/frequencies/fixed_interface", b.rom.modeFrequencies);
+      file.setAttribute(g, "reduction", b.rom.method());
+      file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
+    }
+    r->uw = DenseVector("uw", b.recoveryWatched.rows());
+    r->vw = DenseVector("vw", b.recoveryWatched.rows());
+    // Linear momentum p_d = t_d^T M v and rigid mass m = t_x^T M t_x (rebound velocity = p / m).
+    for (int d = 0; d < 3; ++d) {
+      const auto t = b.rom.rigidTranslation(d);
+      const auto Mtd = b.rom.massTimes(t);
+      DenseVector Mt("Mt", n);
+      auto h2 = Kokkos::create_mirror_view(Mt);
+      for (int i = 0; i < n; ++i) h2(i) = Mtd[i];
+      Kokkos::deep_copy(Mt, h2);
+      r->Mt.push_back(Mt);
+      if (d == 0 && fresh) {
+        double m = 0;
+        for (int i = 0; i < n; ++i) m += t[i] * h2(i);
+        file.setAttribute(g, "rigid_mass", m);
+      }
+    }
+    r->momentum = std::make_unique<io::Series>(file, g + "/momentum", std::vector<std::uint64_t>{3});
+    for (const auto& [setName, nodes] : b.watched) {
+      if (fresh)
+        file.writeInts(g + "/nodesets/" + setName + "/nodes", std::vector<long long>(nodes.begin(), nodes.end()));
+      const std::uint64_t nn = nodes.size();
+      r->disp.push_back(std::make_unique<io::Series>(file, g + "/nodesets/" + setName + "/displacement",
+                                                     std::vector<std::uint64_t>{nn, 3}));
+      r->vel.push_back(std::make_unique<io::Series>(file, g + "/nodesets/" + setName + "/velocity",
+                                                    std::vector<std::uint64_t>{nn, 3}));
+    }
+    if (b.contactEnd > b.contactBegin) {
+      const auto& cn = contact_->nodes();
+      if (fresh)
+        file.writeInts(g + "/contact/nodes",
+                       std::vector<long long>(cn.begin() + b.contactBegin, cn.begin() + b.contactEnd));
+      const std::uint64_t nc = static_cast<std::uint64_t>(b.contactEnd - b.contactBegin);
+      r->gap = std::make_unique<io::Series>(file, g + "/contact/gap", std::vector<std::uint64_t>{nc});
+      r->force = std::make_unique<io::Series>(file, g + "/contact/force", std::vector<std::uint64_t>{nc});
+      r->totalForce = std::make_unique<io::Series>(file, g + "/contact/total_force", std::vector<std::uint64_t>{});
+      r->gapRec.resize(nc);
+      r->forceRec.resize(nc);
+    }
+    perBody_.push_back(std::move(r));
+  }
+}
+
+HistoryOutput::~HistoryOutput() = default;
+
+std::vector<io::Series*> HistoryOutput::series() {
+  std::vector<io::Series*> s = {&time_, &kinetic_, &strain_, &total_, &work_, &external_, &damping_, &balance_};
+  for (const auto& r : perBody_) {
+    s.push_back(r->momentum.get());
+    for (std::size_t w = 0; w < r->disp.size(); ++w) {
+      s.push_back(r->disp[w].get());
+      s.push_back(r->vel[w].get());
+    }
+    for (io::Series* c : {r->gap.get(), r->force.get(), r->totalForce.get()})
+      if (c != nullptr) s.push_back(c);
+  }
+  return s;
+}
+
+void HistoryOutput::afterCorrect(ExplicitLoop& loop) {
+  if (!monitor_.measures(loop)) return;
+  ScopedPhase phase(loop.cost(), "output");
+  const double t = loop.time();
+  if (contact_) {
+    const auto f = contact_->force();
+    forceAll_.assign(f.data(), f.data() + f.extent(0));
+    contact_->setTime(t);
+    contact_->measureGaps(loop.current(), loop.cost());
+    const auto gp = contact_->gap();
+    gapAll_.assign(gp.data(), gp.data() + gp.extent(0));
+  }
+  for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+    const SceneBody& b = *bodies_[ib];
+    BodySeries& r = *perBody_[ib];
+    const DenseVector& v = loop.velocity(ib);
+    const double p[3] = {epaphe::dot(r.Mt[0], v), epaphe::dot(r.Mt[1], v), epaphe::dot(r.Mt[2], v)};
+    r.momentum->append(p);
+    if (!r.disp.empty()) {
+      b.recoveryWatched.apply(loop.part(loop.current(), ib), v, r.uw, r.vw);
+      auto uh = Kokkos::create_mirror_view(r.uw);
+      auto vh = Kokkos::create_mirror_view(r.vw);
+      Kokkos::deep_copy(uh, r.uw);
+      Kokkos::deep_copy(vh, r.vw);
+      std::size_t off = 0;
+      for (std::size_t w = 0; w < r.disp.size(); ++w) {
+        r.disp[w]->append(uh.data() + off);
+        r.vel[w]->append(vh.data() + off);
+        off += r.disp[w]->recordSize();
+      }
+    }
+    if (b.contactEnd > b.contactBegin) {
+      double tf = 0;
+      for (std::size_t k = 0; k < r.forceRec.size(); ++k) {
+        r.forceRec[k] = forceAll_[b.contactBegin + k];
+        r.gapRec[k] = gapAll_[b.contactBegin + k];
+        tf += r.forceRec[k];
+      }
+      r.gap->append(r.gapRec.data());
+      r.force->append(r.forceRec.data());
+      r.totalForce->append(&tf);
+    }
+  }
+  const EnergySnapshot& e = monitor_.last();
+  ++records_;
+  time_.append(&t);
+  kinetic_.append(&e.kinetic);
+  strain_.append(&e.strain);
+  total_.append(&e.total);
+  work_.append(&e.contactWork);
+  external_.append(&e.externalWork);
+  damping_.append(&e.damping);
+  balance_.append(&e.balance);
+}
+
+void HistoryOutput::failed(ExplicitLoop&, const std::string& why) {
+  file_.setAttribute("/", "status", "stopped: " + why);
+  file_.flush();
+}
+
+}  // namespace epaphe

@@ -1,0 +1,43 @@
+#pragma once
+// The run's history in its HDF5 file (layout in Epaphe_Simulation.hpp) as a loop observer: at every
+// step the energy monitor measures, one record of time, energies, each body's momentum, watched
+// nodes (displacement, velocity) and contact nodes (gap measured at q_n, force, total force).
+// Fresh runs also get the static data: frequencies, reduction, rigid mass, node lists.
+#include "Epaphe_EnergyMonitor.hpp"
+#include "Epaphe_ExplicitLoop.hpp"
+#include "Epaphe_Hdf5File.hpp"
+#include "Epaphe_SceneBody.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace epaphe {
+
+class HistoryOutput : public LoopObserver {
+public:
+  HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_ptr<SceneBody>>& bodies, SurfaceContact* contact,
+                const EnergyMonitor& monitor, bool fresh);
+  ~HistoryOutput() override;
+
+  /// Every series, in a fixed order (checkpoints store their lengths).
+  std::vector<io::Series*> series();
+  long long records() const { return records_; }
+  void setRecords(long long records) { records_ = records; }
+
+  void afterCorrect(ExplicitLoop& loop) override;
+  /// Marks the file "stopped: <why>" and flushes it.
+  void failed(ExplicitLoop& loop, const std::string& why) override;
+
+private:
+  struct BodySeries;
+  io::Hdf5File& file_;
+  const std::vector<std::unique_ptr<SceneBody>>& bodies_;
+  SurfaceContact* contact_;
+  const EnergyMonitor& monitor_;
+  io::Series time_, kinetic_, strain_, total_, work_, external_, damping_, balance_;
+  std::vector<std::unique_ptr<BodySeries>> perBody_;
+  std::vector<double> gapAll_, forceAll_;
+  long long records_ = 0;
+};
+
+}  // namespace epaphe

@@ -1,0 +1,465 @@
+#include "Epaphe_Scene.hpp"
+
+#include "Epaphe_BodyModel.hpp"
+#include "Epaphe_Deck.hpp"
+#include "Epaphe_Error.hpp"
+#include "Epaphe_FullModel.hpp"
+#include "Epaphe_Parallel.hpp"
+#include "Epaphe_ReducedModelCache.hpp"
+#include "Epaphe_SceneCheck.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace epaphe {
+
+using Teuchos::ParameterList;
+
+/// |Rotation speed| of the fastest turning surface of the deck (rad/s), 0 when none turns.
+double fastestRotation(const Teuchos::ParameterList& P) {
+  double omega = 0;
+  for (const auto& s : P.sublist("Surfaces"))
+    omega = std::max(omega, std::abs(P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed")));
+  return omega;
+}
+
+namespace {
+
+/// The rotation of a surface (thesis section 3.3), rigid or carried by a body: 'Rotation speed',
+/// 'Initial angle', 'Rotation axis', 'Rotation center'.
+void setRotation(ContactSurface& cs, const ParameterList& s, const std::string& origin) {
+  cs.omega = s.get<double>("Rotation speed");
+  cs.phase = s.get<double>("Initial angle") * M_PI / 180.0;
+  cs.axis = deck::getVec3(s, "Rotation axis", origin);
+  cs.center = deck::getVec3(s, "Rotation center", origin);
+  EPAPHE_REQUIRE(cs.axis[0] != 0.0 || cs.axis[1] != 0.0 || cs.axis[2] != 0.0,
+                 origin << ": '" << deck::pathOf(s, "Rotation axis") << "' = {0, 0, 0}; give the axis direction, e.g. "
+                                                                        "{0, 0, 1}");
+}
+
+/// Rank 0 builds or loads; the result is broadcast so every rank holds the same reduced model.
+void broadcast(ReducedModel& r, const Teuchos::Comm<int>& comm) {
+  if (comm.getSize() == 1) return;
+  auto bcastVec = [&](auto& v) {
+    int n = static_cast<int>(v.size());
+    Teuchos::broadcast(comm, 0, Teuchos::outArg(n));
+    v.resize(static_cast<std::size_t>(n));
+    if (n > 0) Teuchos::broadcast(comm, 0, n, v.data());
+  };
+  int header[3] = {r.size, r.numModes, static_cast<int>(r.kind)};
+  Teuchos::broadcast(comm, 0, 3, header);
+  r.size = header[0];
+  r.numModes = header[1];
+  r.kind = static_cast<ReductionKind>(header[2]);
+  bcastVec(r.K);
+  bcastVec(r.M);
+  bcastVec(r.recovery);
+  bcastVec(r.nodeDof);
+  bcastVec(r.retainedNodes);
+  bcastVec(r.modeFrequencies);
+  bcastVec(r.fullFrequencies);
+  bcastVec(r.boundaryModes);
+  bcastVec(r.residualFlexibility);
+  std::vector<double> xyz;
+  if (comm.getRank() == 0)
+    for (const auto& c : r.coords) xyz.insert(xyz.end(), c.begin(), c.end());
+  bcastVec(xyz);
+  r.coords.resize(xyz.size() / 3);
+  for (std::size_t i = 0; i < r.coords.size(); ++i) r.coords[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  // node sets: names as one text, then each set
+  std::string names;
+  for (const auto& kv : r.nodeSets) names += kv.first + "\n";
+  std::vector<char> chars(names.begin(), names.end());
+  bcastVec(chars);
+  names.assign(chars.begin(), chars.end());
+  std::map<std::string, std::vector<int>> sets;
+  for (std::size_t b = 0, e; (e = names.find('\n', b)) != std::string::npos; b = e + 1) {
+    const std::string name = names.substr(b, e - b);
+    std::vector<int> nodes = comm.getRank() == 0 ? r.nodeSets[name] : std::vector<int>();
+    bcastVec(nodes);
+    sets[name] = nodes;
+  }
+  r.nodeSets = sets;
+  // node grids: (nu, nv, nodes) per grid, in the order of the names
+  std::string gnames;
+  for (const auto& kv : r.nodeGrids) gnames += kv.first + "\n";
+  std::vector<char> gchars(gnames.begin(), gnames.end());
+  bcastVec(gchars);
+  gnames.assign(gchars.begin(), gchars.end());
+  std::map<std::string, NodeGrid> grids;
+  for (std::size_t b = 0, e; (e = gnames.find('\n', b)) != std::string::npos; b = e + 1) {
+    const std::string name = gnames.substr(b, e - b);
+    std::vector<int> g;
+    if (comm.getRank() == 0) {
+      const NodeGrid& ng = r.nodeGrids[name];
+      g.push_back(ng.nu);
+      g.push_back(ng.nv);
+      g.insert(g.end(), ng.nodes.begin(), ng.nodes.end());
+    }
+    bcastVec(g);
+    grids[name] = NodeGrid{g.at(0), g.at(1), std::vector<int>(g.begin() + 2, g.end())};
+  }
+  r.nodeGrids = grids;
+}
+
+}  // namespace
+
+Scene::Scene(const Deck& deck, const Runtime& runtime, std::string output, bool restarting)
+    : deck_(deck), rt_(runtime), output_(std::move(output)), restarting_(restarting) {}
+
+Scene::~Scene() = default;
+
+void Scene::build() {
+  Stopwatch watch;
+  const ParameterList& P = *deck_.params;
+  const std::string& origin = deck_.origin;
+
+  // ---- bodies -------------------------------------------------------------------------------
+  checkScene(deck_, output_, restarting_);  // everything that needs no reduced model, as --check
+  const ParameterList& bl = P.sublist("Bodies");
+  const ParameterList& tp = P.sublist("Time");
+  const double h = tp.get<double>("Time step");
+  const DampingOptions damping = dampingOptions(tp, origin);
+  const ParameterList& cp = P.sublist("Contact");
+  const ContactOptions copt = contactOptions(cp, h);
+
+  for (auto it = bl.begin(); it != bl.end(); ++it) {
+    auto b = std::make_unique<Body>();
+    b->name = bl.name(it);
+    const ParameterList& bp = bl.sublist(b->name);
+    b->contactSet = bp.get<std::string>("Contact node set");
+    loadOrReduce(b.get(), bp);
+    setInitialState(b.get(), bp, h, damping);
+    b->offset = systemSize_;
+    systemSize_ += b->rom.size;
+    bodies_.push_back(std::move(b));
+  }
+
+  const auto carriedDofs = setupSurfacesAndContact(copt);
+  checkContactAtStart(cp, h);
+  checkStableSteps(carriedDofs, copt, damping);
+  report_.timeStep = h;
+  report_.criticalStep = 1e300;
+  for (const auto& b : bodies_) report_.criticalStep = std::min(report_.criticalStep, b->stable.critical);
+  report_.setupSeconds = watch.seconds();
+}
+
+/// The body's reduced model: from its cache when the key (model files, mesh, reduction parameters)
+/// matches, else built and reduced by the factory (reduceBody), frequency-checked and cached.
+void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
+  const std::string& origin = deck_.origin;
+  auto comm = rt_.comm();
+  std::ostream& out = rt_.out();
+  const ParameterList& rp = bp.sublist("Reduction");
+  const std::string ctx = origin + ": body '" + b->name + "'";
+  std::string retainedSet = rp.get<std::string>("Retained node set");
+  if (retainedSet.empty()) retainedSet = b->contactSet;
+  const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
+  const int checkCount = rp.get<int>("Frequency check");
+
+  // Cache key: everything the reduced model depends on (imported files: their content hashes, on rank 0).
+  bodyModelFiles(b->name, bp, origin);  // every rank checks the files exist before anything waits on rank 0
+  std::string key;
+  if (comm->getRank() == 0)
+    key = contentKey(bodyModelKeyText(b->name, bp, origin) + "clamped=" + bp.get<std::string>("Clamped node set") +
+                     "\nretained=" + retainedSet + "\nmethod=" + rp.get<std::string>("Method") +
+                     "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
+                     "\ncheck=" + std::to_string(checkCount) + "\nsolver=" + rp.get<std::string>("Linear solver") +
+                     "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")));
+  const std::string cacheFile = cacheFileOf(rp, output_, b->name);
+  const bool useCache = rp.get<bool>("Cache") && method != ReductionMethod::FullLumped;  // nothing to reduce
+
+  int cached = 0;
+  if (useCache && comm->getRank() == 0) cached = loadReducedModel(cacheFile, key, b->rom) ? 1 : 0;
+  Teuchos::broadcast(*comm, 0, Teuchos::outArg(cached));
+  if (cached) {
+    broadcast(b->rom, *comm);
+    b->rom.name = b->name;
+    b->fromCache = true;
+  } else {
+    Stopwatch built;
+    FullModel full = buildBodyModel(b->name, bp, origin, comm);
+    out << "[" << b->name << "] full model: " << full.numNodes() << " nodes, " << full.numFree << " free DOFs, "
+        << full.mesh.hexes.size() << " hexahedra, " << (hasBuiltInMesh(bp) ? "built" : "imported") << " in "
+        << formatDuration(built.seconds()) << "\n";
+    const CraigBamptonOptions cbo = reductionOptions(rp);
+    const bool retains = method != ReductionMethod::None && method != ReductionMethod::FullLumped;
+    EPAPHE_REQUIRE(!retains || !retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
+                                                         << " needs a 'Retained node set' (or a 'Contact node set')");
+    const auto retainedNodes =
+        retains ? full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'") : std::vector<int>{};
+    try {  // the reduction's errors name the body; add the deck
+      b->rom = reduceBody(full, retainedNodes, rp, cbo, &b->report);
+    } catch (const Error& e) {
+      throw Error(origin + ": " + e.what());
+    }
+    if (b->rom.sparse())
+      out << "[" << b->name << "] full model kept: K sparse (" << b->rom.sparseK.values.size()
+          << " entries), mass lumped to its diagonal (HRZ)\n";
+    else if (retains)
+      out << "[" << b->name << "] " << b->rom.method() << ": " << b->report.retainedDofs << " retained DOFs + "
+          << cbo.modes << " modes = " << b->rom.size << " reduced DOFs in " << formatDuration(b->report.seconds)
+          << " on " << comm->getSize() << " rank(s) (factor " << formatDuration(b->report.factorSeconds)
+          << ", constraint modes " << formatDuration(b->report.constraintSeconds) << ", eigenmodes "
+          << formatDuration(b->report.eigenSeconds) << ")\n";
+    if (checkCount > 0) {
+      const FrequencyCheck fc = frequencyCheck(full, b->rom, cbo, checkCount);
+      b->rom.fullFrequencies = fc.full;
+      if (b->rom.sparse()) b->reducedFrequencies = fc.lumped;
+      out << "[" << b->name << "] frequency check: the full model's lowest " << fc.full.size() << " frequencies "
+          << (fc.reused ? std::string("are the reduction's own modes") : "in " + formatDuration(fc.seconds)) << "\n";
+    }
+    if (useCache && comm->getRank() == 0) saveReducedModel(b->rom, cacheFile, key);
+  }
+  if (b->fromCache)
+    out << "[" << b->name << "] reduced model (" << b->rom.method() << ", " << b->rom.size << " DOFs) reused from "
+        << cacheFile << "\n";
+  b->fullFrequencies = b->rom.fullFrequencies;
+  if (!b->rom.sparse()) b->reducedFrequencies = reducedFrequencies(b->rom);
+}
+
+/// Initial velocity, watched and contact node sets, the integrator and gravity of a reduced body.
+void Scene::setInitialState(Body* b, const ParameterList& bp, double h, const DampingOptions& damping) {
+  const std::string& origin = deck_.origin;
+  const std::string ctx = origin + ": body '" + b->name + "'";
+  // Initial velocity: uniform translation, exact in reduced coordinates (retained DOFs).
+  const auto v0 = deck::getVec3(bp, "Initial velocity", origin);
+  b->v0.assign(static_cast<std::size_t>(b->rom.size), 0.0);
+  b->speed = std::sqrt(v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]);
+  for (int d = 0; d < 3; ++d) {
+    const auto t = b->rom.rigidTranslation(d);
+    for (int i = 0; i < b->rom.size; ++i) b->v0[i] += v0[d] * t[i];
+  }
+  for (const std::string& ws : deck::getStrings(bp, "Watched node sets"))
+    b->watched.emplace_back(ws, b->rom.nodeSet(ws, ctx + ", 'Watched node sets'"));
+
+  if (!b->contactSet.empty()) b->contactNodes = b->rom.nodeSet(b->contactSet, ctx + ", 'Contact node set'");
+  b->integrator = std::make_unique<CentralDifference>(b->rom, h, damping);
+
+  // Gravity g: the consistent weight f = sum_d g_d T^T M e_d (e_d: every node translated by 1
+  // along d), a constant force. When a rigid translation is a motion of the model, T t_d = e_d
+  // (t_d = rigidTranslation(d)), so T^T M e_d = (T^T M T) t_d = M t_d, the vector of the momentum
+  // p = (M t_d) . v below: exact for every reduction. With lumped mass M t_d is the free DOFs' nodal
+  // masses, exact for a clamped body too. The initial acceleration is M^{-1} f = sum_d g_d t_d.
+  const auto grav = deck::getVec3(bp, "Gravity", origin);
+  b->a0.assign(static_cast<std::size_t>(b->rom.size), 0.0);
+  if (grav[0] != 0 || grav[1] != 0 || grav[2] != 0) {
+    const int n = b->rom.size;
+    std::vector<double> f(static_cast<std::size_t>(n), 0.0);
+    for (int d = 0; d < 3; ++d) {
+      if (grav[d] == 0) continue;
+      const auto t = b->rom.rigidTranslation(d);
+      const auto Mt = b->rom.massTimes(t);
+      if (!b->rom.sparse()) {
+        // t_d is a rigid motion when its Rayleigh quotient t^T K t / t^T M t is round-off against the
+        // largest eigenvalue (bounded below by max_i K_ii / M_ii); a clamped body's is at least its
+        // lowest eigenvalue.
+        double tKt = 0, tMt = 0, scale = 0;
+        for (int j = 0; j < n; ++j) {
+          tMt += t[j] * Mt[j];
+          if (b->rom.m(j, j) > 0) scale = std::max(scale, b->rom.k(j, j) / b->rom.m(j, j));
+          if (t[j] != 0)
+            for (int i = 0; i < n; ++i) tKt += t[i] * b->rom.k(i, j) * t[j];
+        }
+        const double rayleigh = tMt > 0 ? tKt / tMt : 1e300;
+        const std::string clamped = bp.get<std::string>("Clamped node set");
+        EPAPHE_REQUIRE(
+            rayleigh <= 1e-10 * scale,
+            ctx << ", 'Gravity' = {" << grav[0] << ", " << grav[1] << ", " << grav[2] << "}: a rigid translation along "
+                << "xyz"[d] << " is not a motion of its " << b->rom.method() << " model (t^T K t / t^T M t = "
+                << rayleigh << " s^-2, against " << scale << " for its stiffest DOF): the body is held"
+                << (clamped.empty() ? " by the imported model's boundary conditions"
+                                    : " by 'Clamped node set' = '" + clamped + "'")
+                << ", so M t is not its weight T^T M e; use 'Full, lumped mass' (weight exact "
+                   "with clamps), or remove the key");
+      }
+      for (int i = 0; i < n; ++i) {
+        f[i] += grav[d] * Mt[i];
+        b->a0[i] += grav[d] * t[i];
+      }
+    }
+    b->integrator->setConstantForce(f);
+  }
+  std::vector<int> watchedNodes;
+  for (const auto& w : b->watched) watchedNodes.insert(watchedNodes.end(), w.second.begin(), w.second.end());
+  b->recoveryWatched = NodeRecovery(b->rom, watchedNodes, "epaphe::watched::R");
+}
+
+/// Refuses what would run to nonsense at t = 0 (ContactGuards): a step longer than a surface patch,
+/// bodies that start inside a surface (or resolves them gently, as the deck says).
+void Scene::checkContactAtStart(const ParameterList& cp, double h) {
+  const std::string& origin = deck_.origin;
+  std::ostream& out = rt_.out();
+  if (!contact_) return;
+  {
+    std::vector<std::string> names;
+    std::vector<double> speeds;
+    for (const auto& b : bodies_) {
+      names.push_back(b->name);
+      speeds.push_back(b->speed);
+    }
+    guards_ = std::make_unique<ContactGuards>(guardOptions(cp), names, origin);
+    guards_->checkInitialVelocities(*contact_, speeds, h, report_.warnings);
+    const DenseVector q0("epaphe::q0", static_cast<std::size_t>(systemSize_));
+    CostSplit setupCost;
+    const PenetrationReport pr = guards_->checkInitialPenetration(*contact_, q0, h, setupCost);
+    if (pr.facing == 0)  // e.g. a surface placed in mm in a deck in m
+      report_.warnings.push_back("no contact node lies over any surface at t = 0 (every projection falls beyond an "
+                                  "open edge): check the surfaces' positions, extents and units");
+    report_.initialPenetrations = pr.count;
+    report_.initialPenetrationDepth = pr.deepest;
+    for (const auto& w : report_.warnings) out << "warning: " << w << "\n";
+    if (pr.count > 0)
+      out << "initial penetration: " << pr.count << " contact node(s), deepest " << pr.deepest
+          << " m, resolved gently (Contact->Initial penetration)\n";
+  }
+}
+
+/// The stable step of each body (with the penalty springs on its contact and carried surface DOFs)
+/// against the deck's time step: an Error, or a warning with 'Allow unstable time step'.
+void Scene::checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, const ContactOptions& copt,
+                                  const DampingOptions& damping) {
+  const std::string& origin = deck_.origin;
+  std::ostream& out = rt_.out();
+  const ParameterList& tp = deck_.params->sublist("Time");
+  const double h = tp.get<double>("Time step");
+  // Stable step of each body, with the penalty springs on its contact and surface DOFs.
+  for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+    Body* b = bodies_[ib].get();
+    std::vector<int> contactDofs;
+    for (int n : b->contactNodes)
+      for (int d = 0; d < 3; ++d)
+        if (b->rom.nodeDof[3 * n + d] >= 0) contactDofs.push_back(b->rom.nodeDof[3 * n + d]);
+    contactDofs.insert(contactDofs.end(), carriedDofs[ib].begin(), carriedDofs[ib].end());
+    // The penalty acts on the predicted gap (forward increment, eq. 2.28 with lambda = kp (-g*)):
+    // for a mass m on a spring kp alone, u_{n+1} = (1 - a)(2 u_n - u_{n-1}), a = h^2 kp / m, whose
+    // roots stay in the unit circle for a <= 4/3, a third of the 4 of an ordinary spring
+    // (h omega <= 2). So each penalty spring counts three times in the estimate.
+    const double kAdded = (contact_ && copt.method == ContactMethod::Penalty) ? 3.0 * copt.penaltyStiffness : 0.0;
+    b->stable = criticalTimeStep(b->rom, contactDofs, kAdded, damping);
+    if (h > b->stable.critical) {
+      std::ostringstream os;
+      os << origin << ": 'Time->Time step' = " << h << " s exceeds the critical step " << b->stable.critical
+         << " s of body '" << b->name << "' (highest frequency " << b->stable.omegaMax / (2 * M_PI) << " Hz"
+         << (kAdded > 0 ? ", penalty springs included" : "") << "); the central difference would blow up. Use "
+         << "'Time step' <= " << 0.9 * b->stable.critical << " s";
+      if (kAdded > 0) os << " or a smaller 'Penalty stiffness'";
+      if (!tp.get<bool>("Allow unstable time step")) throw Error(os.str() + ", or set 'Allow unstable time step'.");
+      out << "warning: " << os.str() << "\n";
+    }
+  }
+}
+
+std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOptions& copt) {
+  const ParameterList& P = *deck_.params;
+  const std::string& origin = deck_.origin;
+  // ---- surfaces: rigid, or carried by a body and rebuilt from its moved grid nodes -------------
+  const ParameterList& surfs = P.sublist("Surfaces");
+  std::vector<ContactSurface> contactSurfaces;
+  std::vector<std::vector<int>> carriedDofs(bodies_.size());
+  for (auto it = surfs.begin(); it != surfs.end(); ++it) {
+    const std::string name = surfs.name(it);
+    const ParameterList& s = surfs.sublist(name);
+    SurfaceOptions so;  // closed when the grid repeats its first row (an arc of 360 degrees)
+    so.orientation = s.get<bool>("Flip normal") ? -1 : 1;
+    so.id = static_cast<int>(surfaces_.size());
+    const auto type = deck::getEnum<SurfaceType>(s, "Type");
+    if (type == SurfaceType::BodyFace) {
+      const std::string bodyName = s.get<std::string>("Body"), gridName = s.get<std::string>("Node grid");
+      int ib = 0;  // checkScene: the body exists
+      while (bodies_[static_cast<std::size_t>(ib)]->name != bodyName) ++ib;
+      const Body& b = *bodies_[ib];
+      const auto git = b.rom.nodeGrids.find(gridName);
+      if (git == b.rom.nodeGrids.end()) {
+        ErrorBuilder eb;
+        eb << origin << ": '" << deck::pathOf(s, "Node grid") << "' = '" << gridName << "' is not a node grid of body '"
+           << bodyName << "'; ";
+        if (b.rom.nodeGrids.empty())
+          eb << "it has none (imported models have no node grid); carry the surface by a built-in mesh (Box: x-, x+, "
+                "y-, y+, z-, z+; Ring segment and Casing: inner, outer, ...)";
+        else
+          eb << "it has:";
+        for (const auto& [g, grid] : b.rom.nodeGrids) eb << " '" << g << "' (" << grid.nu << " x " << grid.nv << ")";
+        eb.raise();
+      }
+      const NodeGrid& g = git->second;
+      EPAPHE_REQUIRE(g.nu >= 4 && g.nv >= 4, origin << ": surface '" << name << "': node grid '" << gridName << "' of body '"
+                                                    << bodyName << "' is " << g.nu << " x " << g.nv << " nodes; a bicubic "
+                                                    "surface needs at least 4 in each direction: refine the mesh");
+      ContactSurface cs;
+      cs.block = ib;
+      const std::set<int> retained(b.rom.retainedNodes.begin(), b.rom.retainedNodes.end());
+      int free = 0;
+      for (int node : g.nodes) {
+        const bool kept = b.rom.kind == ReductionKind::None || retained.count(node) > 0;
+        EPAPHE_REQUIRE(kept, origin << ": surface '" << name << "': node " << node << " of grid '" << gridName
+                                    << "' is not a retained node of body '" << bodyName << "'; add the grid's node set to "
+                                    "its 'Reduction->Retained node set'");
+        for (int d = 0; d < 3; ++d) {
+          const int i = b.rom.nodeDof[3 * node + d];  // -1: clamped
+          cs.gridDofs.push_back(i < 0 ? -1 : b.offset + i);
+          cs.gridX.push_back(b.rom.coords[node][d]);
+          if (i >= 0) {
+            ++free;
+            carriedDofs[ib].push_back(i);
+          }
+        }
+      }
+      EPAPHE_REQUIRE(free > 0, origin << ": surface '" << name << "': every node of grid '" << gridName
+                                      << "' is clamped; use a rigid surface");
+      surfaces_.push_back(std::make_unique<BSplineSurface>(name, g.nu, g.nv, cs.gridX, so));
+      cs.surface = cs.moving = surfaces_.back().get();
+      setRotation(cs, s, origin);
+      surfaceCarried_.push_back(true);
+      contactSurfaces.push_back(std::move(cs));
+      continue;
+    }
+    const RigidGrid grid = rigidSurfaceGrid(s, origin);
+    if (grid.towardsAxis) so.orientation = -so.orientation;
+    surfaces_.push_back(std::make_unique<BSplineSurface>(name, grid.nu, grid.nv, grid.points, so));
+    ContactSurface cs{surfaces_.back().get(), nullptr, -1, {}, {}};
+    setRotation(cs, s, origin);
+    contactSurfaces.push_back(std::move(cs));
+    surfaceCarried_.push_back(false);
+  }
+
+  for (auto& dofs : carriedDofs) {  // a closed grid repeats its first row
+    std::sort(dofs.begin(), dofs.end());
+    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+  }
+
+  // ---- contact: every body's contact nodes against every surface, one joint correction ----------
+  ContactNodes nodes;
+  std::vector<ContactBlock> blocks;
+  for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+    Body& b = *bodies_[ib];
+    blocks.push_back(ContactBlock{b.offset, b.rom.size});
+    b.contactBegin = static_cast<int>(nodes.labels.size());
+    if (!contactSurfaces.empty())
+      for (int node : b.contactNodes) {
+        int dof[3];
+        for (int d = 0; d < 3; ++d) {
+          const int i = b.rom.nodeDof[3 * node + d];
+          EPAPHE_REQUIRE(i >= 0, origin << ": body '" << b.name << "': contact node " << node << " (direction " << "xyz"[d]
+                                        << ") is not a retained DOF of the reduced model; add it to the retained node "
+                                           "set, and do not clamp contact nodes");
+          dof[d] = b.offset + i;
+        }
+        nodes.add(node, static_cast<int>(ib), dof, b.rom.coords[node].data());
+      }
+    b.contactEnd = static_cast<int>(nodes.labels.size());
+  }
+  if (nodes.labels.empty()) return carriedDofs;
+  // the system flexibility: block diagonal, one block per body (dense, or diagonal for a full body)
+  Flexibility flexibility;
+  for (const auto& b : bodies_) flexibility.append(b->integrator->flexibility());
+  contact_ = std::make_unique<SurfaceContact>(std::move(nodes), std::move(contactSurfaces), blocks, copt, flexibility);
+  return carriedDofs;
+}
+
+}  // namespace epaphe
