@@ -11,15 +11,11 @@ FullModel importCodeAster(const CodeAsterFiles& files, const std::string& name,
                           const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   return Details::distributeModel(
       [&]() {
-        Details::RawModel raw;
-        raw.name = name;
-        raw.mesh = Details::readNodes(files.nodes);
-        if (!files.nodeSets.empty()) Details::readNodeSets(files.nodeSets, raw.mesh);
         std::vector<Details::LagrangeRow> lagrange;
-        Details::readDofMap(files.dofs, raw, true, &lagrange);
+        Details::RawModel raw = Details::readListedModel(
+            {files.nodes, files.nodeSets, files.dofs, files.stiffness, files.mass}, name, Details::Storage::Detect,
+            &lagrange);
         const int n = static_cast<int>(raw.rowDof.size());
-        raw.K = Details::readSparse(files.stiffness, "stiffness matrix", Details::Storage::Detect, n, files.dofs);
-        raw.M = Details::readSparse(files.mass, "mass matrix", Details::Storage::Detect, n, files.dofs);
         raw.constrained.assign(3 * static_cast<std::size_t>(raw.mesh.numNodes()), 0);
 
         // The physical rows each Lagrange equation couples with in K.

@@ -335,6 +335,19 @@ void readNodeSets(const std::string& path, Mesh& mesh) {
   }
 }
 
+RawModel readListedModel(const ListedModelFiles& files, const std::string& name, Storage storage,
+                         std::vector<LagrangeRow>* lagrangeRows) {
+  RawModel raw;
+  raw.name = name;
+  raw.mesh = readNodes(files.nodes);
+  if (!files.nodeSets.empty()) readNodeSets(files.nodeSets, raw.mesh);
+  readDofMap(files.dofs, raw, lagrangeRows != nullptr, lagrangeRows);
+  const int n = static_cast<int>(raw.rowDof.size());
+  raw.K = readSparse(files.stiffness, "stiffness matrix", storage, n, files.dofs);
+  raw.M = readSparse(files.mass, "mass matrix", storage, n, files.dofs);
+  return raw;
+}
+
 void readDofMap(const std::string& path, RawModel& raw, bool lagrange, std::vector<LagrangeRow>* lagrangeRows) {
   TextLines in(path, "DOF map ('node direction' per matrix row)");
   raw.dofPath = path;

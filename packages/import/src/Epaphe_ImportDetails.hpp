@@ -108,6 +108,15 @@ struct LagrangeRow {
 /// Lagrange rows get rowDof -1 and are listed in `lagrangeRows`. Fills raw.rowDof, rowLine, dofPath.
 void readDofMap(const std::string& path, RawModel& raw, bool lagrange, std::vector<LagrangeRow>* lagrangeRows);
 
+/// The files of a model exported as lists (Matrix Market, code_aster): nodes, optional node sets
+/// ("" for none), the DOF map and K and M in coordinate form, read into a RawModel named `name`.
+/// With `lagrangeRows`, the DOF map may hold Lagrange rows (readDofMap), listed there.
+struct ListedModelFiles {
+  std::string nodes, nodeSets, dofs, stiffness, mass;
+};
+RawModel readListedModel(const ListedModelFiles& files, const std::string& name, Storage storage,
+                         std::vector<LagrangeRow>* lagrangeRows);
+
 /// Runs `read` on rank 0 only, then gives every rank the same FullModel: free DOFs numbered in
 /// the order of the matrix rows (rows of constrained DOFs and dropped rows left out), row map
 /// contiguous and uniform. An Error on rank 0 is raised on every rank with the same message.

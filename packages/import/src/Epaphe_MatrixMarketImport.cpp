@@ -21,15 +21,8 @@ FullModel importMatrixMarket(const MatrixMarketFiles& files, const std::string& 
                              const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   return Details::distributeModel(
       [&]() {
-        Details::RawModel raw;
-        raw.name = name;
-        raw.mesh = Details::readNodes(files.nodes);
-        if (!files.nodeSets.empty()) Details::readNodeSets(files.nodeSets, raw.mesh);
-        Details::readDofMap(files.dofs, raw, false, nullptr);
-        const int n = static_cast<int>(raw.rowDof.size());
-        raw.K = Details::readSparse(files.stiffness, "stiffness matrix", Details::Storage::General, n, files.dofs);
-        raw.M = Details::readSparse(files.mass, "mass matrix", Details::Storage::General, n, files.dofs);
-        return raw;
+        return Details::readListedModel({files.nodes, files.nodeSets, files.dofs, files.stiffness, files.mass}, name,
+                                        Details::Storage::General, nullptr);
       },
       comm);
 }
