@@ -91,28 +91,24 @@ std::string siblingPath(const std::string& relativeTo, const std::string& file) 
 
 namespace {
 
-/// The whole file in memory, split into lines (numbered from 1) as TextLines does: large matrix
-/// files (ccx writes about 35 bytes per entry) are read in one go rather than line by line.
+/// A file read in blocks of 4 MiB and split into lines (numbered from 1) as TextLines does: large
+/// matrix files (ccx writes about 35 bytes per entry) are read in large blocks rather than line by
+/// line, and never held whole in memory (a line longer than a block grows the block).
 class BufferedLines {
 public:
-  BufferedLines(const std::string& path, const std::string& what) : path_(path) {
+  BufferedLines(const std::string& path, const std::string& what) : path_(path), in_(path, std::ios::binary) {
     TextLines check(path, what);  // the same Error as every reader for a missing or unreadable file
-    std::ifstream in(path, std::ios::binary);
-    in.seekg(0, std::ios::end);
-    buf_.resize(static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg())));
-    in.seekg(0, std::ios::beg);
-    in.read(&buf_[0], static_cast<std::streamsize>(buf_.size()));
-    buf_.resize(static_cast<std::size_t>(in.gcount()));
-    p_ = buf_.data();
-    end_ = p_ + buf_.size();
+    buf_.resize(kBlock);
   }
-  /// The next line as [begin, end) without its '\n' (and '\r').
+  /// The next line as [begin, end) without its '\n' (and '\r'); valid until the next call.
   bool next(const char*& b, const char*& e) {
+    const char* nl = nullptr;
+    while ((nl = static_cast<const char*>(std::memchr(buf_.data() + p_, '\n', end_ - p_))) == nullptr && !eof_)
+      refill();
     if (p_ >= end_) return false;
-    b = p_;
-    e = static_cast<const char*>(std::memchr(p_, '\n', static_cast<std::size_t>(end_ - p_)));
-    if (e == nullptr) e = end_;
-    p_ = e < end_ ? e + 1 : end_;
+    b = buf_.data() + p_;
+    e = nl != nullptr ? nl : buf_.data() + end_;  // the last line may have no '\n'
+    p_ = static_cast<std::size_t>(e - buf_.data()) + (nl != nullptr ? 1 : 0);
     if (e > b && e[-1] == '\r') --e;
     ++line_;
     return true;
@@ -121,9 +117,23 @@ public:
   std::string where() const { return path_ + ":" + std::to_string(line_); }
 
 private:
-  std::string path_, buf_;
-  const char* p_ = nullptr;
-  const char* end_ = nullptr;
+  static constexpr std::size_t kBlock = std::size_t(4) << 20;
+  /// Moves the unread part to the front and reads behind it (growing the buffer when it is full).
+  void refill() {
+    std::memmove(buf_.data(), buf_.data() + p_, end_ - p_);
+    end_ -= p_;
+    p_ = 0;
+    if (end_ == buf_.size()) buf_.resize(2 * buf_.size());
+    in_.read(buf_.data() + end_, static_cast<std::streamsize>(buf_.size() - end_));
+    const auto got = in_.gcount();
+    end_ += static_cast<std::size_t>(got);
+    if (got == 0 || !in_) eof_ = true;
+  }
+  std::string path_;
+  std::ifstream in_;
+  std::vector<char> buf_;
+  std::size_t p_ = 0, end_ = 0;  // the unread bytes: [p_, end_)
+  bool eof_ = false;
   int line_ = 0;
 };
 

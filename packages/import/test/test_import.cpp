@@ -6,6 +6,7 @@
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_Error.hpp"
 #include "Epaphe_FullModel.hpp"
+#include "Epaphe_ImportDetails.hpp"
 #include "Epaphe_MatrixMarketImport.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
@@ -13,6 +14,7 @@
 #include <Tpetra_Map.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -65,6 +67,41 @@ TEST(MatrixMarket, RoundTripOfABuiltInModelIsExact) {
   EXPECT_TRUE(got.K->getRowMap()->isSameAs(*ref.K->getRowMap()));
   EXPECT_EQ(gatherDense(*got.K), gatherDense(*ref.K));   // bit for bit
   EXPECT_EQ(gatherDense(*got.M), gatherDense(*ref.M));
+}
+
+// Matrix files are read in 4 MiB blocks: entries whose lines straddle block boundaries, a comment
+// line longer than a block (the block grows), CRLF line ends and a last line without '\n' are read
+// exactly as written, with their line numbers.
+TEST(SparseFile, LinesAcrossBlocksAndLongerThanABlockAreReadExactly) {
+  const std::string path = workDir("sparse-blocks") + "/A.mtx";  // collective
+  if (comm()->getRank() != 0) return;                            // the file is read on rank 0
+  const int n = 400, entries = 250000;  // about 7 MB: two block boundaries
+  std::vector<int> rows, cols;
+  std::vector<double> vals;
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "% " << std::string(5u << 20, 'x') << "\n";  // 5 MiB comment: longer than a block
+    out.precision(17);
+    for (int k = 0; k < entries; ++k) {
+      const int a = 1 + (k * 7) % n, b = 1 + (k * 13) % n, i = std::max(a, b), j = std::min(a, b);  // one triangle
+      const double v = std::ldexp(1.0 + k, -(k % 40)) * (k % 3 == 0 ? -1 : 1);
+      rows.push_back(i - 1);
+      cols.push_back(j - 1);
+      vals.push_back(v);
+      out << i << (k % 2 ? "," : " ") << j << "  " << v << (k % 5 == 0 ? "\r\n" : "\n");
+    }
+    out << 1 << " " << 1 << " " << 2.5;  // no final newline
+    rows.push_back(0);
+    cols.push_back(0);
+    vals.push_back(2.5);
+  }
+  const auto A = Details::readSparse(path, "test matrix", Details::Storage::Triangle, n, "the test");
+  ASSERT_EQ(A.val.size(), vals.size());
+  EXPECT_EQ(A.row, rows);
+  EXPECT_EQ(A.col, cols);
+  EXPECT_EQ(A.val, vals);
+  EXPECT_EQ(A.line.front(), 2);
+  EXPECT_EQ(A.line.back(), entries + 2);
 }
 
 TEST(MatrixMarket, OneTriangleIsMirrored) {
