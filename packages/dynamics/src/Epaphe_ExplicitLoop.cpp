@@ -16,7 +16,7 @@ std::vector<double> LoopAccumulators::values(double time) const {
   return v;
 }
 
-std::vector<std::string> LoopAccumulators::names(const std::vector<LoopBody>& bodies) const {
+std::vector<std::string> LoopAccumulators::names(const std::vector<LoopBody>& bodies) {
   std::vector<std::string> v = {"time", "contact_work", "first_contact", "last_contact", "impulse", "max_force",
                                 "max_balance_error"};
   for (const auto& b : bodies) {

@@ -44,7 +44,7 @@ struct LoopAccumulators {
 
   /// The values a checkpoint stores, in the order of names() (time first).
   std::vector<double> values(double time) const;
-  std::vector<std::string> names(const std::vector<LoopBody>& bodies) const;
+  static std::vector<std::string> names(const std::vector<LoopBody>& bodies);
   /// Restores from values(); `what` names the source for errors.
   void restore(const std::vector<double>& values, const std::string& what);
 };

@@ -20,7 +20,7 @@ std::vector<double> hostCopy(const DenseVector& v) {
 Checkpoints::Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, HistoryOutput& history, FieldOutput* fields,
                          const CheckpointOptions& options)
     : file_(file), history_(history), fields_(fields), opt_(options), series_(history.series()),
-      accumulatorNames_(loop.accumulators().names(loop.bodies())) {
+      accumulatorNames_(LoopAccumulators::names(loop.bodies())) {
   if (fields_)
     for (io::Series* s : fields_->series()) series_.push_back(s);
   for (const io::Series* s : series_) seriesPaths_ += s->path() + "\n";
@@ -82,8 +82,7 @@ long long Checkpoints::restore(ExplicitLoop& loop, const std::string& what) {
                                                         << " entries, " << series_.size() << " expected");
   for (std::size_t i = 0; i < series_.size(); ++i) series_[i]->truncate(static_cast<std::size_t>(lengths[i]));
   loop.setFirstStep(counters[0]);
-  history_.setRecords(recordsAt_ = counters[1]);
-  if (fields_) fields_->setFrames(counters[2]);
+  recordsAt_ = counters[1];  // the series' lengths now
   framesAt_ = counters[2];
   auto load = [&](const DenseVector& v, const std::string& path) {
     const auto values = file_.readDoubles(path);

@@ -68,7 +68,6 @@ void FieldOutput::afterCorrect(ExplicitLoop& loop) {
   ScopedPhase phase(loop.cost(), "output");
   const double t = loop.time();
   time_.append(&t);
-  ++frames_;
   for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
     BodyFields& r = *perBody_[ib];
     r.R.apply(loop.part(loop.current(), ib), r.uAll);  // u = R q (eq. 2.5)
@@ -86,7 +85,7 @@ void FieldOutput::writeXdmf(const std::string& h5path, const std::string& xmfPat
   if (const auto slash = h5.rfind('/'); slash != std::string::npos) h5 = h5.substr(slash + 1);
   io::Hdf5File file(h5path, io::Hdf5File::Mode::ReadOnly);
   const auto times = file.readDoubles("/fields/time");
-  const long long frames = frames_;
+  const long long frames = static_cast<long long>(times.size());
   std::ostringstream x;
   x << std::setprecision(17);
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"2.0\">\n <Domain>\n";

@@ -22,8 +22,8 @@ public:
   ~FieldOutput() override;
 
   std::vector<io::Series*> series();
-  long long frames() const { return frames_; }
-  void setFrames(long long frames) { frames_ = frames; }
+  /// Frames written (and buffered).
+  long long frames() const { return static_cast<long long>(time_.size()); }
 
   void afterCorrect(ExplicitLoop& loop) override;
 
@@ -38,7 +38,6 @@ private:
   int every_;
   std::vector<std::unique_ptr<BodyFields>> perBody_;
   io::Series time_;
-  long long frames_ = 0;
 };
 
 }  // namespace epaphe

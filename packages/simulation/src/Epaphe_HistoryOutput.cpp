@@ -131,7 +131,6 @@ void HistoryOutput::afterCorrect(ExplicitLoop& loop) {
     }
   }
   const EnergySnapshot& e = monitor_.last();
-  ++records_;
   time_.append(&t);
   kinetic_.append(&e.kinetic);
   strain_.append(&e.strain);

@@ -21,8 +21,8 @@ public:
 
   /// Every series, in a fixed order (checkpoints store their lengths).
   std::vector<io::Series*> series();
-  long long records() const { return records_; }
-  void setRecords(long long records) { records_ = records; }
+  /// Records written (and buffered): the length of every series of the history.
+  long long records() const { return static_cast<long long>(time_.size()); }
 
   void afterCorrect(ExplicitLoop& loop) override;
   /// Marks the file "stopped: <why>" and flushes it.
@@ -37,7 +37,6 @@ private:
   io::Series time_, kinetic_, strain_, total_, work_, external_, damping_, balance_;
   std::vector<std::unique_ptr<BodySeries>> perBody_;
   std::vector<double> gapAll_, forceAll_;
-  long long records_ = 0;
 };
 
 }  // namespace epaphe

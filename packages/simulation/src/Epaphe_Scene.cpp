@@ -20,14 +20,6 @@ namespace epaphe {
 
 using Teuchos::ParameterList;
 
-/// |Rotation speed| of the fastest turning surface of the deck (rad/s), 0 when none turns.
-double fastestRotation(const Teuchos::ParameterList& P) {
-  double omega = 0;
-  for (const auto& s : P.sublist("Surfaces"))
-    omega = std::max(omega, std::abs(P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed")));
-  return omega;
-}
-
 namespace {
 
 /// The rotation of a surface (thesis section 3.3), rigid or carried by a body: 'Rotation speed',

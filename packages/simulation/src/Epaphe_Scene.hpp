@@ -19,9 +19,6 @@
 
 namespace epaphe {
 
-/// |Rotation speed| of the fastest turning surface of the deck (rad/s), 0 when none turns.
-double fastestRotation(const Teuchos::ParameterList& deck);
-
 /// What the setup found, for the summary.
 struct SetupReport {
   double timeStep = 0, criticalStep = 0, setupSeconds = 0;

@@ -331,12 +331,33 @@ std::string cacheFileOf(const ParameterList& rp, const std::string& outputPath, 
   return given.empty() ? stem(outputPath) + "." + body + ".rom.h5" : given;
 }
 
+double fastestRotation(const ParameterList& P) {
+  double omega = 0;
+  for (const auto& s : P.sublist("Surfaces"))
+    omega = std::max(omega, std::abs(P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed")));
+  return omega;
+}
+
+long long numberOfSteps(const ParameterList& P, const std::string& origin) {
+  const ParameterList& tp = P.sublist("Time");
+  const double h = tp.get<double>("Time step");
+  double endTime = tp.get<double>("End time");
+  if (const double revs = tp.get<double>("End revolutions"); revs > 0) {
+    const double omega = fastestRotation(P);
+    EPAPHE_REQUIRE(omega > 0, origin << ": 'Time->End revolutions' = " << revs
+                                     << " but no surface turns; give a 'Rotation speed' or use 'End time'");
+    endTime = revs * 2 * M_PI / omega;
+  }
+  return std::max(1LL, static_cast<long long>(std::ceil(endTime / h - 1e-9)));
+}
+
 void checkScene(const Deck& scene, const std::string& outputPath, bool restart) {
   const ParameterList& P = *scene.params;
   const std::string& origin = scene.origin;
   const ParameterList& bl = P.sublist("Bodies");
   EPAPHE_REQUIRE(bl.numParams() > 0, origin << ": 'Epaphe->Bodies' is empty; add a <ParameterList name=\"MyBody\">");
   checkGeometry(P, origin);
+  numberOfSteps(P, origin);
   const ParameterList& tp = P.sublist("Time");
   const DampingOptions damping = dampingOptions(tp, origin);
   contactOptions(P.sublist("Contact"), tp.get<double>("Time step"));

@@ -22,6 +22,12 @@ namespace epaphe {
 /// the deck, the key, the value and the fix.
 void checkScene(const Deck& scene, const std::string& outputPath, bool restart);
 
+/// |Rotation speed| of the fastest turning surface of the deck (rad/s), 0 when none turns.
+double fastestRotation(const Teuchos::ParameterList& deck);
+/// The run's number of steps: 'Time->End time', or 'End revolutions' of the fastest turning surface
+/// (an Error when none turns).
+long long numberOfSteps(const Teuchos::ParameterList& deck, const std::string& origin);
+
 /// The damping of the deck's 'Time->Damping' list (Rayleigh from two frequencies and ratios when given).
 DampingOptions dampingOptions(const Teuchos::ParameterList& timeParams, const std::string& origin);
 

@@ -42,19 +42,6 @@ void Simulation::setup() {
   summary_.setup = scene_->report();
 }
 
-// The steps of the run (Output->..., Time->End time or End revolutions).
-long long Simulation::numberOfSteps(double h) const {
-  const ParameterList& P = *deck_.params;
-  double endTime = P.sublist("Time").get<double>("End time");
-  if (const double revs = P.sublist("Time").get<double>("End revolutions"); revs > 0) {
-    const double omega = fastestRotation(P);
-    EPAPHE_REQUIRE(omega > 0, deck_.origin << ": 'Time->End revolutions' = " << revs
-                                           << " but no surface turns; give a 'Rotation speed' or use 'End time'");
-    endTime = revs * 2 * M_PI / omega;
-  }
-  return std::max(1LL, static_cast<long long>(std::ceil(endTime / h - 1e-9)));
-}
-
 // A fresh run creates the file; a restart opens it and checks that it holds this deck and a
 // checkpoint (read by Checkpoints::restore once the series are set up). Then the run's attributes.
 io::Hdf5File Simulation::openOutput(double h) const {
@@ -103,7 +90,7 @@ const RunSummary& Simulation::run() {
   const ParameterList& P = *deck_.params;
   const ParameterList& O = P.sublist("Output");
   const double h = P.sublist("Time").get<double>("Time step");
-  const long long nSteps = numberOfSteps(h);
+  const long long nSteps = numberOfSteps(P, deck_.origin);  // checked by checkScene
   const bool fresh = restart_.empty();
   io::Hdf5File file = openOutput(h);
   const auto& bodies = scene_->bodies();

@@ -85,7 +85,6 @@ public:
 
 private:
   // The steps of run().
-  long long numberOfSteps(double h) const;
   io::Hdf5File openOutput(double h) const;
   void writeRunFigures(io::Hdf5File& file, const ExplicitLoop& loop, const KernelCounter* kernels);
   Deck deck_;
