@@ -83,6 +83,10 @@ EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuch
   const int wanted = std::max(3 * opt.count, opt.count + 60);
   pl.set("Num Blocks", std::max(3, std::min((n - 1) / blockSize, wanted / blockSize + 1)));
   pl.set("Maximum Restarts", opt.maxRestarts);
+  // Ritz values and residuals after every block, not only when the space is full: the solve stops
+  // as soon as the wanted pairs converge. Measured on the 64,500-DOF C3D20 blade (1 rank): 50
+  // fixed-interface modes 6.4 -> 4.2-4.5 s, the 10-mode frequency check 72 -> 48 solves.
+  pl.set("Step Size", 1);
   pl.set("Convergence Tolerance", opt.tolerance);
   pl.set("Verbosity", Anasazi::Errors);
   Anasazi::BlockKrylovSchurSolMgr<double, MV, OP> mgr(problem, pl);
