@@ -22,11 +22,20 @@ struct CraigBamptonOptions {
   LinearSolver solver = LinearSolver::Mumps;  // K_CC: Amesos2 MUMPS or KLU2 (one factor), or Belos CG (iterative)
   double iterativeTolerance = 1e-12;   // Belos CG: relative residual of each solve
   double eigenTolerance = 1e-10;
+  /// Craig-Bampton and Guyan: the full model's lowest `checkFrequencies` frequencies, computed
+  /// through the reduction's K_CC factor (no second factorization) into ReducedModel::fullFrequencies
+  /// (left empty when the body has a free rigid motion; fullModelFrequencies then serves). 0: none.
+  int checkFrequencies = 0;
+  /// Anasazi's relative residual tolerance tau for the check: a symmetric problem's Ritz values err
+  /// by about tau^2 / (relative gap), so 1e-6 gives the frequencies to about 1e-11 (measured on the
+  /// 64,500-DOF blade: equal to 1e-10's to 11 digits, with 48 solves instead of 66).
+  double checkTolerance = 1e-6;
 };
 
 struct ReductionReport {
   double seconds = 0;                  // wall time of the whole reduction
   double factorSeconds = 0, constraintSeconds = 0, eigenSeconds = 0, projectSeconds = 0;
+  double checkSeconds = 0;             // the frequency check (checkFrequencies), not part of `seconds`
   int retainedDofs = 0, condensedDofs = 0;
   int eigenIterations = 0;             // Anasazi iterations
   long eigenSolves = 0;                // vectors through the shift-invert operator

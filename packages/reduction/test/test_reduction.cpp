@@ -48,3 +48,28 @@ TEST(Reduction, TheFullFrequenciesDoNotDependOnTheShift) {
   for (std::size_t i = 0; i < oldShift.size(); ++i)  // Anasazi's tolerance 1e-10 on the residual
     EXPECT_NEAR(boundShift[i], oldShift[i], 1e-8 * oldShift[i]) << "mode " << i + 1;
 }
+
+// The frequency check through the reduction's own K_CC factor (the Schur complement of K, no
+// second factorization) gives the full model's frequencies: the same as a factor of the whole K,
+// on 1 rank and distributed, for Craig-Bampton and Guyan. A free body (K singular) gets none, so
+// that the caller falls back to a shifted factor.
+TEST(Reduction, TheFrequencyCheckThroughTheCondensationIsTheFullModels) {
+  const FullModel bar = test::bar(12, true);
+  const auto full = fullModelFrequencies(bar, 8);
+  for (int modes : {0, 6}) {
+    CraigBamptonOptions o;
+    o.modes = modes;
+    o.checkFrequencies = 8;
+    ReductionReport rep;
+    const ReducedModel r = craigBampton(bar, bar.mesh.nodeSet("x+", "test"), o, &rep);
+    ASSERT_EQ(r.fullFrequencies.size(), full.size()) << modes << " modes";
+    for (std::size_t i = 0; i < full.size(); ++i)  // tolerances 1e-6 (the check) and 1e-10: ~1e-11 on f
+      EXPECT_NEAR(r.fullFrequencies[i], full[i], 1e-9 * full[i]) << "mode " << i + 1 << ", " << modes << " modes";
+    EXPECT_GT(rep.checkSeconds, 0.0);
+  }
+  const FullModel free = test::bar(12, false);
+  CraigBamptonOptions o;
+  o.modes = 4;
+  o.checkFrequencies = 8;
+  EXPECT_TRUE(craigBampton(free, free.mesh.nodeSet("x+", "test"), o).fullFrequencies.empty());
+}

@@ -290,6 +290,7 @@ CraigBamptonOptions reductionOptions(const ParameterList& rp) {
   o.modes = deck::getEnum<ReductionMethod>(rp, "Method") == ReductionMethod::Guyan ? 0 : rp.get<int>("Fixed-interface modes");
   o.solver = deck::getEnum<LinearSolver>(rp, "Linear solver");
   o.iterativeTolerance = rp.get<double>("Iterative tolerance");
+  o.checkFrequencies = rp.get<int>("Frequency check");
   return o;
 }
 
@@ -314,10 +315,17 @@ ReducedModel reduceBody(const FullModel& full, const std::vector<int>& retainedN
 }
 
 FrequencyCheck frequencyCheck(const FullModel& full, const ReducedModel& model, const CraigBamptonOptions& o,
-                              int count) {
+                              int count, const ReductionReport& report) {
   FrequencyCheck c;
   Stopwatch sw;
   count = std::min(count, full.numFree - 1);
+  if (static_cast<int>(model.fullFrequencies.size()) >= count && !model.sparse()) {
+    // Craig-Bampton and Guyan computed them through their own K_CC factor (CraigBamptonOptions::checkFrequencies).
+    c.full.assign(model.fullFrequencies.begin(), model.fullFrequencies.begin() + count);
+    c.throughReduction = true;
+    c.seconds = report.checkSeconds;
+    return c;
+  }
   if (model.kind == ReductionKind::MasslessBoundary) {
     // Its modes are the full model's lowest (retained nodes free), from the reduction's own solve;
     // its reduced model has no other frequency (the boundary carries no mass) to compare.

@@ -64,10 +64,11 @@ ReducedModel reduceBody(const FullModel& full, const std::vector<int>& retainedN
 /// dense matrices to give them) come in `lumped`.
 struct FrequencyCheck {
   std::vector<double> full, lumped;
-  bool reused = false;
+  bool reused = false;            // the reduction's own modes are the full model's (massless boundary)
+  bool throughReduction = false;  // computed by the reduction through its factor (Craig-Bampton, Guyan)
   double seconds = 0;
 };
 FrequencyCheck frequencyCheck(const FullModel& full, const ReducedModel& model, const CraigBamptonOptions& options,
-                              int count);
+                              int count, const ReductionReport& report);
 
 }  // namespace epaphe

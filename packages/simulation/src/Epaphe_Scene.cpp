@@ -154,17 +154,18 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
   const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
   const int checkCount = rp.get<int>("Frequency check");
 
-  // Cache key: everything the reduced model depends on (imported files: their content hashes, on rank 0).
+  // Cache key: everything the reduced model depends on (imported files: their content hashes, on
+  // rank 0; hashed only when the cache is used).
   bodyModelFiles(b->name, bp, origin);  // every rank checks the files exist before anything waits on rank 0
+  const std::string cacheFile = cacheFileOf(rp, output_, b->name);
+  const bool useCache = rp.get<bool>("Cache") && method != ReductionMethod::FullLumped;  // nothing to reduce
   std::string key;
-  if (comm->getRank() == 0)
+  if (useCache && comm->getRank() == 0)
     key = contentKey(bodyModelKeyText(b->name, bp, origin) + "clamped=" + bp.get<std::string>("Clamped node set") +
                      "\nretained=" + retainedSet + "\nmethod=" + rp.get<std::string>("Method") +
                      "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
                      "\ncheck=" + std::to_string(checkCount) + "\nsolver=" + rp.get<std::string>("Linear solver") +
                      "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")));
-  const std::string cacheFile = cacheFileOf(rp, output_, b->name);
-  const bool useCache = rp.get<bool>("Cache") && method != ReductionMethod::FullLumped;  // nothing to reduce
 
   int cached = 0;
   if (useCache && comm->getRank() == 0) cached = loadReducedModel(cacheFile, key, b->rom) ? 1 : 0;
@@ -200,11 +201,13 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
           << ", constraint modes " << formatDuration(b->report.constraintSeconds) << ", eigenmodes "
           << formatDuration(b->report.eigenSeconds) << ")\n";
     if (checkCount > 0) {
-      const FrequencyCheck fc = frequencyCheck(full, b->rom, cbo, checkCount);
+      const FrequencyCheck fc = frequencyCheck(full, b->rom, cbo, checkCount, b->report);
       b->rom.fullFrequencies = fc.full;
       if (b->rom.sparse()) b->reducedFrequencies = fc.lumped;
       out << "[" << b->name << "] frequency check: the full model's lowest " << fc.full.size() << " frequencies "
-          << (fc.reused ? std::string("are the reduction's own modes") : "in " + formatDuration(fc.seconds)) << "\n";
+          << (fc.reused ? std::string("are the reduction's own modes")
+                        : (fc.throughReduction ? "through the reduction's factor in " : "in ") + formatDuration(fc.seconds))
+          << "\n";
     }
     if (useCache && comm->getRank() == 0) saveReducedModel(b->rom, cacheFile, key);
   }
