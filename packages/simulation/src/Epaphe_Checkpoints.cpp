@@ -28,6 +28,7 @@ Checkpoints::Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, HistoryOu
 
 void Checkpoints::write(const ExplicitLoop& loop, long long nextStep) {
   Stopwatch w;
+  history_.completeRecords();
   // First the buffered records, flushed: a kill before the checkpoint's own data is flushed then
   // leaves series at least as long as the previous checkpoint's lengths (a restart cuts them).
   file_.flush();

@@ -2,9 +2,15 @@
 
 namespace epaphe {
 
+namespace {
+constexpr int kChunk = 32;  // records recovered together (a fixed dgemm shape: see NodeRecovery)
+}  // namespace
+
 struct HistoryOutput::BodySeries {
   std::vector<DenseVector> Mt;  // M t_d: rigid translations through the mass matrix
-  DenseVector uw, vw;           // the watched nodes' displacement and velocity
+  std::vector<double> pending;  // [q v] of the records not yet recovered, 2 n per record (kChunk at most)
+  int pendingRecords = 0;
+  std::vector<double> recovered;  // [u v] of a chunk, 2 kChunk columns of the watched rows
   std::vector<std::unique_ptr<io::Series>> disp, vel;
   std::unique_ptr<io::Series> gap, force, totalForce, momentum;
   std::vector<double> gapRec, forceRec;
@@ -28,8 +34,10 @@ HistoryOutput::HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_p
       file.setAttribute(g, "reduction", b.rom.method());
       file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
     }
-    r->uw = DenseVector("uw", b.recoveryWatched.rows());
-    r->vw = DenseVector("vw", b.recoveryWatched.rows());
+    if (!b.watched.empty()) {
+      r->pending.assign(2 * static_cast<std::size_t>(kChunk) * n, 0.0);
+      r->recovered.assign(2 * static_cast<std::size_t>(kChunk) * b.recoveryWatched.rows(), 0.0);
+    }
     // Linear momentum p_d = t_d^T M v and rigid mass m = t_x^T M t_x (rebound velocity = p / m).
     for (int d = 0; d < 3; ++d) {
       const auto t = b.rom.rigidTranslation(d);
@@ -106,17 +114,12 @@ void HistoryOutput::afterCorrect(ExplicitLoop& loop) {
     const double p[3] = {epaphe::dot(r.Mt[0], v), epaphe::dot(r.Mt[1], v), epaphe::dot(r.Mt[2], v)};
     r.momentum->append(p);
     if (!r.disp.empty()) {
-      b.recoveryWatched.apply(loop.part(loop.current(), ib), v, r.uw, r.vw);
-      auto uh = Kokkos::create_mirror_view(r.uw);
-      auto vh = Kokkos::create_mirror_view(r.vw);
-      Kokkos::deep_copy(uh, r.uw);
-      Kokkos::deep_copy(vh, r.vw);
-      std::size_t off = 0;
-      for (std::size_t w = 0; w < r.disp.size(); ++w) {
-        r.disp[w]->append(uh.data() + off);
-        r.vel[w]->append(vh.data() + off);
-        off += r.disp[w]->recordSize();
-      }
+      const DenseVector q = loop.part(loop.current(), ib);
+      const std::size_t n = q.extent(0);
+      double* dst = r.pending.data() + 2 * n * static_cast<std::size_t>(r.pendingRecords);
+      std::copy(q.data(), q.data() + n, dst);
+      std::copy(v.data(), v.data() + n, dst + n);
+      if (++r.pendingRecords == kChunk) recover(ib);
     }
     if (b.contactEnd > b.contactBegin) {
       double tf = 0;
@@ -141,7 +144,32 @@ void HistoryOutput::afterCorrect(ExplicitLoop& loop) {
   balance_.append(&e.balance);
 }
 
+void HistoryOutput::recover(std::size_t ib) {
+  BodySeries& r = *perBody_[ib];
+  if (r.pendingRecords == 0) return;
+  const NodeRecovery& R = bodies_[ib]->recoveryWatched;
+  const std::size_t n = static_cast<std::size_t>(bodies_[ib]->rom.size), m = R.rows();
+  // a partial chunk (at a checkpoint or the end) is padded with zeros: the call's shape stays fixed
+  std::fill(r.pending.begin() + 2 * n * static_cast<std::size_t>(r.pendingRecords), r.pending.end(), 0.0);
+  R.applyColumns(r.pending.data(), 2 * kChunk, r.recovered.data());
+  for (int j = 0; j < r.pendingRecords; ++j) {
+    const double* u = r.recovered.data() + 2 * m * static_cast<std::size_t>(j);
+    std::size_t off = 0;
+    for (std::size_t w = 0; w < r.disp.size(); ++w) {
+      r.disp[w]->append(u + off);
+      r.vel[w]->append(u + m + off);
+      off += r.disp[w]->recordSize();
+    }
+  }
+  r.pendingRecords = 0;
+}
+
+void HistoryOutput::completeRecords() {
+  for (std::size_t ib = 0; ib < perBody_.size(); ++ib) recover(ib);
+}
+
 void HistoryOutput::failed(ExplicitLoop&, const std::string& why) {
+  completeRecords();
   file_.setAttribute("/", "status", "stopped: " + why);
   file_.flush();
 }

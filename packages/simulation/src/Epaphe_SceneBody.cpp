@@ -6,7 +6,8 @@
 
 namespace epaphe {
 
-NodeRecovery::NodeRecovery(const ReducedModel& rom, const std::vector<int>& nodes, const std::string& label) {
+NodeRecovery::NodeRecovery(const ReducedModel& rom, const std::vector<int>& nodes, const std::string& label)
+    : size_(rom.size) {
   if (rom.sparse()) {
     index_ = rom.recoveryIndex(nodes);
     return;
@@ -31,21 +32,19 @@ void NodeRecovery::apply(const DenseVector& q, const DenseVector& u) const {
   Kokkos::deep_copy(u, uh);
 }
 
-void NodeRecovery::apply(const DenseVector& q, const DenseVector& v, const DenseVector& u, const DenseVector& w) const {
+// Called with a fixed column count (HistoryOutput pads its chunks), so that a column's result, each
+// entry a sum over k in the kernel's order, does not depend on which columns share the call: a
+// restart regroups the records.
+void NodeRecovery::applyColumns(const double* X, int cols, double* Y) const {
+  const std::size_t m = rows(), n = static_cast<std::size_t>(size_);
   if (!index_.empty()) {
-    apply(q, u);
-    apply(v, w);
+    for (int j = 0; j < cols; ++j)
+      for (std::size_t i = 0; i < m; ++i) Y[j * m + i] = index_[i] >= 0 ? X[j * n + index_[i]] : 0.0;
     return;
   }
-  const int m = static_cast<int>(R_.extent(0)), n = static_cast<int>(R_.extent(1));
-  X_.resize(2 * static_cast<std::size_t>(n));
-  Y_.resize(2 * static_cast<std::size_t>(m));
-  std::copy(q.data(), q.data() + n, X_.begin());
-  std::copy(v.data(), v.data() + n, X_.begin() + n);
-  Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, m, 2, n, 1.0, R_.data(), m, X_.data(), n,
-                                    0.0, Y_.data(), m);
-  std::copy(Y_.begin(), Y_.begin() + m, u.data());
-  std::copy(Y_.begin() + m, Y_.end(), w.data());
+  Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, static_cast<int>(m), cols,
+                                    static_cast<int>(n), 1.0, R_.data(), static_cast<int>(m), X,
+                                    static_cast<int>(n), 0.0, Y, static_cast<int>(m));
 }
 
 }  // namespace epaphe

@@ -21,14 +21,14 @@ public:
   NodeRecovery(const ReducedModel& rom, const std::vector<int>& nodes, const std::string& label);
   std::size_t rows() const { return R_.extent(0) > 0 ? R_.extent(0) : index_.size(); }
   void apply(const DenseVector& q, const DenseVector& u) const;
-  /// u = R q and w = R v in one pass over R ([u w] = R [q v], one dgemm): a record of many watched
-  /// nodes reads R once, the memory traffic that bounds it.
-  void apply(const DenseVector& q, const DenseVector& v, const DenseVector& u, const DenseVector& w) const;
+  /// Y = R X for `cols` columns at once (X: size() x cols, Y: rows() x cols, column-major, on the
+  /// host): one dgemm reads R once for all of them, where a record at a time reads R per record.
+  void applyColumns(const double* X, int cols, double* Y) const;
 
 private:
   DenseMatrix R_;
   std::vector<int> index_;
-  mutable std::vector<double> X_, Y_;  // [q v] and [u w], sized at the first record
+  int size_ = 0;  // the reduced model's size
 };
 
 struct SceneBody {
