@@ -35,7 +35,6 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.surf = Kokkos::View<SurfaceView*>("epaphe::contact::surfaces", ns);
   v.rot = Kokkos::View<double* [3][3]>("epaphe::contact::rotation", ns);
   v.turn = Kokkos::View<double* [9]>("epaphe::contact::turning", ns);
-  v.carried = Kokkos::View<int*>("epaphe::contact::carried", ns);
   for (int s = 0; s < ns; ++s) {
     ContactSurface& cs = surfaces_[s];
     if (cs.moving) cs.surface = cs.moving;
@@ -48,7 +47,6 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
     EPAPHE_REQUIRE(l > 0.0, "contact: surface '" << cs.surface->name() << "' has a zero rotation axis");
     for (double& a : cs.axis) a /= l;
     v.surf(s) = cs.surface->view();
-    v.carried(s) = cs.moving ? 1 : 0;
     anyCarried_ = anyCarried_ || cs.moving;
     v.turn(s, 0) = cs.omega;
     for (int d = 0; d < 3; ++d) {
@@ -122,6 +120,9 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.skipped = Kokkos::View<int*>("epaphe::contact::skipped", nc);
   v.refine = Kokkos::View<int*>("epaphe::contact::refine", nc);
   v.bound = Kokkos::View<double*>("epaphe::contact::gap_bound", nc);
+  v.travel = Kokkos::View<double*>("epaphe::contact::surface_travel", ns);
+  v.travelLast = Kokkos::View<double**>("epaphe::contact::surface_travel_last", nc, ns);
+  ctrlLast_.resize(static_cast<std::size_t>(ns));
   v.offset = Kokkos::View<double*>("epaphe::contact::penetration_offset", nc);
   v.offsetSurf = Kokkos::View<int*>("epaphe::contact::penetration_surface", nc);
   Kokkos::deep_copy(v.offsetSurf, -1);
@@ -181,7 +182,55 @@ GuardOptions guardOptions(const Teuchos::ParameterList& cp) {
   return o;
 }
 
-void ContactDetection::reset() { Kokkos::deep_copy(v_.eligible, 0); }
+void ContactDetection::reset() {
+  Kokkos::deep_copy(v_.eligible, 0);
+  Kokkos::deep_copy(v_.travel, 0.0);  // every node projects next: the motion so far no longer matters
+  for (auto& c : ctrlLast_) c.clear();
+}
+
+std::vector<double> ContactDetection::skipState() const {
+  Kokkos::fence();
+  const int nc = numNodes(), ns = numSurfaces();
+  std::vector<double> st;
+  for (int k = 0; k < nc; ++k) {
+    st.push_back(v_.eligible(k));
+    for (int d = 0; d < 3; ++d) st.push_back(v_.xLast(k, d));
+    st.push_back(v_.tLast(k));
+    st.push_back(v_.gLast(k));
+    for (int s = 0; s < ns; ++s) st.push_back(v_.travelLast(k, s));
+  }
+  for (int s = 0; s < ns; ++s) st.push_back(v_.travel(s));
+  for (const auto& c : ctrlLast_) {
+    st.push_back(static_cast<double>(c.size()));
+    st.insert(st.end(), c.begin(), c.end());
+  }
+  return st;
+}
+
+void ContactDetection::setSkipState(const std::vector<double>& st) {
+  Kokkos::fence();
+  const int nc = numNodes(), ns = numSurfaces();
+  std::size_t i = 0;
+  auto next = [&]() {
+    EPAPHE_REQUIRE(i < st.size(), "contact: the checkpoint's detection state has " << st.size()
+                                                                                    << " values, too few for this scene");
+    return st[i++];
+  };
+  for (int k = 0; k < nc; ++k) {
+    v_.eligible(k) = static_cast<int>(next());
+    for (int d = 0; d < 3; ++d) v_.xLast(k, d) = next();
+    v_.tLast(k) = next();
+    v_.gLast(k) = next();
+    for (int s = 0; s < ns; ++s) v_.travelLast(k, s) = next();
+  }
+  for (int s = 0; s < ns; ++s) v_.travel(s) = next();
+  for (auto& c : ctrlLast_) {
+    c.resize(static_cast<std::size_t>(next()));
+    for (double& x : c) x = next();
+  }
+  EPAPHE_REQUIRE(i == st.size(), "contact: the checkpoint's detection state has " << st.size() << " values, "
+                                                                                 << i << " expected for this scene");
+}
 
 std::vector<double> ContactDetection::warmStarts() const {
   const std::size_t nc = static_cast<std::size_t>(numNodes()), ns = surfaces_.size();
@@ -218,6 +267,31 @@ void ContactDetection::rebuildCarried(const DenseVector& q) {
     Kokkos::deep_copy(gridPosH_[s], gx);
     surfaces_[s].moving->update(gridPosH_[s].data());  // (ng x 3, LayoutRight: the layout update() reads)
     v_.surf(s) = surfaces_[s].moving->view();          // its broad-phase bins may have moved
+    // The skipping's bounds (top of Epaphe_ContactDetection.hpp): T_s += max |dP|, r_s now.
+    const HostSurfaceView h = surfaces_[s].moving->hostView();
+    const std::size_t n = h.ctrl.extent(0) * h.ctrl.extent(1);
+    std::vector<double>& last = ctrlLast_[s];
+    const ContactSurface& cs = surfaces_[s];
+    double step = 0.0, r = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double* P = h.ctrl.data() + 3 * i;
+      if (last.size() == 3 * n) {
+        const double* L = last.data() + 3 * i;
+        step = std::max(step, std::sqrt((P[0] - L[0]) * (P[0] - L[0]) + (P[1] - L[1]) * (P[1] - L[1]) +
+                                        (P[2] - L[2]) * (P[2] - L[2])));
+      }
+      double p[3], pa = 0.0;
+      for (int d = 0; d < 3; ++d) {
+        p[d] = P[d] - cs.center[d];
+        pa += p[d] * cs.axis[d];
+      }
+      double rr = 0.0;
+      for (int d = 0; d < 3; ++d) rr += (p[d] - pa * cs.axis[d]) * (p[d] - pa * cs.axis[d]);
+      r = std::max(r, std::sqrt(rr));
+    }
+    last.assign(h.ctrl.data(), h.ctrl.data() + 3 * n);
+    v_.travel(s) += step;
+    v_.turn(s, 7) = r;
   }
 }
 
@@ -270,7 +344,8 @@ void ContactDetection::project(bool all, bool refineOnly) {
       double dx = 0.0;
       for (int d = 0; d < 3; ++d) dx += (x[d] - v.xLast(k, d)) * (x[d] - v.xLast(k, d));
       double move = ::sqrt(dx);
-      for (int s = 0; s < ns; ++s) move += ::fabs(v.turn(s, 0)) * (t - v.tLast(k)) * v.turn(s, 7);
+      for (int s = 0; s < ns; ++s)
+        move += ::fabs(v.turn(s, 0)) * (t - v.tLast(k)) * v.turn(s, 7) + (v.travel(s) - v.travelLast(k, s));
       const double b = v.gLast(k) - 2.0 * move;
       if (b > 0.0) {
         v.skipped(k) = 1;
@@ -299,7 +374,8 @@ void ContactDetection::project(bool all, bool refineOnly) {
       v.uv(k, s, 0) = p.u;
       v.uv(k, s, 1) = p.v;
       its = p.iterations > its ? p.iterations : its;
-      eligible = eligible && !v.carried(s) && p.converged && !(p.beyond > 0.0);
+      eligible = eligible && p.converged && !(p.beyond > 0.0);
+      v.travelLast(k, s) = v.travel(s);
       gmin = p.gap < gmin ? p.gap : gmin;
       if (!(p.beyond > edgeTol) && p.gap < g) {
         g = p.gap;

@@ -14,15 +14,17 @@
 // surface (foot point inside every surface, Newton converged) cannot touch any before it has moved
 // by g_k relative to them. Its gap is a 1-Lipschitz function of its position on a surface it faces
 // (a signed distance), so while
-//     g_k - 2 (|x_k - x_k,last| + sum_s |omega_s| (t - t_last) r_s) > 0
-// (r_s: the largest distance of surface s's control points from its axis; 2: a safety factor for
-// the foot point's motion near an edge), the node is out of contact whatever its projection would
-// give: it skips its Newton projection and keeps its last foot point and gap, and `skipped(k)` is
-// set with the lower bound `bound(k)` of its true gap. A consumer that needs such a node's exact
-// gap (the Lagrange add-pass test when the bound does not decide) calls refine(). Carried surfaces
-// deform: nodes facing one are always projected. forceAll() (output steps, measureGaps) and
-// reset() (checkpoints, restarts) make every node project, so written gaps are exact and restarts
-// bit for bit.
+//     g_k - 2 (|x_k - x_k,last| + sum_s [|omega_s| (t - t_last) r_s + (T_s - T_s,last)]) > 0
+// (r_s: the largest distance of surface s's control points from its axis; T_s: how far a carried
+// surface's points can have moved by deformation, below; 2: a safety factor for the foot point's
+// motion near an edge), the node is out of contact whatever its projection would give: it skips its
+// Newton projection and keeps its last foot point and gap, and `skipped(k)` is set with the lower
+// bound `bound(k)` of its true gap. A consumer that needs such a node's exact gap (the Lagrange
+// add-pass test when the bound does not decide) calls refine(). A carried surface deforms: a point
+// S(u, v) = sum N_i(u) N_j(v) P_ij of it moves at most max_ij |dP_ij| in a step (the basis is
+// non-negative and sums to 1, eq. 2.22), so T_s adds that up over the steps (and r_s is its control
+// points' current largest radius). Output steps (measureGaps) project every node, so written gaps
+// are exact; checkpoints keep the skipping's state (skipState), so restarts are bit for bit.
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ClosestPoint.hpp"
 #include "Epaphe_Flexibility.hpp"
@@ -85,7 +87,6 @@ struct DetectionViews {
   Kokkos::View<SurfaceView*> surf;   // [s] the surfaces (a carried one re-copied after its update)
   Kokkos::View<double* [3][3]> rot;  // [s] R(omega t + phase)
   Kokkos::View<double* [9]> turn;    // [s] omega, axis (3), center (3), r_s, turning (1) or not (0)
-  Kokkos::View<int*> carried;        // [s] 1: on a flexible body
   Kokkos::View<double** [2]> uv;     // [k][s] warm start (NaN: cold start from the nearest grid node)
   Kokkos::View<double*> gap;         // selected gap (1e300: beyond every surface)
   Kokkos::View<int*> selected;       // selected surface (-1: none)
@@ -98,6 +99,8 @@ struct DetectionViews {
   Kokkos::View<double*> tLast, gLast;
   Kokkos::View<int*> eligible, skipped, refine;
   Kokkos::View<double*> bound;       // a lower bound of a skipped node's gap
+  Kokkos::View<double*> travel;      // [s] T_s: the carried surface's summed largest control-point motion
+  Kokkos::View<double**> travelLast; // [k][s] T_s at the node's last projection
   // initial penetrations resolved gently (setPenetrationOffsets): the depth d_k >= 0 added to the
   // gap on surface offsetSurf(k) (-1: none), ramped down to 0 at the ramp's end
   Kokkos::View<double*> offset;
@@ -119,8 +122,13 @@ public:
   /// Projects the nodes flagged in views().refine (at the q and t of the last detect()), clears
   /// the flags and their `skipped` state; returns how many.
   int refine();
-  /// Every node projects at the next detect() (checkpoints, restarts, a changed warm start).
+  /// Every node projects at the next detect() (a changed warm start, initial penetrations).
   void reset();
+  /// The skipping's state carried from one step to the next, for checkpoints (per node: eligible,
+  /// position, time, gap and T_s at its last projection; T_s and each carried surface's last control
+  /// points): restored by setSkipState, a restart skips exactly as the uninterrupted run.
+  std::vector<double> skipState() const;
+  void setSkipState(const std::vector<double>& state);
 
   const DetectionViews& views() const { return v_; }
   int numNodes() const { return static_cast<int>(v_.gap.extent(0)); }
@@ -153,6 +161,7 @@ private:
   std::vector<Kokkos::View<double* [3]>> gridX_, gridPos_;   // [s] carried surfaces' grid (empty: rigid)
   std::vector<Kokkos::View<int* [3]>> gridDof_;
   std::vector<Kokkos::View<double* [3]>::HostMirror> gridPosH_;
+  std::vector<std::vector<double>> ctrlLast_;  // [s] a carried surface's control points at the last rebuild (empty: none yet)
   double time_ = 0.0;
   double rampEnd_ = 0.0;  // offsets vanish at this time (0: no offsets)
   double smallestPatch_ = 1e300;

@@ -127,12 +127,12 @@ public:
   /// Gaps of the nodes at q without correcting anything (for output); gap() then returns them.
   /// Every node is projected: written gaps are exact whatever the skipping.
   void measureGaps(const DenseVector& q, CostSplit& cost);
-  /// The next step starts as a restart would: every node projects, friction's classification starts
-  /// cold (called at checkpoints, so that restarts are bit for bit).
-  void resetWarmStarts() {
-    detection_->reset();
-    enforcement_->reset();
-  }
+  /// The next step starts as a restart would: friction's classification starts cold (called at
+  /// checkpoints, so that restarts are bit for bit; the detection's state is checkpointed instead).
+  void resetWarmStarts() { enforcement_->reset(); }
+  /// The detection's skipping state (ContactDetection::skipState), for checkpoints.
+  std::vector<double> detectionState() const { return detection_->skipState(); }
+  void setDetectionState(const std::vector<double>& state) { detection_->setSkipState(state); }
   const ContactDetection& detection() const { return *detection_; }
   /// See ContactDetection::setPenetrationOffsets (initial penetrations resolved gently).
   void setPenetrationOffsets(const std::vector<double>& depth, double rampEnd) {

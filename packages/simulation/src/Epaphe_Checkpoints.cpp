@@ -50,7 +50,8 @@ void Checkpoints::write(const ExplicitLoop& loop, long long nextStep) {
     const auto uv = contact->warmStarts();
     file_.writeDoubles(c + "/warm_start", {uv.size() / (2 * contact->numNodes()),
                                            static_cast<std::uint64_t>(contact->numNodes()), 2}, uv.data());
-    contact->resetWarmStarts();  // as a restart from here will: projections and friction start anew
+    file_.writeDoubles(c + "/detection_state", contact->detectionState());
+    contact->resetWarmStarts();  // as a restart from here will: friction starts anew
   }
   std::vector<long long> lengths;
   for (const io::Series* s : series_) lengths.push_back(static_cast<long long>(s->size()));
@@ -96,7 +97,11 @@ long long Checkpoints::restore(ExplicitLoop& loop, const std::string& what) {
   load(loop.previous(), c + "/q_prev");
   load(loop.current(), c + "/q");
   loop.accumulators().restore(file_.readDoubles(c + "/accumulators"), what + ": " + c + "/accumulators");
-  if (SurfaceContact* contact = loop.contact()) contact->setWarmStarts(file_.readDoubles(c + "/warm_start"));
+  if (SurfaceContact* contact = loop.contact()) {
+    contact->setWarmStarts(file_.readDoubles(c + "/warm_start"));
+    if (file_.exists(c + "/detection_state"))  // (checkpoints before 2026-11-24 have none: every node projects)
+      contact->setDetectionState(file_.readDoubles(c + "/detection_state"));
+  }
   file_.flush();
   return counters[0];
 }

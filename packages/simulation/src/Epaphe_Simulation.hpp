@@ -21,7 +21,7 @@
 //   /bodies/<b>/fields/{position, displacement} (frames x nodes x 3);  /surfaces/<s>/points
 //   ((nu nv) x 3, grid node (i, j) at row i nv + j)
 // and the last checkpoint (overwritten in place at each checkpoint, see Epaphe_Checkpoints.hpp):
-//   /checkpoint/{counters, q_prev, q, accumulators, warm_start, series_paths, series_lengths}
+//   /checkpoint/{counters, q_prev, q, accumulators, warm_start, detection_state, series_paths, series_lengths}
 #include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_ContactGuards.hpp"
 #include "Epaphe_CraigBampton.hpp"
