@@ -2,6 +2,7 @@
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_Error.hpp"
 #include "Epaphe_CentralDifference.hpp"
+#include "Epaphe_Parallel.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
 #include "TestModels.hpp"
@@ -11,6 +12,7 @@
 #include <Teuchos_LAPACK.hpp>
 
 #include <cmath>
+#include <vector>
 
 using namespace epaphe;
 using epaphe::test::oscillator;
@@ -172,4 +174,40 @@ TEST(CentralDifference, RayleighFromTwoRatios) {
   EXPECT_NEAR(xi(100.0), 0.01, 1e-14);
   EXPECT_NEAR(xi(1000.0), 0.02, 1e-14);
   EXPECT_THROW(rayleighFromRatios(100.0, 0.05, 1000.0, 0.001, a, b), Error);  // would need alpha or beta < 0
+}
+
+// A dense operator's product y = alpha A x + beta y, split in one block of rows per thread when it
+// pays (forEach): the same numbers as the product written out, and the same bits whether the blocks
+// run on the thread team or on the calling thread.
+TEST(BodyOperator, DenseProductByRowBlocks) {
+  const int n = 419;  // cube-rings' reduced size: 1.4 MB, above the parallel threshold
+  std::vector<double> a(static_cast<std::size_t>(n) * n), x0(n), y0(n);
+  for (int j = 0; j < n; ++j) {
+    x0[j] = std::sin(0.7 * j + 0.3);
+    y0[j] = std::cos(1.3 * j);
+    for (int i = 0; i < n; ++i) a[static_cast<std::size_t>(j) * n + i] = std::sin(0.011 * i * j + 0.5 * i - 0.2 * j);
+  }
+  const BodyOperator A = BodyOperator::dense(a, n, "test::A");
+  auto run = [&](long serialNs) {
+    setSerialWorkNs(serialNs);
+    DenseVector x("x", n), y("y", n);
+    for (int i = 0; i < n; ++i) {
+      x(i) = x0[i];
+      y(i) = y0[i];
+    }
+    A.apply(2.0, x, -0.5, y);
+    Kokkos::fence();
+    return std::vector<double>(y.data(), y.data() + n);
+  };
+  const auto team = run(0), serial = run(1L << 40);
+  setSerialWorkNs(kDefaultSerialWorkNs);
+  for (int i = 0; i < n; ++i) {
+    double s = 0, scale = 0;
+    for (int j = 0; j < n; ++j) {
+      s += a[static_cast<std::size_t>(j) * n + i] * x0[j];
+      scale += std::fabs(a[static_cast<std::size_t>(j) * n + i] * x0[j]);
+    }
+    EXPECT_NEAR(team[i], 2.0 * s - 0.5 * y0[i], 1e-14 * (2.0 * scale + 0.5 * std::fabs(y0[i]))) << "row " << i;
+    EXPECT_EQ(team[i], serial[i]) << "row " << i << ": the thread team and the calling thread differ";
+  }
 }
