@@ -149,6 +149,7 @@ const RunSummary& Simulation::run() {
     complete = loop.run();
   } catch (const Error& e) {
     summary_.status = std::string("stopped: ") + e.what();
+    history.completeRecords();  // every series as long as /time, as when an observer fails the run
     throw;
   }
   summary_.totals = loop.accumulators();
