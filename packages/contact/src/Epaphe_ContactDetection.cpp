@@ -323,6 +323,7 @@ int ContactDetection::refine() {
 }
 
 void ContactDetection::project(bool all, bool refineOnly) {
+  const parallel_detail::UntrackedViews untracked;  // local copies of views it owns; nothing allocated
   const DetectionViews v = v_;
   const DenseVector q = q_;
   const int nc = numNodes(), ns = numSurfaces();

@@ -279,6 +279,10 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
   const int projected = detection_->lastProjected();
 
   ScopedPhase phase(cost, "contact");
+  // From here the step only copies views it owns into locals (kernel captures) and allocates none
+  // (contact.step-budget): as inside a Kokkos region, the copies need not count references (two
+  // atomic operations per copy, 4.6 % of a blade run with friction). No member view is assigned below.
+  const parallel_detail::UntrackedViews untracked;
   activeH_.clear();
   for (int k = 0; k < nc; ++k) {
     forceH_(k) = 0.0;
