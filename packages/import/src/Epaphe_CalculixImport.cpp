@@ -330,8 +330,9 @@ FullModel importCalculix(const CalculixFiles& files, const std::string& name,
                                        << " and no *BOUNDARY: CalculiX eliminates DOFs tied by *EQUATION, MPCs or rigid "
                                           "bodies, which Epaphe does not import; fix such DOFs by *BOUNDARY or remove the ties");
         const int n = static_cast<int>(raw.rowDof.size());
-        raw.K = Details::readSparse(files.matrices + ".sti", "stiffness matrix", Details::Storage::Triangle, n, raw.dofPath);
-        raw.M = Details::readSparse(files.matrices + ".mas", "mass matrix", Details::Storage::Triangle, n, raw.dofPath);
+        Details::readSparsePair({files.matrices + ".sti", "stiffness matrix", Details::Storage::Triangle, n, raw.dofPath},
+                                {files.matrices + ".mas", "mass matrix", Details::Storage::Triangle, n, raw.dofPath}, raw.K,
+                                raw.M);
         raw.constrained = std::move(input.fixed);
         raw.mesh = std::move(input.mesh);
         return raw;

@@ -72,6 +72,21 @@ struct SparseEntries {
 SparseEntries readSparse(const std::string& path, const std::string& what, Storage storage, int size,
                          const std::string& sizeSource);
 
+/// The arguments of readSparse.
+struct SparseFile {
+  std::string path, what;
+  Storage storage = Storage::Detect;
+  int size = -1;
+  std::string sizeSource;
+};
+
+/// readSparse(k) and readSparse(m), at once when a second core is free: inside distributeModel's
+/// `read` on 2 or more MPI ranks, rank 1 (idle until the model is read) parses the mass matrix and
+/// sends its entries to rank 0; on one rank, a second thread parses it when Kokkos has 2 or more host
+/// threads. Otherwise one after the other. The same entries and the same Errors (the stiffness
+/// matrix's first) either way.
+void readSparsePair(const SparseFile& k, const SparseFile& m, SparseEntries& K, SparseEntries& M);
+
 /// Refuses a matrix stored in full whose (i, j) and (j, i) entries differ beyond round-off.
 void checkSymmetric(const SparseEntries& A);
 
@@ -117,7 +132,7 @@ struct ListedModelFiles {
 RawModel readListedModel(const ListedModelFiles& files, const std::string& name, Storage storage,
                          std::vector<LagrangeRow>* lagrangeRows);
 
-/// Runs `read` on rank 0 only, then gives every rank the same FullModel: free DOFs numbered in
+/// Runs `read` on rank 0 only (rank 1 may parse a matrix for it: readSparsePair), then gives every rank the same FullModel: free DOFs numbered in
 /// the order of the matrix rows (rows of constrained DOFs and dropped rows left out), row map
 /// contiguous and uniform. An Error on rank 0 is raised on every rank with the same message.
 /// Checks: matrix sizes against the DOF map, a DOF named twice, positive diagonals of K and M.

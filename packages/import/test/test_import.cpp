@@ -11,11 +11,13 @@
 
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_DefaultComm.hpp>
+#include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Map.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -102,6 +104,99 @@ TEST(SparseFile, LinesAcrossBlocksAndLongerThanABlockAreReadExactly) {
   EXPECT_EQ(A.val, vals);
   EXPECT_EQ(A.line.front(), 2);
   EXPECT_EQ(A.line.back(), entries + 2);
+}
+
+// The import builds its CSR arrays itself (not entry by entry through insertGlobalValues): on a
+// full-storage K whose entries are shuffled and some split in two (repeated (i, j), summed), the
+// imported matrix equals, bit for bit and in the same order, the matrix insertGlobalValues and
+// fillComplete make from the same entries in the same order (every rank its own rows).
+TEST(MatrixMarket, ShuffledRepeatedEntriesGiveTpetrasOwnMatrix) {
+  const FullModel ref = clampedBox("box");
+  const std::string dir = workDir("mm-shuffled");
+  auto files = MatrixMarketFiles::withPrefix(dir + "/box");
+  writeMatrixMarket(ref, files);
+  const int n = ref.numFree;
+  const auto K = gatherDense(*ref.K);
+  struct E { int i, j; double v; };
+  std::vector<E> entries;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      if (const double v = K[static_cast<std::size_t>(j) * n + i]; v != 0.0) {
+        if ((i + 3 * j) % 5 == 0) {  // split: a part now, the rest later in the file
+          entries.push_back({i, j, 0.25 * v});
+          entries.push_back({i, j, v - 0.25 * v});
+        } else {
+          entries.push_back({i, j, v});
+        }
+      }
+  std::uint64_t state = 12345;  // the same shuffle on every rank
+  for (std::size_t k = entries.size(); k > 1; --k) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    std::swap(entries[k - 1], entries[static_cast<std::size_t>(state >> 33) % k]);
+  }
+  if (comm()->getRank() == 0) {
+    std::ofstream out(files.stiffness);
+    out.precision(17);
+    out << "%%MatrixMarket matrix coordinate real general\n" << n << " " << n << " " << entries.size() << "\n";
+    for (const E& e : entries) out << e.i + 1 << " " << e.j + 1 << " " << e.v << "\n";
+  }
+  comm()->barrier();
+  const FullModel got = importMatrixMarket(files, "box", comm());
+  ASSERT_EQ(got.numFree, n);
+  const auto map = got.K->getRowMap();
+  std::vector<std::size_t> perRow(map->getNodeNumElements(), 0);
+  for (const E& e : entries)
+    if (map->isNodeGlobalElement(e.i)) ++perRow[map->getLocalElement(e.i)];
+  CrsMatrix want(map, Teuchos::ArrayView<const std::size_t>(perRow));
+  for (const E& e : entries)
+    if (map->isNodeGlobalElement(e.i))
+      want.insertGlobalValues(e.i, Teuchos::tuple<GO>(e.j), Teuchos::tuple<double>(e.v));
+  want.fillComplete();
+  const auto gc = got.K->getColMap()->getNodeElementList(), wc = want.getColMap()->getNodeElementList();
+  ASSERT_EQ(std::vector<GO>(gc.begin(), gc.end()), std::vector<GO>(wc.begin(), wc.end()));
+  ASSERT_EQ(got.K->getNodeNumEntries(), want.getNodeNumEntries());
+  for (LO l = 0; l < static_cast<LO>(map->getNodeNumElements()); ++l) {
+    CrsMatrix::local_inds_host_view_type gi, wi;
+    CrsMatrix::values_host_view_type gv, wv;
+    got.K->getLocalRowView(l, gi, gv);
+    want.getLocalRowView(l, wi, wv);
+    ASSERT_EQ(gi.extent(0), wi.extent(0)) << "row " << l;
+    for (std::size_t k = 0; k < gi.extent(0); ++k) {
+      EXPECT_EQ(gi(k), wi(k)) << "row " << l;
+      EXPECT_EQ(gv(k), wv(k)) << "row " << l;  // bit for bit: the repeats summed in file order
+    }
+  }
+}
+
+// K and M are parsed at once (M by rank 1 on 2 ranks, by a second thread on one): a broken M is
+// reported with its own file and line, and when both are broken K's error comes first, as when
+// they are read one after the other.
+TEST(MatrixMarket, ConcurrentReadsReportTheFirstFilesError) {
+  const FullModel ref = clampedBox("box");
+  const std::string dir = workDir("mm-broken-pair");
+  auto files = MatrixMarketFiles::withPrefix(dir + "/box");
+  writeMatrixMarket(ref, files);
+  auto breakFile = [&](const std::string& path) {
+    if (comm()->getRank() == 0) std::ofstream(path, std::ios::app) << "1 1 x-is-not-a-number\n";
+    comm()->barrier();
+  };
+  auto message = [&] {
+    try {
+      importMatrixMarket(files, "box", comm());
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  breakFile(files.mass);
+  const std::string massOnly = message();
+  EXPECT_NE(massOnly.find(files.mass + ":"), std::string::npos) << massOnly;
+  EXPECT_NE(massOnly.find("mass matrix"), std::string::npos) << massOnly;
+  breakFile(files.stiffness);
+  const std::string both = message();
+  EXPECT_NE(both.find(files.stiffness + ":"), std::string::npos) << both;
+  EXPECT_NE(both.find("stiffness matrix"), std::string::npos) << both;
+  EXPECT_EQ(both.find("mass matrix"), std::string::npos) << both;
 }
 
 TEST(MatrixMarket, OneTriangleIsMirrored) {
