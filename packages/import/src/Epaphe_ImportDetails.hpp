@@ -1,8 +1,8 @@
 #pragma once
 // What the importers share: reading text files line by line with positions for error messages,
 // sparse matrices stored as "row col value" lines (1-based, with or without a Matrix Market
-// header), and turning a model read on rank 0 (mesh, the DOF of every matrix row, K and M) into a
-// FullModel distributed over the communicator.
+// header), and turning a model read on rank 0 (mesh, the DOF of every matrix row, K and M; rank 1
+// may parse M) into a FullModel distributed over the communicator.
 #include "Epaphe_Error.hpp"
 #include "Epaphe_FullModel.hpp"
 
