@@ -54,6 +54,21 @@ FullModel clampedBox(const std::string& name) {
   return assembleHexModel(name, mesh, steel, clamped, comm());
 }
 
+/// The clamped box written as Matrix Market files in a fresh work directory `name`, with its dense K.
+struct WrittenBox {
+  FullModel ref;
+  MatrixMarketFiles files;
+  int n;
+  std::vector<double> K;
+};
+WrittenBox writtenBox(const std::string& name) {
+  WrittenBox b{clampedBox("box"), MatrixMarketFiles::withPrefix(workDir(name) + "/box"), 0, {}};
+  writeMatrixMarket(b.ref, b.files);
+  b.n = b.ref.numFree;
+  b.K = gatherDense(*b.ref.K);
+  return b;
+}
+
 }  // namespace
 
 TEST(MatrixMarket, RoundTripOfABuiltInModelIsExact) {
@@ -111,12 +126,10 @@ TEST(SparseFile, LinesAcrossBlocksAndLongerThanABlockAreReadExactly) {
 // imported matrix equals, bit for bit and in the same order, the matrix insertGlobalValues and
 // fillComplete make from the same entries in the same order (every rank its own rows).
 TEST(MatrixMarket, ShuffledRepeatedEntriesGiveTpetrasOwnMatrix) {
-  const FullModel ref = clampedBox("box");
-  const std::string dir = workDir("mm-shuffled");
-  auto files = MatrixMarketFiles::withPrefix(dir + "/box");
-  writeMatrixMarket(ref, files);
-  const int n = ref.numFree;
-  const auto K = gatherDense(*ref.K);
+  const WrittenBox box = writtenBox("mm-shuffled");
+  const auto& files = box.files;
+  const int n = box.n;
+  const auto& K = box.K;
   struct E { int i, j; double v; };
   std::vector<E> entries;
   for (int j = 0; j < n; ++j)
@@ -172,10 +185,7 @@ TEST(MatrixMarket, ShuffledRepeatedEntriesGiveTpetrasOwnMatrix) {
 // reported with its own file and line, and when both are broken K's error comes first, as when
 // they are read one after the other.
 TEST(MatrixMarket, ConcurrentReadsReportTheFirstFilesError) {
-  const FullModel ref = clampedBox("box");
-  const std::string dir = workDir("mm-broken-pair");
-  auto files = MatrixMarketFiles::withPrefix(dir + "/box");
-  writeMatrixMarket(ref, files);
+  const auto files = writtenBox("mm-broken-pair").files;
   auto breakFile = [&](const std::string& path) {
     if (comm()->getRank() == 0) std::ofstream(path, std::ios::app) << "1 1 x-is-not-a-number\n";
     comm()->barrier();
@@ -200,12 +210,10 @@ TEST(MatrixMarket, ConcurrentReadsReportTheFirstFilesError) {
 }
 
 TEST(MatrixMarket, OneTriangleIsMirrored) {
-  const FullModel ref = clampedBox("box");
-  const std::string dir = workDir("mm-triangle");
-  auto files = MatrixMarketFiles::withPrefix(dir + "/box");
-  writeMatrixMarket(ref, files);
-  const int n = ref.numFree;
-  const auto K = gatherDense(*ref.K);
+  const WrittenBox box = writtenBox("mm-triangle");
+  const auto& files = box.files;
+  const int n = box.n;
+  const auto& K = box.K;
   if (comm()->getRank() == 0) {  // rewrite K as its lower triangle, 'symmetric'
     std::ostringstream body;
     int count = 0;
