@@ -107,6 +107,7 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   }
   v.uv = Kokkos::View<double** [2]>("epaphe::contact::uv", nc, ns);
   Kokkos::deep_copy(v.uv, std::nan(""));  // cold start from the nearest grid node
+  v.uvRate = Kokkos::View<double** [2]>("epaphe::contact::uv_rate", nc, ns);
   v.gap = Kokkos::View<double*>("epaphe::contact::gap", nc);
   v.selected = Kokkos::View<int*>("epaphe::contact::surface", nc);
   v.normal = DetectionViews::Vec3("epaphe::contact::normal", nc);
@@ -185,6 +186,7 @@ GuardOptions guardOptions(const Teuchos::ParameterList& cp) {
 void ContactDetection::reset() {
   Kokkos::deep_copy(v_.eligible, 0);
   Kokkos::deep_copy(v_.travel, 0.0);  // every node projects next: the motion so far no longer matters
+  Kokkos::deep_copy(v_.uvRate, 0.0);
   for (auto& c : ctrlLast_) c.clear();
 }
 
@@ -198,6 +200,8 @@ std::vector<double> ContactDetection::skipState() const {
     st.push_back(v_.tLast(k));
     st.push_back(v_.gLast(k));
     for (int s = 0; s < ns; ++s) st.push_back(v_.travelLast(k, s));
+    for (int s = 0; s < ns; ++s)
+      for (int c = 0; c < 2; ++c) st.push_back(v_.uvRate(k, s, c));
   }
   for (int s = 0; s < ns; ++s) st.push_back(v_.travel(s));
   for (const auto& c : ctrlLast_) {
@@ -222,6 +226,8 @@ void ContactDetection::setSkipState(const std::vector<double>& st) {
     v_.tLast(k) = next();
     v_.gLast(k) = next();
     for (int s = 0; s < ns; ++s) v_.travelLast(k, s) = next();
+    for (int s = 0; s < ns; ++s)
+      for (int c = 0; c < 2; ++c) v_.uvRate(k, s, c) = next();
   }
   for (int s = 0; s < ns; ++s) v_.travel(s) = next();
   for (auto& c : ctrlLast_) {
@@ -369,9 +375,26 @@ void ContactDetection::project(bool all, bool refineOnly) {
         const double r[3] = {x[0] - c0, x[1] - c1, x[2] - c2}, cc[3] = {c0, c1, c2};
         for (int i = 0; i < 3; ++i) xs[i] = cc[i] + v.rot(s, 0, i) * r[0] + v.rot(s, 1, i) * r[1] + v.rot(s, 2, i) * r[2];
       }
-      double u0 = v.uv(k, s, 0), v0 = v.uv(k, s, 1);
-      if (!(u0 == u0) || !(v0 == v0)) nearestGridPoint(S, xs, u0, v0);
+      const double uLast = v.uv(k, s, 0), vLast = v.uv(k, s, 1), dt = t - v.tLast(k);
+      const bool warm = uLast == uLast && vLast == vLast;
+      double u0 = uLast, v0 = vLast;
+      if (!warm) {
+        nearestGridPoint(S, xs, u0, v0);
+      } else if (dt > 0.0) {  // predicted: moved on by its last rate, if by less than a patch
+        const double du = v.uvRate(k, s, 0) * dt, dv = v.uvRate(k, s, 1) * dt;
+        if (::fabs(du) < 1.0 && ::fabs(dv) < 1.0) {
+          u0 += du;
+          v0 += dv;
+        }
+      }
       const Projection p = closestPoint(S, xs, u0, v0, tol, maxIt);
+      if (warm && dt > 0.0) {  // a closed direction's parameter wraps: the shortest way round
+        double du = p.u - uLast, dv = p.v - vLast;
+        if (S.periodicU) du -= S.nu * ::floor(du / S.nu + 0.5);
+        if (S.periodicV) dv -= S.nv * ::floor(dv / S.nv + 0.5);
+        v.uvRate(k, s, 0) = du / dt;
+        v.uvRate(k, s, 1) = dv / dt;
+      }
       v.uv(k, s, 0) = p.u;
       v.uv(k, s, 1) = p.v;
       its = p.iterations > its ? p.iterations : its;

@@ -25,6 +25,9 @@
 // non-negative and sums to 1, eq. 2.22), so T_s adds that up over the steps (and r_s is its control
 // points' current largest radius). Output steps (measureGaps) project every node, so written gaps
 // are exact; checkpoints keep the skipping's state (skipState), so restarts are bit for bit.
+// Warm start: the last foot point moved on by its rate between the two projections before (a surface
+// turning past the node, a node sliding along it), so that Newton starts within the step's
+// vibration of the answer instead of a step's travel away (rotor 37: 2.95 -> 2 iterations).
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ClosestPoint.hpp"
 #include "Epaphe_Flexibility.hpp"
@@ -88,6 +91,7 @@ struct DetectionViews {
   Kokkos::View<double* [3][3]> rot;  // [s] R(omega t + phase)
   Kokkos::View<double* [9]> turn;    // [s] omega, axis (3), center (3), r_s, turning (1) or not (0)
   Kokkos::View<double** [2]> uv;     // [k][s] warm start (NaN: cold start from the nearest grid node)
+  Kokkos::View<double** [2]> uvRate; // [k][s] d(u, v)/dt of the foot point between its last two projections
   Kokkos::View<double*> gap;         // selected gap (1e300: beyond every surface)
   Kokkos::View<int*> selected;       // selected surface (-1: none)
   Vec3 normal;                       // unit normal n_k at the foot point, bodies' frame
@@ -125,8 +129,8 @@ public:
   /// Every node projects at the next detect() (a changed warm start, initial penetrations).
   void reset();
   /// The skipping's state carried from one step to the next, for checkpoints (per node: eligible,
-  /// position, time, gap and T_s at its last projection; T_s and each carried surface's last control
-  /// points): restored by setSkipState, a restart skips exactly as the uninterrupted run.
+  /// position, time, gap and T_s at its last projection, the foot points' rates; T_s and each
+  /// carried surface's last control points): restored by setSkipState, a restart skips exactly as the uninterrupted run.
   std::vector<double> skipState() const;
   void setSkipState(const std::vector<double>& state);
 
