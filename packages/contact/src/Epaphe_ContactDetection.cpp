@@ -2,6 +2,7 @@
 
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_Error.hpp"
+#include "Epaphe_Parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -134,7 +135,7 @@ void ContactDetection::setPenetrationOffsets(const std::vector<double>& depth, d
                                                                       << numNodes() << " nodes");
   EPAPHE_REQUIRE(std::isfinite(rampEnd) && rampEnd > 0.0, "contact: the initial penetrations' ramp ends at "
                                                               << rampEnd << " s; it must be a finite time > 0");
-  Kokkos::fence();
+  fence();
   for (int k = 0; k < numNodes(); ++k) {
     EPAPHE_REQUIRE(std::isfinite(depth[k]) && depth[k] >= 0.0, "contact: penetration depth " << depth[k]
                                                                    << " of node " << k << "; give a finite value >= 0");
@@ -191,7 +192,7 @@ void ContactDetection::reset() {
 }
 
 std::vector<double> ContactDetection::skipState() const {
-  Kokkos::fence();
+  fence();
   const int nc = numNodes(), ns = numSurfaces();
   std::vector<double> st;
   for (int k = 0; k < nc; ++k) {
@@ -212,7 +213,7 @@ std::vector<double> ContactDetection::skipState() const {
 }
 
 void ContactDetection::setSkipState(const std::vector<double>& st) {
-  Kokkos::fence();
+  fence();
   const int nc = numNodes(), ns = numSurfaces();
   std::size_t i = 0;
   auto next = [&]() {
@@ -241,7 +242,7 @@ void ContactDetection::setSkipState(const std::vector<double>& st) {
 std::vector<double> ContactDetection::warmStarts() const {
   const std::size_t nc = static_cast<std::size_t>(numNodes()), ns = surfaces_.size();
   std::vector<double> all(2 * nc * ns);
-  Kokkos::fence();
+  fence();
   for (std::size_t s = 0; s < ns; ++s)
     for (std::size_t k = 0; k < nc; ++k)
       for (int c = 0; c < 2; ++c) all[2 * (s * nc + k) + c] = v_.uv(k, s, c);
@@ -253,7 +254,7 @@ void ContactDetection::setWarmStarts(const std::vector<double>& all) {
   EPAPHE_REQUIRE(all.size() == 2 * nc * ns, "contact: " << all.size() << " warm-start parameters given, "
                                                         << 2 * nc * ns << " expected (2 per node, " << nc
                                                         << " nodes, " << ns << " surfaces)");
-  Kokkos::fence();
+  fence();
   for (std::size_t s = 0; s < ns; ++s)
     for (std::size_t k = 0; k < nc; ++k)
       for (int c = 0; c < 2; ++c) v_.uv(k, s, c) = all[2 * (s * nc + k) + c];
@@ -302,7 +303,7 @@ void ContactDetection::rebuildCarried(const DenseVector& q) {
 }
 
 void ContactDetection::detect(const DenseVector& q, double t, bool all) {
-  Kokkos::fence();
+  fence();
   time_ = t;
   q_ = q;
   if (anyCarried_) rebuildCarried(q);
@@ -321,7 +322,7 @@ void ContactDetection::detect(const DenseVector& q, double t, bool all) {
 }
 
 int ContactDetection::refine() {
-  Kokkos::fence();
+  fence();
   int n = 0;
   for (int k = 0; k < numNodes(); ++k) n += v_.refine(k) != 0;
   if (n > 0) project(true, true);
@@ -426,7 +427,7 @@ void ContactDetection::project(bool all, bool refineOnly) {
     v.gLast(k) = gmin;
     v.eligible(k) = eligible && gmin > 0.0 ? 1 : 0;
   });
-  Kokkos::fence();
+  fence();
   int projected = 0, iters = 0;
   for (int k = 0; k < nc; ++k) {
     projected += v.iterations(k) > 0;

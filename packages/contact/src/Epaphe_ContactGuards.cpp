@@ -2,6 +2,7 @@
 
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_Error.hpp"
+#include "Epaphe_Parallel.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -89,7 +90,7 @@ std::string ContactGuards::checkStep(const SurfaceContact& contact, const DenseV
   const int nc = contact.numNodes();
   double worst = 0.0;
   int kw = -1;
-  Kokkos::fence();
+  fence();
   for (int k = 0; k < nc; ++k) {
     double d2 = 0.0;
     for (int d = 0; d < 3; ++d) {

@@ -154,7 +154,7 @@ void CoulombFriction::prepare(const ContactStepViews& v, const DenseVector& q, c
           }
         }
       });
-  Kokkos::fence();
+  fence();
 }
 
 void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH) {
@@ -186,12 +186,12 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
     if (changes == 0) break;
     if (bestChanges < 0 || changes < bestChanges) {
       bestChanges = changes;
-      Kokkos::deep_copy(bestState_, state_);
-      Kokkos::deep_copy(bestTangent_, v.tangent);
+      copy(bestState_, state_);
+      copy(bestTangent_, v.tangent);
     }
     if (++passes == kMaxFrictionPasses) {  // not settled: solve again with the best pass's states
-      Kokkos::deep_copy(state_, bestState_);
-      Kokkos::deep_copy(v.tangent, bestTangent_);
+      copy(state_, bestState_);
+      copy(v.tangent, bestTangent_);
       restored = true;
       continue;
     }
@@ -248,17 +248,17 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
           sol(3 * a + i) = s;
         }
       });
-  Kokkos::fence();
+  fence();
 }
 
 void CoulombFriction::solveSystem(int nA, int ld) {
-  Kokkos::deep_copy(MCfH_, MCf_);
-  Kokkos::deep_copy(solH_, sol_);
+  copy(MCfH_, MCf_);
+  copy(solH_, sol_);
   const int m = 3 * nA;
   const int info = solveDense(m, MCfH_.data(), ld, solH_.data(), ipiv_);
   EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of " << nA << " active nodes is singular (zero pivot at unknown "
                                                                       << info << ")");
-  Kokkos::deep_copy(sol_, solH_);
+  copy(sol_, solH_);
 }
 
 bool CoulombFriction::releasePulled(std::vector<int>& activeH, int& nA, int& releases, int nc) {
@@ -373,7 +373,7 @@ void CoulombFriction::commitClassification(const ContactStepViews& v, const Kokk
         state(ka) = nextState(ka);
         for (int e = 0; e < 3; ++e) tangent(ka, e) = nextTangent(ka, e);
       });
-  Kokkos::fence();
+  fence();
 }
 
 void CoulombFriction::storeForces(const ContactStepViews& v, const std::vector<int>& activeH, int nA) {
@@ -399,7 +399,7 @@ void CoulombFriction::storeForces(const ContactStepViews& v, const std::vector<i
         }
         muA(k) = 0.0;
       });
-  Kokkos::fence();
+  fence();
   forEach(
       "epaphe::contact::friction_force", nA, 15, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
@@ -425,7 +425,7 @@ void CoulombFriction::storeForces(const ContactStepViews& v, const std::vector<i
           dir(ka, e) = normal(ka, e) + s[e] / l;
         }
       });
-  Kokkos::fence();
+  fence();
   for (int k = 0; k < nc; ++k) {  // the warm start of the next step's classification
     prev_(k) = v.force(k) > 0.0 ? state_(k) : 0;
     for (int e = 0; e < 3; ++e) prevTangent_(k, e) = v.tangent(k, e);

@@ -19,7 +19,7 @@ void normalDirections(const ContactStepViews& v) {
     }
     muA(k) = 0.0;
   });
-  Kokkos::fence();
+  fence();
 }
 
 ForwardIncrementLagrange::ForwardIncrementLagrange(bool lumped, int numNodes)
@@ -60,7 +60,7 @@ void ForwardIncrementLagrange::enforce(const ContactStepViews& v, std::vector<in
         MC(a, b) = s;
       }
     });
-    Kokkos::fence();
+    fence();
     std::vector<double>& A = A_;
     A.resize(static_cast<std::size_t>(nA) * nA);
     for (int b = 0; b < nA; ++b)

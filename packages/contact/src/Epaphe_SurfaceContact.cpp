@@ -258,8 +258,8 @@ void SurfaceContact::measureGaps(const DenseVector& q, CostSplit& cost) {
 void SurfaceContact::detect(const DenseVector& q, bool all) {
   detection_->detect(q, time_, all);
   lastIterations_ = detection_->lastIterations();
-  Kokkos::deep_copy(gapH_, gap_);
-  Kokkos::deep_copy(surfH_, surf_);
+  copy(gapH_, gap_);
+  copy(surfH_, surf_);
 }
 
 void SurfaceContact::correct(const DenseVector& q, CostSplit& cost) { correctImpl(q, nullptr, cost); }
@@ -402,11 +402,11 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     lastAddPasses_ = pass + 1;
   }
   if (friction) {
-    Kokkos::deep_copy(muH_, mu_);
-    Kokkos::deep_copy(tangentH_, tangent_);
+    copy(muH_, mu_);
+    copy(tangentH_, tangent_);
   }
   forEach("epaphe::contact::apply_correction", q.extent(0), 1, KOKKOS_LAMBDA(const int i) { q(i) += dq(i); });
-  Kokkos::fence();
+  fence();
 }
 
 void SurfaceContact::motionEntries() {
@@ -601,7 +601,7 @@ void SurfaceContact::relativeColumns() {
           for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = r[d];
         }
       });
-  Kokkos::fence();
+  fence();
 }
 
 double SurfaceContact::workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const {

@@ -413,7 +413,7 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
 
 double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const {
   // 1/2 v^T M v with v = (q_{n+1} - q_n)/h, plus 1/2 q_n^T K q_{n+1}
-  Kokkos::deep_copy(tmp2_, qnp1);
+  copy(tmp2_, qnp1);
   epaphe::axpby(-1.0 / h_, qn, 1.0 / h_, tmp2_);
   M_.apply(1.0, tmp2_, 0.0, tmp_);
   const double kin = 0.5 * epaphe::dot(tmp2_, tmp_);
@@ -432,7 +432,7 @@ double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVecto
 
 double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
   if (!damped_) return 0.0;
-  Kokkos::deep_copy(tmp2_, qnp1);
+  copy(tmp2_, qnp1);
   epaphe::axpby(-1.0, qnm1, 1.0, tmp2_);
   D_.apply(1.0, tmp2_, 0.0, tmp_);
   return epaphe::dot(tmp2_, tmp_) / (4 * h_);
@@ -440,7 +440,7 @@ double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseV
 
 double CentralDifference::externalWorkIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
   if (!forced_) return 0.0;
-  Kokkos::deep_copy(tmp2_, qnp1);
+  copy(tmp2_, qnp1);
   epaphe::axpby(-1.0, qnm1, 1.0, tmp2_);
   return 0.5 * epaphe::dot(f_, tmp2_);
 }

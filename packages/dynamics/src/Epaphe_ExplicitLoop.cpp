@@ -80,7 +80,7 @@ void ExplicitLoop::fail(const std::string& why) {
 
 const DenseVector& ExplicitLoop::velocity(std::size_t b) {
   if (!vReady_[b]) {  // v_n = (q_{n+1} - q_{n-1}) / 2h
-    Kokkos::deep_copy(v_[b], part(Q_[iNext_], b));
+    copy(v_[b], part(Q_[iNext_], b));
     epaphe::axpby(-0.5 / h_, part(Q_[iPrev_], b), 0.5 / h_, v_[b]);
     vReady_[b] = true;
   }
