@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "Epaphe_Error.hpp"
+#include "Epaphe_Parallel.hpp"
 
 namespace epaphe {
 namespace {
@@ -233,8 +234,8 @@ void BSplineSurface::computeControlPoints() {
       }
       for (int c = 0; c < 3; ++c) hostCtrl_(a, b, c) = q[c];
     }
-  Kokkos::deep_copy(view_.ctrl, hostCtrl_);
-  Kokkos::deep_copy(view_.grid, hostGrid_);
+  copy(view_.ctrl, hostCtrl_);  // every step for a carried surface: no deep_copy fences and hooks
+  copy(view_.grid, hostGrid_);
 }
 
 void BSplineSurface::update(const double* points) {
