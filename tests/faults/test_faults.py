@@ -11,7 +11,8 @@ signals: SIGINT and SIGTERM sent to a long run after its first progress line: ex
          status "stopped: interrupted by SIG...", the series as long as the checkpoint says, and a
          restart from that file runs on.
 kill9:   after SIGKILL the file opens with h5py, status "running", every series readable up to the
-         checkpoint's records, and the run restarts from it.
+         checkpoint's records (a kill inside a checkpoint's write may leave more, which the restart
+         drops), and the run restarts from it.
 kill9-storm: 12 SIGKILLs at random times into runs that record every step and checkpoint every
          100 steps (checkpoints then take much of the loop's time, so kills fall into them): every
          file must be intact as for kill9 (the checkpoint /checkpoint/current names is complete,
@@ -157,12 +158,18 @@ elif a.case in ("signals", "kill9"):
             lengths = checkpoint_lengths(f)
             step = int(last_checkpoint(f)["counters"][0])
             h = f["run"].attrs["time_step"]
+            # A checkpoint writes the series before /checkpoint/current names it: a SIGKILL inside
+            # that write (8 of 50 runs on a loaded machine, a checkpoint every 1023 records) leaves records past
+            # the last complete checkpoint, which a restart drops. What is guaranteed: every record it
+            # counts reads back (as kill9-storm checks); a clean stop writes exactly those.
+            killed = sig == signal.SIGKILL
             for p, n in lengths.items():
                 d = f[p][()]
-                check(d.shape[0] == n and np.all(np.isfinite(d)), f"{name}: {p} readable, {n} records") \
+                complete = d.shape[0] >= n if killed else d.shape[0] == n
+                check(complete and np.all(np.isfinite(d[:n])), f"{name}: {p} readable, {n} records") \
                     if p in ("/time", "/bodies/Bar/contact/force") else None
-                assert d.shape[0] == n, (p, d.shape, n)
-            t = f["time"][()]
+                assert complete, (p, d.shape, n)
+            t = f["time"][:lengths["/time"]]
             check(np.array_equal(t, np.arange(len(t)) * h), f"{name}: /time = k h, {len(t)} records")
         if sig == signal.SIGKILL:
             check(st == "running", f"{name}: status still 'running' (not complete)")
