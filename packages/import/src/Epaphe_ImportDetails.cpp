@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <exception>
 #include <filesystem>
 #include <future>
 #include <limits>
@@ -414,40 +413,27 @@ SparseEntries collectRead(const Teuchos::Comm<int>& comm, const SparseFile& f) {
 
 void readSparsePair(const SparseFile& k, const SparseFile& m, SparseEntries& K, SparseEntries& M) {
   auto read = [](const SparseFile& f) { return readSparse(f.path, f.what, f.storage, f.size, f.sizeSource); };
-  if (readHelper != nullptr && !readHelper->asked) {
-    readHelper->asked = true;
-    const Teuchos::Comm<int>& comm = *readHelper->comm;
-    if (askRead(comm, m)) {
-      std::exception_ptr kError;
-      try {
-        K = read(k);
-      } catch (...) {
-        kError = std::current_exception();
-      }
-      if (kError) {  // K's Error first, as when read one after the other; rank 1's answer still read
-        try {
-          collectRead(comm, m);
-        } catch (...) {
-        }
-        std::rethrow_exception(kError);
-      }
-      M = collectRead(comm, m);
-      return;
-    }
-  } else if (readHelper == nullptr && Kokkos::is_initialized() && Kokkos::DefaultHostExecutionSpace::concurrency() >= 2) {
-    auto mass = std::async(std::launch::async, read, m);
-    std::exception_ptr kError;
+  // K here while M is parsed elsewhere; `mass()` waits for M. K's Error first, as when read one
+  // after the other, but M is still waited for (rank 1 is sending it, the thread is running).
+  auto readKThen = [&](auto&& mass) {
     try {
       K = read(k);
     } catch (...) {
-      kError = std::current_exception();
+      try {
+        mass();
+      } catch (...) {
+      }
+      throw;
     }
-    if (kError) {
-      mass.wait();
-      std::rethrow_exception(kError);  // K's Error first, as when read one after the other
-    }
-    M = mass.get();
-    return;
+    M = mass();
+  };
+  if (readHelper != nullptr && !readHelper->asked) {
+    readHelper->asked = true;
+    const Teuchos::Comm<int>& comm = *readHelper->comm;
+    if (askRead(comm, m)) return readKThen([&] { return collectRead(comm, m); });
+  } else if (readHelper == nullptr && Kokkos::is_initialized() && Kokkos::DefaultHostExecutionSpace::concurrency() >= 2) {
+    auto mass = std::async(std::launch::async, read, m);
+    return readKThen([&] { return mass.get(); });
   }
   K = read(k);
   M = read(m);
@@ -782,9 +768,10 @@ Teuchos::RCP<CrsMatrix> buildMatrix(const Teuchos::RCP<const Map>& map, const Tr
 }
 
 /// Rank 0 holds every entry; it sends each other rank the entries of the rows that rank owns, and
-/// of a stored triangle also those whose mirror lies in its rows (point-to-point, one rank's share packed at a time) and keeps them all, since buildMatrix inserts
-/// only a rank's own rows: no rank but 0 ever holds more than its share of the model. `map` is
-/// contiguous, its ranges ascending with the rank.
+/// of a stored triangle also those whose mirror lies in its rows (point-to-point, one rank's share
+/// packed at a time), and keeps them all, since buildMatrix takes only a rank's own rows: no rank
+/// but 0 ever holds more than its share of the model. `map` is contiguous, its ranges ascending
+/// with the rank.
 void scatterRows(const Map& map, Triplets& T) {
   const Teuchos::Comm<int>& comm = *map.getComm();
   const int P = comm.getSize();
@@ -799,20 +786,16 @@ void scatterRows(const Map& map, Triplets& T) {
   if (comm.getRank() != 0) {
     int count = 0;
     Teuchos::receive(comm, 0, &count);
-    T.row.resize(static_cast<std::size_t>(count));
-    T.col.resize(static_cast<std::size_t>(count));
-    T.val.resize(static_cast<std::size_t>(count));
-    if (count == 0) return;
-    Teuchos::receive(comm, 0, count, T.row.data());
-    Teuchos::receive(comm, 0, count, T.col.data());
-    Teuchos::receive(comm, 0, count, T.val.data());
+    receiveArray(comm, T.row, count, 0);
+    receiveArray(comm, T.col, count, 0);
+    receiveArray(comm, T.val, count, 0);
     return;
   }
   for (int r = 1; r < P; ++r) {
     Triplets share;
-    auto mine = [&](int g) { return g >= starts[r] && g < starts[r + 1]; };
+    auto ownedBy = [&](int g) { return g >= starts[r] && g < starts[r + 1]; };
     for (std::size_t k = 0; k < T.row.size(); ++k)
-      if (mine(T.row[k]) || (T.mirror && mine(T.col[k]))) {
+      if (ownedBy(T.row[k]) || (T.mirror && ownedBy(T.col[k]))) {
         share.row.push_back(T.row[k]);
         share.col.push_back(T.col[k]);
         share.val.push_back(T.val[k]);
@@ -820,12 +803,10 @@ void scatterRows(const Map& map, Triplets& T) {
     EPAPHE_REQUIRE(share.row.size() <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
                    "import: " << share.row.size() << " matrix entries for MPI rank " << r
                               << " exceed one message; use more ranks");
-    const int count = static_cast<int>(share.row.size());
-    Teuchos::send(comm, count, r);
-    if (count == 0) continue;
-    Teuchos::send(comm, count, share.row.data(), r);
-    Teuchos::send(comm, count, share.col.data(), r);
-    Teuchos::send(comm, count, share.val.data(), r);
+    Teuchos::send(comm, static_cast<int>(share.row.size()), r);
+    sendArray(comm, share.row, r);
+    sendArray(comm, share.col, r);
+    sendArray(comm, share.val, r);
   }
 }
 
@@ -841,7 +822,6 @@ FullModel distributeModel(const std::function<RawModel()>& read, const Teuchos::
     if (lend) readHelper = &helper;
     try {
       RawModel raw = read();
-      readHelper = nullptr;
       freeSystem(raw, m, K, M);
     } catch (const std::exception& e) {
       error = e.what();
