@@ -24,8 +24,12 @@ CoulombFriction::CoulombFriction(double mu, bool penalty, double kp, double h, i
   bestTangent_ = Kokkos::View<double* [3]>("epaphe::contact::best_tangent", nc);
   MCf_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::friction_matrix", 3 * nc, 3 * nc);
   sol_ = Kokkos::View<double*>("epaphe::contact::friction_solution", 3 * nc);
+  rhs_ = Kokkos::View<double*>("epaphe::contact::friction_rhs", 3 * nc);
+  unknownOffset_ = Kokkos::View<int*>("epaphe::contact::friction_unknowns", nc + 1);
+  unknownOffsetH_ = Kokkos::create_mirror_view(unknownOffset_);
   MCfH_ = Kokkos::create_mirror_view(MCf_);
   solH_ = Kokkos::create_mirror_view(sol_);
+  rhsH_ = Kokkos::create_mirror_view(rhs_);
   prev_ = Kokkos::View<int*>("epaphe::contact::previous_state", nc);
   prevTangent_ = Kokkos::View<double* [3]>("epaphe::contact::previous_tangent", nc);
   keep_.reserve(nc);
@@ -175,8 +179,9 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
   int nA = static_cast<int>(activeH.size());
   for (;;) {
     const auto active = v.upload(activeH);
+    countUnknowns(activeH, nA);
     assembleSystem(v, active, nA);
-    solveSystem(nA, ld);
+    solveSystem(v, activeH, nA, ld);
     if (!penalty && releasePulled(activeH, nA, releases, nc)) {  // release the nodes the surface would pull
       if (nA == 0) break;
       continue;
@@ -202,8 +207,15 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
 }
 
 void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
+  // Only the unknowns that are not known beforehand: lambda_a unless the normal law is penalty
+  // (lambda_a = k_p (-g*_a), eq. 2.34), s1_a and s2_a only while node a sticks (a sliding node's
+  // force is lambda_a (n_a + mu t_a), its tangential unknowns are zero). The known forces move to
+  // the right-hand side. Node a's first unknown is unknownOffset_(a): a step whose active nodes
+  // all slide solves nA (Lagrange) or no unknowns instead of 3 nA.
   const bool penalty = penalty_;
   const double mu = mu_, kp = kp_;
+  constexpr int slide = kSlide;
+  const auto off = unknownOffset_;
   const auto C = v.C;
   const auto basis = basis_;
   const auto tangent = v.tangent;
@@ -211,53 +223,75 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   const auto disp = disp_;
   const auto gap = v.gap;
   const auto A = MCf_;
-  const auto sol = sol_;
-  constexpr int slide = kSlide;
+  const auto rhs = rhs_;
   forEach(
       "epaphe::contact::friction_matrix", nA, 60L * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
         const bool sl = state(ka) == slide;
-        for (int b = 0; b < nA; ++b) {
-          const int kb = active(b);
+        const int i0 = penalty ? 1 : 0, i1 = sl ? 1 : 3;  // node a's rows: i in [i0, i1)
+        double b[3] = {0.0, 0.0, 0.0};                     // right-hand side of rows i
+        b[0] = -gap(ka);
+        for (int i = 1; i < 3; ++i)
+          for (int d = 0; d < 3; ++d) b[i] -= basis(ka, i, d) * disp(ka, d);
+        for (int bb = 0; bb < nA; ++bb) {
+          const int kb = active(bb);
+          const bool slb = state(kb) == slide;
+          const int j1 = slb ? 1 : 3;  // node b's columns: j in [j0, j1), j0 as i0
           double c[3][3];
           frictionColumns(basis, tangent, state, kb, mu, slide, c);
           double G[3][3];  // G[d][j] = (F_ab c_j)_d
           for (int d = 0; d < 3; ++d)
-            for (int j = 0; j < 3; ++j) {
+            for (int j = 0; j < j1; ++j) {
               double s = 0.0;
               for (int e = 0; e < 3; ++e) s += C(ka, kb, d, e) * c[j][e];
               G[d][j] = s;
             }
-          for (int i = 0; i < 3; ++i) {
-            const bool identity = (i == 0 && penalty) || (i > 0 && sl);
-            for (int j = 0; j < 3; ++j) {
+          for (int i = i0; i < i1; ++i) {
+            const int row = off(a) + i - i0;
+            for (int j = 0; j < j1; ++j) {
               double s = 0.0;
-              if (identity)
-                s = (a == b && i == j) ? 1.0 : 0.0;
+              for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
+              if (j < i0)
+                b[i] -= s * kp * (-gap(kb));  // node b's known normal force
               else
-                for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
-              A(3 * a + i, 3 * b + j) = s;
+                A(row, off(bb) + j - i0) = s;
             }
           }
         }
-        sol(3 * a) = penalty ? kp * (-gap(ka)) : -gap(ka);
-        for (int i = 1; i < 3; ++i) {
-          double s = 0.0;
-          if (!sl)
-            for (int d = 0; d < 3; ++d) s -= basis(ka, i, d) * disp(ka, d);
-          sol(3 * a + i) = s;
-        }
+        for (int i = i0; i < i1; ++i) rhs(off(a) + i - i0) = b[i];
       });
   fence();
 }
 
-void CoulombFriction::solveSystem(int nA, int ld) {
-  copy(MCfH_, MCf_);
-  copy(solH_, sol_);
-  const int m = 3 * nA;
-  const int info = solveDense(m, MCfH_.data(), ld, solH_.data(), ipiv_);
-  EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of " << nA << " active nodes is singular (zero pivot at unknown "
-                                                                      << info << ")");
+void CoulombFriction::countUnknowns(const std::vector<int>& activeH, int nA) {
+  int m = 0;
+  for (int a = 0; a < nA; ++a) {
+    unknownOffsetH_(a) = m;
+    m += (penalty_ ? 0 : 1) + (state_(activeH[a]) == kSlide ? 0 : 2);
+  }
+  unknownOffsetH_(nA) = m;
+  copy(unknownOffset_, unknownOffsetH_);
+}
+
+void CoulombFriction::solveSystem(const ContactStepViews& v, const std::vector<int>& active, int nA, int ld) {
+  const int m = unknownOffsetH_(nA);
+  if (m > 0) {
+    copy(MCfH_, MCf_);
+    copy(rhsH_, rhs_);
+    const int info = solveDense(m, MCfH_.data(), ld, rhsH_.data(), ipiv_);
+    EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of " << nA << " active nodes (" << m
+                                                                         << " unknowns) is singular (zero pivot at unknown "
+                                                                         << info << ")");
+  }
+  // (lambda, s1, s2) of every active node: the solved unknowns and the known ones
+  for (int a = 0; a < nA; ++a) {
+    const int ka = active[a], o = unknownOffsetH_(a);
+    const bool sl = state_(ka) == kSlide;
+    solH_(3 * a) = penalty_ ? kp_ * (-v.gap(ka)) : rhsH_(o);
+    const int t = penalty_ ? o : o + 1;
+    solH_(3 * a + 1) = sl ? 0.0 : rhsH_(t);
+    solH_(3 * a + 2) = sl ? 0.0 : rhsH_(t + 1);
+  }
   copy(sol_, solH_);
 }
 

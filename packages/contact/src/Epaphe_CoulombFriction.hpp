@@ -31,10 +31,14 @@ private:
   void prepare(const ContactStepViews& v, const DenseVector& q, const DenseVector& qn);
   void solve(const ContactStepViews& v, std::vector<int>& active);
   // the phases of one solve (`active`: the uploaded active set, its first nA entries):
-  // friction system MCf_ and right-hand side sol_ of the current states
+  // friction system MCf_ and right-hand side rhs_ of the current states, in the unknowns that are
+  // not known beforehand (unknownOffset_)
   void assembleSystem(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);
-  // solves it in place by LAPACK (solH_, then sol_, hold the solution; ld: MCf_'s leading dimension)
-  void solveSystem(int nA, int ld);
+  // solves it in place (ld: MCf_'s leading dimension); solH_, then sol_, hold (lambda, s1, s2) of
+  // every active node, the known ones included
+  void solveSystem(const ContactStepViews& v, const std::vector<int>& activeH, int nA, int ld);
+  // unknownOffset_ of the current states: per active node its first unknown, [nA] their count
+  void countUnknowns(const std::vector<int>& activeH, int nA);
   // Lagrange: drops the nodes with lambda < 0 from activeH (nA updated); true when any was dropped
   bool releasePulled(std::vector<int>& activeH, int& nA, int& releases, int nc);
   // proposed next state and direction of each active node; returns how many change
@@ -61,6 +65,10 @@ private:
   Kokkos::View<double**, Kokkos::LayoutLeft>::HostMirror MCfH_;
   Kokkos::View<double*> sol_;             // its right-hand side / solution (lambda, s1, s2 per active node)
   Kokkos::View<double*>::HostMirror solH_;
+  Kokkos::View<double*> rhs_;             // right-hand side / solution of the solved unknowns
+  Kokkos::View<double*>::HostMirror rhsH_;
+  Kokkos::View<int*> unknownOffset_;      // per active position: its first solved unknown; [nA]: their count
+  Kokkos::View<int*>::HostMirror unknownOffsetH_;
   Kokkos::View<int*> prev_;               // last step's final state (0: not in contact)
   Kokkos::View<double* [3]> prevTangent_; // and direction
   std::vector<int> keep_, ipiv_;
