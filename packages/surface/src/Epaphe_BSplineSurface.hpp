@@ -120,28 +120,27 @@ KOKKOS_INLINE_FUNCTION void evaluate(const BasicSurfaceView<MemorySpace>& s, dou
   double bu[4], dbu[4], ddbu[4], bv[4], dbv[4], ddbv[4];
   surface_detail::cubicBasis(t, bu, dbu, ddbu);
   surface_detail::cubicBasis(w, bv, dbv, ddbv);
-  for (int c = 0; c < 3; ++c) {
-    S[c] = Su[c] = Sv[c] = Suu[c] = Suv[c] = Svv[c] = 0.0;
-  }
+  // The patch's 4 rows of 4 control points: each row's 12 coordinates are contiguous (LayoutRight
+  // [nu_ext][nv_ext][3]), rows stride(0) apart.
+  const double* P = &s.ctrl(i, j, 0);
+  const std::size_t rowStride = s.ctrl.stride(0);
+  double r[4][3], rv[4][3], rvv[4][3];  // row a contracted along v: value, d/dv, d2/dv2
   for (int a = 0; a < 4; ++a) {
-    // Row a of the patch contracted along v: value, d/dv, d2/dv2.
-    double r[3] = {0.0, 0.0, 0.0}, rv[3] = {0.0, 0.0, 0.0}, rvv[3] = {0.0, 0.0, 0.0};
-    for (int b = 0; b < 4; ++b) {
-      for (int c = 0; c < 3; ++c) {
-        const double q = s.ctrl(i + a, j + b, c);
-        r[c] += bv[b] * q;
-        rv[c] += dbv[b] * q;
-        rvv[c] += ddbv[b] * q;
-      }
-    }
+    const double* row = P + a * rowStride;
     for (int c = 0; c < 3; ++c) {
-      S[c] += bu[a] * r[c];
-      Su[c] += dbu[a] * r[c];
-      Suu[c] += ddbu[a] * r[c];
-      Sv[c] += bu[a] * rv[c];
-      Suv[c] += dbu[a] * rv[c];
-      Svv[c] += bu[a] * rvv[c];
+      const double q0 = row[c], q1 = row[3 + c], q2 = row[6 + c], q3 = row[9 + c];
+      r[a][c] = bv[0] * q0 + bv[1] * q1 + bv[2] * q2 + bv[3] * q3;
+      rv[a][c] = dbv[0] * q0 + dbv[1] * q1 + dbv[2] * q2 + dbv[3] * q3;
+      rvv[a][c] = ddbv[0] * q0 + ddbv[1] * q1 + ddbv[2] * q2 + ddbv[3] * q3;
     }
+  }
+  for (int c = 0; c < 3; ++c) {
+    S[c] = bu[0] * r[0][c] + bu[1] * r[1][c] + bu[2] * r[2][c] + bu[3] * r[3][c];
+    Su[c] = dbu[0] * r[0][c] + dbu[1] * r[1][c] + dbu[2] * r[2][c] + dbu[3] * r[3][c];
+    Suu[c] = ddbu[0] * r[0][c] + ddbu[1] * r[1][c] + ddbu[2] * r[2][c] + ddbu[3] * r[3][c];
+    Sv[c] = bu[0] * rv[0][c] + bu[1] * rv[1][c] + bu[2] * rv[2][c] + bu[3] * rv[3][c];
+    Suv[c] = dbu[0] * rv[0][c] + dbu[1] * rv[1][c] + dbu[2] * rv[2][c] + dbu[3] * rv[3][c];
+    Svv[c] = bu[0] * rvv[0][c] + bu[1] * rvv[1][c] + bu[2] * rvv[2][c] + bu[3] * rvv[3][c];
   }
 }
 
