@@ -197,6 +197,7 @@ void SurfaceContact::initWorkViews(const ContactNodes& nodes, int N) {
   wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, maxGrid_[0]);
   wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, maxGrid_[1]);
   Y_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::FDt", F_.denseRows, 3 * nc);
+  T_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::BuFDt", tRows_, 3 * nc);
   dq_ = DenseVector("epaphe::contact::correction", N);
   corrected_ = Kokkos::View<int*>("epaphe::contact::added", nc);
   {  // nodes penetrating by less than 1e-12 of the model's size after the correction are not added
@@ -523,6 +524,41 @@ void SurfaceContact::controlColumns() {
         }
     }
   }
+  // T (relativeColumns), per carried surface with control columns: rows tOff_(s) + (3 q + e2) nuE + A;
+  // the dense rows of its grid DOFs at gridRowOff_(s) + (3 q + e2) nu + p (-1: clamped), and B_u
+  // transposed at buOff_(s) + p nuE + A
+  tOff_ = Kokkos::View<long*>("epaphe::contact::T_offset", ns);
+  gridRowOff_ = Kokkos::View<long*>("epaphe::contact::grid_row_offset", ns);
+  buOff_ = Kokkos::View<long*>("epaphe::contact::BuT_offset", ns);
+  needRange_ = Kokkos::View<int* [2]>("epaphe::contact::needed_rows", ns);
+  needRangeH_ = Kokkos::create_mirror_view(needRange_);
+  std::vector<int> rows;
+  std::vector<double> buT;
+  long tRows = 0;
+  for (int s = 0; s < ns; ++s) {
+    tOff_(s) = gridRowOff_(s) = buOff_(s) = -1;
+    if (ctrlOff_(s) < 0) continue;
+    const ContactSurface& cs = surfaces_[s];
+    const BSplineSurface& S = *cs.surface;
+    const int nu = S.nu(), nv = S.nv(), inNv = S.inputNv(), nuE = ctrlDim_(s, 0);
+    tOff_(s) = tRows;
+    tRows += 3L * nuE * nv;
+    gridRowOff_(s) = static_cast<long>(rows.size());
+    for (int q = 0; q < nv; ++q)
+      for (int e2 = 0; e2 < 3; ++e2)
+        for (int p = 0; p < nu; ++p) {
+          const int j = cs.gridDofs[3 * (static_cast<std::size_t>(p) * inNv + q) + e2];
+          rows.push_back(j < 0 ? -1 : F_.denseRow(j));
+        }
+    buOff_(s) = static_cast<long>(buT.size());
+    for (int p = 0; p < nu; ++p)
+      for (int a = 0; a < nuE; ++a) buT.push_back(S.operatorU()[static_cast<std::size_t>(a) * nu + p]);
+  }
+  tRows_ = tRows;
+  gridRow_ = Kokkos::View<int*>("epaphe::contact::grid_rows", rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) gridRow_(i) = rows[i];
+  buT_ = Kokkos::View<double*>("epaphe::contact::BuT", buT.size());
+  for (std::size_t i = 0; i < buT.size(); ++i) buT_(i) = buT[i];
   ctrlF_ = Kokkos::View<double*>("epaphe::contact::control_columns", G.size());
   for (std::size_t i = 0; i < G.size(); ++i) ctrlF_(i) = G[i];
 }
@@ -547,6 +583,31 @@ void SurfaceContact::relativeColumns() {
   const auto ctrlDim = ctrlDim_;
   const auto foot = foot_;
   const auto rot = entRot_;
+  const auto T = T_;
+  const auto tOff = tOff_;
+  const auto need = needRange_;
+  const auto gridRow = gridRow_;
+  const auto gridRowOff = gridRowOff_;
+  const auto buT = buT_;
+  const auto buOff = buOff_;
+  const auto wv = wv_;
+  const int ns = static_cast<int>(surfaces_.size());
+  if (tRows_ > 0) {  // per surface, the rows of B_u that the patches of the active nodes read
+    for (int s = 0; s < ns; ++s) {
+      needRangeH_(s, 0) = 1 << 30;
+      needRangeH_(s, 1) = -1;
+    }
+    for (int a = 0; a < nA; ++a) {
+      const int k = activeH_[a], s = surfH_(k);
+      if (s < 0 || tOff_(s) < 0 || entN_(k) <= 1) continue;
+      int i;
+      double t;
+      surface_detail::locate(foot_(k, 0), info_(s, 1), info_(s, 4) != 0, i, t);
+      needRangeH_(s, 0) = std::min(needRangeH_(s, 0), i);
+      needRangeH_(s, 1) = std::max(needRangeH_(s, 1), i + 3);
+    }
+    copy(needRange_, needRangeH_);
+  }
   // Y(:, 3k + e) = sum_m w_m F(:, dof_m,e) on the dense rows: axpys of contiguous columns over the
   // entry's block (a diagonal block's part of F D^T is read from the entries, FlexibleColumn)
   forEach(
@@ -589,11 +650,63 @@ void SurfaceContact::relativeColumns() {
             for (int i = 0; i < n; ++i) Y(r0 + i, c) += w * F.dense(col + i);
           }
         }
+        // T(:, c): column c on the grid of each carried surface s2 on a dense block where it has
+        // rows, contracted with the rows A of B_u that the active patches read (eq. 2.26):
+        //   T(s2; A, q, e2) = sum_p B_u(A, p) Y(grid DOF (p, q, e2), c)
+        for (int s2 = 0; s2 < ns; ++s2) {
+          const int blk2 = info(s2, 0), lo = need(s2, 0), hi = need(s2, 1);
+          if (tOff(s2) < 0 || hi < lo || !(nodeBlk(k) == blk2 || (s >= 0 && info(s, 0) == blk2))) continue;
+          const int nu = info(s2, 1), nv = info(s2, 2), nuE = ctrlDim(s2, 0);
+          for (int qe = 0; qe < 3 * nv; ++qe) {
+            double* t = &T(tOff(s2) + static_cast<long>(qe) * nuE, c);
+            for (int A = lo; A <= hi; ++A) t[A] = 0.0;
+            for (int p = 0; p < nu; ++p) {
+              const int j = gridRow(gridRowOff(s2) + static_cast<long>(qe) * nu + p);
+              const double y = j >= 0 ? Y(j, c) : 0.0;
+              if (y == 0.0) continue;
+              const double* b = &buT(buOff(s2) + static_cast<long>(p) * nuE);
+              for (int A = lo; A <= hi; ++A) t[A] += b[A] * y;
+            }
+          }
+        }
       });
   const auto C = C_;
   forEach(
       "epaphe::contact::relative_flexibility", nA * nA, 30L * static_cast<long>(entW_.extent(1)), KOKKOS_LAMBDA(const int ab) {
         const int ka = active(ab / nA), kb = active(ab % nA);
+        const int sa = surf(ka);
+        const bool patch = sa >= 0 && tOff(sa) >= 0 && D.count(ka) > 1;
+        if (D.count(ka) == 1 || patch) {
+          // C_ab = D_a Y_b: the node's own rows, w_0 Y_b, plus on a carried surface its grid part
+          // -R_a sum_pq w_p w_q Y_b(grid node pq) = -R_a sum_r b_r sum_q w_q T_b(i + r, q), the
+          // cubic basis b_r of the foot point's patch i (eqs. 2.22, 2.26)
+          double g[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // g[e][e2]
+          const int blk = patch ? info(sa, 0) : -1;
+          if (patch && (nodeBlk(kb) == blk || (surf(kb) >= 0 && info(surf(kb), 0) == blk))) {
+            int i;
+            double tu, bu[4], d1[4], d2[4];
+            surface_detail::locate(foot(ka, 0), info(sa, 1), info(sa, 4) != 0, i, tu);
+            surface_detail::cubicBasis(tu, bu, d1, d2);
+            const int nv = info(sa, 2);
+            for (int r = 0; r < 4; ++r)
+              for (int q = 0; q < nv; ++q) {
+                const double w = bu[r] * wv(ka, q);
+                if (w == 0.0) continue;
+                for (int e2 = 0; e2 < 3; ++e2) {
+                  const long row = tOff(sa) + static_cast<long>(3 * q + e2) * ctrlDim(sa, 0) + i + r;
+                  for (int e = 0; e < 3; ++e) g[e][e2] -= w * T(row, 3 * kb + e);
+                }
+              }
+          }
+          const double w0 = D.w(ka, 0);
+          for (int d = 0; d < 3; ++d) {
+            const int i = D.dof(ka, 0, d), r = F.denseRow(i);
+            for (int e = 0; e < 3; ++e)
+              C(ka, kb, d, e) = w0 * (r >= 0 ? Y(r, 3 * kb + e) : FlexibleColumn<decltype(Y)>{Y, F, D, kb, e}(i)) +
+                                D.rot(ka, d, 0) * g[e][0] + D.rot(ka, d, 1) * g[e][1] + D.rot(ka, d, 2) * g[e][2];
+          }
+          return;
+        }
         for (int e = 0; e < 3; ++e) {
           const FlexibleColumn<decltype(Y)> col{Y, F, D, kb, e};
           double r[3];

@@ -46,7 +46,9 @@
 //   stuck:    e_i,a^T (d_a + sum_b F_ab f_b) = 0, i = 1, 2: no tangential motion over the step
 //             relative to q_n, whatever the coupling through F;
 //   sliding:  s_a = mu lambda_a t_a, t_a the unit friction direction (against the sliding).
-// The 3 nA x 3 nA system is solved by LAPACK (GESV). Classification, repeated while any node's
+// The system is solved in the unknowns not known beforehand (a sliding node's s_a is mu lambda_a t_a,
+// a penalty node's lambda_a is k_p (-g*_a): both move to the right-hand side), nA + 2 x (stuck
+// nodes) for Lagrange, by Gaussian elimination with partial pivoting (LAPACK's GESV above 64). Classification, repeated while any node's
 // state or sliding direction changes (at most 20 passes, then the pass with the fewest changes is
 // solved again and kept): stuck -> sliding when |s_a| > mu lambda_a, with t_a = s_a / |s_a|;
 // sliding -> stuck when the radial-return trial force s_trial = mu lambda_a t_a - K_a^{-1} w_a
@@ -232,6 +234,16 @@ private:
   Kokkos::View<double* [3][3]> entRot_;   // R of each node's surface when its entries were made
   Kokkos::View<double**, Kokkos::LayoutLeft> Y_;   // F D_k^T, column 3 k + e (active nodes), dense rows of F only
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
+  // per carried surface with control columns (tOff_(s) >= 0): Y on its grid contracted with the
+  // rows [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
+  // tOff_(s) + (3 q + e2) nuE + A; the dense rows of its grid DOFs (gridRow_) and B_u^T (buT_)
+  Kokkos::View<double**, Kokkos::LayoutLeft> T_;
+  Kokkos::View<long*> tOff_, gridRowOff_, buOff_;
+  Kokkos::View<int*> gridRow_;
+  Kokkos::View<double*> buT_;
+  Kokkos::View<int* [2]> needRange_;
+  Kokkos::View<int* [2]>::HostMirror needRangeH_;
+  long tRows_ = 0;
   // per carried surface on a dense block (offset -1 otherwise): F (B_u x B_v) on the block's rows,
   // column (e2, a, b) of the extended control grid (nuE x nvE) at ctrlOff_(s) + ((e2 nuE + a) nvE + b) n
   Kokkos::View<double*> ctrlF_;
