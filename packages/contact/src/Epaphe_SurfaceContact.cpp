@@ -671,47 +671,70 @@ void SurfaceContact::relativeColumns() {
         }
       });
   const auto C = C_;
+  // C_ab = D_a Y_b, one active node a per iteration, every b: a node on a rigid surface reads w_0
+  // times rows of Y_b; on a carried surface with control columns its grid part is
+  // -R_a sum_pq w_p w_q Y_b(grid node pq) = -R_a sum_r b_r sum_q w_q T_b(i + r, q), the cubic basis
+  // b_r of the foot point's patch i (eqs. 2.22, 2.26); otherwise D_a's entries are walked
   forEach(
-      "epaphe::contact::relative_flexibility", nA * nA, 30L * static_cast<long>(entW_.extent(1)), KOKKOS_LAMBDA(const int ab) {
-        const int ka = active(ab / nA), kb = active(ab % nA);
-        const int sa = surf(ka);
+      "epaphe::contact::relative_flexibility", nA, 30L * static_cast<long>(entW_.extent(1)) * nA, KOKKOS_LAMBDA(const int a) {
+        const int ka = active(a), sa = surf(ka);
         const bool patch = sa >= 0 && tOff(sa) >= 0 && D.count(ka) > 1;
-        if (D.count(ka) == 1 || patch) {
-          // C_ab = D_a Y_b: the node's own rows, w_0 Y_b, plus on a carried surface its grid part
-          // -R_a sum_pq w_p w_q Y_b(grid node pq) = -R_a sum_r b_r sum_q w_q T_b(i + r, q), the
-          // cubic basis b_r of the foot point's patch i (eqs. 2.22, 2.26)
+        const bool direct = D.count(ka) == 1 || patch;
+        const double w0 = D.w(ka, 0);
+        int dof[3], row[3];
+        double R[3][3];
+        for (int d = 0; d < 3; ++d) {
+          dof[d] = D.dof(ka, 0, d);
+          row[d] = F.denseRow(dof[d]);
+          for (int e = 0; e < 3; ++e) R[d][e] = D.rot(ka, d, e);
+        }
+        int i = 0, nv = 0, nuE = 0, blk = -1;
+        long t0 = 0;
+        double bu[4] = {0.0, 0.0, 0.0, 0.0};
+        if (patch) {
+          double tu, d1[4], d2[4];
+          surface_detail::locate(foot(ka, 0), info(sa, 1), info(sa, 4) != 0, i, tu);
+          surface_detail::cubicBasis(tu, bu, d1, d2);
+          nv = info(sa, 2);
+          nuE = ctrlDim(sa, 0);
+          t0 = tOff(sa) + i;
+          blk = info(sa, 0);
+        }
+        for (int b = 0; b < nA; ++b) {
+          const int kb = active(b);
+          if (!direct) {
+            for (int e = 0; e < 3; ++e) {
+              const FlexibleColumn<decltype(Y)> col{Y, F, D, kb, e};
+              double r[3];
+              D.apply(ka, col, r);
+              for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = r[d];
+            }
+            continue;
+          }
+          double own[3][3];
+          for (int d = 0; d < 3; ++d)
+            for (int e = 0; e < 3; ++e)
+              own[d][e] = w0 * (row[d] >= 0 ? Y(row[d], 3 * kb + e) : FlexibleColumn<decltype(Y)>{Y, F, D, kb, e}(dof[d]));
+          if (!patch) {
+            for (int d = 0; d < 3; ++d)
+              for (int e = 0; e < 3; ++e) C(ka, kb, d, e) = own[d][e];
+            continue;
+          }
           double g[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // g[e][e2]
-          const int blk = patch ? info(sa, 0) : -1;
-          if (patch && (nodeBlk(kb) == blk || (surf(kb) >= 0 && info(surf(kb), 0) == blk))) {
-            int i;
-            double tu, bu[4], d1[4], d2[4];
-            surface_detail::locate(foot(ka, 0), info(sa, 1), info(sa, 4) != 0, i, tu);
-            surface_detail::cubicBasis(tu, bu, d1, d2);
-            const int nv = info(sa, 2);
+          if (nodeBlk(kb) == blk || (surf(kb) >= 0 && info(surf(kb), 0) == blk)) {
             for (int r = 0; r < 4; ++r)
               for (int q = 0; q < nv; ++q) {
                 const double w = bu[r] * wv(ka, q);
                 if (w == 0.0) continue;
                 for (int e2 = 0; e2 < 3; ++e2) {
-                  const long row = tOff(sa) + static_cast<long>(3 * q + e2) * ctrlDim(sa, 0) + i + r;
-                  for (int e = 0; e < 3; ++e) g[e][e2] -= w * T(row, 3 * kb + e);
+                  const long t = t0 + static_cast<long>(3 * q + e2) * nuE + r;
+                  for (int e = 0; e < 3; ++e) g[e][e2] -= w * T(t, 3 * kb + e);
                 }
               }
           }
-          const double w0 = D.w(ka, 0);
-          for (int d = 0; d < 3; ++d) {
-            const int i = D.dof(ka, 0, d), r = F.denseRow(i);
+          for (int d = 0; d < 3; ++d)
             for (int e = 0; e < 3; ++e)
-              C(ka, kb, d, e) = w0 * (r >= 0 ? Y(r, 3 * kb + e) : FlexibleColumn<decltype(Y)>{Y, F, D, kb, e}(i)) +
-                                D.rot(ka, d, 0) * g[e][0] + D.rot(ka, d, 1) * g[e][1] + D.rot(ka, d, 2) * g[e][2];
-          }
-          return;
-        }
-        for (int e = 0; e < 3; ++e) {
-          const FlexibleColumn<decltype(Y)> col{Y, F, D, kb, e};
-          double r[3];
-          D.apply(ka, col, r);
-          for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = r[d];
+              C(ka, kb, d, e) = own[d][e] + R[d][0] * g[e][0] + R[d][1] * g[e][1] + R[d][2] * g[e][2];
         }
       });
   fence();
