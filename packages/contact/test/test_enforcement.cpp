@@ -163,3 +163,89 @@ TEST(SmallDense, EliminationWithPivotingSolvesAsLapackDoes) {
   std::vector<int> ipiv;
   EXPECT_EQ(solveDense(2, S.data(), 2, r.data(), ipiv), 2);
 }
+
+namespace {
+
+/// Three nodes pressed into a plane carried by a second body (a 6 x 5 grid in z = 0, turned by
+/// 0.3 rad about z), the carrier's flexibility diagonal d_i: as a dense block (C_ab from the
+/// patch's rows of T = B_u F D^T, eq. 2.26) or as a diagonal block (C_ab by walking D_a's grid
+/// entries). Both must give the same forces and correction.
+struct CarriedPlane {
+  static constexpr int kNu = 6, kNv = 5, kNodes = 3, kGridDofs = 3 * kNu * kNv, kN = 3 * kNodes + kGridDofs;
+  std::vector<double> grid;
+  BSplineSurface plane;
+  CarriedPlane() : grid(makeGrid()), plane("carried", kNu, kNv, grid, openOptions()) {}
+  static std::vector<double> makeGrid() {
+    std::vector<double> g;
+    for (int i = 0; i < kNu; ++i)
+      for (int j = 0; j < kNv; ++j) g.insert(g.end(), {-1.0 + 2.0 * i / (kNu - 1), -1.0 + 2.0 * j / (kNv - 1), 0.0});
+    return g;
+  }
+  static SurfaceOptions openOptions() {
+    SurfaceOptions o;
+    o.closureU = o.closureV = Closure::Open;
+    return o;
+  }
+  SurfaceContact make(bool denseCarrier, double mu) {
+    ContactNodes nodes;
+    for (int k = 0; k < kNodes; ++k) {
+      const int dof[3] = {3 * k, 3 * k + 1, 3 * k + 2};
+      const double x[3] = {-0.45 + 0.4 * k, 0.13 - 0.2 * k, 0.0};
+      nodes.add(k, 0, dof, x);
+    }
+    DenseMatrix Fn("Fn", 3 * kNodes, 3 * kNodes);  // the nodes' body: coupled
+    for (int i = 0; i < 3 * kNodes; ++i)
+      for (int j = 0; j < 3 * kNodes; ++j) Fn(i, j) = i == j ? 1e-3 : 1e-4 / (1.0 + (i - j) * (i - j));
+    Flexibility F(Fn);
+    DenseVector d("d", kGridDofs);
+    for (int i = 0; i < kGridDofs; ++i) d(i) = 4e-4 * (1.0 + 0.3 * std::sin(1.7 * i));
+    if (denseCarrier) {
+      DenseMatrix Fc("Fc", kGridDofs, kGridDofs);
+      for (int i = 0; i < kGridDofs; ++i) Fc(i, i) = d(i);
+      F.append(Flexibility(Fc));
+    } else {
+      F.append(Flexibility::diagonal(d));
+    }
+    ContactSurface cs;
+    cs.surface = cs.moving = &plane;
+    cs.block = 1;
+    for (int g = 0; g < kGridDofs; ++g) cs.gridDofs.push_back(3 * kNodes + g);
+    cs.gridX = grid;
+    cs.phase = 0.3;
+    ContactOptions o = options(ContactMethod::Lagrange, mu);
+    return SurfaceContact(nodes, {cs}, {ContactBlock{0, 3 * kNodes}, ContactBlock{3 * kNodes, kGridDofs}}, o, F);
+  }
+};
+
+}  // namespace
+
+TEST(ContactEnforcement, CarriedSurfaceOnADenseBlockCorrectsAsItsEntriesDo) {
+  for (double mu : {0.0, 0.3}) {
+    std::vector<double> forces[2], dq[2];
+    for (int dense = 0; dense < 2; ++dense) {
+      CarriedPlane scene;
+      SurfaceContact c = scene.make(dense == 1, mu);
+      DenseVector q("q", CarriedPlane::kN), qn("qn", CarriedPlane::kN);
+      for (int k = 0; k < CarriedPlane::kNodes; ++k) {
+        q(3 * k + 2) = -1e-3 * (1 + k);                   // pressed in
+        q(3 * k) = 2e-4 * k;                                // and sliding or not
+        qn(3 * k) = 1e-4 * k;
+      }
+      for (int g = 0; g < CarriedPlane::kGridDofs; g += 3) q(3 * CarriedPlane::kNodes + g + 2) = 2e-5 * std::cos(g);
+      CostSplit cost;
+      const DenseVector qStar("qStar", CarriedPlane::kN);
+      Kokkos::deep_copy(qStar, q);
+      c.correct(q, qn, cost);
+      ASSERT_EQ(c.numActive(), CarriedPlane::kNodes) << "mu = " << mu;
+      for (int k = 0; k < CarriedPlane::kNodes; ++k) forces[dense].push_back(c.force()(k));
+      for (int i = 0; i < CarriedPlane::kN; ++i) dq[dense].push_back(q(i) - qStar(i));
+    }
+    double fmax = 0.0, dmax = 0.0;
+    for (double f : forces[0]) fmax = std::max(fmax, std::fabs(f));
+    for (double x : dq[0]) dmax = std::max(dmax, std::fabs(x));
+    ASSERT_GT(fmax, 0.0);
+    for (std::size_t k = 0; k < forces[0].size(); ++k)
+      EXPECT_NEAR(forces[1][k], forces[0][k], 1e-9 * fmax) << "mu = " << mu << ", node " << k;
+    for (std::size_t i = 0; i < dq[0].size(); ++i) EXPECT_NEAR(dq[1][i], dq[0][i], 1e-9 * dmax) << "mu = " << mu << ", DOF " << i;
+  }
+}
