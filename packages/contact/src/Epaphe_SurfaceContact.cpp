@@ -565,7 +565,7 @@ void SurfaceContact::controlColumns() {
 
 void SurfaceContact::relativeColumns() {
   // For the active nodes: Y_k = F D_k^T (N x 3; only the rows of the node's block and of the
-  // surface's block are not zero) and C_ab = D_a Y_b (3 x 3 per active pair).
+  // surface's block are not zero) and T_k on the carried surfaces; then C_ab = D_a Y_b.
   const int nA = numActive_;
   const auto active = v_.upload(activeH_);
   const auto surf = surf_;
@@ -590,7 +590,6 @@ void SurfaceContact::relativeColumns() {
   const auto gridRowOff = gridRowOff_;
   const auto buT = buT_;
   const auto buOff = buOff_;
-  const auto wv = wv_;
   const int ns = static_cast<int>(surfaces_.size());
   if (tRows_ > 0) {  // per surface, the rows of B_u that the patches of the active nodes read
     for (int s = 0; s < ns; ++s) {
@@ -670,7 +669,25 @@ void SurfaceContact::relativeColumns() {
           }
         }
       });
+  fence();
+  relativeFlexibility();
+}
+
+void SurfaceContact::relativeFlexibility() {
+  const int nA = numActive_;
+  const auto active = v_.upload(activeH_);
+  const auto surf = surf_;
+  const auto info = info_;
+  const auto F = F_;
+  const auto Y = Y_;
+  const auto T = T_;
+  const auto tOff = tOff_;
+  const auto nodeBlk = nodeBlk_;
+  const auto ctrlDim = ctrlDim_;
+  const auto foot = foot_;
+  const auto wv = wv_;
   const auto C = C_;
+  const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   // C_ab = D_a Y_b, one active node a per iteration, every b: a node on a rigid surface reads w_0
   // times rows of Y_b; on a carried surface with control columns its grid part is
   // -R_a sum_pq w_p w_q Y_b(grid node pq) = -R_a sum_r b_r sum_q w_q T_b(i + r, q), the cubic basis

@@ -188,7 +188,8 @@ private:
   void detect(const DenseVector& q, bool all);
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
   void motionEntries();     // entries of D_k (spline weights) of every node on a surface
-  void relativeColumns();   // Y = F D^T and C_ab = D_a Y_b of the active nodes
+  void relativeColumns();      // Y = F D^T (and T) of the active nodes, then relativeFlexibility()
+  void relativeFlexibility();  // C_ab = D_a Y_b of the active pairs
   void controlColumns();    // ctrlF_: F times the carried surfaces' interpolation, once
   // construction, in this order:
   // blocks_ checked against the flexibility and filled; returns its host copy
