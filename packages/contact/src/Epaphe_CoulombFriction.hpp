@@ -63,7 +63,7 @@ private:
   Kokkos::View<int*> returns_;
   Kokkos::View<double**, Kokkos::LayoutLeft> MCf_;   // friction system, 3 nc x 3 nc
   Kokkos::View<double**, Kokkos::LayoutLeft>::HostMirror MCfH_;
-  Kokkos::View<double*> sol_;             // its right-hand side / solution (lambda, s1, s2 per active node)
+  Kokkos::View<double*> sol_;             // the solution, (lambda, s1, s2) per active node, known ones included
   Kokkos::View<double*>::HostMirror solH_;
   Kokkos::View<double*> rhs_;             // right-hand side / solution of the solved unknowns
   Kokkos::View<double*>::HostMirror rhsH_;

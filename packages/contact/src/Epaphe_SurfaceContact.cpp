@@ -670,12 +670,11 @@ void SurfaceContact::relativeColumns() {
         }
       });
   fence();
-  relativeFlexibility();
+  relativeFlexibility(active);
 }
 
-void SurfaceContact::relativeFlexibility() {
+void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   const int nA = numActive_;
-  const auto active = v_.upload(activeH_);
   const auto surf = surf_;
   const auto info = info_;
   const auto F = F_;
@@ -732,26 +731,24 @@ void SurfaceContact::relativeFlexibility() {
           for (int d = 0; d < 3; ++d)
             for (int e = 0; e < 3; ++e)
               own[d][e] = w0 * (row[d] >= 0 ? Y(row[d], 3 * kb + e) : FlexibleColumn<decltype(Y)>{Y, F, D, kb, e}(dof[d]));
-          if (!patch) {
-            for (int d = 0; d < 3; ++d)
-              for (int e = 0; e < 3; ++e) C(ka, kb, d, e) = own[d][e];
-            continue;
-          }
-          double g[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // g[e][e2]
-          if (nodeBlk(kb) == blk || (surf(kb) >= 0 && info(surf(kb), 0) == blk)) {
-            for (int r = 0; r < 4; ++r)
-              for (int q = 0; q < nv; ++q) {
-                const double w = bu[r] * wv(ka, q);
-                if (w == 0.0) continue;
-                for (int e2 = 0; e2 < 3; ++e2) {
-                  const long t = t0 + static_cast<long>(3 * q + e2) * nuE + r;
-                  for (int e = 0; e < 3; ++e) g[e][e2] -= w * T(t, 3 * kb + e);
+          if (patch) {  // the grid part, R_a g
+            double g[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // g[e][e2]
+            if (nodeBlk(kb) == blk || (surf(kb) >= 0 && info(surf(kb), 0) == blk)) {
+              for (int r = 0; r < 4; ++r)
+                for (int q = 0; q < nv; ++q) {
+                  const double w = bu[r] * wv(ka, q);
+                  if (w == 0.0) continue;
+                  for (int e2 = 0; e2 < 3; ++e2) {
+                    const long t = t0 + static_cast<long>(3 * q + e2) * nuE + r;
+                    for (int e = 0; e < 3; ++e) g[e][e2] -= w * T(t, 3 * kb + e);
+                  }
                 }
-              }
+            }
+            for (int d = 0; d < 3; ++d)
+              for (int e = 0; e < 3; ++e) own[d][e] = own[d][e] + R[d][0] * g[e][0] + R[d][1] * g[e][1] + R[d][2] * g[e][2];
           }
           for (int d = 0; d < 3; ++d)
-            for (int e = 0; e < 3; ++e)
-              C(ka, kb, d, e) = own[d][e] + R[d][0] * g[e][0] + R[d][1] * g[e][1] + R[d][2] * g[e][2];
+            for (int e = 0; e < 3; ++e) C(ka, kb, d, e) = own[d][e];
         }
       });
   fence();

@@ -48,8 +48,8 @@
 //   sliding:  s_a = mu lambda_a t_a, t_a the unit friction direction (against the sliding).
 // The system is solved in the unknowns not known beforehand (a sliding node's s_a is mu lambda_a t_a,
 // a penalty node's lambda_a is k_p (-g*_a): both move to the right-hand side), nA + 2 x (stuck
-// nodes) for Lagrange, by Gaussian elimination with partial pivoting (LAPACK's GESV above 64). Classification, repeated while any node's
-// state or sliding direction changes (at most 20 passes, then the pass with the fewest changes is
+// nodes) for Lagrange, by Gaussian elimination with partial pivoting (LAPACK's GESV above 64).
+// Classification, repeated while any node's state or sliding direction changes (at most 20 passes, then the pass with the fewest changes is
 // solved again and kept): stuck -> sliding when |s_a| > mu lambda_a, with t_a = s_a / |s_a|;
 // sliding -> stuck when the radial-return trial force s_trial = mu lambda_a t_a - K_a^{-1} w_a
 // (w_a: tangential part of the corrected motion, K_a = [e_i^T F_aa e_j] the node's 2 x 2 tangential
@@ -189,7 +189,7 @@ private:
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
   void motionEntries();     // entries of D_k (spline weights) of every node on a surface
   void relativeColumns();      // Y = F D^T (and T) of the active nodes, then relativeFlexibility()
-  void relativeFlexibility();  // C_ab = D_a Y_b of the active pairs
+  void relativeFlexibility(const Kokkos::View<int*>& active);  // C_ab = D_a Y_b of the active pairs (uploaded)
   void controlColumns();    // ctrlF_: F times the carried surfaces' interpolation, once
   // construction, in this order:
   // blocks_ checked against the flexibility and filled; returns its host copy
