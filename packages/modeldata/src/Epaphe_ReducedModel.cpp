@@ -17,6 +17,15 @@ std::vector<int> ReducedModel::nodeSet(const std::string& spec, const std::strin
 
 std::vector<double> ReducedModel::rigidTranslation(int direction) const {
   std::vector<double> t(static_cast<std::size_t>(size), 0.0);
+  if (massless()) {
+    const int nb = boundarySize();
+    const double* eta = modalTranslation.data() + static_cast<std::size_t>(direction) * numModes;
+    for (int k = 0; k < numModes; ++k) {
+      t[nb + k] = eta[k];
+      for (int c = 0; c < nb; ++c) t[c] += boundaryModes[static_cast<std::size_t>(k) * nb + c] * eta[k];
+    }
+    return t;
+  }
   for (int n = 0; n < numNodes(); ++n)
     if (int i = nodeDof[3 * n + direction]; i >= 0) t[i] = 1.0;
   return t;

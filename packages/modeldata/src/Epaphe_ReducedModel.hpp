@@ -66,6 +66,8 @@ struct ReducedModel {
   std::vector<double> lumpedMass;       // full model with lumped mass: diag(M) (size)
   std::vector<double> boundaryModes;    // massless boundary: Phi_b, (size - numModes) x numModes, column-major
   std::vector<double> residualFlexibility;  // massless boundary: G, square on the retained DOFs, column-major
+  std::vector<double> modalTranslation;  // massless boundary: Phi^T M e_d, numModes x 3, column-major
+  std::array<double, 3> translationMass = {0, 0, 0};  // massless boundary: e_d^T M e_d over the free DOFs
 
   /// The deck's name of its kind ("Craig-Bampton", ...), for messages and files.
   std::string method() const { return reductionName(kind); }
@@ -86,9 +88,12 @@ struct ReducedModel {
   }
   /// A named node set or a union "a, b" of them (see Mesh::nodeSet).
   std::vector<int> nodeSet(const std::string& spec, const std::string& context) const;
-  /// The reduced coordinates of a rigid translation along `direction` (unit displacement of every
-  /// retained DOF along it, zero modal amplitudes). Exact for Craig-Bampton and Guyan, whose
-  /// constraint modes reproduce rigid-body motion.
+  /// The reduced coordinates of a rigid translation along `direction`. Craig-Bampton and Guyan: unit
+  /// displacement of every retained DOF along it, zero modal amplitudes (exact: their constraint
+  /// modes reproduce rigid-body motion). Massless boundary: the translation projected onto the modes
+  /// in the mass inner product, eta = Phi^T M e_d, and the boundary following them, u_b = Phi_b eta
+  /// (exact for a free body, whose rigid-body modes are among its modes; a held body keeps only
+  /// the part of it its modes carry).
   std::vector<double> rigidTranslation(int direction) const;
   /// M x, M dense or lumped.
   std::vector<double> massTimes(const std::vector<double>& x) const;

@@ -13,6 +13,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <cmath>
 
@@ -391,6 +392,162 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
   return red;
 }
 
+namespace {
+
+/// The six rigid-body motions of a free body (translations along x, y, z, rotations about them
+/// through the nodes' centroid) over its free DOFs, M-orthonormalised: Phi_r^T M Phi_r = I.
+Teuchos::RCP<MultiVector> rigidBodyModes(const FullModel& full) {
+  const auto map = full.M->getRowMap();
+  std::array<double, 3> c = {0, 0, 0};
+  for (const auto& x : full.mesh.coords)
+    for (int d = 0; d < 3; ++d) c[d] += x[d] / full.numNodes();
+  auto R = Teuchos::rcp(new MultiVector(map, 6));
+  {
+    auto r = R->getLocalViewHost(Tpetra::Access::ReadWrite);
+    for (int node = 0; node < full.numNodes(); ++node)
+      for (int d = 0; d < 3; ++d) {
+        const int g = full.eq[3 * node + d];
+        if (g < 0 || !map->isNodeGlobalElement(g)) continue;
+        const LO l = map->getLocalElement(g);
+        r(l, d) = 1.0;
+        // rotation about axis a: u = e_a x (x - c); component d of it
+        for (int a = 0; a < 3; ++a) {
+          const int b = (a + 1) % 3, e = (a + 2) % 3;   // e_a x y = y_b e_e - y_e e_b
+          if (d == e) r(l, 3 + a) = full.mesh.coords[node][b] - c[b];
+          if (d == b) r(l, 3 + a) = -(full.mesh.coords[node][e] - c[e]);
+        }
+      }
+  }
+  MultiVector MR(map, 6);
+  full.M->apply(*R, MR);
+  std::vector<double> L = transposeProduct(*R, MR);   // Gram matrix R^T M R, then its Cholesky factor
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  lapack.POTRF('L', 6, L.data(), 6, &info);
+  EPAPHE_REQUIRE(info == 0, "body '" << full.name << "': its six rigid-body motions are not independent in the mass "
+                                        "inner product (column " << info << "): are its nodes on one line?");
+  lapack.TRTRI('L', 'N', 6, L.data(), 6, &info);     // L^{-1}; Phi_r = R L^{-T}
+  std::vector<double> LinvT(36, 0.0);
+  for (int j = 0; j < 6; ++j)
+    for (int i = j; i < 6; ++i) LinvT[static_cast<std::size_t>(i) * 6 + j] = L[static_cast<std::size_t>(j) * 6 + i];
+  auto Phi = Teuchos::rcp(new MultiVector(map, 6));
+  Phi->multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, 1.0, *R, replicated(LinvT, 6, 6, map->getComm()), 0.0);
+  return Phi;
+}
+
+/// A solver of the shifted K + sigma M of a free body whose answers are made M-orthogonal to its
+/// rigid-body modes: X = Q (K + sigma M)^{-1} B, Q = I - Phi_r Phi_r^T M, the M-orthogonal projector
+/// onto the elastic motions. Q commutes with (K + sigma M)^{-1} M (the rigid modes are eigenvectors
+/// of it), so Anasazi on Q (K + sigma M)^{-1} M sees the elastic spectrum 1/(omega^2 + sigma) and
+/// zeros in place of the six-fold 1/sigma that a block of Krylov vectors resolves badly.
+class RigidDeflatedSolver final : public SparseSolver {
+public:
+  RigidDeflatedSolver(const SparseSolver& shifted, const MultiVector& rigid, const CrsMatrix& M)
+      : shifted_(shifted), rigid_(rigid), Mrigid_(rigid.getMap(), rigid.getNumVectors()) {
+    M.apply(rigid, Mrigid_);
+  }
+  void solve(const MultiVector& B, MultiVector& X) const override {
+    shifted_.solve(B, X);
+    deflate(X);
+  }
+  /// X = Q X: the rigid-body parts removed.
+  void deflate(MultiVector& X) const {
+    const int r = static_cast<int>(rigid_.getNumVectors()), k = static_cast<int>(X.getNumVectors());
+    const auto c = transposeProduct(Mrigid_, X);     // Phi_r^T M X
+    X.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, rigid_, replicated(c, r, k, X.getMap()->getComm()), 1.0);
+  }
+  std::string name() const override { return shifted_.name() + ", rigid-body modes deflated"; }
+  long iterations() const override { return shifted_.iterations(); }
+  const MultiVector& massTimesRigid() const { return Mrigid_; }
+
+private:
+  const SparseSolver& shifted_;
+  const MultiVector& rigid_;
+  MultiVector Mrigid_;
+};
+
+/// Inertia relief (the free-free attachment modes of Craig & Chang, AIAA J. 15 (1977); MacNeal 1971):
+/// the elastic response U of a free body to unit forces E on its retained DOFs, each force balanced
+/// by the rigid-body inertia it sets off, P = I - M Phi_r Phi_r^T, and its rigid part removed:
+///   K U = P E,  Phi_r^T M U = 0,  i.e.  U = sum over elastic modes of phi phi^T E / omega^2.
+/// With the deflated shifted solver S = Q (K + sigma M)^{-1}, U is the fixed point of
+///   U = S (P E + sigma M U)
+/// (from (K + sigma M) U = P E + sigma M U), reached at the rate sigma / (omega_1^2 + sigma) per pass.
+MultiVector inertiaReliefResponses(const FullModel& full, const RigidDeflatedSolver& S, const MultiVector& rigid,
+                                   const MultiVector& E, double sigma, double rate) {
+  const int nb = static_cast<int>(E.getNumVectors());
+  MultiVector PE(E, Teuchos::Copy), U(E.getMap(), E.getNumVectors()), B(E.getMap(), E.getNumVectors()),
+      MU(E.getMap(), E.getNumVectors());
+  const auto c = transposeProduct(rigid, E);   // Phi_r^T E
+  PE.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, S.massTimesRigid(), replicated(c, 6, nb, E.getMap()->getComm()), 1.0);
+  // sigma M U's contribution shrinks by `rate` a pass: stop when it can no longer change U's digits.
+  const int passes = rate <= 0 ? 1 : std::max(1, static_cast<int>(std::ceil(std::log(1e-16) / std::log(rate))) + 1);
+  EPAPHE_REQUIRE(rate < 0.5, "body '" << full.name << "': the inertia-relief iteration would converge at " << rate
+                                      << " per pass; the shift is too close to the lowest elastic mode (a bug: report it)");
+  for (int it = 0; it < passes; ++it) {
+    full.M->apply(U, MU);
+    B.update(1.0, PE, sigma, MU, 0.0);
+    S.solve(B, U);
+  }
+  return U;
+}
+
+/// max_i K_ii / M_ii over every rank: the scale of a model's largest eigenvalue.
+double largestDiagonalRatio(const CrsMatrix& K, const CrsMatrix& M) {
+  Tpetra::Vector<double, LO, GO> dk(K.getRowMap()), dm(M.getRowMap());
+  K.getLocalDiagCopy(dk);
+  M.getLocalDiagCopy(dm);
+  auto k = dk.getLocalViewHost(Tpetra::Access::ReadOnly);
+  auto m = dm.getLocalViewHost(Tpetra::Access::ReadOnly);
+  double local = 0, ratio = 0;
+  for (std::size_t i = 0; i < k.extent(0); ++i) local = std::max(local, k(i, 0) / m(i, 0));
+  Teuchos::reduceAll(*K.getComm(), Teuchos::REDUCE_MAX, local, Teuchos::outArg(ratio));
+  return ratio;
+}
+
+/// [Phi_r, Phi_e]: the rigid-body modes (none when `rigid` is null) then the elastic ones, each
+/// M-normalised exactly (Anasazi's are M-orthonormal to its tolerance).
+MultiVector joinedModes(const MultiVector* rigid, const MultiVector& elastic, const CrsMatrix& M) {
+  const int nr = rigid ? static_cast<int>(rigid->getNumVectors()) : 0, ne = static_cast<int>(elastic.getNumVectors());
+  MultiVector Phi(elastic.getMap(), static_cast<std::size_t>(nr + ne));
+  {
+    auto phi = Phi.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    auto e = elastic.getLocalViewHost(Tpetra::Access::ReadOnly);
+    decltype(e) r;
+    if (rigid) r = rigid->getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (std::size_t l = 0; l < phi.extent(0); ++l) {
+      for (int j = 0; j < nr; ++j) phi(l, j) = r(l, j);
+      for (int j = 0; j < ne; ++j) phi(l, nr + j) = e(l, j);
+    }
+  }
+  MultiVector MPhi(Phi.getMap(), Phi.getNumVectors());
+  M.apply(Phi, MPhi);
+  const auto g = transposeProduct(Phi, MPhi);
+  std::vector<double> scale(Phi.getNumVectors());
+  for (std::size_t j = 0; j < scale.size(); ++j) scale[j] = 1.0 / std::sqrt(g[j * scale.size() + j]);
+  Phi.scale(Teuchos::ArrayView<const double>(scale));
+  return Phi;
+}
+
+/// A rigid translation's modal coordinates Phi^T M e_d and mass e_d^T M e_d (the momentum, the
+/// initial velocity), into `red`.
+void keepTranslations(const FullModel& full, const MultiVector& Phi, ReducedModel& red) {
+  const auto map = Phi.getMap();
+  MultiVector T(map, 3), MT(map, 3);
+  {
+    auto t = T.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (int node = 0; node < full.numNodes(); ++node)
+      for (int d = 0; d < 3; ++d)
+        if (const int g = full.eq[3 * node + d]; g >= 0 && map->isNodeGlobalElement(g)) t(map->getLocalElement(g), d) = 1.0;
+  }
+  full.M->apply(T, MT);
+  red.modalTranslation = transposeProduct(Phi, MT);
+  const auto tmt = transposeProduct(T, MT);
+  for (int d = 0; d < 3; ++d) red.translationMass[d] = tmt[static_cast<std::size_t>(d) * 3 + d];
+}
+
+}  // namespace
+
 ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
                               ReductionReport* report) {
   Stopwatch total;
@@ -400,71 +557,88 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   const std::string body = "body '" + full.name + "'";
   EPAPHE_REQUIRE(m > 0, body << ": the massless-boundary reduction keeps the body's mass in its modes only, but "
                              << m << " modes are asked; set 'Fixed-interface modes' > 0");
-  EPAPHE_REQUIRE(std::any_of(full.eq.begin(), full.eq.end(), [](int g) { return g < 0; }),
-                 body << ": the massless-boundary reduction needs the static response K^{-1} of a body held by its "
-                         "boundary conditions, and this body has none; give it a 'Clamped node set', or use "
-                         "'Craig-Bampton'");
+  // A body with no boundary condition is free: its six rigid-body modes join the kept modes (with
+  // Omega = 0) and the static part is the inertia-relief flexibility.
+  const bool free = std::none_of(full.eq.begin(), full.eq.end(), [](int g) { return g < 0; });
+  const int nRigid = free ? 6 : 0;
 
   std::vector<int> rIndex;
   int nR = 0;
   ReducedModel red = retainedShell(full, retained, ReductionKind::MasslessBoundary, rIndex, nR);
-  EPAPHE_REQUIRE(nR + m <= nFree, body << ": " << nR << " retained DOFs and " << m << " modes exceed the model's "
-                                       << nFree << " free DOFs; keep fewer modes");
+  EPAPHE_REQUIRE(nR + m + nRigid <= nFree, body << ": " << nR << " retained DOFs, " << m << " modes"
+                                                << (free ? " and 6 rigid-body modes" : "") << " exceed the model's "
+                                                << nFree << " free DOFs; keep fewer modes");
   rep.retainedDofs = nR;
   rep.condensedDofs = nFree - nR;
 
-  // One factor of K serves the static responses and Anasazi's shift-invert (shift 0: K is regular).
+  // One factor serves the static responses and Anasazi's shift-invert: K itself for a held body;
+  // K + sigma M for a free one, sigma = 1e-9 max_i K_ii / M_ii, far below its lowest elastic
+  // eigenvalue (the inertia-relief iteration then converges in a few passes) while K + sigma M
+  // stays well inside double precision (condition about 1e9, and its ill-conditioned directions are
+  // the rigid modes, which the deflation removes).
   Stopwatch sw;
-  auto factor = makeSolver(full.K, opt.solver, "K of " + body, opt.iterativeTolerance);
+  double sigma = 0;
+  Teuchos::RCP<const CrsMatrix> shifted = full.K;
+  if (free) {
+    sigma = 1e-9 * largestDiagonalRatio(*full.K, *full.M);
+    shifted = Tpetra::MatrixMatrix::add(1.0, false, *full.K, sigma, false, *full.M);
+  }
+  auto factor = makeSolver(shifted, opt.solver, (free ? "K + sigma M of " : "K of ") + body, opt.iterativeTolerance);
+  Teuchos::RCP<MultiVector> rigid = free ? rigidBodyModes(full) : Teuchos::null;
+  std::unique_ptr<RigidDeflatedSolver> deflated;
+  if (free) deflated = std::make_unique<RigidDeflatedSolver>(*factor, *rigid, *full.M);
+  const SparseSolver& solver = free ? static_cast<const SparseSolver&>(*deflated) : *factor;
   rep.factorSeconds = sw.seconds();
+
   sw.restart();
+  EigenOptions eo;
+  eo.count = m;
+  eo.shift = -sigma;
+  eo.tolerance = opt.eigenTolerance;
+  EigenResult er = lowestEigenpairs(full.K, full.M, solver, eo);
+  for (double l : er.lambda)
+    EPAPHE_REQUIRE(l > 0, body << ": eigenvalue " << l << " of a body held by its boundary conditions; the model "
+                               "has a mechanism (a free rigid motion): clamp it fully, or remove every clamp");
+  // Anasazi's Ritz vectors keep, at its tolerance, the rigid parts of its random start: removed.
+  if (free) deflated->deflate(*er.vectors);
   const auto rowMap = full.K->getRowMap();
-  MultiVector E(rowMap, static_cast<std::size_t>(nR)), X(rowMap, static_cast<std::size_t>(nR));
+  MultiVector Phi = joinedModes(rigid.get(), *er.vectors, *full.M);   // [Phi_r, Phi_e]
+  rep.eigenIterations = er.restarts;
+  rep.eigenSolves = er.operatorVectors;
+  rep.eigenSolveSeconds = er.operatorSeconds;
+  red.modeFrequencies.assign(static_cast<std::size_t>(nRigid), 0.0);
+  for (double l : er.lambda) red.modeFrequencies.push_back(std::sqrt(l) / (2 * M_PI));
+  rep.eigenSeconds = sw.seconds();
+
+  // The static response to a unit force on each retained DOF: X = K^{-1} E_b (held), or its
+  // inertia-relief form (free).
+  sw.restart();
+  MultiVector E(rowMap, static_cast<std::size_t>(nR));
   {
     auto e = E.getLocalViewHost(Tpetra::Access::ReadWrite);
     for (LO l = 0; l < static_cast<LO>(rowMap->getNodeNumElements()); ++l)
       if (const int r = rIndex[rowMap->getGlobalElement(l)]; r >= 0) e(l, r) = 1.0;
   }
-  factor->solve(E, X);   // X = K^{-1} E_b: the static response to a unit force on each retained DOF
+  MultiVector X(rowMap, static_cast<std::size_t>(nR));
+  if (free) Tpetra::deep_copy(X, inertiaReliefResponses(full, *deflated, *rigid, E, sigma, sigma / (er.lambda.front() + sigma)));
+  else factor->solve(E, X);
   rep.constraintSeconds = sw.seconds();
-
-  sw.restart();
-  EigenOptions eo;
-  eo.count = m;
-  eo.shift = 0.0;
-  eo.tolerance = opt.eigenTolerance;
-  EigenResult er = lowestEigenpairs(full.K, full.M, *factor, eo);
-  MultiVector& Phi = *er.vectors;
-  {  // M-normalise exactly (Anasazi's are M-orthonormal to its tolerance)
-    MultiVector MPhi(rowMap, static_cast<std::size_t>(m));
-    full.M->apply(Phi, MPhi);
-    const auto g = transposeProduct(Phi, MPhi);
-    std::vector<double> scale(static_cast<std::size_t>(m));
-    for (int j = 0; j < m; ++j) scale[j] = 1.0 / std::sqrt(g[static_cast<std::size_t>(j) * m + j]);
-    Phi.scale(Teuchos::ArrayView<const double>(scale));
-  }
-  rep.eigenIterations = er.restarts;
-  rep.eigenSolves = er.operatorVectors;
-  rep.eigenSolveSeconds = er.operatorSeconds;
-  for (double l : er.lambda) {
-    EPAPHE_REQUIRE(l > 0, body << ": eigenvalue " << l << " of a body held by its boundary conditions; the model "
-                               "has a mechanism (a free rigid motion): clamp it fully");
-    red.modeFrequencies.push_back(std::sqrt(l) / (2 * M_PI));
-  }
-  rep.eigenSeconds = sw.seconds();
   rep.solverIterations = factor->iterations();
 
+  // G = X_bb - Phi_b Omega^{-2} Phi_b^T over the elastic modes (Omega_j > 0): the rigid modes have no
+  // static part, the inertia-relief X none of theirs.
   sw.restart();
-  red.numModes = m;
-  red.size = nR + m;
+  red.numModes = nRigid + m;
+  red.size = nR + red.numModes;
   const std::vector<double> w2 = red.modalStiffness();
-  red.boundaryModes = gatherRows(Phi, rIndex, nR);           // Phi_b, nR x m
-  std::vector<double> G = gatherRows(X, rIndex, nR);         // (K^{-1})_bb, then minus the modes' part
+  const int mAll = red.numModes;
+  red.boundaryModes = gatherRows(Phi, rIndex, nR);           // Phi_b, nR x (nRigid + m)
+  std::vector<double> G = gatherRows(X, rIndex, nR);
   auto phib = [&](int i, int j) { return red.boundaryModes[static_cast<std::size_t>(j) * nR + i]; };
   for (int j = 0; j < nR; ++j)
     for (int i = 0; i < nR; ++i) {
       double s = 0;
-      for (int k = 0; k < m; ++k) s += phib(i, k) * phib(j, k) / w2[k];
+      for (int k = nRigid; k < mAll; ++k) s += phib(i, k) * phib(j, k) / w2[k];
       G[static_cast<std::size_t>(j) * nR + i] -= s;
     }
   for (int j = 0; j < nR; ++j)  // exact symmetry (round-off)
@@ -480,10 +654,11 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   const int n = red.size;
   red.K = red.residualStiffness();
   red.M.assign(static_cast<std::size_t>(n) * n, 0.0);
-  for (int k = 0; k < m; ++k) {
+  for (int k = 0; k < mAll; ++k) {
     red.K[static_cast<std::size_t>(nR + k) * n + nR + k] += w2[k];
     red.M[static_cast<std::size_t>(nR + k) * n + nR + k] = 1.0;
   }
+  keepTranslations(full, Phi, red);
 
   // Recovery rows: u = Phi eta + Res f_b with f_b = G^{-1} (u_b - Phi_b eta), Res = X - Phi Omega^{-2} Phi_b^T.
   std::vector<double> local(full.eq.size() * n, 0.0), res(nR), a(nR);
@@ -502,7 +677,7 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
       if (l == Teuchos::OrdinalTraits<LO>::invalid()) continue;
       for (int c = 0; c < nR; ++c) {
         double s = x(l, c);
-        for (int k = 0; k < m; ++k) s -= phi(l, k) / w2[k] * phib(c, k);
+        for (int k = nRigid; k < mAll; ++k) s -= phi(l, k) / w2[k] * phib(c, k);
         res[c] = s;
       }
       for (int c = 0; c < nR; ++c) {
@@ -511,7 +686,7 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
         a[c] = s;
         local[i * n + c] = s;
       }
-      for (int k = 0; k < m; ++k) {
+      for (int k = 0; k < mAll; ++k) {
         double s = phi(l, k);
         for (int c = 0; c < nR; ++c) s -= a[c] * phib(c, k);
         local[i * n + nR + k] = s;
@@ -538,16 +713,7 @@ std::vector<double> fullModelFrequencies(const FullModel& full, int count, Linea
     const double omega = 2 * M_PI * elastic;
     sigma = -0.5 * omega * omega;
   } else {
-    double ratio = 0;
-    Tpetra::Vector<double, LO, GO> dk(full.K->getRowMap()), dm(full.M->getRowMap());
-    full.K->getLocalDiagCopy(dk);
-    full.M->getLocalDiagCopy(dm);
-    auto k = dk.getLocalViewHost(Tpetra::Access::ReadOnly);
-    auto m = dm.getLocalViewHost(Tpetra::Access::ReadOnly);
-    double local = 0;
-    for (std::size_t i = 0; i < k.extent(0); ++i) local = std::max(local, k(i, 0) / m(i, 0));
-    Teuchos::reduceAll(*full.K->getComm(), Teuchos::REDUCE_MAX, local, Teuchos::outArg(ratio));
-    sigma = -1e-4 * ratio;
+    sigma = -1e-4 * largestDiagonalRatio(*full.K, *full.M);
   }
   auto shifted = Tpetra::MatrixMatrix::add(1.0, false, *full.K, -sigma, false, *full.M);
   auto factor = makeSolver(shifted, solver, "K - sigma M of body '" + full.name + "'", iterativeTolerance);

@@ -51,8 +51,10 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
 /// Massless-boundary reduction (MacNeal's residual flexibility; Monjaraz-Tec, Gross & Krack 2022;
 /// the model is described in Epaphe_ReducedModel.hpp): the body's `opt.modes` lowest normal modes
 /// with the retained nodes free, and the static response to forces on the retained DOFs, from one
-/// factor of the full K (the body must be held by its boundary conditions). The retained DOFs carry
-/// no mass, so the highest frequency is the last kept mode's, not the boundary's.
+/// factor of the full K. A free body (no constrained DOF) keeps its six rigid-body modes besides
+/// (numModes = opt.modes + 6, Omega = 0) and the inertia-relief static response, from one factor of
+/// K + sigma M. The retained DOFs carry no mass, so the highest frequency is the last kept mode's,
+/// not the boundary's.
 ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
                               ReductionReport* report = nullptr);
 

@@ -47,6 +47,8 @@ void saveReducedModel(const ReducedModel& r, const std::string& path, const std:
     f.writeDoubles("/fullFrequencies", r.fullFrequencies);
     f.writeDoubles("/boundaryModes", r.boundaryModes);
     f.writeDoubles("/residualFlexibility", r.residualFlexibility);
+    f.writeDoubles("/modalTranslation", r.modalTranslation);
+    f.writeDoubles("/translationMass", std::vector<double>(r.translationMass.begin(), r.translationMass.end()));
     std::string names;
     for (const auto& [name, nodes] : r.nodeSets) {
       f.writeInts("/nodeSets/" + name, std::vector<long long>(nodes.begin(), nodes.end()));
@@ -91,9 +93,17 @@ bool loadReducedModel(const std::string& path, const std::string& key, ReducedMo
   r.fullFrequencies = f.readDoubles("/fullFrequencies");
   r.boundaryModes.clear();  // massless boundary only (files written before it have neither)
   r.residualFlexibility.clear();
-  if (f.exists("/residualFlexibility")) {
+  r.modalTranslation.clear();
+  r.translationMass = {0, 0, 0};
+  if (r.massless()) {
+    if (!f.exists("/modalTranslation")) return false;   // written before free bodies: reduce again
     r.boundaryModes = f.readDoubles("/boundaryModes");
     r.residualFlexibility = f.readDoubles("/residualFlexibility");
+    r.modalTranslation = f.readDoubles("/modalTranslation");
+    const auto tm = f.readDoubles("/translationMass");
+    EPAPHE_REQUIRE(tm.size() == 3, "reduced-model cache " << path << ": /translationMass has " << tm.size()
+                                                         << " entries, not 3; delete the file to reduce again");
+    for (int d = 0; d < 3; ++d) r.translationMass[d] = tm[d];
   }
   r.nodeSets.clear();
   const std::string names = f.stringAttribute("/", "nodeSetNames");

@@ -132,9 +132,12 @@ void addReductionParameters(Teuchos::ParameterList& body) {
           "the lumped model's frequencies with the consistent-mass model's), or Massless boundary (MacNeal's "
           "residual flexibility: the body's own lowest normal modes with the retained nodes free, plus the "
           "static response to the contact forces; the retained DOFs carry no mass, so the stable step is set by "
-          "the last kept mode, not by the boundary; needs a clamped body and no initial velocity)");
+          "the last kept mode, not by the boundary; a body without clamps keeps its 6 rigid-body modes besides "
+          "and its static part is the inertia-relief flexibility; an initial velocity is projected onto the "
+          "modes, exactly for a free body, and the log says the kinetic energy a held body loses; Lagrange "
+          "contact only, no gravity)");
   addInt(red, "Fixed-interface modes", 20, "Modes kept: Craig-Bampton's fixed-interface modes, or for Massless "
-                                           "boundary the body's normal modes with the retained nodes free", 0, 100000);
+                                           "boundary the body's elastic normal modes with the retained nodes free", 0, 100000);
   addString(red, "Retained node set", "", "Nodes kept as physical DOFs (empty: the contact node set)");
   addEnum(red, "Linear solver", "MUMPS", {"MUMPS", "KLU2", "Belos CG"},
           {int(LinearSolver::Mumps), int(LinearSolver::Klu2), int(LinearSolver::BelosCg)},
@@ -160,7 +163,8 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
   addDouble(mat, "Poisson's ratio", 0.3, "Poisson's ratio", -0.999999, 0.499999);
   addString(body, "Clamped node set", "", "Node set fixed in all directions (empty: none); built-in meshes only (an "
                                           "imported model carries its own boundary conditions)");
-  addDoubleArray(body, "Initial velocity", {0, 0, 0}, "Uniform initial velocity of the body (m/s)");
+  addDoubleArray(body, "Initial velocity", {0, 0, 0}, "Uniform initial velocity of the body (m/s); a Massless "
+                                                       "boundary model takes its projection onto the modes");
   addDoubleArray(body, "Gravity", {0, 0, 0},
                  "Uniform acceleration of gravity on the body (m/s^2), e.g. {0, 0, -9.81}: the constant reduced "
                  "force f = sum_d g_d T^T M e_d, exact when a rigid translation is a motion of the model (a body "

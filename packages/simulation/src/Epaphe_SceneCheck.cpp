@@ -50,7 +50,7 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
 }
 
 /// The bodies' Reduction lists against the rest of the deck: a massless boundary takes Lagrange
-/// contact, no initial velocity and no gravity; a full model with lumped mass takes no retained set
+/// contact and no gravity; a full model with lumped mass takes no retained set
 /// and only damping that keeps M/h^2 + D/2h diagonal.
 void checkReductions(const ParameterList& P, const DampingOptions& damping, const std::string& origin) {
   const ParameterList& bl = P.sublist("Bodies");
@@ -68,10 +68,6 @@ void checkReductions(const ParameterList& P, const DampingOptions& damping, cons
                          << "': a penalty force computed from the predicted gap would ignore the boundary's static "
                             "residual flexibility (its nodes have no mass to lag behind the force); use 'Lagrange', "
                             "or 'Craig-Bampton' for penalty contact");
-      const auto v0 = deck::getVec3(bp, "Initial velocity", origin);
-      EPAPHE_REQUIRE(v0[0] == 0 && v0[1] == 0 && v0[2] == 0,
-                     ctx << " with 'Initial velocity' = {" << v0[0] << ", " << v0[1] << ", " << v0[2]
-                         << "}: the body is clamped and its mass is in its modes; remove the key, or use 'Craig-Bampton'");
       const auto g = deck::getVec3(bp, "Gravity", origin);
       EPAPHE_REQUIRE(g[0] == 0 && g[1] == 0 && g[2] == 0,
                      ctx << " with 'Gravity' = {" << g[0] << ", " << g[1] << ", " << g[2]
@@ -182,8 +178,7 @@ void checkBodyFacesNotOwnContact(const ParameterList& P, const std::string& orig
 
 /// What the built-in mesh of a body shows without assembling it: the node sets the deck names exist,
 /// the contact nodes and carried grids are retained and not clamped, the modes fit the condensed
-/// DOFs, a massless boundary is clamped, and gravity acts on a model whose rigid translation is a
-/// motion.
+/// DOFs, and gravity acts on a model whose rigid translation is a motion.
 void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& mesh, const std::string& origin) {
   const ParameterList& bp = P.sublist("Bodies").sublist(body);
   const ParameterList& rp = bp.sublist("Reduction");
@@ -225,12 +220,11 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
                        << " condensed DOFs exist (" << freeDofs << " free, " << retainedDofs << " retained); set '"
                        << deck::pathOf(rp, "Fixed-interface modes") << "' <= " << freeDofs - retainedDofs);
   if (method == ReductionMethod::MasslessBoundary) {
-    EPAPHE_REQUIRE(!clamped.empty(), ctx << ": the massless-boundary reduction needs the static response K^{-1} of a "
-                                            "body held by its boundary conditions, and this body has none; give it a "
-                                            "'Clamped node set', or use 'Craig-Bampton'");
-    EPAPHE_REQUIRE(retainedDofs + modes <= freeDofs, ctx << ": " << retainedDofs << " retained DOFs and " << modes
-                                                         << " modes exceed the model's " << freeDofs
-                                                         << " free DOFs; keep fewer modes");
+    const int rigid = clamped.empty() ? 6 : 0;   // a free body keeps its rigid-body modes too
+    EPAPHE_REQUIRE(retainedDofs + modes + rigid <= freeDofs,
+                   ctx << ": " << retainedDofs << " retained DOFs and " << modes << " modes"
+                       << (rigid ? " (and the free body's 6 rigid-body modes)" : "") << " exceed the model's "
+                       << freeDofs << " free DOFs; keep fewer modes");
   }
   const auto g = deck::getVec3(bp, "Gravity", origin);
   if (!clamped.empty() && (method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan))

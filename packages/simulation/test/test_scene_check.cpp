@@ -68,8 +68,9 @@ TEST(SceneCheck, FaultsWithoutAModelAreRefusedNamingKeyAndValue) {
   EXPECT_NE(modes.find("5000 fixed-interface modes asked but only"), std::string::npos) << modes;
 
   const std::string massless = refusal(deck(R"(<ParameterList name="Reduction">
-      <Parameter name="Method" type="string" value="Massless boundary"/></ParameterList>)"));
-  EXPECT_NE(massless.find("has none; give it a 'Clamped node set'"), std::string::npos) << massless;
+      <Parameter name="Method" type="string" value="Massless boundary"/>
+      <Parameter name="Fixed-interface modes" type="int" value="5000"/></ParameterList>)"));
+  EXPECT_NE(massless.find("(and the free body's 6 rigid-body modes) exceed the model's"), std::string::npos) << massless;
 
   const std::string output = refusal(deck(), "/nonexistent-epaphe-dir/out.h5");
   EXPECT_NE(output.find("directory '/nonexistent-epaphe-dir' does not exist"), std::string::npos) << output;
