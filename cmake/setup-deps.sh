@@ -31,6 +31,7 @@ DEB_PACKAGES=(
   libgtest-dev
   python3 python3-numpy python3-h5py python3-matplotlib
   calculix-ccx
+  python3-siconos
 )
 
 missing=()
