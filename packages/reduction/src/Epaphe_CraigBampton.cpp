@@ -437,9 +437,7 @@ Teuchos::RCP<MultiVector> rigidBodyModes(const FullModel& full) {
 
 /// A solver of the shifted K + sigma M of a free body whose answers are made M-orthogonal to its
 /// rigid-body modes: X = Q (K + sigma M)^{-1} B, Q = I - Phi_r Phi_r^T M, the M-orthogonal projector
-/// onto the elastic motions. Q commutes with (K + sigma M)^{-1} M (the rigid modes are eigenvectors
-/// of it), so Anasazi on Q (K + sigma M)^{-1} M sees the elastic spectrum 1/(omega^2 + sigma) and
-/// zeros in place of the six-fold 1/sigma that a block of Krylov vectors resolves badly.
+/// onto the elastic motions (the inertia-relief iteration below; deflate() alone cleans vectors).
 class RigidDeflatedSolver final : public SparseSolver {
 public:
   RigidDeflatedSolver(const SparseSolver& shifted, const MultiVector& rigid, const CrsMatrix& M)
@@ -587,22 +585,32 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   Teuchos::RCP<MultiVector> rigid = free ? rigidBodyModes(full) : Teuchos::null;
   std::unique_ptr<RigidDeflatedSolver> deflated;
   if (free) deflated = std::make_unique<RigidDeflatedSolver>(*factor, *rigid, *full.M);
-  const SparseSolver& solver = free ? static_cast<const SparseSolver&>(*deflated) : *factor;
   rep.factorSeconds = sw.seconds();
 
   sw.restart();
   EigenOptions eo;
-  eo.count = m;
+  // A free body's six rigid-body modes come first (lambda = 0, theta = 1/sigma: the block of 6 Krylov
+  // vectors resolves the six-fold eigenvalue); they give way to the exact ones, and the elastic
+  // vectors are made M-orthogonal to those (Anasazi's are, to its tolerance). On the deflated
+  // operator instead, Anasazi 13.2's Krylov-Schur failed for some counts (a column range past its
+  // basis: 20 modes of a 40 x 1 x 1 bar).
+  eo.count = m + nRigid;
   eo.shift = -sigma;
   eo.tolerance = opt.eigenTolerance;
-  EigenResult er = lowestEigenpairs(full.K, full.M, solver, eo);
-  for (double l : er.lambda)
-    EPAPHE_REQUIRE(l > 0, body << ": eigenvalue " << l << " of a body held by its boundary conditions; the model "
-                               "has a mechanism (a free rigid motion): clamp it fully, or remove every clamp");
-  // Anasazi's Ritz vectors keep, at its tolerance, the rigid parts of its random start: removed.
-  if (free) deflated->deflate(*er.vectors);
+  EigenResult er = lowestEigenpairs(full.K, full.M, *factor, eo);
+  const double top = er.lambda.back();
+  for (int k = 0; k < nRigid + m; ++k)
+    EPAPHE_REQUIRE((k < nRigid) == (std::abs(er.lambda[k]) <= 1e-8 * top),
+                   body << ": eigenvalue " << k + 1 << " is " << er.lambda[k] << " (the largest kept " << top << "); "
+                        << (free ? "a free body has exactly 6 rigid-body modes, this one has "
+                                 : "a body held by its boundary conditions has none, this one has ")
+                        << std::count_if(er.lambda.begin(), er.lambda.end(), [&](double l) { return std::abs(l) <= 1e-8 * top; })
+                        << ": the model has a mechanism; clamp it fully, or remove every clamp");
+  er.lambda.erase(er.lambda.begin(), er.lambda.begin() + nRigid);
+  Teuchos::RCP<MultiVector> elastic = er.vectors->subCopy(Teuchos::Range1D(nRigid, nRigid + m - 1));
+  if (free) deflated->deflate(*elastic);
   const auto rowMap = full.K->getRowMap();
-  MultiVector Phi = joinedModes(rigid.get(), *er.vectors, *full.M);   // [Phi_r, Phi_e]
+  MultiVector Phi = joinedModes(rigid.get(), *elastic, *full.M);   // [Phi_r, Phi_e]
   rep.eigenIterations = er.restarts;
   rep.eigenSolves = er.operatorVectors;
   rep.eigenSolveSeconds = er.operatorSeconds;
