@@ -91,27 +91,29 @@ def main():
     check(f"Penalty kp={KP:g}, CB 100 modes, h=1e-7",
           case("penalty", {"Contact->Method": "Penalty", "Contact->Penalty stiffness": (f"{KP:g}", "double")}))
 
-    # The massless boundary on the free bar: its 6 rigid-body modes with the 200 lowest elastic ones,
-    # the static part the inertia-relief residual flexibility. The initial velocity, a rigid
-    # translation, is exact in those modes: the log's lost kinetic energy is round-off (1e-9 of it
+    # The massless boundary on the free bar: its 6 rigid-body modes with the 100 lowest elastic ones,
+    # the static part the inertia-relief residual flexibility, at h = 4e-7 s (its stable step is the
+    # last kept mode's, 2.2e-6 s; Craig-Bampton's massive face needs 1e-7). The initial velocity, a
+    # rigid translation, is exact in those modes: the log's lost kinetic energy is round-off (1e-9 %
     # stated), and in free flight before the impact the momentum is m v0 and the contact face moves
     # at v0 (1e-9). Then V1's tolerances.
-    name = "massless"
-    deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
-        "Output->File": name + ".h5", "Run->Progress interval": ("0", "double"),
-        "Bodies->Bar->Reduction->Method": "Massless boundary",
-        "Bodies->Bar->Reduction->Fixed-interface modes": ("200", "int")})
-    log = run([a.run, deck, "--threads", "2"], a.workdir).stdout
-    lost = [l for l in log.splitlines() if "initial velocity projected onto the 206 modes" in l]
+    def massless(name, h):
+        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
+            "Output->File": name + ".h5", "Run->Progress interval": ("0", "double"),
+            "Bodies->Bar->Reduction->Method": "Massless boundary", "Time->Time step": (f"{h:g}", "double"),
+            "Bodies->Bar->Reduction->Fixed-interface modes": ("100", "int")})
+        return run([a.run, deck, "--threads", "2"], a.workdir).stdout, history(os.path.join(a.workdir, name + ".h5"))
+
+    log, hm = massless("massless", 4e-7)
+    lost = [l for l in log.splitlines() if "initial velocity projected onto the 106 modes" in l]
     if len(lost) != 1:
-        failures.append("massless boundary: no line 'initial velocity projected onto the 206 modes' in the log")
+        failures.append("massless boundary: no line 'initial velocity projected onto the 106 modes' in the log")
     else:
         pct = float(lost[0].split("(")[-1].split("%")[0])
         print("massless boundary:", lost[0].strip())
-        if not abs(pct) <= 1e-7:
+        if not abs(pct) <= 1e-9:
             failures.append(f"massless boundary: the initial velocity lost {pct} % of its kinetic energy, expected 0")
-    hm = history(os.path.join(a.workdir, name + ".h5"))
-    before = hm["time"] < T0 - 2e-7
+    before = hm["time"] < T0 - 4e-7
     mass = hm["bodies/Bar/attrs"]["rigid_mass"]
     p_err = np.abs(hm["bodies/Bar/momentum"][before, 0] - mass * V0).max() / (mass * V0)
     v_err = np.abs(hm["bodies/Bar/nodesets/x+/velocity"][before, :, 0] - V0).max() / V0
@@ -119,7 +121,19 @@ def main():
     if not (p_err <= 1e-9 and v_err <= 1e-9):
         failures.append(f"massless boundary free flight: momentum error {p_err:.2e}, face velocity error {v_err:.2e} "
                         "(> 1e-9): the initial velocity is not the rigid translation")
-    check("Lagrange, massless 200 modes, h=1e-7", measure(os.path.join(a.workdir, name + ".h5")))
+    check("Lagrange, massless 100 modes, h=4e-7", measure(os.path.join(a.workdir, "massless.h5")))
+
+    # Energy: the massless boundary's residual is driven by the average of the forces at t_n-1 and
+    # t_n+1 (Epaphe_CentralDifference.cpp), which conserves the energy through a lasting contact; only
+    # the steps where the contact starts and ends err, by O(h). At h = 1e-7 s the energy after the
+    # rebound is the initial 3200 J to 1e-4 (measured 1.2e-5; a residual driven by f_n alone lost
+    # 71 J here, 2.2 %; Craig-Bampton loses 59 J, its face's kinetic energy at impact).
+    _, hm = massless("massless-h1e-7", 1e-7)
+    e0, e1 = hm["energy/total"][0], hm["energy/total"][-1]
+    print(f"massless boundary, h = 1e-7 s: energy {e0:.3f} J at the start, {e1:.3f} J after the rebound "
+          f"({(e1 - e0) / e0:+.1e})")
+    if not abs(e1 - e0) <= 1e-4 * e0:
+        failures.append(f"massless boundary: energy {e0:.3f} J -> {e1:.3f} J, off by more than 1e-4")
 
     # Convergence in the number of fixed-interface modes (h = 5e-8 s), towards the full model.
     modes = [10, 40, 100]

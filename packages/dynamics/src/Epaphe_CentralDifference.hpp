@@ -155,7 +155,8 @@ private:
   double h_;
   bool damped_ = false;
   bool forced_ = false;
-  bool residual_ = false;    // massless boundary: Kmid_ and Kres_ split K for the energy, D_ holds h K_res
+  bool residual_ = false;    // massless boundary: Kmid_ and Kres_ split K for the energy, D_ the exchange h S
+  int boundary_ = 0;         // massless boundary: its DOFs, q's first entries
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_, Kres_;
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;

@@ -135,7 +135,7 @@ void addReductionParameters(Teuchos::ParameterList& body) {
           "the last kept mode, not by the boundary; a body without clamps keeps its 6 rigid-body modes besides "
           "and its static part is the inertia-relief flexibility; an initial velocity is projected onto the "
           "modes, exactly for a free body, and the log says the kinetic energy a held body loses; Lagrange "
-          "contact only, no gravity)");
+          "contact only)");
   addInt(red, "Fixed-interface modes", 20, "Modes kept: Craig-Bampton's fixed-interface modes, or for Massless "
                                            "boundary the body's elastic normal modes with the retained nodes free", 0, 100000);
   addString(red, "Retained node set", "", "Nodes kept as physical DOFs (empty: the contact node set)");
@@ -168,7 +168,7 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
   addDoubleArray(body, "Gravity", {0, 0, 0},
                  "Uniform acceleration of gravity on the body (m/s^2), e.g. {0, 0, -9.81}: the constant reduced "
                  "force f = sum_d g_d T^T M e_d, exact when a rigid translation is a motion of the model (a body "
-                 "without clamps, any reduction but Massless boundary) or the mass is lumped (Full, lumped mass); "
+                 "without clamps, any reduction) or the mass is lumped (Full, lumped mass); "
                  "refused otherwise. Its work is the run's external work in the energy balance");
   addString(body, "Contact node set", "", "Nodes checked against every surface (empty: no contact)");
   addStringArray(body, "Watched node sets", {}, "Node sets whose displacement and velocity are written");

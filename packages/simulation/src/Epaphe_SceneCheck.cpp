@@ -50,7 +50,7 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
 }
 
 /// The bodies' Reduction lists against the rest of the deck: a massless boundary takes Lagrange
-/// contact and no gravity; a full model with lumped mass takes no retained set
+/// contact; a full model with lumped mass takes no retained set
 /// and only damping that keeps M/h^2 + D/2h diagonal.
 void checkReductions(const ParameterList& P, const DampingOptions& damping, const std::string& origin) {
   const ParameterList& bl = P.sublist("Bodies");
@@ -68,12 +68,6 @@ void checkReductions(const ParameterList& P, const DampingOptions& damping, cons
                          << "': a penalty force computed from the predicted gap would ignore the boundary's static "
                             "residual flexibility (its nodes have no mass to lag behind the force); use 'Lagrange', "
                             "or 'Craig-Bampton' for penalty contact");
-      const auto g = deck::getVec3(bp, "Gravity", origin);
-      EPAPHE_REQUIRE(g[0] == 0 && g[1] == 0 && g[2] == 0,
-                     ctx << " with 'Gravity' = {" << g[0] << ", " << g[1] << ", " << g[2]
-                         << "}: the weight of a massless-boundary model would need its modes' participation T^T M e_d, "
-                            "which the reduction does not keep; remove the key, or use 'Full, lumped mass' (exact for "
-                            "a clamped body)");
     }
     if (method != ReductionMethod::FullLumped) continue;
     const std::string problem = fullModelDampingProblem(damping);
