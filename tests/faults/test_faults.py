@@ -6,7 +6,8 @@
 restart: a run stopped at steps (--stop-after-steps, twice) and restarted each time from its
          checkpoint equals the uninterrupted run bit for bit in every history dataset (numpy
          array_equal on every dataset outside /checkpoint), with friction, field frames and records
-         every step; with --flexible-deck also on surfaces carried by flexible bodies.
+         every step, for the bar reduced by Craig-Bampton and by a massless boundary; with
+         --flexible-deck also on surfaces carried by flexible bodies.
 signals: SIGINT and SIGTERM sent to a long run after its first progress line: exit code 130 / 143,
          status "stopped: interrupted by SIG...", the series as long as the checkpoint says, and a
          restart from that file runs on.
@@ -16,7 +17,9 @@ kill9:   after SIGKILL the file opens with h5py, status "running", every series 
 kill9-storm: 12 SIGKILLs at random times into runs that record every step and checkpoint every
          100 steps (checkpoints then take much of the loop's time, so kills fall into them): every
          file must be intact as for kill9 (the checkpoint /checkpoint/current names is complete,
-         every series it counts reads back finite, /time = k h) and restart from it.
+         every series it counts reads back finite, /time = k h) and restart from it; a file whose
+         chunk index points past the recorded end of allocation (a kill inside a flush) must be
+         repaired by the restart and read back after it.
 errors:  restart with another deck, of a complete run, of a missing checkpoint: one clear message.
 """
 import argparse
@@ -99,7 +102,11 @@ bar_overrides = {
 }
 
 if a.case == "restart":
-    cases = [("bar", variant(a.deck, os.path.join(W, "bar.xml"), bar_overrides), [500, 900])]
+    cases = [("bar", variant(a.deck, os.path.join(W, "bar.xml"), bar_overrides), [500, 900]),
+             # the massless boundary's step reads the force of two steps back from q_{n-1} (its residual)
+             ("massless", variant(a.deck, os.path.join(W, "massless.xml"), dict(bar_overrides, **{
+                 "Bodies->Bar->Reduction->Method": "Massless boundary",
+                 "Bodies->Bar->Reduction->Cache file": ("massless.rom.h5", "string")})), [500, 900])]
     if a.flexible_deck:
         cases.append(("flex", variant(a.flexible_deck, os.path.join(W, "flex.xml"), {
             "Time->End time": "1.2e-4", "Output->Every": "7", "Run->Progress interval": ("0", "double"),
@@ -204,7 +211,7 @@ elif a.case == "kill9-storm":
         time.sleep(0.2 + 1.2 * rng.random())
         proc.kill()
         proc.wait()
-        try:
+        def readable():
             with h5py.File(path, "r") as f:
                 lengths = checkpoint_lengths(f)
                 step = int(last_checkpoint(f)["counters"][0])
@@ -214,15 +221,37 @@ elif a.case == "kill9-storm":
                     d = f[p][()]
                     ok = ok and d.shape[0] >= n and bool(np.all(np.isfinite(d[:n])))
                 t = f["time"][:lengths["/time"]]
-                ok = ok and np.array_equal(t, np.arange(len(t)) * h)
+                return step, ok and np.array_equal(t, np.arange(len(t)) * h)
+
+        # HDF5 is not crash-consistent between flushes: a kill inside a checkpoint's flush can leave a
+        # chunk index pointing past the end of allocation the superblock records (about 1 kill in 70).
+        # The chunk is on disk; the restart raises the end of allocation to the file's end (as
+        # h5clear --increment=0 does) and continues. Such files are counted as repaired by the restart,
+        # and must then read back like the others.
+        repaired = False
+        try:
+            try:
+                step, ok = readable()
+            except OSError as e:
+                if "addr overflow" not in str(e):
+                    raise
+                print(f"kill {k}: unreadable before the restart ({e}); the restart must repair it")
+                with h5py.File(path, "r") as f:
+                    step = int(last_checkpoint(f)["counters"][0])
+                repaired, ok = True, True
             p = run([storm, "--restart", out, "--stop-after-steps", str(step + 50)], 3)
             ok = ok and f"at step {step} of" in p.stdout
+            if repaired:
+                after, ok2 = readable()
+                ok = ok and ok2 and after == step + 50
         except Exception as e:  # noqa: BLE001 -- any failure to read is what this case counts
             print(f"kill {k}: {type(e).__name__}: {e}")
             ok = False
         intact += bool(ok)
-        print(f"kill {k}: checkpoint at step {step if ok else '?'}: {'intact' if ok else 'DAMAGED'}")
-    check(intact == kills, f"kill9-storm: {intact} of {kills} files intact and restartable after SIGKILL")
+        print(f"kill {k}: checkpoint at step {step if ok else '?'}: "
+              f"{('repaired by the restart' if repaired else 'intact') if ok else 'DAMAGED'}")
+    check(intact == kills, f"kill9-storm: {intact} of {kills} files intact (or repaired by the restart) and "
+                           "restartable after SIGKILL")
 
 elif a.case == "errors":
     deck = variant(a.deck, os.path.join(W, "e.xml"), dict(bar_overrides, **{"Time->End time": "2e-5"}))
