@@ -5,10 +5,74 @@
 #include "Epaphe_Parallel.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace epaphe {
+namespace {
+
+/// How far a closed rigid surface can move relative to any point, per radian it turns about `axis`
+/// (unit) through `center`, when it is a radial graph about that axis: rho(phi, z) over the whole
+/// turn, z in a fixed range (the closed direction at constant z, angles monotone along it, z
+/// monotone along the other). The surface turned by dphi then lies within Hausdorff distance
+/// |dphi| max |d rho / d phi| of itself (the point at (phi, z) against the one the turn brings there),
+/// and a distance to it changes by no more: for a casing out of round by a clearance law, that rate
+/// is the law's slope (rotor 37's two lobes: 3.6e-4 m/rad), not the radius (0.3 m). max |d rho / d phi|
+/// = rho |x_perp . t| / |(x_perp x t) . axis| (t the tangent along the closed direction) is sampled at
+/// 16 x 16 points a patch and raised by half: a sampled bound, not a proof (the smooth cubic varies
+/// little within a patch; the regression skip-distant-nodes checks skipping changes nothing).
+/// +infinity when the surface is not such a graph.
+double radialTurnRate(const BSplineSurface& S, const std::array<double, 3>& axis, const std::array<double, 3>& center) {
+  constexpr double none = std::numeric_limits<double>::infinity();
+  if (S.periodicU() == S.periodicV()) return none;   // closed in exactly one direction
+  const bool aroundU = S.periodicU();
+  auto split = [&](const double* x, double perp[3], double& z) {
+    z = 0.0;
+    for (int d = 0; d < 3; ++d) z += (x[d] - center[d]) * axis[d];
+    for (int d = 0; d < 3; ++d) perp[d] = x[d] - center[d] - z * axis[d];
+  };
+  const int nAround = aroundU ? S.nu() : S.nv(), nAlong = aroundU ? S.nv() : S.nu();
+  double scale = 0.0;
+  std::vector<double> rowZ(static_cast<std::size_t>(nAlong));
+  for (int j = 0; j < nAlong; ++j)
+    for (int i = 0; i < nAround; ++i) {
+      const auto g = aroundU ? S.gridPoint(i, j) : S.gridPoint(j, i);
+      double perp[3], z;
+      split(g.data(), perp, z);
+      scale = std::max({scale, std::sqrt(perp[0] * perp[0] + perp[1] * perp[1] + perp[2] * perp[2]), std::abs(z)});
+      if (i == 0) rowZ[j] = z;
+      else if (std::abs(z - rowZ[j]) > 1e-12 * scale) return none;   // a row around is not at one z
+    }
+  const HostSurfaceView h = S.hostView();
+  constexpr int k = 16;
+  double rate = 0.0;
+  int turnSign = 0, alongSign = 0;
+  const int aroundSamples = k * nAround, alongSamples = k * (nAlong - 1);   // the open direction: both ends
+  for (int a = 0; a < aroundSamples; ++a)
+    for (int b = 0; b <= alongSamples; ++b) {
+      const double around = double(a) / k, along = double(b) / k;
+      double x[3], xu[3], xv[3], xuu[3], xuv[3], xvv[3], perp[3], z;
+      evaluate(h, aroundU ? around : along, aroundU ? along : around, x, xu, xv, xuu, xuv, xvv);
+      const double* t = aroundU ? xu : xv;
+      const double* w = aroundU ? xv : xu;
+      split(x, perp, z);
+      const double rho = std::sqrt(perp[0] * perp[0] + perp[1] * perp[1] + perp[2] * perp[2]);
+      const double radial = perp[0] * t[0] + perp[1] * t[1] + perp[2] * t[2];
+      const double turn = (perp[1] * t[2] - perp[2] * t[1]) * axis[0] + (perp[2] * t[0] - perp[0] * t[2]) * axis[1] +
+                          (perp[0] * t[1] - perp[1] * t[0]) * axis[2];
+      const double axial = w[0] * axis[0] + w[1] * axis[1] + w[2] * axis[2];
+      const int ts = turn > 0 ? 1 : turn < 0 ? -1 : 0, as = axial > 0 ? 1 : axial < 0 ? -1 : 0;
+      if (ts == 0 || as == 0 || (turnSign != 0 && ts != turnSign) || (alongSign != 0 && as != alongSign)) return none;
+      turnSign = ts;
+      alongSign = as;
+      rate = std::max(rate, rho * std::abs(radial) / std::abs(turn));
+    }
+  return 1.5 * rate + 1e-12 * scale;
+}
+
+}  // namespace
 
 static_assert(parallel_detail::kHostAccessible,
               "contact detection fills its per-surface data on the host: it needs a host-accessible memory space");
@@ -68,6 +132,8 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
         for (int d = 0; d < 3; ++d) rr += (p[d] - pa * cs.axis[d]) * (p[d] - pa * cs.axis[d]);
         r = std::max(r, std::sqrt(rr));
       }
+    // a rigid turning surface that is a radial graph about its axis moves by far less (radialTurnRate)
+    if (!cs.moving && (cs.omega != 0.0 || cs.phase != 0.0)) r = std::min(r, radialTurnRate(*cs.surface, cs.axis, cs.center));
     v.turn(s, 7) = r;
     // patch size: the shortest edge between neighbouring grid nodes
     const BSplineSurface& G = *cs.surface;

@@ -15,7 +15,9 @@
 // by g_k relative to them. Its gap is a 1-Lipschitz function of its position on a surface it faces
 // (a signed distance), so while
 //     g_k - 2 (|x_k - x_k,last| + sum_s [|omega_s| (t - t_last) r_s + (T_s - T_s,last)]) > 0
-// (r_s: the largest distance of surface s's control points from its axis; T_s: how far a carried
+// (r_s: the largest distance of surface s's control points from its axis, or, for a rigid surface
+// that is a radial graph about it, the sampled slope max |d rho / d phi| of that graph (a casing out
+// of round by a clearance law: the law's slope, 1/840 of the radius on rotor 37); T_s: how far a carried
 // surface's points can have moved by deformation, below; 2: a safety factor for the foot point's
 // motion near an edge), the node is out of contact whatever its projection would give: it skips its
 // Newton projection and keeps its last foot point and gap, and `skipped(k)` is set with the lower
