@@ -275,6 +275,104 @@ std::string fullModelDampingProblem(const DampingOptions& damping) {
   return "";
 }
 
+namespace {
+
+/// The massless boundary's operators (ReducedModel::massless(), q = [u_b, eta]), dense n x n,
+/// column-major: A, B and the flexibility P of the common form, D (damping and the exchange below)
+/// and Kmid (the modes' diagonal stiffness).
+struct MasslessOperators {
+  std::vector<double> A, B, P, D, Kmid;
+};
+
+// q = [u_b, eta] (Epaphe_ReducedModel.hpp). The boundary is static, u_b = Phi_b eta + r with the
+// residual r = G f in equilibrium with the contact force: the correction of step n (force f_n,
+// closing the gaps at t_{n+1}) leaves r_{n+1} = G f_n, so f_n is the force at t_{n+1} and
+// f_{n-2} = G^{-1} r_{n-1} the one at t_{n-1}. The modes step by the central difference under
+// their average, the force at t_n to second order:
+//   eta_{n+1} = 2 eta_n - eta_{n-1} + A_e eta_n + B_e (eta_n - eta_{n-1}) + P_e Phi_b^T (f_n + f_{n-2}) / 2,
+// A_e = -P_e Omega^2, B_e = -P_e D_e / h, P_e = (I/h^2 + D_e/2h)^{-1}, all diagonal. The f_{n-2} half
+// is W q_{n-1}, W = P_e Phi_b^T G^{-1} L / 2 with L q = u_b - Phi_b eta = r: a term of the
+// predictor, carried by A and B. With u_b* = Phi_b eta*, in the common form
+//   A = [-I, Phi_b (I + A_e); 0, A_e] + C,  B = [-I, Phi_b (I + B_e); 0, B_e] - C,  C = [Phi_b W; W],
+// and the correction q += F f moves eta by P_e Phi_b^T f / 2 and u_b by Phi_b times that plus G f:
+//   F = [G + Phi_b P_e Phi_b^T / 2, Phi_b P_e / 2; P_e Phi_b^T / 2, P_e / 2].
+// Energy: multiplying the modes' step by (eta_{n+1} - eta_{n-1}) / 2 and splitting
+// Phi_b (eta_{n+1} - eta_{n-1}) = (u_{n+1} - u_{n-1}) - (r_{n+1} - r_{n-1}), the average force's work
+// on the residual, (r_{n+1} + r_{n-1})^T G^{-1} (r_{n+1} - r_{n-1}) / 4, is exactly the change of the
+// stored 1/4 (r_n^T G^{-1} r_n + r_{n+1}^T G^{-1} r_{n+1}): no dissipation, unlike a residual driven
+// by f_n alone (which lost 1/4 (r_{n+1} - r_{n-1})^T G^{-1} (r_{n+1} - r_{n-1}) a step: 71 J of 3200 on
+// V1). The contact work the run counts, f_n . (u_{n+1} - u_{n-1}) / 2, differs from the average's by
+// (f_n - f_{n-2}) . (u_{n+1} - u_{n-1}) / 4 = dq^T L^T G^{-1} E_b dq / 4 (dq = q_{n+1} - q_{n-1},
+// E_b q = u_b): an exchange, zero in lasting contact, that the balance counts with the damping as
+// h S in D, S = sym(L^T G^{-1} E_b). In a lasting contact with a stiff boundary this is the
+// trapezoidal rule on the contact spring over 2h: stable for any boundary stiffness.
+MasslessOperators masslessOperators(const ReducedModel& model, double h, const DampingOptions& damping) {
+  const int n = model.size;
+  const int nb = model.boundarySize(), m = model.numModes;
+  const std::vector<double> w2 = model.modalStiffness(), d = modalDamping(model, damping);
+  const auto& Phi = model.boundaryModes;
+  auto phi = [&](int c, int k) { return Phi[static_cast<std::size_t>(k) * nb + c]; };
+  auto at = [n](std::vector<double>& X, int i, int j) -> double& { return X[static_cast<std::size_t>(j) * n + i]; };
+  const std::vector<double> Ginv = spdInverse(model.residualFlexibility, nb, "the residual flexibility of body '" +
+                                              model.name + "'", "keep fewer modes, or recompute the reduction");
+  auto ginv = [&](int c, int c2) { return Ginv[static_cast<std::size_t>(c2) * nb + c]; };
+  std::vector<double> A(static_cast<std::size_t>(n) * n, 0.0), B(A.size(), 0.0), P(A.size(), 0.0), D(A.size(), 0.0),
+      Kmid(static_cast<std::size_t>(n), 0.0), Pe(static_cast<std::size_t>(m));
+  for (int k = 0; k < m; ++k) {
+    Pe[k] = 1.0 / (1.0 / (h * h) + d[k] / (2 * h));
+    const double Ae = -Pe[k] * w2[k], Be = -Pe[k] * d[k] / h;
+    at(A, nb + k, nb + k) = Ae;
+    at(B, nb + k, nb + k) = Be;
+    at(P, nb + k, nb + k) = 0.5 * Pe[k];
+    at(D, nb + k, nb + k) = d[k];
+    Kmid[nb + k] = w2[k];
+    for (int c = 0; c < nb; ++c) {
+      at(A, c, nb + k) = phi(c, k) * (1.0 + Ae);
+      at(B, c, nb + k) = phi(c, k) * (1.0 + Be);
+      at(P, c, nb + k) = at(P, nb + k, c) = 0.5 * phi(c, k) * Pe[k];
+      for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += 0.5 * phi(c, k) * Pe[k] * phi(c2, k);
+    }
+  }
+  for (int c = 0; c < nb; ++c) {
+    at(A, c, c) = -1.0;
+    at(B, c, c) = -1.0;
+    for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += model.residualFlexibility[static_cast<std::size_t>(c2) * nb + c];
+  }
+  // C = [Phi_b W; W], W = P_e Phi_b^T G^{-1} L / 2 (m x n): A += C, B -= C.
+  std::vector<double> W(static_cast<std::size_t>(m) * n, 0.0);   // column-major m x n
+  for (int k = 0; k < m; ++k)
+    for (int c2 = 0; c2 < nb; ++c2) {
+      double s = 0;   // (Phi_b^T G^{-1})_{k c2}
+      for (int c = 0; c < nb; ++c) s += phi(c, k) * ginv(c, c2);
+      W[static_cast<std::size_t>(c2) * m + k] += 0.5 * Pe[k] * s;                 // L's I part
+      for (int j = 0; j < m; ++j) W[static_cast<std::size_t>(nb + j) * m + k] -= 0.5 * Pe[k] * s * phi(c2, j);   // -Phi_b
+    }
+  for (int j = 0; j < n; ++j)
+    for (int k = 0; k < m; ++k) {
+      const double w = W[static_cast<std::size_t>(j) * m + k];
+      if (w == 0) continue;
+      at(A, nb + k, j) += w;
+      at(B, nb + k, j) -= w;
+      for (int c = 0; c < nb; ++c) {
+        at(A, c, j) += phi(c, k) * w;
+        at(B, c, j) -= phi(c, k) * w;
+      }
+    }
+  // D + h S, S = sym(L^T G^{-1} E_b) = [G^{-1}, -G^{-1} Phi_b / 2; -Phi_b^T G^{-1} / 2, 0]
+  std::vector<double> Dexchange = D;
+  for (int c = 0; c < nb; ++c)
+    for (int c2 = 0; c2 < nb; ++c2) {
+      at(Dexchange, c, c2) += h * ginv(c, c2);
+      for (int k = 0; k < m; ++k) {
+        at(Dexchange, c, nb + k) -= 0.5 * h * ginv(c, c2) * phi(c2, k);
+        at(Dexchange, nb + k, c) -= 0.5 * h * ginv(c, c2) * phi(c2, k);
+      }
+    }
+  return {std::move(A), std::move(B), std::move(P), std::move(Dexchange), std::move(Kmid)};
+}
+
+}  // namespace
+
 CentralDifference::CentralDifference(const ReducedModel& model, double h, const DampingOptions& damping) : h_(h) {
   const int n = model.size;
   EPAPHE_REQUIRE(h > 0 && std::isfinite(h), "time step = " << h << " s; it must be a finite value > 0");
@@ -299,99 +397,20 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     P_ = BodyOperator::diagonal(P, "epaphe::dynamics::P");
     if (damped_) B_ = BodyOperator::diagonal(B, "epaphe::dynamics::B");
   } else if (model.massless()) {
-    // q = [u_b, eta] (Epaphe_ReducedModel.hpp). The boundary is static, u_b = Phi_b eta + r with the
-    // residual r = G f in equilibrium with the contact force: the correction of step n (force f_n,
-    // closing the gaps at t_{n+1}) leaves r_{n+1} = G f_n, so f_n is the force at t_{n+1} and
-    // f_{n-2} = G^{-1} r_{n-1} the one at t_{n-1}. The modes step by the central difference under
-    // their average, the force at t_n to second order:
-    //   eta_{n+1} = 2 eta_n - eta_{n-1} + A_e eta_n + B_e (eta_n - eta_{n-1}) + P_e Phi_b^T (f_n + f_{n-2}) / 2,
-    // A_e = -P_e Omega^2, B_e = -P_e D_e / h, P_e = (I/h^2 + D_e/2h)^{-1}, all diagonal. The f_{n-2} half
-    // is W q_{n-1}, W = P_e Phi_b^T G^{-1} L / 2 with L q = u_b - Phi_b eta = r: a term of the
-    // predictor, carried by A and B. With u_b* = Phi_b eta*, in the common form
-    //   A = [-I, Phi_b (I + A_e); 0, A_e] + C,  B = [-I, Phi_b (I + B_e); 0, B_e] - C,  C = [Phi_b W; W],
-    // and the correction q += F f moves eta by P_e Phi_b^T f / 2 and u_b by Phi_b times that plus G f:
-    //   F = [G + Phi_b P_e Phi_b^T / 2, Phi_b P_e / 2; P_e Phi_b^T / 2, P_e / 2].
-    // Energy: multiplying the modes' step by (eta_{n+1} - eta_{n-1}) / 2 and splitting
-    // Phi_b (eta_{n+1} - eta_{n-1}) = (u_{n+1} - u_{n-1}) - (r_{n+1} - r_{n-1}), the average force's work
-    // on the residual, (r_{n+1} + r_{n-1})^T G^{-1} (r_{n+1} - r_{n-1}) / 4, is exactly the change of the
-    // stored 1/4 (r_n^T G^{-1} r_n + r_{n+1}^T G^{-1} r_{n+1}): no dissipation, unlike a residual driven
-    // by f_n alone (which lost 1/4 (r_{n+1} - r_{n-1})^T G^{-1} (r_{n+1} - r_{n-1}) a step: 71 J of 3200 on
-    // V1). The contact work the run counts, f_n . (u_{n+1} - u_{n-1}) / 2, differs from the average's by
-    // (f_n - f_{n-2}) . (u_{n+1} - u_{n-1}) / 4 = dq^T L^T G^{-1} E_b dq / 4 (dq = q_{n+1} - q_{n-1},
-    // E_b q = u_b): an exchange, zero in lasting contact, that the balance counts with the damping as
-    // h S in D, S = sym(L^T G^{-1} E_b). In a lasting contact with a stiff boundary this is the
-    // trapezoidal rule on the contact spring over 2h: stable for any boundary stiffness.
-    const int nb = model.boundarySize(), m = model.numModes;
-    const std::vector<double> w2 = model.modalStiffness(), d = modalDamping(model, damping);
-    const auto& Phi = model.boundaryModes;
-    auto phi = [&](int c, int k) { return Phi[static_cast<std::size_t>(k) * nb + c]; };
-    auto at = [n](std::vector<double>& X, int i, int j) -> double& { return X[static_cast<std::size_t>(j) * n + i]; };
-    const std::vector<double> Ginv = spdInverse(model.residualFlexibility, nb, "the residual flexibility of body '" +
-                                                model.name + "'", "keep fewer modes, or recompute the reduction");
-    auto ginv = [&](int c, int c2) { return Ginv[static_cast<std::size_t>(c2) * nb + c]; };
-    std::vector<double> A(static_cast<std::size_t>(n) * n, 0.0), B(A.size(), 0.0), P(A.size(), 0.0), D(A.size(), 0.0),
-        Kmid(static_cast<std::size_t>(n), 0.0), Pe(static_cast<std::size_t>(m));
-    for (int k = 0; k < m; ++k) {
-      Pe[k] = 1.0 / (1.0 / (h * h) + d[k] / (2 * h));
-      const double Ae = -Pe[k] * w2[k], Be = -Pe[k] * d[k] / h;
-      at(A, nb + k, nb + k) = Ae;
-      at(B, nb + k, nb + k) = Be;
-      at(P, nb + k, nb + k) = 0.5 * Pe[k];
-      at(D, nb + k, nb + k) = d[k];
-      Kmid[nb + k] = w2[k];
-      for (int c = 0; c < nb; ++c) {
-        at(A, c, nb + k) = phi(c, k) * (1.0 + Ae);
-        at(B, c, nb + k) = phi(c, k) * (1.0 + Be);
-        at(P, c, nb + k) = at(P, nb + k, c) = 0.5 * phi(c, k) * Pe[k];
-        for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += 0.5 * phi(c, k) * Pe[k] * phi(c2, k);
-      }
-    }
-    for (int c = 0; c < nb; ++c) {
-      at(A, c, c) = -1.0;
-      at(B, c, c) = -1.0;
-      for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += model.residualFlexibility[static_cast<std::size_t>(c2) * nb + c];
-    }
-    // C = [Phi_b W; W], W = P_e Phi_b^T G^{-1} L / 2 (m x n): A += C, B -= C.
-    std::vector<double> W(static_cast<std::size_t>(m) * n, 0.0);   // column-major m x n
-    for (int k = 0; k < m; ++k)
-      for (int c2 = 0; c2 < nb; ++c2) {
-        double s = 0;   // (Phi_b^T G^{-1})_{k c2}
-        for (int c = 0; c < nb; ++c) s += phi(c, k) * ginv(c, c2);
-        W[static_cast<std::size_t>(c2) * m + k] += 0.5 * Pe[k] * s;                 // L's I part
-        for (int j = 0; j < m; ++j) W[static_cast<std::size_t>(nb + j) * m + k] -= 0.5 * Pe[k] * s * phi(c2, j);   // -Phi_b
-      }
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < m; ++k) {
-        const double w = W[static_cast<std::size_t>(j) * m + k];
-        if (w == 0) continue;
-        at(A, nb + k, j) += w;
-        at(B, nb + k, j) -= w;
-        for (int c = 0; c < nb; ++c) {
-          at(A, c, j) += phi(c, k) * w;
-          at(B, c, j) -= phi(c, k) * w;
-        }
-      }
-    // D + h S, S = sym(L^T G^{-1} E_b) = [G^{-1}, -G^{-1} Phi_b / 2; -Phi_b^T G^{-1} / 2, 0]
-    std::vector<double> Dexchange = D;
-    for (int c = 0; c < nb; ++c)
-      for (int c2 = 0; c2 < nb; ++c2) {
-        at(Dexchange, c, c2) += h * ginv(c, c2);
-        for (int k = 0; k < m; ++k) {
-          at(Dexchange, c, nb + k) -= 0.5 * h * ginv(c, c2) * phi(c2, k);
-          at(Dexchange, nb + k, c) -= 0.5 * h * ginv(c, c2) * phi(c2, k);
-        }
-      }
+    // q = [u_b, eta]: the modes step by the central difference under the boundary's averaged force,
+    // the boundary is static (masslessOperators, where it is derived)
+    MasslessOperators o = masslessOperators(model, h, damping);
     const std::vector<double> Kres = model.residualStiffness();   // of the residual r = u_b - Phi_b eta
     damped_ = true;   // B carries the boundary's rows; the exchange is counted with damping
-    A_ = BodyOperator::dense(A, n, "epaphe::dynamics::A");
-    B_ = BodyOperator::dense(B, n, "epaphe::dynamics::B");
+    A_ = BodyOperator::dense(o.A, n, "epaphe::dynamics::A");
+    B_ = BodyOperator::dense(o.B, n, "epaphe::dynamics::B");
     K_ = BodyOperator::dense(model.K, n, "epaphe::dynamics::K");   // = K_res + diag(Kmid)
-    Kmid_ = BodyOperator::diagonal(Kmid, "epaphe::dynamics::Kmid");
+    Kmid_ = BodyOperator::diagonal(o.Kmid, "epaphe::dynamics::Kmid");
     Kres_ = BodyOperator::dense(Kres, n, "epaphe::dynamics::Kres");
     M_ = BodyOperator::dense(model.M, n, "epaphe::dynamics::M");
-    D_ = BodyOperator::dense(Dexchange, n, "epaphe::dynamics::D");
-    P_ = BodyOperator::dense(P, n, "epaphe::dynamics::P");
-    boundary_ = nb;
+    D_ = BodyOperator::dense(o.D, n, "epaphe::dynamics::D");
+    P_ = BodyOperator::dense(o.P, n, "epaphe::dynamics::P");
+    boundary_ = model.boundarySize();
     residual_ = true;
   } else {
     const std::vector<double> D = dampingMatrix(model, damping);

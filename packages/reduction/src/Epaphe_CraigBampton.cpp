@@ -591,9 +591,7 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   EigenOptions eo;
   // A free body's six rigid-body modes come first (lambda = 0, theta = 1/sigma: the block of 6 Krylov
   // vectors resolves the six-fold eigenvalue); they give way to the exact ones, and the elastic
-  // vectors are made M-orthogonal to those (Anasazi's are, to its tolerance). On the deflated
-  // operator instead, Anasazi 13.2's Krylov-Schur failed for some counts (a column range past its
-  // basis: 20 modes of a 40 x 1 x 1 bar).
+  // vectors are made M-orthogonal to those (Anasazi's are, to its tolerance).
   eo.count = m + nRigid;
   eo.shift = -sigma;
   eo.tolerance = opt.eigenTolerance;
