@@ -11,8 +11,6 @@
 #include <utility>
 
 namespace epaphe {
-namespace {
-
 /// How far a closed rigid surface can move relative to any point, per radian it turns about `axis`
 /// (unit) through `center`, when it is a radial graph about that axis: rho(phi, z) over the whole
 /// turn, z in a fixed range (the closed direction at constant z, angles monotone along it, z
@@ -45,6 +43,20 @@ double radialTurnRate(const BSplineSurface& S, const std::array<double, 3>& axis
       if (i == 0) rowZ[j] = z;
       else if (std::abs(z - rowZ[j]) > 1e-12 * scale) return none;   // a row around is not at one z
     }
+  {  // once around, not twice: the grid's angles along the first row sum to one turn
+    double turned = 0.0;
+    for (int i = 0; i < nAround; ++i) {
+      const auto g0 = aroundU ? S.gridPoint(i, 0) : S.gridPoint(0, i);
+      const auto g1 = aroundU ? S.gridPoint((i + 1) % nAround, 0) : S.gridPoint(0, (i + 1) % nAround);
+      double p0[3], p1[3], z0, z1;
+      split(g0.data(), p0, z0);
+      split(g1.data(), p1, z1);
+      const double cross = (p0[1] * p1[2] - p0[2] * p1[1]) * axis[0] + (p0[2] * p1[0] - p0[0] * p1[2]) * axis[1] +
+                           (p0[0] * p1[1] - p0[1] * p1[0]) * axis[2];
+      turned += std::atan2(cross, p0[0] * p1[0] + p0[1] * p1[1] + p0[2] * p1[2]);
+    }
+    if (std::abs(std::abs(turned) - 2 * M_PI) > 1e-6) return none;
+  }
   const HostSurfaceView h = S.hostView();
   constexpr int k = 16;
   double rate = 0.0;
@@ -71,8 +83,6 @@ double radialTurnRate(const BSplineSurface& S, const std::array<double, 3>& axis
     }
   return 1.5 * rate + 1e-12 * scale;
 }
-
-}  // namespace
 
 static_assert(parallel_detail::kHostAccessible,
               "contact detection fills its per-surface data on the host: it needs a host-accessible memory space");

@@ -44,6 +44,13 @@
 
 namespace epaphe {
 
+/// How far a closed rigid surface can move relative to any point, per radian it turns about `axis`
+/// (unit) through `center`, when it is a radial graph rho(phi, z) about that axis (closed around it
+/// at constant z, once around): 1.5 max |d rho / d phi|, sampled 16 x 16 a patch; +infinity otherwise.
+/// The detection's bound on a turning surface's motion (see above).
+double radialTurnRate(const BSplineSurface& surface, const std::array<double, 3>& axis,
+                      const std::array<double, 3>& center);
+
 /// A surface the nodes may touch. Rigid: `surface` only. Carried by a flexible body: `moving` is
 /// the same surface (rebuilt at each step, in its body's frame), `block` its body, and per grid node
 /// of the input layout (node (i, j) at i * inputNv + j) its 3 DOF indices in q (-1: a clamped DOF)

@@ -2,10 +2,12 @@
 // the skipping of nodes certified out of contact, checked against projecting every node.
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ContactDetection.hpp"
+#include "TestSurfaces.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -226,4 +228,34 @@ TEST(ContactDetection, WarmStartFollowsATurningSurfaceAcrossItsSeam) {
   EXPECT_EQ(wraps, 2) << "the foot point should cross the seam twice (at u = 0.08 - 0.3 n)";
   EXPECT_LE(worst, 2);
   std::printf("warm start on a turning cylinder: at most %d Newton iterations per step\n", worst);
+}
+
+// A casing out of round, rho(phi) = R - c (1 - cos 2 phi) / 2 (two lobes, slope at most c), closed
+// around the z axis at five axial stations: radialTurnRate bounds its motion per radian turned by
+// its slope, at least c and not above 1.5 c (its sampled maximum raised by half), whatever the
+// frame; surfaces that are not radial graphs about the axis get +infinity (the radius then serves).
+TEST(ContactDetection, RadialTurnRateIsTheCasingsSlope) {
+  const double R = 0.3, c = 3.56e-4;
+  const int nu = 120, nv = 5;
+  auto casing = [&](const std::array<double, 3>& shift) {
+    std::vector<double> g;
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        const double phi = 2 * M_PI * i / nu, rho = R - c * (1 - std::cos(2 * phi)) / 2;
+        g.insert(g.end(), {shift[0] + rho * std::cos(phi), shift[1] + rho * std::sin(phi), shift[2] - 0.03 + 0.015 * j});
+      }
+    SurfaceOptions o;
+    o.closureU = Closure::Periodic;
+    o.closureV = Closure::Open;
+    return BSplineSurface("casing", nu, nv, g, o);
+  };
+  const std::array<double, 3> z{0, 0, 1}, origin{0, 0, 0}, shift{0.5, -0.2, 1.0};
+  const double rate = radialTurnRate(casing(origin), z, origin);
+  EXPECT_GE(rate, c);
+  EXPECT_LE(rate, 1.5 * c * 1.01);
+  EXPECT_NEAR(radialTurnRate(casing(shift), z, shift), rate, 1e-9 * rate);   // about its own axis
+  // about an axis it is not round about, or one it does not close around at constant z: none
+  EXPECT_TRUE(std::isinf(radialTurnRate(casing(shift), z, origin)));
+  EXPECT_TRUE(std::isinf(radialTurnRate(casing(origin), {1, 0, 0}, origin)));
+  EXPECT_TRUE(std::isinf(radialTurnRate(test::floorPlane(), z, origin)));
 }
