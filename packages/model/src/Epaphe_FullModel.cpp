@@ -86,20 +86,23 @@ std::vector<double> gatherDense(const CrsMatrix& A) {
   return global;
 }
 
+MultiVector rigidTranslations(const FullModel& model) {
+  MultiVector t(model.M->getDomainMap(), 3);   // zero-filled
+  auto th = t.getLocalViewHost(Tpetra::Access::ReadWrite);
+  const auto map = t.getMap();
+  for (int n = 0; n < model.numNodes(); ++n)
+    for (int d = 0; d < 3; ++d)
+      if (const int g = model.eq[3 * n + d]; g >= 0 && map->isNodeGlobalElement(g)) th(map->getLocalElement(g), d) = 1.0;
+  return t;
+}
+
 double rigidMass(const FullModel& model, int direction) {
-  MultiVector t(model.M->getDomainMap(), 1), Mt(model.M->getRangeMap(), 1);
-  {
-    auto th = t.getLocalViewHost(Tpetra::Access::OverwriteAll);
-    const auto map = t.getMap();
-    for (LO l = 0; l < static_cast<LO>(map->getNodeNumElements()); ++l) th(l, 0) = 0.0;
-    for (int n = 0; n < model.numNodes(); ++n) {
-      const int g = model.eq[3 * n + direction];
-      if (g >= 0 && map->isNodeGlobalElement(g)) th(map->getLocalElement(g), 0) = 1.0;
-    }
-  }
-  model.M->apply(t, Mt);
+  const MultiVector all = rigidTranslations(model);
+  const auto t = all.getVector(static_cast<std::size_t>(direction));
+  MultiVector Mt(model.M->getRangeMap(), 1);
+  model.M->apply(*t, Mt);
   Teuchos::Array<double> dot(1);
-  t.dot(Mt, dot());
+  t->dot(Mt, dot());
   return dot[0];
 }
 

@@ -32,6 +32,9 @@ FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& m
 /// The dense n x n (column-major) copy of a distributed matrix, on every rank. For small models.
 std::vector<double> gatherDense(const CrsMatrix& A);
 
+/// The rigid translations over the free DOFs: column d is 1 on every free DOF along direction d.
+MultiVector rigidTranslations(const FullModel& model);
+
 /// Total mass seen by a rigid translation along `direction`: t^T M t.
 double rigidMass(const FullModel& model, int direction);
 

@@ -454,9 +454,14 @@ public:
     const auto c = transposeProduct(Mrigid_, X);     // Phi_r^T M X
     X.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, rigid_, replicated(c, r, k, X.getMap()->getComm()), 1.0);
   }
+  /// F = P F, P = I - M Phi_r Phi_r^T: forces balanced by the rigid-body inertia they set off.
+  void balance(MultiVector& F) const {
+    const int r = static_cast<int>(rigid_.getNumVectors()), k = static_cast<int>(F.getNumVectors());
+    const auto c = transposeProduct(rigid_, F);      // Phi_r^T F
+    F.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, Mrigid_, replicated(c, r, k, F.getMap()->getComm()), 1.0);
+  }
   std::string name() const override { return shifted_.name() + ", rigid-body modes deflated"; }
   long iterations() const override { return shifted_.iterations(); }
-  const MultiVector& massTimesRigid() const { return Mrigid_; }
 
 private:
   const SparseSolver& shifted_;
@@ -471,13 +476,11 @@ private:
 /// With the deflated shifted solver S = Q (K + sigma M)^{-1}, U is the fixed point of
 ///   U = S (P E + sigma M U)
 /// (from (K + sigma M) U = P E + sigma M U), reached at the rate sigma / (omega_1^2 + sigma) per pass.
-MultiVector inertiaReliefResponses(const FullModel& full, const RigidDeflatedSolver& S, const MultiVector& rigid,
-                                   const MultiVector& E, double sigma, double rate) {
-  const int nb = static_cast<int>(E.getNumVectors());
+MultiVector inertiaReliefResponses(const FullModel& full, const RigidDeflatedSolver& S, const MultiVector& E,
+                                   double sigma, double rate) {
   MultiVector PE(E, Teuchos::Copy), U(E.getMap(), E.getNumVectors()), B(E.getMap(), E.getNumVectors()),
       MU(E.getMap(), E.getNumVectors());
-  const auto c = transposeProduct(rigid, E);   // Phi_r^T E
-  PE.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, S.massTimesRigid(), replicated(c, 6, nb, E.getMap()->getComm()), 1.0);
+  S.balance(PE);
   // sigma M U's contribution shrinks by `rate` a pass: stop when it can no longer change U's digits.
   const int passes = rate <= 0 ? 1 : std::max(1, static_cast<int>(std::ceil(std::log(1e-16) / std::log(rate))) + 1);
   EPAPHE_REQUIRE(rate < 0.5, "body '" << full.name << "': the inertia-relief iteration would converge at " << rate
@@ -530,18 +533,11 @@ MultiVector joinedModes(const MultiVector* rigid, const MultiVector& elastic, co
 /// A rigid translation's modal coordinates Phi^T M e_d and mass e_d^T M e_d (the momentum, the
 /// initial velocity), into `red`.
 void keepTranslations(const FullModel& full, const MultiVector& Phi, ReducedModel& red) {
-  const auto map = Phi.getMap();
-  MultiVector T(map, 3), MT(map, 3);
-  {
-    auto t = T.getLocalViewHost(Tpetra::Access::OverwriteAll);
-    for (int node = 0; node < full.numNodes(); ++node)
-      for (int d = 0; d < 3; ++d)
-        if (const int g = full.eq[3 * node + d]; g >= 0 && map->isNodeGlobalElement(g)) t(map->getLocalElement(g), d) = 1.0;
-  }
+  const MultiVector T = rigidTranslations(full);
+  MultiVector MT(T.getMap(), 3);
   full.M->apply(T, MT);
   red.modalTranslation = transposeProduct(Phi, MT);
-  const auto tmt = transposeProduct(T, MT);
-  for (int d = 0; d < 3; ++d) red.translationMass[d] = tmt[static_cast<std::size_t>(d) * 3 + d];
+  for (int d = 0; d < 3; ++d) red.translationMass[d] = rigidMass(full, d);
 }
 
 }  // namespace
@@ -626,7 +622,7 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
       if (const int r = rIndex[rowMap->getGlobalElement(l)]; r >= 0) e(l, r) = 1.0;
   }
   MultiVector X(rowMap, static_cast<std::size_t>(nR));
-  if (free) Tpetra::deep_copy(X, inertiaReliefResponses(full, *deflated, *rigid, E, sigma, sigma / (er.lambda.front() + sigma)));
+  if (free) Tpetra::deep_copy(X, inertiaReliefResponses(full, *deflated, E, sigma, sigma / (er.lambda.front() + sigma)));
   else factor->solve(E, X);
   rep.constraintSeconds = sw.seconds();
   rep.solverIterations = factor->iterations();
