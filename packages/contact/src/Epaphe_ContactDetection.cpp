@@ -204,6 +204,18 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.offset = Kokkos::View<double*>("epaphe::contact::penetration_offset", nc);
   v.offsetSurf = Kokkos::View<int*>("epaphe::contact::penetration_surface", nc);
   Kokkos::deep_copy(v.offsetSurf, -1);
+  std::vector<const BSplineSurface*> coated;
+  std::vector<CoatingMaterial> materials;
+  for (const ContactSurface& cs : surfaces_) {
+    EPAPHE_REQUIRE(cs.coating.elements[0] == 0 || !cs.moving,
+                   "contact: surface '" << cs.surface->name() << "' is carried by a flexible body and has a coating; a "
+                                           "coating is supported on rigid surfaces only (a rigid casing behind it)");
+    coated.push_back(cs.surface);
+    materials.push_back(cs.coating);
+  }
+  v.coat = makeCoatingViews(coated, materials);
+  v.element = Kokkos::View<int*>("epaphe::contact::coating_element", nc);
+  Kokkos::deep_copy(v.element, -1);
 }
 
 void ContactDetection::setPenetrationOffsets(const std::vector<double>& depth, double rampEnd) {
@@ -440,7 +452,7 @@ void ContactDetection::project(bool all, bool refineOnly) {
     }
     v.skipped(k) = 0;
     v.refine(k) = 0;
-    int best = -1, its = 0;
+    int best = -1, its = 0, element = -1;
     double g = 1e300, gmin = 1e300;
     bool eligible = true;
     for (int s = 0; s < ns; ++s) {
@@ -477,10 +489,15 @@ void ContactDetection::project(bool all, bool refineOnly) {
       its = p.iterations > its ? p.iterations : its;
       eligible = eligible && p.converged && !(p.beyond > 0.0);
       v.travelLast(k, s) = v.travel(s);
-      gmin = p.gap < gmin ? p.gap : gmin;
-      if (!(p.beyond > edgeTol) && p.gap < g) {
-        g = p.gap;
+      // through a coating: the gap to its current profile; the bound's to the unworn one
+      const int e = v.coat.element(s, S, p.u, p.v);
+      const double pg = p.gap - v.coat.offset(s, e);
+      const double gUnworn = e < 0 ? p.gap : p.gap - v.coat.law(s, 0);
+      gmin = gUnworn < gmin ? gUnworn : gmin;
+      if (!(p.beyond > edgeTol) && pg < g) {
+        g = pg;
         best = s;
+        element = e;
         for (int d = 0; d < 3; ++d) {  // back to the bodies' frame: n = R n_s, S = c + R (S_s - c)
           v.normal(k, d) = v.rot(s, d, 0) * p.normal[0] + v.rot(s, d, 1) * p.normal[1] + v.rot(s, d, 2) * p.normal[2];
           double y = v.turn(s, 4 + d);
@@ -497,6 +514,7 @@ void ContactDetection::project(bool all, bool refineOnly) {
     }
     v.gap(k) = g;
     v.selected(k) = best;
+    v.element(k) = element;
     v.iterations(k) = its;
     for (int d = 0; d < 3; ++d) v.xLast(k, d) = x[d];
     v.tLast(k) = t;

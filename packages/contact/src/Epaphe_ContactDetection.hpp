@@ -27,9 +27,13 @@
 // non-negative and sums to 1, eq. 2.22), so T_s adds that up over the steps (and r_s is its control
 // points' current largest radius). Output steps (measureGaps) project every node, so written gaps
 // are exact; checkpoints keep the skipping's state (skipState), so restarts are bit for bit.
+// A coated surface (ContactSurface::coating) is seen through its coating: the gap is to the current
+// profile, t - u_p in front of the surface at the element under the foot point; its skipping bound
+// uses the unworn thickness t (the profile only recedes).
 // Warm start: the last foot point moved on by its rate between the two projections before (a surface
 // turning past the node, a node sliding along it), so that Newton starts within the step's
 // vibration of the answer instead of a step's travel away (rotor 37: 2.95 -> 2.19 iterations).
+#include "Epaphe_AbradableCoating.hpp"
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ClosestPoint.hpp"
 #include "Epaphe_Flexibility.hpp"
@@ -69,6 +73,9 @@ struct ContactSurface {
   double omega = 0.0;
   double phase = 0.0;  // angle (rad) at t = 0: the surface is turned by omega t + phase
   std::array<double, 3> axis{0.0, 0.0, 1.0}, center{0.0, 0.0, 0.0};
+  /// An abradable coating in front of a rigid surface (Epaphe_AbradableCoating.hpp; elements {0, 0}:
+  /// none): the node's gap is measured to the coating's current profile.
+  CoatingMaterial coating{};
 };
 
 struct DetectionOptions {
@@ -118,6 +125,11 @@ struct DetectionViews {
   // gap on surface offsetSurf(k) (-1: none), ramped down to 0 at the ramp's end
   Kokkos::View<double*> offset;
   Kokkos::View<int*> offsetSurf;
+  // abradable coatings: the gap on a coated surface is to its profile, the surface moved towards
+  // the node by t - u_p of the element under the foot point (element(k), -1: none); skipping bounds
+  // use the unworn profile (t), which no node can have passed unprojected
+  CoatingViews coat;
+  Kokkos::View<int*> element;
 };
 
 class ContactDetection {

@@ -11,6 +11,7 @@
 // force lambda_k and the direction c_k = n_k + mu_k t_k of the correction, and removes from the
 // list the nodes it releases. The correction q += F G lambda and the add passes are the operator's
 // (Epaphe_SurfaceContact.cpp). Each strategy owns its deck parameters (getValidParameters()).
+#include "Epaphe_AbradableCoating.hpp"
 #include "Epaphe_RelativeMotion.hpp"
 
 #include <Kokkos_Core.hpp>
@@ -51,6 +52,14 @@ struct ContactStepViews {
   Kokkos::View<double*> mu;          // mu_k applied (friction)
   Vec3 dir;                          // c_k = n_k + mu_k t_k
   Vec3 tangent;                      // t_k (unit, or zero)
+  // A normal law other than the rigid one (CoatingContact) states each active node's normal row,
+  //     alpha_k n_k^T sum_b C_kb f_b + beta_k lambda_k = gamma_k   (f_b = lambda_b c_b),
+  // when `rows` is set: row(k) = {alpha, beta, gamma}; {1, 0, -g*_k} is the rigid Lagrange row
+  // (eq. 2.33) and {0, 1, F} a known force F (penalty). Lagrange and friction solve these rows.
+  Kokkos::View<double* [3]> row;
+  bool rows = false;
+  Kokkos::View<int*> element;        // coating element under node k (-1: none; detection)
+  CoatingViews coat;                 // the coatings (detection)
   /// Copies the host list into `active` (no allocation) and returns the view of its entries.
   Kokkos::View<int*> upload(const std::vector<int>& list) const;
 };
@@ -74,6 +83,9 @@ public:
   /// Forgets what the law carries from step to step (friction's warm start): the next step starts
   /// as a restart from a checkpoint would.
   virtual void reset() {}
+  /// Called once per step after the last enforce() of the step (`active`: the final active set):
+  /// a law with a state (a coating's wear) updates it here.
+  virtual void commit(const ContactStepViews& /*v*/, const std::vector<int>& /*active*/) {}
 };
 
 /// The strategy the options ask for: Lagrange or penalty, wrapped in Coulomb friction when mu > 0.

@@ -224,13 +224,15 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   const auto gap = v.gap;
   const auto A = MCf_;
   const auto rhs = rhs_;
+  const bool rows = v.rows;  // a normal law's own rows (v.row): alpha, beta, gamma; penalty: {0, 1, force}
+  const auto row = v.row;
   forEach(
       "epaphe::contact::friction_matrix", nA, 60L * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
         const bool sl = state(ka) == slide;
         const int i0 = penalty ? 1 : 0, i1 = sl ? 1 : 3;  // node a's rows: i in [i0, i1)
         double b[3] = {0.0, 0.0, 0.0};                     // right-hand side of rows i
-        b[0] = -gap(ka);
+        b[0] = rows ? row(ka, 2) : -gap(ka);
         for (int i = 1; i < 3; ++i)
           for (int d = 0; d < 3; ++d) b[i] -= basis(ka, i, d) * disp(ka, d);
         for (int bb = 0; bb < nA; ++bb) {
@@ -247,14 +249,16 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
               G[d][j] = s;
             }
           for (int i = i0; i < i1; ++i) {
-            const int row = off(a) + i - i0;
+            const int r = off(a) + i - i0;
             for (int j = 0; j < j1; ++j) {
               double s = 0.0;
               for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
               if (j < i0)
-                b[i] -= s * kp * (-gap(kb));  // node b's known normal force
+                b[i] -= s * (rows ? row(kb, 2) : kp * (-gap(kb)));  // node b's known normal force
+              else if (i == 0 && rows)
+                A(r, off(bb) + j - i0) = row(ka, 0) * s + (bb == a && j == 0 ? row(ka, 1) : 0.0);
               else
-                A(row, off(bb) + j - i0) = s;
+                A(r, off(bb) + j - i0) = s;
             }
           }
         }
@@ -287,7 +291,7 @@ void CoulombFriction::solveSystem(const ContactStepViews& v, const std::vector<i
   for (int a = 0; a < nA; ++a) {
     const int ka = active[a], o = unknownOffsetH_(a);
     const bool sl = state_(ka) == kSlide;
-    solH_(3 * a) = penalty_ ? kp_ * (-v.gap(ka)) : rhsH_(o);
+    solH_(3 * a) = penalty_ ? (v.rows ? v.row(ka, 2) : kp_ * (-v.gap(ka))) : rhsH_(o);
     const int t = penalty_ ? o : o + 1;
     solH_(3 * a + 1) = sl ? 0.0 : rhsH_(t);
     solH_(3 * a + 2) = sl ? 0.0 : rhsH_(t + 1);

@@ -77,6 +77,13 @@ void ForwardIncrementLagrange::enforce(const ContactStepViews& v, std::vector<in
     }
     lambda_.assign(static_cast<std::size_t>(nA), 0.0);
     for (int a = 0; a < nA; ++a) lambda_[a] = -v.gap(active[a]);
+    if (v.rows)  // a normal law's own rows: alpha_a (MC lambda)_a + beta_a lambda_a = gamma_a
+      for (int a = 0; a < nA; ++a) {
+        const int k = active[a];
+        for (int b = 0; b < nA; ++b) A[static_cast<std::size_t>(b) * nA + a] *= v.row(k, 0);
+        A[static_cast<std::size_t>(a) * nA + a] += v.row(k, 1);
+        lambda_[a] = v.row(k, 2);
+      }
     const int info = solveDense(nA, A.data(), nA, lambda_.data(), ipiv_);
     EPAPHE_REQUIRE(info == 0, "contact: the contact matrix of " << nA << " active nodes is singular (zero pivot at unknown "
                                                                 << info << "); try lumping it ('Lump contact matrix')");
@@ -106,7 +113,7 @@ void PenaltyContact::enforce(const ContactStepViews& v, std::vector<int>& active
   normalDirections(v);
   const int nc = static_cast<int>(v.force.extent(0));
   for (int k = 0; k < nc; ++k) v.force(k) = 0.0;
-  for (int k : active) v.force(k) = kp_ * (-v.gap(k));  // eq. 2.34
+  for (int k : active) v.force(k) = v.rows ? v.row(k, 2) : kp_ * (-v.gap(k));  // eq. 2.34, or the law's force
 }
 
 }  // namespace epaphe

@@ -1,5 +1,6 @@
 #include "Epaphe_SurfaceContact.hpp"
 
+#include "Epaphe_CoatingContact.hpp"
 #include "Epaphe_Error.hpp"
 #include "Epaphe_Parallel.hpp"
 
@@ -67,7 +68,31 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   initDetection(nodes);
   initWorkViews(nodes, N);
   enforcement_ = makeContactEnforcement(opt_, nc);
+  const CoatingViews& coat = detection_->views().coat;
+  if (coat.any()) {  // nodes facing a coated surface follow its element law; the deck's law solves its rows
+    enforcement_ = std::make_unique<CoatingContact>(std::move(enforcement_), opt_.method == ContactMethod::Penalty,
+                                                    opt_.penaltyStiffness, coat, nc);
+    coating_ = static_cast<CoatingContact*>(enforcement_.get());
+  }
   initStepViews();
+}
+
+std::vector<double> SurfaceContact::coatingState() const {
+  if (!coating_) return {};
+  fence();
+  const auto w = detection_->views().coat.wear;
+  std::vector<double> state(w.data(), w.data() + w.extent(0));
+  state.push_back(coating_->plasticDissipation());
+  return state;
+}
+
+void SurfaceContact::setCoatingState(const std::vector<double>& state) {
+  const auto w = detection_->views().coat.wear;
+  EPAPHE_REQUIRE(coating_ && state.size() == w.extent(0) + 1,
+                 "contact: a coating state of " << state.size() << " values, " << w.extent(0) + 1 << " expected");
+  fence();
+  std::copy(state.begin(), state.end() - 1, w.data());
+  coating_->setPlasticDissipation(state.back());
 }
 
 Kokkos::View<int* [2]>::HostMirror SurfaceContact::initBlocks(const std::vector<ContactBlock>& blocks,
@@ -242,6 +267,10 @@ void SurfaceContact::initStepViews() {
   v_.mu = mu_;
   v_.dir = dir_;
   v_.tangent = tangent_;
+  v_.element = detection_->views().element;
+  v_.coat = detection_->views().coat;
+  v_.rows = coating_ != nullptr;
+  if (v_.rows) v_.row = Kokkos::View<double* [3]>("epaphe::contact::normal_rows", numNodes());
 }
 
 std::vector<double> SurfaceContact::warmStarts() const { return detection_->warmStarts(); }
@@ -294,6 +323,7 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
   projections_ += projected;
   projectionsSkipped_ += nc - projected;
   if (numActive_ == 0) {
+    enforcement_->commit(v_, activeH_);
     const auto tangent = tangent_;
     fill(force_, 0.0);
     if (friction) {
@@ -402,6 +432,7 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
       if (forceH_(k) != 0.0 || addH(k)) activeH_.push_back(k);
     lastAddPasses_ = pass + 1;
   }
+  enforcement_->commit(v_, activeH_);  // a coating's wear follows the step's final forces
   if (friction) {
     copy(muH_, mu_);
     copy(tangentH_, tangent_);

@@ -80,6 +80,8 @@
 
 namespace epaphe {
 
+class CoatingContact;
+
 /// One body's block of the system coordinates: q[offset, offset + size).
 struct ContactBlock {
   int offset = 0, size = 0;
@@ -183,6 +185,12 @@ public:
   /// for the stable-step estimate.
   double addedStiffness() const { return enforcement_->addedStiffness(); }
   const ContactEnforcement& enforcement() const { return *enforcement_; }
+  /// The abradable coating's law when a surface has a coating (null otherwise), its views (wear,
+  /// elements), and its state for checkpoints: every element's wear, then the plastic dissipation.
+  const CoatingContact* coating() const { return coating_; }
+  const CoatingViews& coatingViews() const { return detection_->views().coat; }
+  std::vector<double> coatingState() const;
+  void setCoatingState(const std::vector<double>& state);
 
 private:
   void detect(const DenseVector& q, bool all);
@@ -213,6 +221,7 @@ private:
   Flexibility::Packed F_;
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactEnforcement> enforcement_;
+  CoatingContact* coating_ = nullptr;     // enforcement_ when a surface has a coating
   ContactStepViews v_;                    // what the enforcement sees (views shared with the members)
   // the detection's views (shared, not copies): per node the selected surface's foot point, normal,
   // gap; per surface R and its turning data

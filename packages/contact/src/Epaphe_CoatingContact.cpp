@@ -1,0 +1,222 @@
+#include "Epaphe_CoatingContact.hpp"
+
+#include "Epaphe_Error.hpp"
+#include "Epaphe_Parallel.hpp"
+
+#include <algorithm>
+
+namespace epaphe {
+
+CoatingContact::CoatingContact(std::unique_ptr<ContactEnforcement> inner, bool penalty, double kp,
+                               const CoatingViews& coat, int numNodes)
+    : inner_(std::move(inner)), penalty_(penalty), kp_(kp), coat_(coat),
+      branch_("epaphe::coating::branch", numNodes), changed_("epaphe::coating::changed", numNodes),
+      p_("epaphe::coating::penetration", numNodes), upNext_("epaphe::coating::up_next", numNodes),
+      sigma_("epaphe::coating::stress", numNodes), energy_("epaphe::coating::energy") {
+  EPAPHE_REQUIRE(inner_ != nullptr, "coating: no inner contact law");
+  for (int s = 0; s < static_cast<int>(coat_.law.extent(0)); ++s) {
+    if (coat_.grid(s, 0) == 0) continue;
+    EPAPHE_REQUIRE(coat_.law(s, 0) >= 0.0 && coat_.law(s, 1) > 0.0 && coat_.law(s, 2) > 0.0 && coat_.law(s, 3) >= 0.0,
+                   "coating of surface " << s << ": thickness " << coat_.law(s, 0) << " m, E " << coat_.law(s, 1)
+                                         << " Pa, yield stress " << coat_.law(s, 2) << " Pa, hardening "
+                                         << coat_.law(s, 3) << " Pa; give t >= 0, E > 0, sigma_Y > 0, H >= 0");
+  }
+}
+
+double CoatingContact::addedStiffness() const {
+  if (!penalty_) return 0.0;  // Lagrange: the coating's compliance is in the solve (implicit)
+  double k = kp_;
+  for (int e = 0; e < coat_.numElements(); ++e) {
+    const int s = coat_.surface(e);
+    if (coat_.law(s, 0) > 0.0) k = std::max(k, coat_.area(e) * coat_.law(s, 1) / coat_.law(s, 0));
+  }
+  return k;
+}
+
+void CoatingContact::setRows(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
+  const auto row = v.row;
+  const auto gap = v.gap;
+  const auto element = v.element;
+  const auto branch = branch_;
+  const CoatingViews c = coat_;
+  const bool penalty = penalty_;
+  const double kp = kp_;
+  forEach("epaphe::coating::rows", nA, 10, KOKKOS_LAMBDA(const int a) {
+    const int k = active(a), e = element(k);
+    const double g = gap(k);
+    if (e < 0) {  // a surface without a coating: the rigid law
+      row(k, 0) = penalty ? 0.0 : 1.0;
+      row(k, 1) = penalty ? 1.0 : 0.0;
+      row(k, 2) = penalty ? kp * (-g) : -g;
+      return;
+    }
+    const int s = c.surface(e);
+    const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), A = c.area(e), up = c.wear(e);
+    if (penalty) {  // the element's force at the predicted penetration; the penalty spring past it
+      const double delta = up - g;
+      row(k, 0) = 0.0;
+      row(k, 1) = 1.0;
+      row(k, 2) = A * coating::stress(t, E, sY, H, delta, up) + (delta > t ? kp * (delta - t) : 0.0);
+      return;
+    }
+    if (branch(k) == kElastic) {
+      row(k, 0) = 1.0;
+      row(k, 1) = t / (A * E);
+      row(k, 2) = -g;
+    } else if (branch(k) == kPlastic) {
+      const double kt = A * E * H / (t * (E + H)), l0 = A * E * sY / (E + H);
+      row(k, 0) = kt;
+      row(k, 1) = 1.0;
+      row(k, 2) = kt * (up - g) + l0;
+    } else {
+      row(k, 0) = 1.0;
+      row(k, 1) = 0.0;
+      row(k, 2) = -(g + t - up);
+    }
+  });
+  fence();
+}
+
+void CoatingContact::penetrations(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
+  // p_a = -(g*_a + n_a^T sum_b C_ab c_b lambda_b): the penetration into the profile after the correction
+  const auto C = v.C;
+  const auto normal = v.normal;
+  const auto dir = v.dir;
+  const auto force = v.force;
+  const auto gap = v.gap;
+  const auto p = p_;
+  forEach("epaphe::coating::penetration", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
+    const int ka = active(a);
+    double s = gap(ka);
+    for (int b = 0; b < nA; ++b) {
+      const int kb = active(b);
+      const double l = force(kb);
+      if (l == 0.0) continue;
+      for (int d = 0; d < 3; ++d)
+        for (int e = 0; e < 3; ++e) s += normal(ka, d) * C(ka, kb, d, e) * dir(kb, e) * l;
+    }
+    p(ka) = -s;
+  });
+  fence();
+}
+
+int CoatingContact::classify(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA, bool guess) {
+  // the branch of the law at the node's penetration p (guess: the predicted one, -g*): rigid when
+  // the element would be crushed (delta >= t), else elastic below the current yield stress, else
+  // plastic; a rigid node whose force the coating alone would carry leaves the surface behind
+  const auto element = v.element;
+  const auto gap = v.gap;
+  const auto force = v.force;
+  const auto branch = branch_;
+  const auto p = p_;
+  const CoatingViews c = coat_;
+  int changes = 0;
+  reduce(
+      "epaphe::coating::classify", nA, 10,
+      KOKKOS_LAMBDA(const int a, int& n) {
+        const int k = active(a), e = element(k);
+        if (e < 0) {
+          branch(k) = kRigid;
+          return;
+        }
+        const int s = c.surface(e);
+        const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), up = c.wear(e);
+        const double pen = guess ? -gap(k) : p(k);
+        int next;
+        const bool crushedNow = !guess && branch(k) == kRigid;
+        if (crushedNow) {
+          const double holds = c.area(e) * coating::stress(t, E, sY, H, t, up);
+          next = force(k) < holds ? (E * (t - up) / t <= sY + H * up / t ? kElastic : kPlastic) : kRigid;
+        } else if (!(t > 0.0) || pen >= t - up) {
+          next = kRigid;
+        } else {
+          next = E * pen / t <= sY + H * up / t ? kElastic : kPlastic;
+        }
+        if (next != branch(k)) ++n;
+        branch(k) = next;
+      },
+      Kokkos::Sum<int>(changes));
+  return changes;
+}
+
+void CoatingContact::enforce(const ContactStepViews& v, std::vector<int>& active, const DenseVector& q,
+                             const DenseVector* qn) {
+  EPAPHE_REQUIRE(v.rows && v.row.extent(0) == branch_.extent(0),
+                 "coating: the step's views carry no normal rows (SurfaceContact sets them for a coated surface)");
+  lastBranchPasses_ = 0;
+  if (active.empty()) return inner_->enforce(v, active, q, qn);
+  if (penalty_) {
+    const auto act = v.upload(active);
+    setRows(v, act, static_cast<int>(active.size()));
+    inner_->enforce(v, active, q, qn);
+    lastBranchPasses_ = 1;
+    return;
+  }
+  classify(v, v.upload(active), static_cast<int>(active.size()), true);
+  for (int pass = 0;; ++pass) {
+    const auto act = v.upload(active);
+    const int nA = static_cast<int>(active.size());
+    setRows(v, act, nA);
+    inner_->enforce(v, active, q, qn);  // may release nodes: `active` shrinks
+    lastBranchPasses_ = pass + 1;
+    if (active.empty()) break;
+    const auto kept = v.upload(active);
+    const int nK = static_cast<int>(active.size());
+    penetrations(v, kept, nK);
+    if (pass + 1 == kMaxPasses || classify(v, kept, nK, false) == 0) break;
+  }
+}
+
+void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& active) {
+  const int nA = static_cast<int>(active.size());
+  if (nA == 0) {
+    energy_(1) = 0.0;
+    return;
+  }
+  const auto act = v.upload(active);
+  if (penalty_) {  // the element's compression is the predicted one (the force was computed there)
+    const auto p = p_;
+    const auto gap = v.gap;
+    forEach("epaphe::coating::predicted", nA, 2, KOKKOS_LAMBDA(const int a) { p(act(a)) = -gap(act(a)); });
+    fence();
+  } else {
+    penetrations(v, act, nA);
+  }
+  const auto element = v.element;
+  const auto force = v.force;
+  const auto p = p_;
+  const auto upNext = upNext_;
+  const auto sigma = sigma_;
+  const auto energy = energy_;
+  const CoatingViews c = coat_;
+  // per node: the return mapping at its final compression (Epaphe_AbradableCoating.hpp)
+  forEach("epaphe::coating::return_mapping", nA, 20, KOKKOS_LAMBDA(const int a) {
+    const int k = act(a), e = element(k);
+    if (e < 0 || force(k) == 0.0) {
+      upNext(a) = -1.0;
+      return;
+    }
+    const int s = c.surface(e);
+    const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), up = c.wear(e);
+    const double delta = up + (p(k) > 0.0 ? p(k) : 0.0);
+    upNext(a) = coating::plasticShortening(t, E, sY, H, delta, up);
+    sigma(a) = coating::stress(t, E, sY, H, delta, up);
+  });
+  // then the elements, in node order (two nodes on one element: the larger shortening), and the energies
+  forEach("epaphe::coating::commit", 1, 0, KOKKOS_LAMBDA(const int) {
+    double elastic = 0.0;
+    for (int a = 0; a < nA; ++a) {
+      if (upNext(a) < 0.0) continue;
+      const int e = element(act(a)), s = c.surface(e);
+      const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), A = c.area(e);
+      const double up0 = c.wear(e), up1 = upNext(a) > up0 ? upNext(a) : up0;
+      energy(0) += A * coating::dissipation(t, sY, H, up0, up1);
+      c.wear(e) = up1;
+      elastic += A * t * sigma(a) * sigma(a) / (2.0 * E);
+    }
+    energy(1) = elastic;
+  });
+  fence();
+}
+
+}  // namespace epaphe
