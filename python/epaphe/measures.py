@@ -1,9 +1,12 @@
-"""Measures on runs: contact events and spectra of rotating blades (engine orders), the study
-measures of epaphe-sweep and their errors against a reference, work-precision series.
+"""Measures on runs: contact events and spectra of rotating blades (engine orders), the lobes worn
+in an abradable coating, the study measures of epaphe-sweep and their errors against a reference,
+work-precision series.
 
 Units: times s, forces N, impulses N s, displacements m, velocities m/s, frequencies Hz, angles
-degrees; engine order = frequency / rotation frequency (-)."""
+degrees (wear_lobes: radians, as the file's /coating/<s>/angle); engine order = frequency /
+rotation frequency (-)."""
 import math
+from collections import namedtuple
 
 import numpy as np
 
@@ -230,3 +233,84 @@ def engine_order_lines(eo, amp, revolutions, low=0.5, top=40):
     return dict(peak=float(eo[k]), order=order, off=abs(eo[k] - order) * revolutions, lines=lines,
                 even_fraction=float((amp[even] ** 2).sum() / (amp ** 2).sum()),
                 off_line_ratio=float(amp[k] / off.max()) if off.size else float("inf"))
+
+
+# ---- abradable coating: wear lobes ----------------------------------------------------------------
+WearLobes = namedtuple("WearLobes", "profile dominant_order harmonic_angles lobe_count lobe_angles max_wear")
+WearLobes.__doc__ = """The lobes worn in a coating (wear_lobes): profile (n_u,) m, dominant_order (0 when the
+profile has no harmonic), harmonic_angles (rad, sorted), lobe_count, lobe_angles (rad, sorted),
+max_wear (m)."""
+
+
+def wear_lobes(angle, wear_2d, where="the wear map"):
+    """The lobes worn in a coating, from the centre angles of its element columns `angle` (n_u,
+    rad, uniformly spaced around the casing axis, increasing modulo 2 pi: /coating/<s>/angle) and
+    the wear depth of its elements at one instant `wear_2d` (n_u, n_v) m (/coating/<s>/wear[last]).
+    The C++ summary of epaphe-run uses the same definition:
+
+      * profile: w_i = max over the axial rows j of wear_2d[i, j], i = 0..n_u-1;
+      * dominant harmonic: the order n in 1..floor(n_u / 2) maximizing |W_n|,
+        W_n = sum_i w_i exp(-2 pi I n i / n_u) (ties: the smallest n; an |W_n| within a relative 1e-9
+        of the largest is a tie, so that round-off does not choose); its angles, where that harmonic
+        peaks: theta_j = (angle[0] - arg(W_n) / n + 2 pi j / n) mod 2 pi, j = 0..n-1, sorted. A
+        profile without harmonic content (every |W_n| below 1e-12 n_u max(w): no wear, or the same
+        wear all round), where arg(W_n) means nothing, has dominant_order 0 and no harmonic angles;
+      * lobes: the circular runs of consecutive columns with w_i > 0.5 max(w) (none if max(w) == 0;
+        a run wrapping from the last column to the first is one run; every column above: one run);
+        each lobe's angle is angle[i] of the column of largest w_i in its run (ties: the first
+        column of the run, in increasing i from the run's start); lobe_angles sorted.
+
+    Returns a WearLobes(profile, dominant_order, harmonic_angles, lobe_count, lobe_angles, max_wear)
+    (angles in rad, in [0, 2 pi); profile and max_wear in m). EpapheError (naming `where`) for
+    shapes that disagree, non-finite wear or columns that are not uniformly spaced."""
+    angle = np.asarray(angle, dtype=float).reshape(-1)
+    wear = np.asarray(wear_2d, dtype=float)
+    n_u = angle.size
+    if wear.ndim != 2 or wear.shape[0] != n_u or n_u < 1 or wear.shape[1] < 1:
+        raise EpapheError(f"{where}: wear of shape {wear.shape} for {n_u} column angles; expected "
+                          f"({n_u}, n_v) (element columns around the casing x rows along its axis)")
+    if not np.all(np.isfinite(wear)) or not np.all(np.isfinite(angle)):
+        raise EpapheError(f"{where}: non-finite wear or angles (a record not written yet?)")
+    if n_u > 1:
+        # the definition numbers the columns around the circle: the steps must all be 2 pi / n_u
+        step = np.mod(np.diff(angle), 2 * math.pi)
+        if np.max(np.abs(step - 2 * math.pi / n_u)) > 1e-6 * 2 * math.pi / n_u:
+            raise EpapheError(f"{where}: the {n_u} column angles are not uniformly spaced by 360/{n_u} deg "
+                              f"in increasing order (steps {np.degrees(step.min()):.6g} to "
+                              f"{np.degrees(step.max()):.6g} deg)")
+    w = wear.max(axis=1)
+    top = float(w.max())
+
+    # dominant harmonic (numpy's FFT is exactly sum_i w_i exp(-2 pi I n i / n_u))
+    order, harmonic = 0, np.empty(0)
+    if n_u >= 2:
+        spec = np.fft.fft(w)
+        mag = np.abs(spec[1:n_u // 2 + 1])
+        big = float(mag.max())
+        if big > 1e-12 * n_u * abs(top):
+            order = int(np.flatnonzero(mag >= big * (1 - 1e-9))[0]) + 1
+            phase = float(np.angle(spec[order]))
+            harmonic = np.sort(np.mod(angle[0] - phase / order + 2 * math.pi * np.arange(order) / order,
+                                      2 * math.pi))
+
+    # lobes: circular runs of columns above half the largest wear
+    lobes = []
+    if top > 0:
+        above = w > 0.5 * top
+        if above.all():
+            lobes.append(int(np.argmax(w)))
+        else:
+            first = int(np.argmin(above))               # a column below: no run crosses its start
+            i = 0
+            while i < n_u:
+                if not above[(first + i) % n_u]:
+                    i += 1
+                    continue
+                run = []
+                while i < n_u and above[(first + i) % n_u]:
+                    run.append((first + i) % n_u)
+                    i += 1
+                lobes.append(run[int(np.argmax(w[run]))])
+    lobe_angles = np.sort(np.mod(angle[lobes], 2 * math.pi)) if lobes else np.empty(0)
+    return WearLobes(profile=w, dominant_order=order, harmonic_angles=harmonic, lobe_count=len(lobes),
+                     lobe_angles=lobe_angles, max_wear=top)

@@ -450,6 +450,33 @@ def draw_interaction_map(eo_grid, speeds, amplitude, path, deck, nodeset, compon
     return fig
 
 
+def draw_wear_speed_map(angle, speeds, profile, dominant, path, deck, surface):
+    """The wear map of a speed sweep with an abradable coating: the final wear depth (um, colour) of
+    each column of the coating (the deepest over the axial rows) against the angle (x, degrees, the
+    casing's frame) and the rotation speed (y, rad/s), each speed's dominant harmonic of the wear
+    written at the right. The Figure (written to `path` and closed)."""
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    speeds = np.array(speeds, dtype=float)
+    order = np.argsort(speeds)
+    mesh = ax.pcolormesh(np.degrees(angle), np.arange(len(speeds)), np.asarray(profile)[order] * 1e6,
+                         shading="nearest", cmap="viridis")
+    fig.colorbar(mesh, ax=ax, label="wear depth (um)", pad=0.12)
+    ax.set_yticks(np.arange(len(speeds)))
+    ax.set_yticklabels([f"{w:g}" for w in speeds[order]])
+    right = ax.secondary_yaxis("right")
+    right.set_yticks(np.arange(len(speeds)))
+    right.set_yticklabels([str(int(dominant[i])) for i in order])
+    right.set_ylabel("dominant harmonic of the wear")
+    ax.set_xlabel("angle about the casing axis (deg, casing frame)")
+    ax.set_ylabel("rotation speed (rad/s)")
+    ax.set_xlim(0, 360)
+    ax.set_title(f"{deck}: wear of the coating on {surface} against rotation speed", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return fig
+
+
 def draw_spectrum(eo, amp, ylabel, title, path, rotation_hz=None):
     """Amplitude (log) against engine order (-), up to order 40; with the rotation frequency
     `rotation_hz` (Hz), a frequency axis (Hz) on top. The Figure (written to `path` and closed)."""

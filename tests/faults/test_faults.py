@@ -6,7 +6,8 @@
 restart: a run stopped at steps (--stop-after-steps, twice) and restarted each time from its
          checkpoint equals the uninterrupted run bit for bit in every history dataset (numpy
          array_equal on every dataset outside /checkpoint), with friction, field frames and records
-         every step, for the bar reduced by Craig-Bampton and by a massless boundary; with
+         every step, for the bar reduced by Craig-Bampton and by a massless boundary, and against a
+         wall with an abradable coating (wear, dissipation, the wear series); with
          --flexible-deck also on surfaces carried by flexible bodies.
 signals: SIGINT and SIGTERM sent to a long run after its first progress line: exit code 130 / 143,
          status "stopped: interrupted by SIG...", the series as long as the checkpoint says, and a
@@ -106,7 +107,16 @@ if a.case == "restart":
              # the massless boundary's step reads the force of two steps back from q_{n-1} (its residual)
              ("massless", variant(a.deck, os.path.join(W, "massless.xml"), dict(bar_overrides, **{
                  "Bodies->Bar->Reduction->Method": "Massless boundary",
-                 "Bodies->Bar->Reduction->Cache file": ("massless.rom.h5", "string")})), [500, 900])]
+                 "Bodies->Bar->Reduction->Cache file": ("massless.rom.h5", "string")})), [500, 900]),
+             # an abradable coating on the wall: its wear, dissipation and wear series (own cadence)
+             ("coated", variant(a.deck, os.path.join(W, "coated.xml"), dict(bar_overrides, **{
+                 "Surfaces->Wall->Origin": ("{0.204, -0.04, -0.04}", "Array(double)"),
+                 "Surfaces->Wall->Coating->Thickness": ("2e-3", "double"),
+                 "Surfaces->Wall->Coating->Young's modulus": ("1e10", "double"),
+                 "Surfaces->Wall->Coating->Yield stress": ("1e8", "double"),
+                 "Surfaces->Wall->Coating->Hardening modulus": ("1e9", "double"),
+                 "Surfaces->Wall->Coating->Elements": ("{10, 10}", "Array(int)"),
+                 "Output->Wear every": ("30", "int")})), [500, 900])]
     if a.flexible_deck:
         cases.append(("flex", variant(a.flexible_deck, os.path.join(W, "flex.xml"), {
             "Time->End time": "1.2e-4", "Output->Every": "7", "Run->Progress interval": ("0", "double"),

@@ -18,11 +18,12 @@ std::vector<double> hostCopy(const DenseVector& v) {
 }  // namespace
 
 Checkpoints::Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, HistoryOutput& history, FieldOutput* fields,
-                         const CheckpointOptions& options)
+                         const CheckpointOptions& options, const std::vector<io::Series*>& more)
     : file_(file), history_(history), fields_(fields), opt_(options), series_(history.series()),
       accumulatorNames_(LoopAccumulators::names(loop.bodies())) {
   if (fields_)
     for (io::Series* s : fields_->series()) series_.push_back(s);
+  series_.insert(series_.end(), more.begin(), more.end());
   for (const io::Series* s : series_) seriesPaths_ += s->path() + "\n";
 }
 
@@ -51,6 +52,7 @@ void Checkpoints::write(const ExplicitLoop& loop, long long nextStep) {
     file_.writeDoubles(c + "/warm_start", {uv.size() / (2 * contact->numNodes()),
                                            static_cast<std::uint64_t>(contact->numNodes()), 2}, uv.data());
     file_.writeDoubles(c + "/detection_state", contact->detectionState());
+    if (contact->coating()) file_.writeDoubles(c + "/coating_state", contact->coatingState());
     contact->resetWarmStarts();  // as a restart from here will: friction starts anew
   }
   std::vector<long long> lengths;
@@ -101,6 +103,10 @@ long long Checkpoints::restore(ExplicitLoop& loop, const std::string& what) {
     contact->setWarmStarts(file_.readDoubles(c + "/warm_start"));
     if (file_.exists(c + "/detection_state"))  // (checkpoints before 2026-11-24 have none: every node projects)
       contact->setDetectionState(file_.readDoubles(c + "/detection_state"));
+    if (contact->coating()) {
+      EPAPHE_REQUIRE(file_.exists(c + "/coating_state"), what << ": " << c << " has no coating state; run the deck anew");
+      contact->setCoatingState(file_.readDoubles(c + "/coating_state"));
+    }
   }
   file_.flush();
   return counters[0];

@@ -4,7 +4,7 @@
 // A checkpoint holds everything the next steps depend on (fixed shapes): the step to run next,
 // q_{n-1} and q_n of the system, the loop's accumulators (contact work, per body damping and
 // external work, contact times, impulse, peak force, worst balance error), the contact's warm
-// starts and skipping state, and the records of every series. Between checkpoints nothing is written to the file: the
+// starts and skipping state, a coating's wear and dissipation, and the records of every series. Between checkpoints nothing is written to the file: the
 // series buffers (1024 records, 16 field frames) never fill, a checkpoint being taken when they
 // are one record short. A checkpoint first writes and flushes (H5Fflush) the buffered records, then
 // overwrites the older of two slots, /checkpoint/0 and /checkpoint/1, flushes, and only then points
@@ -29,9 +29,10 @@ struct CheckpointOptions {
 
 class Checkpoints : public LoopObserver {
 public:
-  /// `fields` may be null (no field frames).
+  /// `fields` may be null (no field frames); `more`: other observers' series (coatings), at most as
+  /// long as the history's.
   Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, HistoryOutput& history, FieldOutput* fields,
-              const CheckpointOptions& options);
+              const CheckpointOptions& options, const std::vector<io::Series*>& more = {});
 
   /// Writes a checkpoint now, `nextStep` the step a restart runs first.
   void write(const ExplicitLoop& loop, long long nextStep);

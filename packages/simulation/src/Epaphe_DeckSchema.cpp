@@ -216,6 +216,10 @@ void addSurfaceParameters(Teuchos::ParameterList& pl) {
                                         "axis");
   addDoubleArray(surf, "Rotation axis", {0, 0, 1}, "Axis of the rotation (need not be unit)");
   addDoubleArray(surf, "Rotation center", {0, 0, 0}, "A point of the rotation axis (m)");
+  surf.sublist("Coating", false, "Rigid surfaces: an abradable coating in front of the surface (Legrand, Batailly "
+                                 "& Pierre 2012): elastic-plastic bar elements whose plastic shortening is the "
+                                 "wear; no 'Elements': none")
+      .setParameters(*CoatingMaterial::getValidParameters());
   addBool(surf, "Flip normal", false, "The contact side is where U x V points (Plane), away from the axis "
                                       "(Cylinder arc, the convex side) or out of the body (Body face); set true "
                                       "for the other side");
@@ -254,6 +258,8 @@ void addOutputParameters(Teuchos::ParameterList& pl) {
   auto& out = pl.sublist("Output", false, "HDF5 history");
   addString(out, "File", "epaphe.h5", "HDF5 output file (relative paths: from the working directory)");
   addInt(out, "Every", 10, "Steps between two records", 1);
+  addInt(out, "Wear every", 0, "Steps between two records of an abradable coating's wear map (/coating/<s>/wear; "
+                               "the last step is always recorded); 0: 100 x Every", 0);
   addInt(out, "Fields every", 0, "Steps between two frames of the full displacement field of every body, "
                                  "written to /bodies/<b>/fields with an XDMF file <output stem>.xmf that ParaView "
                                  "opens (0: none)", 0);

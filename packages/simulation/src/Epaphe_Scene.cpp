@@ -377,6 +377,9 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
     so.id = static_cast<int>(surfaces_.size());
     const auto type = deck::getEnum<SurfaceType>(s, "Type");
     if (type == SurfaceType::BodyFace) {
+      EPAPHE_REQUIRE(CoatingMaterial::fromParameters(s.sublist("Coating"), "").elements[0] == 0,
+                     origin << ": '" << deck::pathOf(s, "Coating") << "': a coating is supported on rigid surfaces only "
+                               "(a rigid casing behind it), not on a Body face; remove the Coating list");
       const std::string bodyName = s.get<std::string>("Body"), gridName = s.get<std::string>("Node grid");
       int ib = 0;  // checkScene: the body exists
       while (bodies_[static_cast<std::size_t>(ib)]->name != bodyName) ++ib;
@@ -431,6 +434,7 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
     surfaces_.push_back(std::make_unique<BSplineSurface>(name, grid.nu, grid.nv, grid.points, so));
     ContactSurface cs{surfaces_.back().get(), nullptr, -1, {}, {}};
     setRotation(cs, s, origin);
+    cs.coating = CoatingMaterial::fromParameters(s.sublist("Coating"), origin + ": " + deck::pathOf(s, "Coating"));
     contactSurfaces.push_back(std::move(cs));
     surfaceCarried_.push_back(false);
   }

@@ -1,6 +1,7 @@
 #include "Epaphe_Simulation.hpp"
 
 #include "Epaphe_Checkpoints.hpp"
+#include "Epaphe_CoatingOutput.hpp"
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_EnergyMonitor.hpp"
 #include "Epaphe_Error.hpp"
@@ -123,12 +124,18 @@ const RunSummary& Simulation::run() {
       if (!scene_->surfaceCarried()[is]) drawn.push_back(scene_->surfaces()[is].get());
     fields = std::make_unique<FieldOutput>(file, bodies, drawn, fieldsEvery, fresh);
   }
+  std::unique_ptr<CoatingOutput> coating;
+  if (contact && contact->coating()) {
+    const long long wearEvery = O.get<int>("Wear every") > 0 ? O.get<int>("Wear every") : 100LL * O.get<int>("Every");
+    coating = std::make_unique<CoatingOutput>(file, *contact, monitor, wearEvery, fresh);
+  }
   Checkpoints checkpoints(file, loop, history, fields.get(),
-                          {O.get<int>("Checkpoint every"), O.get<double>("Checkpoint interval")});
+                          {O.get<int>("Checkpoint every"), O.get<double>("Checkpoint interval")},
+                          coating ? coating->series() : std::vector<io::Series*>{});
   StopControl stop(stopAfterSteps_, "continue with epaphe-run " + deck_.origin + " --restart " + output_);
   ProgressReport progress(P.sublist("Run").get<double>("Progress interval"));
-  for (LoopObserver* o : std::initializer_list<LoopObserver*>{&monitor, &history, fields.get(), &stop, &checkpoints,
-                                                               &progress})
+  for (LoopObserver* o : std::initializer_list<LoopObserver*>{&monitor, &history, coating.get(), fields.get(), &stop,
+                                                               &checkpoints, &progress})
     if (o != nullptr) loop.addObserver(o);
 
   if (fresh) {
@@ -153,6 +160,7 @@ const RunSummary& Simulation::run() {
     throw;
   }
   summary_.totals = loop.accumulators();
+  if (coating) summary_.coating = coating->summary();
   summary_.checkpoints = checkpoints.count();
   summary_.checkpointSeconds = checkpoints.seconds();
   summary_.steps = loop.stepsDone();
@@ -271,6 +279,7 @@ void Simulation::printSummary(std::ostream& os) const {
                 formatDuration(summary_.checkpointSeconds).c_str(),
                 1e3 * summary_.checkpointSeconds / std::max(1LL, summary_.checkpoints));
   os << buf;
+  for (const auto& line : summary_.coating) os << line << "\n";
   std::snprintf(buf, sizeof buf, "energy balance: max relative error %.3e\n", summary_.totals.maxBalanceError);
   os << buf;
   os << "status: " << summary_.status << "; output " << output_ << "\n";

@@ -16,6 +16,8 @@
 //   /bodies/<b>/momentum   linear momentum t_d^T M v (records x 3), kg m/s
 //   /bodies/<b>/nodesets/<set>/{nodes, displacement (records x n x 3), velocity (records x n x 3)}
 //   /bodies/<b>/contact/{nodes, gap (records x n), force (records x n), total_force (records)}
+//                          (the gap to a coated surface is to its coating's current profile)
+//   /coating/<s>/...       abradable coatings: wear maps, lobes (Epaphe_CoatingOutput.hpp)
 // and, with Output->Fields every > 0, frames of the whole bodies for ParaView (<stem>.xmf):
 //   /fields/time (frames);  /bodies/<b>/mesh/{coordinates, hexahedra};
 //   /bodies/<b>/fields/{position, displacement} (frames x nodes x 3);  /surfaces/<s>/points
@@ -54,6 +56,7 @@ struct RunSummary {
   double checkpointSeconds = 0;      // their total wall time
   int stopSignal = 0;                // SIGINT or SIGTERM when interrupted
   bool stoppedEarly = false;         // interrupted, or stopped by setStopAfterSteps
+  std::vector<std::string> coating;  // per coated surface: wear, dissipation, lobes (complete runs)
 };
 
 class Simulation {

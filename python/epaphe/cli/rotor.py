@@ -22,9 +22,25 @@
       speed, to DIR/map.h5 (/speeds, /engine_orders, /<set>/amplitude [speeds x orders]) and
       DIR/map-<set>.png (engine order (-) across, rotation speed (rad/s) up, the amplitude (m) in a
       log colour scale, the dominant order at each speed circled), and prints the dominant engine
-      order of each set at each speed.
+      order of each set at each speed. A deck with an abradable coating also gets the wear map over
+      speed: per speed the final wear profile around the casing, its lobes and dominant harmonic
+      (as `wear` below), in DIR/map.h5 (/wear/{angle, profile [speeds x columns], dominant_order,
+      lobes, max_wear}) and DIR/map-wear.png (angle across, speed up, wear depth as colour, the
+      dominant harmonic at the right), printed per speed.
 
-The rotation speed is read from the deck stored in the file (the fastest turning surface)."""
+  epaphe-rotor wear RUN.h5 [--surface S] [--png F] [--csv F]
+      Wear of the abradable coating of surface S (by default the only coated surface of the run) at
+      the last record of /coating/<S>/wear: the largest wear depth (um); the lobes, runs of element
+      columns around the casing worn deeper than half the largest wear (their count and angles,
+      degrees in the casing's frame); the dominant harmonic of the circumferential profile (its
+      order and the angles where it peaks); the plastic dissipation at the end (J). The profile is
+      the deepest wear of each column over the axial rows (definitions: epaphe.measures.wear_lobes,
+      the same as epaphe-run's summary). --png: the wear map of the unrolled casing (angle across,
+      axial position up, wear as colour) over the profile with the lobes marked; --csv: the
+      profile (angle_deg, wear_m: one row per column, in the file's order).
+
+The rotation speed is read from the deck stored in the file (the fastest turning surface); a file
+whose status is not "complete" is read with a warning (its last record is not the end of the run)."""
 import argparse
 import os
 import subprocess
@@ -33,7 +49,8 @@ import sys
 import numpy as np
 
 from ..errors import EpapheError
-from ..measures import contact_events, spectrum
+from ..measures import contact_events, spectrum, wear_lobes
+from ..results import Names, Run
 from ..runner import find_run
 
 PROG = "epaphe-rotor"
@@ -85,13 +102,175 @@ def speed_map(deck, speeds, revs, skip, sets, component, ranks, run_exe, mpiexec
         for s in sets:
             f[f"{s}/amplitude"] = result[s + "/amplitude"]
             f[f"{s}/dominant_engine_order"] = np.array(result[s])
+    wear_map = speed_wear_map(runs)  # None without a coating
+    if wear_map is not None:
+        result["wear"] = wear_map
+        with h5py.File(os.path.join(out, "map.h5"), "a") as f:
+            for k in ("angle", "profile", "dominant_order", "lobes", "max_wear"):
+                f[f"wear/{k}"] = wear_map[k]
+            f["wear"].attrs["surface"] = wear_map["surface"]
     import matplotlib
     matplotlib.use("Agg")
     from .. import plots
     for s in sets:
         plots.draw_interaction_map(eo_grid, speeds, result[s + "/amplitude"], os.path.join(out, f"map-{s}.png"),
                                    os.path.basename(deck), s, component, dominant=result[s])
+    if wear_map is not None:
+        plots.draw_wear_speed_map(wear_map["angle"], speeds, wear_map["profile"], wear_map["dominant_order"],
+                                  os.path.join(out, "map-wear.png"), os.path.basename(deck), wear_map["surface"])
     return result
+
+
+def speed_wear_map(runs):
+    """The final wear of each run of a speed sweep [(speed, file)] with a coating: dict(surface, angle
+    (n_u,) rad, profile (speeds x n_u) m -- the deepest wear of each column --, dominant_order,
+    lobes, max_wear (per speed), as epaphe.measures.wear_lobes defines them); None when the runs have
+    no coating. Prints one line per speed."""
+    rows, orders, counts, deepest, angle, surface = [], [], [], [], None, None
+    for w, h5 in runs:
+        with Run(h5) as run:
+            if run.file.get("coating") is None:
+                return None
+            coat = read_coating(run, surface)
+        surface, angle = coat["surface"], coat["angle"]
+        lobes = wear_lobes(coat["angle"], coat["wear"], where=h5)
+        rows.append(lobes.profile)
+        orders.append(lobes.dominant_order)
+        counts.append(lobes.lobe_count)
+        deepest.append(lobes.max_wear)
+        print(f"wear at {w:g} rad/s: {lobes.lobe_count} lobe(s), dominant harmonic {lobes.dominant_order}, "
+              f"max wear {lobes.max_wear * 1e6:.3g} um")
+    return dict(surface=surface, angle=angle, profile=np.array(rows), dominant_order=np.array(orders),
+                lobes=np.array(counts), max_wear=np.array(deepest))
+
+
+# ---- abradable coating: wear lobes ----------------------------------------------------------------
+def read_coating(run, surface=None):
+    """The coating of `surface` in a run (the only coated surface when None), at its last wear
+    record: dict(surface, attrs {thickness, youngs_modulus, yield_stress, hardening_modulus,
+    elements}, angle (n_u,) rad, axial (n_v,) m, time (s, of the last record), records, wear (n_u, n_v)
+    m). EpapheError naming the file when it has no coating, when several surfaces are coated and
+    `surface` is None, when `surface` is not coated, or when the datasets disagree in shape."""
+    path = run.path
+    g = run.file.get("coating")
+    names = list(g.keys()) if g is not None else []
+    if not names:
+        raise EpapheError(f"{path} has no coating ({'an empty' if g is not None else 'no'} /coating group): "
+                          "its deck puts no abradable coating on any surface")
+    if surface is None:
+        if len(names) > 1:
+            raise EpapheError(f"{path} has {len(names)} coated surfaces ({', '.join(names)}): choose one "
+                              "with --surface")
+        surface = names[0]
+    c = Names({n: g[n] for n in names}, "coated surface", path)[surface]
+    where = f"{path}: /coating/{surface}"
+    for d in ("angle", "axial", "time", "wear"):
+        if d not in c:
+            raise EpapheError(f"{where}: no dataset '{d}' (an incomplete coating group)")
+    angle = np.asarray(c["angle"][()], dtype=float).reshape(-1)
+    axial = np.asarray(c["axial"][()], dtype=float).reshape(-1)
+    time = np.asarray(c["time"][()], dtype=float).reshape(-1)
+    wear = c["wear"]
+    shape = (time.size, angle.size, axial.size)
+    if wear.ndim != 3 or wear.shape[1:] != shape[1:] or wear.shape[0] < 1 or wear.shape[0] > time.size:
+        raise EpapheError(f"{where}/wear: shape {wear.shape}, expected {shape} (time x angle x axial)")
+    elements = c.attrs.get("elements")
+    if elements is not None and tuple(np.asarray(elements).reshape(-1)) != shape[1:]:
+        raise EpapheError(f"{where}: attribute elements = {list(np.asarray(elements).reshape(-1))} but "
+                          f"{angle.size} angles and {axial.size} axial positions")
+    last = wear.shape[0] - 1          # a run still being written may have fewer wear rows than times
+    return dict(surface=surface, attrs={k: v for k, v in c.attrs.items()}, angle=angle, axial=axial,
+                time=float(time[last]), records=last + 1, wear=np.asarray(wear[last], dtype=float))
+
+
+def draw_wear(coat, lobes, title, path):
+    """The wear of a coating (read_coating) and its lobes (measures.wear_lobes): on top the map of the
+    unrolled casing (angle, deg, across; axial position, mm, up; wear, um, as colour, with a colour
+    bar), below the circumferential profile (um) with half its maximum (the lobe threshold) dashed,
+    the lobes (triangles) and the peaks of the dominant harmonic (ticks). Written to `path`."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    deg = np.degrees(np.mod(coat["angle"], 2 * np.pi))
+    cols = np.argsort(deg)                 # columns in increasing angle (the file may start anywhere)
+    rows = np.argsort(coat["axial"])
+    um = 1e6 * coat["wear"][cols][:, rows]
+    prof = 1e6 * lobes.profile[cols]
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(8, 6.4), sharex=True, layout="constrained",
+                                 gridspec_kw=dict(height_ratios=(3, 2)))
+    mesh = ax.pcolormesh(deg[cols], 1e3 * coat["axial"][rows], um.T, shading="nearest", cmap="viridis",
+                         vmin=0.0, vmax=max(float(um.max()), 1e-12))
+    fig.colorbar(mesh, ax=[ax], label="wear depth (\u00b5m)", pad=0.02)
+    ax.set_ylabel("axial position (mm)")
+    ax.set_title(title, fontsize=10)
+    bx.plot(deg[cols], prof, "-", lw=1.2, label="profile: deepest wear of each column")
+    if lobes.max_wear > 0:
+        bx.axhline(0.5e6 * lobes.max_wear, color="0.5", ls="--", lw=0.8, label="half the largest wear")
+    if lobes.lobe_count:
+        la = np.degrees(lobes.lobe_angles)
+        at = [prof[int(np.argmin(np.abs(deg[cols] - a)))] for a in la]
+        bx.plot(la, at, "v", color="C3", ms=7, ls="none", label=f"{lobes.lobe_count} lobe(s)")
+        for a in la:
+            ax.axvline(a, color="C3", lw=0.6, ls=":")
+    if lobes.dominant_order:
+        bx.plot(np.degrees(lobes.harmonic_angles), np.zeros(lobes.dominant_order), "|", color="C1", ms=12,
+                mew=1.5, ls="none", label=f"peaks of harmonic {lobes.dominant_order}")
+    bx.set_xlim(0, 360)
+    bx.set_ylim(min(0.0, float(prof.min())) - 0.05 * max(float(prof.max()), 1e-12),
+                1.45 * max(float(prof.max()), 1e-12))                  # room for the markers and legend
+    bx.set_xticks(np.arange(0, 361, 45))
+    bx.set_xlabel("angle about the casing axis (deg, casing frame)")
+    bx.set_ylabel("wear (\u00b5m)")
+    bx.grid(True, alpha=0.3)
+    bx.legend(fontsize=7, loc="upper center", ncol=2)
+    fig.colorbar(mesh, ax=[bx], pad=0.02).ax.set_visible(False)   # the same width as the map above
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return fig
+
+
+def wear(path, surface=None, png=None, csv=None):
+    """epaphe-rotor wear: prints the wear summary of a coated surface of the run at `path` and writes
+    the figure `png` and the profile `csv` when given; returns (read_coating dict, WearLobes)."""
+    with Run(path) as run:
+        if not run.complete:
+            sys.stderr.write(f"{PROG}: warning: {path}: status '{run.status}', not 'complete': the wear is "
+                             "the last record's, not the end of a run\n")
+        coat = read_coating(run, surface)
+        plastic = None
+        if "energy/plastic_dissipation" in run.file:
+            e = np.asarray(run.file["energy/plastic_dissipation"][()], dtype=float).reshape(-1)
+            e = e[np.isfinite(e)]
+            plastic = float(e[-1]) if e.size else None
+    s = coat["surface"]
+    lobes = wear_lobes(coat["angle"], coat["wear"], f"{path}: /coating/{s}")
+    n_u, n_v = coat["wear"].shape
+    thick = coat["attrs"].get("thickness")
+    thick = f" {1e3 * float(thick):.4g} mm thick," if thick is not None else ""
+
+    def degs(a):
+        return ", ".join(f"{x:.1f}" for x in np.degrees(a))
+
+    print(f"{s}: coating{thick} {n_u} x {n_v} elements (around x along the axis); wear at "
+          f"t = {coat['time']:.6g} s (record {coat['records']})")
+    print(f"max wear: {1e6 * lobes.max_wear:.4g} um")
+    print(f"lobes: {lobes.lobe_count}" + (f" at {degs(lobes.lobe_angles)} deg" if lobes.lobe_count else "")
+          + " (runs of columns worn deeper than half the max wear)")
+    if lobes.dominant_order:
+        print(f"dominant harmonic: order {lobes.dominant_order}, peaks at {degs(lobes.harmonic_angles)} deg")
+    else:
+        print("dominant harmonic: none (no wear, or the same wear all round)")
+    print("plastic dissipation at the end: "
+          + (f"{plastic:.6g} J" if plastic is not None else "not in the file (no /energy/plastic_dissipation)"))
+    if csv:
+        with open(csv, "w") as f:
+            f.write("angle_deg,wear_m\n")
+            for a, w in zip(np.degrees(coat["angle"]), lobes.profile):
+                f.write(f"{float(a)!r},{float(w)!r}\n")
+    if png:
+        draw_wear(coat, lobes, f"{os.path.basename(path)}, coating of {s}: {lobes.lobe_count} lobe(s), "
+                  f"max {1e6 * lobes.max_wear:.3g} \u00b5m", png)
+    return coat, lobes
 
 
 def main(argv=None):
@@ -129,8 +308,15 @@ def run(argv):
     m.add_argument("--mpiexec")
     m.add_argument("--run")
     m.add_argument("--out", default="speed-map")
+    w = sub.add_parser("wear")
+    w.add_argument("file")
+    w.add_argument("--surface")
+    w.add_argument("--png")
+    w.add_argument("--csv")
     a = ap.parse_args(argv)
-    if a.cmd == "map":
+    if a.cmd == "wear":
+        wear(a.file, a.surface, a.png, a.csv)
+    elif a.cmd == "map":
         speeds = [float(x) for x in a.speeds.split(",")]
         speed_map(a.deck, speeds, a.revs, a.skip, a.sets.split(","), a.component, a.ranks, a.run, a.mpiexec, a.out)
     elif a.cmd == "contacts":

@@ -1,0 +1,109 @@
+#include "Epaphe_CoatingOutput.hpp"
+
+#include "Epaphe_CoatingContact.hpp"
+#include "Epaphe_Error.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace epaphe {
+
+struct CoatingOutput::Coated {
+  int surface = 0, first = 0, nu = 0, nv = 0;
+  std::string group;
+  std::vector<double> angle, axial, record;
+  std::unique_ptr<io::Series> time, wear;
+};
+
+CoatingOutput::CoatingOutput(io::Hdf5File& file, SurfaceContact& contact, const EnergyMonitor& monitor,
+                             long long wearEvery, bool fresh)
+    : file_(file), contact_(contact), monitor_(monitor), wearEvery_(wearEvery),
+      plastic_(file, "/energy/plastic_dissipation", {}), elastic_(file, "/energy/coating_elastic", {}) {
+  EPAPHE_REQUIRE(contact.coating() != nullptr && wearEvery > 0, "coating output: no coating, or wear every "
+                                                                    << wearEvery << " steps");
+  const CoatingViews& cv = contact.coatingViews();
+  const auto& surfaces = contact.detection().surfaces();
+  for (int s = 0; s < static_cast<int>(surfaces.size()); ++s) {
+    const ContactSurface& cs = surfaces[s];
+    if (cv.grid(s, 0) == 0) continue;
+    auto c = std::make_unique<Coated>();
+    c->surface = s;
+    c->nu = cv.grid(s, 0);
+    c->nv = cv.grid(s, 1);
+    c->first = cv.grid(s, 2);
+    c->group = "/coating/" + cs.surface->name();
+    coatingCentres(*cs.surface, cs.coating, cs.axis.data(), cs.center.data(), c->angle, c->axial);
+    if (fresh) {
+      file.writeDoubles(c->group + "/angle", c->angle);
+      file.writeDoubles(c->group + "/axial", c->axial);
+      file.writeInts(c->group + "/elements", std::vector<long long>{c->nu, c->nv});
+      file.setAttribute(c->group, "thickness", cs.coating.thickness);
+      file.setAttribute(c->group, "youngs_modulus", cs.coating.youngsModulus);
+      file.setAttribute(c->group, "yield_stress", cs.coating.yieldStress);
+      file.setAttribute(c->group, "hardening_modulus", cs.coating.hardeningModulus);
+    }
+    c->time = std::make_unique<io::Series>(file, c->group + "/time", std::vector<std::uint64_t>{});
+    c->wear = std::make_unique<io::Series>(
+        file, c->group + "/wear", std::vector<std::uint64_t>{std::uint64_t(c->nu), std::uint64_t(c->nv)});
+    c->record.resize(static_cast<std::size_t>(c->nu) * c->nv);
+    coated_.push_back(std::move(c));
+  }
+}
+
+CoatingOutput::~CoatingOutput() = default;
+
+std::vector<io::Series*> CoatingOutput::series() {
+  std::vector<io::Series*> r{&plastic_, &elastic_};
+  for (auto& c : coated_) {
+    r.push_back(c->time.get());
+    r.push_back(c->wear.get());
+  }
+  return r;
+}
+
+void CoatingOutput::afterCorrect(ExplicitLoop& loop) {
+  if (!monitor_.measures(loop)) return;
+  ScopedPhase phase(loop.cost(), "output");
+  const CoatingContact& law = *contact_.coating();
+  const double plastic = law.plasticDissipation(), elastic = law.elasticEnergy();
+  plastic_.append(&plastic);
+  elastic_.append(&elastic);
+  if (loop.step() % wearEvery_ != 0 && !loop.lastStep()) return;
+  const auto wear = contact_.coatingViews().wear;
+  const double t = loop.time();
+  for (auto& c : coated_) {
+    std::copy(wear.data() + c->first, wear.data() + c->first + c->record.size(), c->record.begin());
+    c->time->append(&t);
+    c->wear->append(c->record);
+  }
+}
+
+void CoatingOutput::endRun(ExplicitLoop& loop) {
+  if (loop.stepsDone() < loop.numSteps()) return;  // stopped: no final profile
+  const auto wear = contact_.coatingViews().wear;
+  const double dissipation = contact_.coating()->plasticDissipation();
+  char buf[256];
+  for (auto& c : coated_) {
+    const WearLobes w = wearLobes(c->angle, wear.data() + c->first, c->nu, c->nv);
+    file_.setAttribute(c->group, "max_wear", w.maxWear);
+    file_.setAttribute(c->group, "plastic_dissipation", dissipation);
+    file_.setAttribute(c->group, "lobes", static_cast<long long>(w.count));
+    file_.setAttribute(c->group, "dominant_order", static_cast<long long>(w.dominantOrder));
+    if (!file_.exists(c->group + "/lobe_angles")) {  // (a restart of a run that had ended: written already)
+      file_.writeDoubles(c->group + "/lobe_angles", w.angles);
+      file_.writeDoubles(c->group + "/harmonic_angles", w.harmonicAngles);
+    }
+    std::snprintf(buf, sizeof buf, "coating '%s': max wear %.4g um, plastic dissipation %.4g J, %d wear lobe(s)",
+                  c->group.substr(9).c_str(), 1e6 * w.maxWear, dissipation, w.count);
+    std::string line = buf;
+    for (std::size_t i = 0; i < w.angles.size() && i < 24; ++i) {
+      std::snprintf(buf, sizeof buf, "%s%.1f", i == 0 ? " at " : ", ", w.angles[i] * 180.0 / M_PI);
+      line += buf;
+    }
+    if (!w.angles.empty()) line += " deg";
+    std::snprintf(buf, sizeof buf, "; dominant harmonic %d", w.dominantOrder);
+    summary_.push_back(line + buf);
+  }
+}
+
+}  // namespace epaphe
