@@ -3,7 +3,11 @@
 
   --part fields    (always runs) the XDMF file written beside the history points at datasets that
                    exist, with the shapes it declares, and every frame's positions are the mesh
-                   coordinates plus the displacements (frame 0: the undeformed mesh);
+                   coordinates plus the displacements (frame 0: the undeformed mesh); with an abradable
+                   coating (--coating-deck, half a revolution of the blade), the coating's grid has a
+                   frame per wear record, its quadrilaterals lie at the coating's unworn front (the
+                   casing's radius less the thickness, within the clearance law's 0.2 mm), each frame's wear attribute
+                   selects that record of /coating/<s>/wear;
   --part paraview  ParaView's own XDMF reader (pvpython) opens the file: as many time steps as field
                    frames, and the bounds of the last frame those of the positions in the HDF5 file.
                    Without pvpython (--pvpython none and none on PATH) it prints SKIPPED and exits 77,
@@ -75,8 +79,46 @@ def check_paraview(a):
     return verdict(failures)
 
 
+def check_hdf_items(root, f, failures):
+    """Every HDF DataItem of the XDMF tree names a dataset of `f` with the dimensions it declares."""
+    for item in root.iter("DataItem"):
+        if item.get("Format") != "HDF":
+            continue
+        fname, path = item.text.strip().split(":")
+        dims = tuple(int(d) for d in item.get("Dimensions").split())
+        if path not in f or f[path].shape != dims:
+            failures.append(f"{path}: declared {dims}, file has {f[path].shape if path in f else 'nothing'}")
+
+
+def check_coating(a, failures):
+    """The coating's grid in the XDMF file of half a revolution of the coated blade."""
+    deck = variant(a.coating_deck, os.path.join(a.workdir, "coating.xml"), {
+        "Output->File": "coating.h5", "Output->Fields every": ("5000", "int"), "Output->Wear every": ("5000", "int"),
+        "Time->End revolutions": ("0.5", "double")})
+    run([a.run, deck, "--threads", "1"], a.workdir)
+    root = ET.parse(os.path.join(a.workdir, "coating.xmf")).getroot()
+    with h5py.File(os.path.join(a.workdir, "coating.h5"), "r") as f:
+        check_hdf_items(root, f, failures)
+        g = f["coating/Casing"]
+        wear, points = g["wear"][()], g["mesh/points"][()]
+        grids = root.findall("./Domain/Grid[@Name='Casing coating']/Grid")
+        if len(grids) != wear.shape[0]:
+            failures.append(f"coating: {len(grids)} XDMF frames for {wear.shape[0]} wear records")
+        for k, grid in enumerate(grids):
+            start = grid.find("./Attribute[@Name='wear']/DataItem/DataItem").text.split()
+            if int(start[0]) != k:
+                failures.append(f"coating: frame {k} shows wear record {start[0]}")
+        front = 0.3002 - g.attrs["thickness"]  # blade-coating.xml: Radius 0.3002, no clearance law change
+        r = np.hypot(points[:, 0], points[:, 1])
+        # the clearance law moves the casing by up to 0.15 mm from its Radius: within 0.2 mm of the front
+        if not (np.abs(r - front).max() < 2e-4):
+            failures.append(f"coating: quadrilateral corners at radii {r.min():.6f}-{r.max():.6f} m, front near {front}")
+        print(f"coating: {len(grids)} frames of {g['mesh/quads'].shape[0]} quadrilaterals at radii "
+              f"{r.min():.6f}-{r.max():.6f} m; largest wear {wear.max() * 1e6:.3g} um")
+
+
 def main():
-    a = parse_args("--pvpython", "--part")
+    a = parse_args("--pvpython", "--part", "--coating-deck")
     if a.part == "paraview":
         return check_paraview(a)
     if a.part != "fields":
@@ -85,13 +127,7 @@ def main():
     failures = []
     root = ET.parse(xmf).getroot()
     with h5py.File(os.path.join(a.workdir, "fields.h5"), "r") as f:
-        for item in root.iter("DataItem"):
-            if item.get("Format") != "HDF":
-                continue
-            fname, path = item.text.strip().split(":")
-            dims = tuple(int(d) for d in item.get("Dimensions").split())
-            if path not in f or f[path].shape != dims:
-                failures.append(f"{path}: declared {dims}, file has {f[path].shape if path in f else 'nothing'}")
+        check_hdf_items(root, f, failures)
         X = f["/bodies/Cube/mesh/coordinates"][()]
         P = f["/bodies/Cube/fields/position"][()]
         U = f["/bodies/Cube/fields/displacement"][()]
@@ -104,6 +140,7 @@ def main():
         if len(grids) != frames:
             failures.append(f"{len(grids)} XDMF frames for {frames} field records")
         print(f"{frames} frames of {X.shape[0]} nodes; largest displacement {np.abs(U).max():.3e} m")
+    check_coating(a, failures)
     return verdict(failures)
 
 

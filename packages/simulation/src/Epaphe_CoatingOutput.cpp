@@ -41,6 +41,7 @@ CoatingOutput::CoatingOutput(io::Hdf5File& file, SurfaceContact& contact, const 
       file.setAttribute(c->group, "youngs_modulus", cs.coating.youngsModulus);
       file.setAttribute(c->group, "yield_stress", cs.coating.yieldStress);
       file.setAttribute(c->group, "hardening_modulus", cs.coating.hardeningModulus);
+      writeMesh(*cs.surface, cs.coating, c->group);
     }
     c->time = std::make_unique<io::Series>(file, c->group + "/time", std::vector<std::uint64_t>{});
     c->wear = std::make_unique<io::Series>(
@@ -51,6 +52,39 @@ CoatingOutput::CoatingOutput(io::Hdf5File& file, SurfaceContact& contact, const 
 }
 
 CoatingOutput::~CoatingOutput() = default;
+
+// The coating for ParaView: each element a quadrilateral at the coating's unworn front (the surface
+// moved by t along its unit normal), the corners of its parameter cell; 4 points per element.
+void CoatingOutput::writeMesh(const BSplineSurface& surface, const CoatingMaterial& m, const std::string& group) {
+  const HostSurfaceView S = surface.hostView();
+  const int nu = m.elements[0], nv = m.elements[1];
+  std::vector<double> pts;
+  pts.reserve(12 * static_cast<std::size_t>(nu) * nv);
+  auto corner = [&](int i, int j) {
+    double P[3], Su[3], Sv[3], Suu[3], Suv[3], Svv[3];
+    evaluate(S, i * S.uMax() / nu, j * S.vMax() / nv, P, Su, Sv, Suu, Suv, Svv);
+    double n[3] = {Su[1] * Sv[2] - Su[2] * Sv[1], Su[2] * Sv[0] - Su[0] * Sv[2], Su[0] * Sv[1] - Su[1] * Sv[0]};
+    const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int d = 0; d < 3; ++d) pts.push_back(P[d] + m.thickness * S.orientation * n[d] / l);
+  };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      corner(i, j);
+      corner(i + 1, j);
+      corner(i + 1, j + 1);
+      corner(i, j + 1);
+    }
+  file_.writeDoubles(group + "/mesh/points", {4 * static_cast<std::uint64_t>(nu) * nv, 3}, pts.data());
+  std::vector<long long> quads(4 * static_cast<std::size_t>(nu) * nv);
+  for (std::size_t k = 0; k < quads.size(); ++k) quads[k] = static_cast<long long>(k);
+  file_.writeInts(group + "/mesh/quads", {static_cast<std::uint64_t>(nu) * nv, 4}, quads.data());
+}
+
+std::vector<std::string> CoatingOutput::surfaces() const {
+  std::vector<std::string> names;
+  for (const auto& c : coated_) names.push_back(c->group.substr(9));  // "/coating/" + name
+  return names;
+}
 
 std::vector<io::Series*> CoatingOutput::series() {
   std::vector<io::Series*> r{&plastic_, &elastic_};

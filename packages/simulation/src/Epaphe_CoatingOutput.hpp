@@ -7,6 +7,8 @@
 //                               harmonic_angles (rad) (the definition: wearLobes)
 //   /coating/<s>/angle (n_u)    element columns' centre angle about the surface's axis (rad, its own frame)
 //   /coating/<s>/axial (n_v)    element rows' centre along the axis (m)
+//   /coating/<s>/mesh/{points, quads} (4 n_u n_v x 3, n_u n_v x 4): each element's quadrilateral at the unworn front
+//                               (ParaView: <stem>.xmf draws it with the wear of each record)
 //   /coating/<s>/time, /coating/<s>/wear (records x n_u x n_v, m): the plastic shortening of every
 //                               element, every `wearEvery` steps and at the last step
 //   /energy/plastic_dissipation, /energy/coating_elastic (J): at every history record
@@ -35,8 +37,12 @@ public:
   void endRun(ExplicitLoop& loop) override;
   const std::vector<std::string>& summary() const { return summary_; }
 
+  /// The coated surfaces' names (for the XDMF file, FieldOutput::setCoatings).
+  std::vector<std::string> surfaces() const;
+
 private:
   struct Coated;
+  void writeMesh(const BSplineSurface& surface, const CoatingMaterial& m, const std::string& group);
   io::Hdf5File& file_;
   SurfaceContact& contact_;
   const EnergyMonitor& monitor_;

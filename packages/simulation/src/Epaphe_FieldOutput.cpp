@@ -126,6 +126,25 @@ void FieldOutput::writeXdmf(const std::string& h5path, const std::string& xmfPat
       << "Precision=\"8\" Format=\"HDF\">" << h5 << ":/surfaces/" << s->name() << "/points</DataItem></Geometry>\n"
       << "  </Grid>\n";
   }
+  for (const std::string& name : coatings_) {  // the coating's elements, their wear per wear record
+    const std::string g = "/coating/" + name;
+    const auto wt = file.readDoubles(g + "/time");
+    const auto el = file.readInts(g + "/elements");
+    const long long ne = el.at(0) * el.at(1), nw = static_cast<long long>(wt.size());
+    x << "  <Grid Name=\"" << name << " coating\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (long long k = 0; k < nw; ++k)
+      x << "   <Grid Name=\"" << name << " coating\" GridType=\"Uniform\"><Time Value=\"" << wt[k] << "\"/>\n"
+        << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << ne << "\"><DataItem Dimensions=\"" << ne
+        << " 4\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" << h5 << ":" << g << "/mesh/quads</DataItem></Topology>\n"
+        << "    <Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"" << 4 * ne << " 3\" NumberType=\"Float\" "
+        << "Precision=\"8\" Format=\"HDF\">" << h5 << ":" << g << "/mesh/points</DataItem></Geometry>\n"
+        << "    <Attribute Name=\"wear\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem ItemType=\"HyperSlab\" "
+        << "Dimensions=\"" << ne << "\" Type=\"HyperSlab\"><DataItem Dimensions=\"3 3\" Format=\"XML\">" << k
+        << " 0 0 1 1 1 1 " << el[0] << " " << el[1] << "</DataItem><DataItem Dimensions=\"" << nw << " " << el[0] << " "
+        << el[1] << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5 << ":" << g
+        << "/wear</DataItem></DataItem></Attribute>\n   </Grid>\n";
+    x << "  </Grid>\n";
+  }
   x << " </Domain>\n</Xdmf>\n";
   std::ofstream out(xmfPath);
   EPAPHE_REQUIRE(out, "cannot write the XDMF file " << xmfPath << ": check the directory's permissions");

@@ -30,11 +30,15 @@ public:
   /// <stem>.xmf for `h5path` (closed): a temporal collection per body whose frames pick one record
   /// of the fields by hyperslab, and the rigid surfaces as quads.
   void writeXdmf(const std::string& h5path, const std::string& xmfPath) const;
+  /// Coated surfaces (Epaphe_CoatingOutput.hpp): writeXdmf adds each coating's elements with the
+  /// wear of every wear record (a temporal collection).
+  void setCoatings(std::vector<std::string> surfaces) { coatings_ = std::move(surfaces); }
 
 private:
   struct BodyFields;
   const std::vector<std::unique_ptr<SceneBody>>& bodies_;
   std::vector<const BSplineSurface*> drawn_;
+  std::vector<std::string> coatings_;
   int every_;
   std::vector<std::unique_ptr<BodyFields>> perBody_;
   io::Series time_;

@@ -129,6 +129,7 @@ const RunSummary& Simulation::run() {
     const long long wearEvery = O.get<int>("Wear every") > 0 ? O.get<int>("Wear every") : 100LL * O.get<int>("Every");
     coating = std::make_unique<CoatingOutput>(file, *contact, monitor, wearEvery, fresh);
   }
+  if (fields && coating) fields->setCoatings(coating->surfaces());
   Checkpoints checkpoints(file, loop, history, fields.get(),
                           {O.get<int>("Checkpoint every"), O.get<double>("Checkpoint interval")},
                           coating ? coating->series() : std::vector<io::Series*>{});
