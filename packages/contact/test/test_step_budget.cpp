@@ -4,6 +4,7 @@
 // regions whatever the number of nodes. With the default serial threshold, a step of a few nodes
 // launches none (its loops run on the calling thread: 2 threads are never slower than 1).
 #include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_CoatingContact.hpp"
 #include "Epaphe_Parallel.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
@@ -38,11 +39,19 @@ struct Scene {
     for (int i = 0; i < kN; ++i)
       for (int j = 0; j < kN; ++j) F(i, j) = i == j ? 1e-3 : 1e-5 / (1.0 + (i - j) * (i - j));
   }
-  SurfaceContact make(double mu) {
+  SurfaceContact make(double mu, bool coated = false) {
     ContactOptions o;
     o.friction = mu;
     o.timeStep = 1e-3;
-    return SurfaceContact(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, kN}}, o, Flexibility(F));
+    ContactSurface s{&floor, nullptr, -1, {}, {}};
+    if (coated) {  // 5 mm of coating that the pushed nodes load into its plastic range
+      s.coating.thickness = 5e-3;
+      s.coating.youngsModulus = 1e3;
+      s.coating.yieldStress = 1.0;
+      s.coating.hardeningModulus = 1e2;
+      s.coating.elements[0] = s.coating.elements[1] = 8;
+    }
+    return SurfaceContact(nodes, {s}, {ContactBlock{0, kN}}, o, Flexibility(F));
   }
 };
 
@@ -86,6 +95,22 @@ TEST(StepBudget, LagrangeAndFrictionStepsAllocateNothingAndLaunchABoundedNumberO
     // a change of structure that adds launches must say so here.
     const std::int64_t budget = mu > 0 ? 12 + 4 * c.lastFrictionPasses() : 10;
     EXPECT_LE(k.launches, budget);
+  }
+  {  // with an abradable coating: its branch passes and the commit, nothing allocated
+    SurfaceContact c = scene.make(0.0, true);
+    DenseVector q("q", kN), qn("qn", kN);
+    step(c, q, qn, 0);
+    const Counts k = step(c, q, qn, 1);
+    const int passes = c.coating()->lastBranchPasses();
+    std::printf("coated Lagrange step, %d active: %lld parallel regions, %lld allocations (branch passes %d), wear "
+                "%.3g m\n", c.numActive(), static_cast<long long>(k.launches), static_cast<long long>(k.allocations),
+                passes, c.coatingViews().wear(c.detection().views().element(1)));
+    EXPECT_EQ(c.numActive(), kNodes / 2);
+    EXPECT_GT(c.coatingViews().wear(c.detection().views().element(1)), 0.0);  // plastic: the law ran
+    EXPECT_EQ(k.allocations, 0) << "the coated step allocates";
+    // per branch pass: rows, the Lagrange solve (directions, matrix), penetrations, classification; then
+    // the first guess and the commit (measured: 31 regions in 4 passes)
+    EXPECT_LE(k.launches, 10 + 5 * passes + 3);
   }
   setSerialWorkNs(saved);
   {  // default threshold: a 12-node step runs its loops on the calling thread
