@@ -8,6 +8,10 @@
    either law, the step's error: Lagrange at h/2 must at least halve it, 1.8x asserted, measured
    0.30 -> 0.15 -> 0.077 % at h, h/2, h/4), the energy balance error is at most 1e-8, and the four
    face nodes' elements wore alike (1e-9).
+   An infinite yield stress (1e300) with penalty is the elastic run: the penalty law of the
+   element's stiffness A E / t on the bare wall at the coating's front, to 1e-8 (measured 4.5e-10: the
+   round-off of A (E delta / t) against (A E / t) delta, grown over the impact; force, momentum,
+   energies), with no wear.
 2. A coating of zero thickness reproduces the rigid casing run: blade-coating.xml at thickness 0
    against blade-casing.xml (the same casing), one revolution: every history equal to 1e-12 of its
    scale.
@@ -86,6 +90,28 @@ for method in ("Lagrange", "Penalty"):
         failures.append(f"{method}: {worn.size} elements worn (4 expected, alike): {worn}")
     if "coating 'Wall'" not in proc.stdout:
         failures.append(f"{method}: the summary has no coating line")
+
+# ---- 1b. an infinite yield stress: the elastic run (penalty of the element's stiffness) ---------
+# penalty, sigma_Y = 1e300, E = 1e9: the coating is a spring A E / t = 1e-4 x 1e9 / 2e-3 = 5e7 N/m per
+# node at its front (x = 0.202; it stops the bar within 0.6 mm of its 2), the penalty law of that
+# stiffness on a bare wall there
+elastic = variant(a.bar_deck, os.path.join(a.workdir, "bar-elastic.xml"), dict(coat, **{
+    "Surfaces->Wall->Coating->Yield stress": ("1e300", "double"),
+    "Surfaces->Wall->Coating->Young's modulus": ("1e9", "double"), "Contact->Method": ("Penalty", "string"),
+    "Contact->Penalty stiffness": ("1e7", "double"), "Output->File": ("bar-elastic.h5", "string")}))
+spring = variant(a.bar_deck, os.path.join(a.workdir, "bar-spring.xml"), {
+    k: v for k, v in coat.items() if not k.startswith("Surfaces")} | {
+    "Contact->Method": ("Penalty", "string"), "Contact->Penalty stiffness": ("5e7", "double"),
+    "Output->File": ("bar-spring.h5", "string")})
+for d in (elastic, spring):
+    run([a.run, d], a.workdir)
+he, hs = history(os.path.join(a.workdir, "bar-elastic.h5")), history(os.path.join(a.workdir, "bar-spring.h5"))
+worst = max(np.abs(he[k] - hs[k]).max() / max(np.abs(hs[k]).max(), 1e-300)
+            for k in ("bodies/Bar/contact/force", "bodies/Bar/momentum", "energy/kinetic", "energy/contact_work"))
+print(f"infinite yield against a penalty spring of the element's stiffness: largest difference {worst:.2e} of scale; "
+      f"wear {he['coating/Wall/wear'].max():.3g} m, peak force {hs['bodies/Bar/contact/total_force'].max():.4g} N")
+if not (worst <= 1e-8 and he["coating/Wall/wear"].max() == 0.0 and hs["bodies/Bar/contact/total_force"].max() > 0):
+    failures.append(f"infinite yield: {worst:.3g} from the elastic (penalty 5e7 N/m) run, or wear, or no contact")
 
 # ---- 2. zero thickness = the rigid casing ------------------------------------------------------
 one = {"Time->End revolutions": ("1", "double"), "Output->Every": ("20", "int"),

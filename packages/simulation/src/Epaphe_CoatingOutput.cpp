@@ -37,6 +37,7 @@ CoatingOutput::CoatingOutput(io::Hdf5File& file, SurfaceContact& contact, const 
       file.writeDoubles(c->group + "/angle", c->angle);
       file.writeDoubles(c->group + "/axial", c->axial);
       file.writeInts(c->group + "/elements", std::vector<long long>{c->nu, c->nv});
+      file.writeDoubles(c->group + "/area", {std::uint64_t(c->nu), std::uint64_t(c->nv)}, cv.area.data() + c->first);
       file.setAttribute(c->group, "thickness", cs.coating.thickness);
       file.setAttribute(c->group, "youngs_modulus", cs.coating.youngsModulus);
       file.setAttribute(c->group, "yield_stress", cs.coating.yieldStress);

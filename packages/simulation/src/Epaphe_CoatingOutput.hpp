@@ -7,6 +7,7 @@
 //                               harmonic_angles (rad) (the definition: wearLobes)
 //   /coating/<s>/angle (n_u)    element columns' centre angle about the surface's axis (rad, its own frame)
 //   /coating/<s>/axial (n_v)    element rows' centre along the axis (m)
+//   /coating/<s>/area (n_u x n_v) each element's face area A_e (m^2)
 //   /coating/<s>/mesh/{points, quads} (4 n_u n_v x 3, n_u n_v x 4): each element's quadrilateral at the unworn front
 //                               (ParaView: <stem>.xmf draws it with the wear of each record)
 //   /coating/<s>/time, /coating/<s>/wear (records x n_u x n_v, m): the plastic shortening of every
