@@ -1,18 +1,19 @@
 #include "Epaphe_AbradableCoating.hpp"
 
-#include "Epaphe_Deck.hpp"
-#include "Epaphe_Error.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <complex>
+
+#include "Epaphe_Deck.hpp"
+#include "Epaphe_Error.hpp"
 
 namespace epaphe {
 
 Teuchos::RCP<const Teuchos::ParameterList> CoatingMaterial::getValidParameters() {
   auto pl = Teuchos::rcp(new Teuchos::ParameterList("Coating"));
   deck::addDouble(*pl, "Thickness", 2e-3,
-                  "t (m): the coating's thickness in front of the surface; 0: no coating (the surface acts rigid)", 0.0);
+                  "t (m): the coating's thickness in front of the surface; 0: no coating (the surface acts rigid)",
+                  0.0);
   deck::addDouble(*pl, "Young's modulus", 2e9, "E (Pa) of the coating's bar elements (Legrand et al. 2012)", 1e-300);
   deck::addDouble(*pl, "Yield stress", 1e6,
                   "sigma_Y (Pa), the initial yield stress in compression; 1e300: an elastic coating", 1e-300);
@@ -35,7 +36,8 @@ CoatingMaterial CoatingMaterial::fromParameters(const Teuchos::ParameterList& pl
   if (el.size() == 2 && el[0] == 0 && el[1] == 0) {  // no coating: then no other key may have been set
     for (const char* key : {"Thickness", "Young's modulus", "Yield stress", "Hardening modulus"})
       EPAPHE_REQUIRE(pl.get<double>(key) == valid->get<double>(key),
-                     where << "->" << key << " is set but the coating has no element grid: give 'Elements', e.g. "
+                     where << "->" << key
+                           << " is set but the coating has no element grid: give 'Elements', e.g. "
                               "{360, 4} (around the circumference, along the axis of a Casing)");
     return CoatingMaterial{};
   }
@@ -63,8 +65,8 @@ double areaDensity(const HostSurfaceView& S, double u, double v) {
 
 CoatingViews makeCoatingViews(const std::vector<const BSplineSurface*>& surfaces,
                               const std::vector<CoatingMaterial>& materials) {
-  EPAPHE_REQUIRE(surfaces.size() == materials.size(), "coating: " << materials.size() << " coatings for "
-                                                                   << surfaces.size() << " surfaces");
+  EPAPHE_REQUIRE(surfaces.size() == materials.size(),
+                 "coating: " << materials.size() << " coatings for " << surfaces.size() << " surfaces");
   const int ns = static_cast<int>(surfaces.size());
   CoatingViews c;
   c.law = Kokkos::View<double* [4]>("epaphe::coating::law", ns);
@@ -159,8 +161,8 @@ WearLobes wearLobes(const std::vector<double>& angle, const double* wear, int nu
   if (best < 1e-12 * nu * r.maxWear) r.dominantOrder = 0;  // no harmonic content (uniform wear)
   for (int j = 0; j < r.dominantOrder; ++j) {
     const double n = r.dominantOrder;
-    r.harmonicAngles.push_back(std::fmod(angle[0] + std::fmod(-phase / n + 2.0 * M_PI * j / n + 4.0 * M_PI, 2.0 * M_PI),
-                                         2.0 * M_PI));
+    r.harmonicAngles.push_back(
+        std::fmod(angle[0] + std::fmod(-phase / n + 2.0 * M_PI * j / n + 4.0 * M_PI, 2.0 * M_PI), 2.0 * M_PI));
   }
   std::sort(r.harmonicAngles.begin(), r.harmonicAngles.end());
   // lobes: circular runs above half the largest wear, started after a column below it

@@ -25,23 +25,22 @@
 // under each node (Epaphe_ContactDetection.hpp), and the enforcement (CoatingContact,
 // Epaphe_CoatingContact.hpp) applies the element's force law to the penetration p of a node into
 // that profile (delta = u_p + p).
-#include "Epaphe_BSplineSurface.hpp"
-
 #include <Kokkos_Core.hpp>
 #include <Teuchos_ParameterList.hpp>
-
 #include <string>
 #include <vector>
+
+#include "Epaphe_BSplineSurface.hpp"
 
 namespace epaphe {
 
 /// A coating's deck data (Surfaces-><s>->Coating).
 struct CoatingMaterial {
-  double thickness = 0;          // t (m); 0: the coating is absent and the surface acts rigid
-  double youngsModulus = 0;      // E (Pa)
-  double yieldStress = 0;        // sigma_Y (Pa); a huge value: elastic
-  double hardeningModulus = 0;   // H (Pa), >= 0 (0: perfectly plastic)
-  int elements[2] = {0, 0};      // n_u x n_v (around, along the axis for a Casing)
+  double thickness = 0;         // t (m); 0: the coating is absent and the surface acts rigid
+  double youngsModulus = 0;     // E (Pa)
+  double yieldStress = 0;       // sigma_Y (Pa); a huge value: elastic
+  double hardeningModulus = 0;  // H (Pa), >= 0 (0: perfectly plastic)
+  int elements[2] = {0, 0};     // n_u x n_v (around, along the axis for a Casing)
   /// The deck's Coating list (validated), with its keys' documentation.
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
   /// Reads a validated Coating list; `where` names it for errors.
@@ -83,9 +82,9 @@ KOKKOS_INLINE_FUNCTION double dissipation(double t, double sY, double H, double 
 struct CoatingViews {
   Kokkos::View<double* [4]> law;
   Kokkos::View<int* [3]> grid;
-  Kokkos::View<double*> wear;   // [e] plastic shortening u_p (m)
-  Kokkos::View<double*> area;   // [e] face area A_e (m^2)
-  Kokkos::View<int*> surface;   // [e] its surface
+  Kokkos::View<double*> wear;  // [e] plastic shortening u_p (m)
+  Kokkos::View<double*> area;  // [e] face area A_e (m^2)
+  Kokkos::View<int*> surface;  // [e] its surface
 
   /// Element of surface s under the foot point (u, v) (s's own parameters), -1 without a coating.
   KOKKOS_INLINE_FUNCTION int element(int s, const SurfaceView& S, double u, double v) const {

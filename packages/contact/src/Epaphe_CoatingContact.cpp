@@ -1,18 +1,24 @@
 #include "Epaphe_CoatingContact.hpp"
 
+#include <algorithm>
+
 #include "Epaphe_Error.hpp"
 #include "Epaphe_Parallel.hpp"
-
-#include <algorithm>
 
 namespace epaphe {
 
 CoatingContact::CoatingContact(std::unique_ptr<ContactEnforcement> inner, bool penalty, double kp,
                                const CoatingViews& coat, int numNodes)
-    : inner_(std::move(inner)), penalty_(penalty), kp_(kp), coat_(coat),
-      branch_("epaphe::coating::branch", numNodes), changed_("epaphe::coating::changed", numNodes),
-      p_("epaphe::coating::penetration", numNodes), upNext_("epaphe::coating::up_next", numNodes),
-      sigma_("epaphe::coating::stress", numNodes), energy_("epaphe::coating::energy") {
+    : inner_(std::move(inner)),
+      penalty_(penalty),
+      kp_(kp),
+      coat_(coat),
+      branch_("epaphe::coating::branch", numNodes),
+      changed_("epaphe::coating::changed", numNodes),
+      p_("epaphe::coating::penetration", numNodes),
+      upNext_("epaphe::coating::up_next", numNodes),
+      sigma_("epaphe::coating::stress", numNodes),
+      energy_("epaphe::coating::energy") {
   EPAPHE_REQUIRE(inner_ != nullptr, "coating: no inner contact law");
   for (int s = 0; s < static_cast<int>(coat_.law.extent(0)); ++s) {
     if (coat_.grid(s, 0) == 0) continue;
@@ -41,39 +47,40 @@ void CoatingContact::setRows(const ContactStepViews& v, const Kokkos::View<int*>
   const CoatingViews c = coat_;
   const bool penalty = penalty_;
   const double kp = kp_;
-  forEach("epaphe::coating::rows", nA, 10, KOKKOS_LAMBDA(const int a) {
-    const int k = active(a), e = element(k);
-    const double g = gap(k);
-    if (e < 0) {  // a surface without a coating: the rigid law
-      row(k, 0) = penalty ? 0.0 : 1.0;
-      row(k, 1) = penalty ? 1.0 : 0.0;
-      row(k, 2) = penalty ? kp * (-g) : -g;
-      return;
-    }
-    const int s = c.surface(e);
-    const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), A = c.area(e), up = c.wear(e);
-    if (penalty) {  // the element's force at the predicted penetration; the penalty spring past it
-      const double delta = up - g;
-      row(k, 0) = 0.0;
-      row(k, 1) = 1.0;
-      row(k, 2) = A * coating::stress(t, E, sY, H, delta, up) + (delta > t ? kp * (delta - t) : 0.0);
-      return;
-    }
-    if (branch(k) == kElastic) {
-      row(k, 0) = 1.0;
-      row(k, 1) = t / (A * E);
-      row(k, 2) = -g;
-    } else if (branch(k) == kPlastic) {
-      const double kt = A * E * H / (t * (E + H)), l0 = A * E * sY / (E + H);
-      row(k, 0) = kt;
-      row(k, 1) = 1.0;
-      row(k, 2) = kt * (up - g) + l0;
-    } else {
-      row(k, 0) = 1.0;
-      row(k, 1) = 0.0;
-      row(k, 2) = -(g + t - up);
-    }
-  });
+  forEach(
+      "epaphe::coating::rows", nA, 10, KOKKOS_LAMBDA(const int a) {
+        const int k = active(a), e = element(k);
+        const double g = gap(k);
+        if (e < 0) {  // a surface without a coating: the rigid law
+          row(k, 0) = penalty ? 0.0 : 1.0;
+          row(k, 1) = penalty ? 1.0 : 0.0;
+          row(k, 2) = penalty ? kp * (-g) : -g;
+          return;
+        }
+        const int s = c.surface(e);
+        const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), A = c.area(e), up = c.wear(e);
+        if (penalty) {  // the element's force at the predicted penetration; the penalty spring past it
+          const double delta = up - g;
+          row(k, 0) = 0.0;
+          row(k, 1) = 1.0;
+          row(k, 2) = A * coating::stress(t, E, sY, H, delta, up) + (delta > t ? kp * (delta - t) : 0.0);
+          return;
+        }
+        if (branch(k) == kElastic) {
+          row(k, 0) = 1.0;
+          row(k, 1) = t / (A * E);
+          row(k, 2) = -g;
+        } else if (branch(k) == kPlastic) {
+          const double kt = A * E * H / (t * (E + H)), l0 = A * E * sY / (E + H);
+          row(k, 0) = kt;
+          row(k, 1) = 1.0;
+          row(k, 2) = kt * (up - g) + l0;
+        } else {
+          row(k, 0) = 1.0;
+          row(k, 1) = 0.0;
+          row(k, 2) = -(g + t - up);
+        }
+      });
   fence();
 }
 
@@ -85,18 +92,19 @@ void CoatingContact::penetrations(const ContactStepViews& v, const Kokkos::View<
   const auto force = v.force;
   const auto gap = v.gap;
   const auto p = p_;
-  forEach("epaphe::coating::penetration", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
-    const int ka = active(a);
-    double s = gap(ka);
-    for (int b = 0; b < nA; ++b) {
-      const int kb = active(b);
-      const double l = force(kb);
-      if (l == 0.0) continue;
-      for (int d = 0; d < 3; ++d)
-        for (int e = 0; e < 3; ++e) s += normal(ka, d) * C(ka, kb, d, e) * dir(kb, e) * l;
-    }
-    p(ka) = -s;
-  });
+  forEach(
+      "epaphe::coating::penetration", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
+        const int ka = active(a);
+        double s = gap(ka);
+        for (int b = 0; b < nA; ++b) {
+          const int kb = active(b);
+          const double l = force(kb);
+          if (l == 0.0) continue;
+          for (int d = 0; d < 3; ++d)
+            for (int e = 0; e < 3; ++e) s += normal(ka, d) * C(ka, kb, d, e) * dir(kb, e) * l;
+        }
+        p(ka) = -s;
+      });
   fence();
 }
 
@@ -177,7 +185,8 @@ void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& a
   if (penalty_) {  // the element's compression is the predicted one (the force was computed there)
     const auto p = p_;
     const auto gap = v.gap;
-    forEach("epaphe::coating::predicted", nA, 2, KOKKOS_LAMBDA(const int a) { p(act(a)) = -gap(act(a)); });
+    forEach(
+        "epaphe::coating::predicted", nA, 2, KOKKOS_LAMBDA(const int a) { p(act(a)) = -gap(act(a)); });
     fence();
   } else {
     penetrations(v, act, nA);
@@ -190,32 +199,34 @@ void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& a
   const auto energy = energy_;
   const CoatingViews c = coat_;
   // per node: the return mapping at its final compression (Epaphe_AbradableCoating.hpp)
-  forEach("epaphe::coating::return_mapping", nA, 20, KOKKOS_LAMBDA(const int a) {
-    const int k = act(a), e = element(k);
-    if (e < 0 || force(k) == 0.0) {
-      upNext(a) = -1.0;
-      return;
-    }
-    const int s = c.surface(e);
-    const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), up = c.wear(e);
-    const double delta = up + (p(k) > 0.0 ? p(k) : 0.0);
-    upNext(a) = coating::plasticShortening(t, E, sY, H, delta, up);
-    sigma(a) = coating::stress(t, E, sY, H, delta, up);
-  });
+  forEach(
+      "epaphe::coating::return_mapping", nA, 20, KOKKOS_LAMBDA(const int a) {
+        const int k = act(a), e = element(k);
+        if (e < 0 || force(k) == 0.0) {
+          upNext(a) = -1.0;
+          return;
+        }
+        const int s = c.surface(e);
+        const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), up = c.wear(e);
+        const double delta = up + (p(k) > 0.0 ? p(k) : 0.0);
+        upNext(a) = coating::plasticShortening(t, E, sY, H, delta, up);
+        sigma(a) = coating::stress(t, E, sY, H, delta, up);
+      });
   // then the elements, in node order (two nodes on one element: the larger shortening), and the energies
-  forEach("epaphe::coating::commit", 1, 0, KOKKOS_LAMBDA(const int) {
-    double elastic = 0.0;
-    for (int a = 0; a < nA; ++a) {
-      if (upNext(a) < 0.0) continue;
-      const int e = element(act(a)), s = c.surface(e);
-      const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), A = c.area(e);
-      const double up0 = c.wear(e), up1 = upNext(a) > up0 ? upNext(a) : up0;
-      energy(0) += A * coating::dissipation(t, sY, H, up0, up1);
-      c.wear(e) = up1;
-      elastic += A * t * sigma(a) * sigma(a) / (2.0 * E);
-    }
-    energy(1) = elastic;
-  });
+  forEach(
+      "epaphe::coating::commit", 1, 0, KOKKOS_LAMBDA(const int) {
+        double elastic = 0.0;
+        for (int a = 0; a < nA; ++a) {
+          if (upNext(a) < 0.0) continue;
+          const int e = element(act(a)), s = c.surface(e);
+          const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), A = c.area(e);
+          const double up0 = c.wear(e), up1 = upNext(a) > up0 ? upNext(a) : up0;
+          energy(0) += A * coating::dissipation(t, sY, H, up0, up1);
+          c.wear(e) = up1;
+          elastic += A * t * sigma(a) * sigma(a) / (2.0 * E);
+        }
+        energy(1) = elastic;
+      });
   fence();
 }
 

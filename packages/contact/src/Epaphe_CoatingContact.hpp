@@ -25,10 +25,10 @@
 // After the step (commit), each loaded element's plastic shortening follows the return mapping at its
 // node's final compression, in a Kokkos kernel (nodes in order: two nodes on one element keep the
 // larger shortening), and the plastic dissipation and the elastic energy held are summed.
-#include "Epaphe_ContactEnforcement.hpp"
-
 #include <memory>
 #include <vector>
+
+#include "Epaphe_ContactEnforcement.hpp"
 
 namespace epaphe {
 
@@ -68,9 +68,9 @@ private:
   double kp_;
   CoatingViews coat_;
   Kokkos::View<int*> branch_, changed_;
-  Kokkos::View<double*> p_;            // corrected penetration into the profile (penalty: predicted)
+  Kokkos::View<double*> p_;               // corrected penetration into the profile (penalty: predicted)
   Kokkos::View<double*> upNext_, sigma_;  // per active position: shortening and stress at commit
-  Kokkos::View<double[2]> energy_;     // plastic dissipation (run), elastic energy (last step)
+  Kokkos::View<double[2]> energy_;        // plastic dissipation (run), elastic energy (last step)
   int lastBranchPasses_ = 0;
   static constexpr int kMaxPasses = 20;
 };

@@ -3,25 +3,24 @@
 // sigma_Y = 1 kPa, H = 0.2 MPa, so k_e = A E / t = 1e8 N/m, the yield force 1 kN at delta_y = 10 um,
 // and the plastic slope k_t = A E H / (t (E + H)). Expected values are the closed forms of linear
 // isotropic hardening in 1-D, written here independently of the code's return mapping.
-#include "Epaphe_BSplineSurface.hpp"
-#include "Epaphe_CoatingContact.hpp"
-#include "Epaphe_SurfaceContact.hpp"
-
-#include "TestSurfaces.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
+
+#include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_CoatingContact.hpp"
+#include "Epaphe_SurfaceContact.hpp"
+#include "TestSurfaces.hpp"
 
 using namespace epaphe;
 
 namespace {
 
 constexpr double kT = 0.01, kE = 1e6, kSY = 1e3, kH = 2e5, kArea = 1.0;
-constexpr double kKe = kArea * kE / kT;                        // elastic slope (N/m)
-constexpr double kKt = kArea * kE * kH / (kT * (kE + kH));     // plastic slope: E_t = E H / (E + H)
-constexpr double kDy = kSY * kT / kE;                          // yield compression
+constexpr double kKe = kArea * kE / kT;                     // elastic slope (N/m)
+constexpr double kKt = kArea * kE * kH / (kT * (kE + kH));  // plastic slope: E_t = E H / (E + H)
+constexpr double kDy = kSY * kT / kE;                       // yield compression
 
 CoatingMaterial material(double t = kT, double sY = kSY) {
   CoatingMaterial m;
@@ -125,7 +124,7 @@ TEST(Coating, LagrangeForceIsTheLawsForceAtTheCorrectedCompression) {
     SurfaceContact c = n.make(ContactMethod::Lagrange, f, material());
     double z = 0.0;
     const double lambda = pressTo(c, kT - depth, &z);
-    const double delta = kT - z;  // the element's compression after the correction
+    const double delta = kT - z;                                     // the element's compression after the correction
     EXPECT_NEAR(z - (kT - depth), f * lambda, 1e-12 * kT) << depth;  // the correction moved it by F lambda
     if (delta < kT * (1 - 1e-12)) {
       const double law = delta <= kDy ? kKe * delta : kArea * kSY + kKt * (delta - kDy);

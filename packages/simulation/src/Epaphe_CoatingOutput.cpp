@@ -1,10 +1,10 @@
 #include "Epaphe_CoatingOutput.hpp"
 
-#include "Epaphe_CoatingContact.hpp"
-#include "Epaphe_Error.hpp"
-
 #include <cmath>
 #include <cstdio>
+
+#include "Epaphe_CoatingContact.hpp"
+#include "Epaphe_Error.hpp"
 
 namespace epaphe {
 
@@ -17,10 +17,14 @@ struct CoatingOutput::Coated {
 
 CoatingOutput::CoatingOutput(io::Hdf5File& file, SurfaceContact& contact, const EnergyMonitor& monitor,
                              long long wearEvery, bool fresh)
-    : file_(file), contact_(contact), monitor_(monitor), wearEvery_(wearEvery),
-      plastic_(file, "/energy/plastic_dissipation", {}), elastic_(file, "/energy/coating_elastic", {}) {
-  EPAPHE_REQUIRE(contact.coating() != nullptr && wearEvery > 0, "coating output: no coating, or wear every "
-                                                                    << wearEvery << " steps");
+    : file_(file),
+      contact_(contact),
+      monitor_(monitor),
+      wearEvery_(wearEvery),
+      plastic_(file, "/energy/plastic_dissipation", {}),
+      elastic_(file, "/energy/coating_elastic", {}) {
+  EPAPHE_REQUIRE(contact.coating() != nullptr && wearEvery > 0,
+                 "coating output: no coating, or wear every " << wearEvery << " steps");
   const CoatingViews& cv = contact.coatingViews();
   const auto& surfaces = contact.detection().surfaces();
   for (int s = 0; s < static_cast<int>(surfaces.size()); ++s) {
@@ -45,8 +49,8 @@ CoatingOutput::CoatingOutput(io::Hdf5File& file, SurfaceContact& contact, const 
       writeMesh(*cs.surface, cs.coating, c->group);
     }
     c->time = std::make_unique<io::Series>(file, c->group + "/time", std::vector<std::uint64_t>{});
-    c->wear = std::make_unique<io::Series>(
-        file, c->group + "/wear", std::vector<std::uint64_t>{std::uint64_t(c->nu), std::uint64_t(c->nv)});
+    c->wear = std::make_unique<io::Series>(file, c->group + "/wear",
+                                           std::vector<std::uint64_t>{std::uint64_t(c->nu), std::uint64_t(c->nv)});
     c->record.resize(static_cast<std::size_t>(c->nu) * c->nv);
     coated_.push_back(std::move(c));
   }

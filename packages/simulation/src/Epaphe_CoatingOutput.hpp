@@ -16,13 +16,13 @@
 // The energy balance (/energy/balance_error) holds the coating through the contact work: the work
 // of the contact forces on the bodies is what the coating stores and dissipates (and the rigid
 // law's own impact loss); the two series above split it.
-#include "Epaphe_EnergyMonitor.hpp"
-#include "Epaphe_ExplicitLoop.hpp"
-#include "Epaphe_Hdf5File.hpp"
-
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "Epaphe_EnergyMonitor.hpp"
+#include "Epaphe_ExplicitLoop.hpp"
+#include "Epaphe_Hdf5File.hpp"
 
 namespace epaphe {
 
