@@ -236,10 +236,12 @@ def engine_order_lines(eo, amp, revolutions, low=0.5, top=40):
 
 
 # ---- abradable coating: wear lobes ----------------------------------------------------------------
-WearLobes = namedtuple("WearLobes", "profile dominant_order harmonic_angles lobe_count lobe_angles max_wear")
+WearLobes = namedtuple("WearLobes", "profile dominant_order harmonic_angles lobe_count lobe_angles max_wear "
+                                    "contrast")
 WearLobes.__doc__ = """The lobes worn in a coating (wear_lobes): profile (n_u,) m, dominant_order (0 when the
 profile has no harmonic), harmonic_angles (rad, sorted), lobe_count, lobe_angles (rad, sorted),
-max_wear (m)."""
+max_wear (m), contrast (the dominant harmonic's amplitude over the mean wear, 2 |W_n| / W_0; 0
+without one)."""
 
 
 def wear_lobes(angle, wear_2d, where="the wear map"):
@@ -258,9 +260,12 @@ def wear_lobes(angle, wear_2d, where="the wear map"):
       * lobes: the circular runs of consecutive columns with w_i > 0.5 max(w) (none if max(w) == 0;
         a run wrapping from the last column to the first is one run; every column above: one run);
         each lobe's angle is angle[i] of the column of largest w_i in its run (ties: the first
-        column of the run, in increasing i from the run's start); lobe_angles sorted.
+        column of the run, in increasing i from the run's start); lobe_angles sorted;
+      * contrast: 2 |W_n| / W_0 of the dominant order n, the amplitude of its cosine over the mean
+        wear (a pattern of n lobes cut between unworn columns: about 1; a uniform groove: 0).
 
-    Returns a WearLobes(profile, dominant_order, harmonic_angles, lobe_count, lobe_angles, max_wear)
+    Returns a WearLobes(profile, dominant_order, harmonic_angles, lobe_count, lobe_angles, max_wear,
+    contrast)
     (angles in rad, in [0, 2 pi); profile and max_wear in m). EpapheError (naming `where`) for
     shapes that disagree, non-finite wear or columns that are not uniformly spaced."""
     angle = np.asarray(angle, dtype=float).reshape(-1)
@@ -282,7 +287,7 @@ def wear_lobes(angle, wear_2d, where="the wear map"):
     top = float(w.max())
 
     # dominant harmonic (numpy's FFT is exactly sum_i w_i exp(-2 pi I n i / n_u))
-    order, harmonic = 0, np.empty(0)
+    order, harmonic, contrast = 0, np.empty(0), 0.0
     if n_u >= 2:
         spec = np.fft.fft(w)
         mag = np.abs(spec[1:n_u // 2 + 1])
@@ -292,6 +297,7 @@ def wear_lobes(angle, wear_2d, where="the wear map"):
             phase = float(np.angle(spec[order]))
             harmonic = np.sort(np.mod(angle[0] - phase / order + 2 * math.pi * np.arange(order) / order,
                                       2 * math.pi))
+            contrast = 2 * float(np.abs(spec[order])) / float(np.abs(spec[0]))
 
     # lobes: circular runs of columns above half the largest wear
     lobes = []
@@ -313,4 +319,4 @@ def wear_lobes(angle, wear_2d, where="the wear map"):
                 lobes.append(run[int(np.argmax(w[run]))])
     lobe_angles = np.sort(np.mod(angle[lobes], 2 * math.pi)) if lobes else np.empty(0)
     return WearLobes(profile=w, dominant_order=order, harmonic_angles=harmonic, lobe_count=len(lobes),
-                     lobe_angles=lobe_angles, max_wear=top)
+                     lobe_angles=lobe_angles, max_wear=top, contrast=contrast)

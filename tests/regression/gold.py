@@ -110,6 +110,7 @@ HORIZON = {
     # blade: the leading edge touches twice per revolution, the trailing edge six times
     "blade-casing": {"Time->End revolutions": ("0.5", "double")},
     "blade-coating": {"Time->End revolutions": ("0.5", "double")},
+    "blade-coating-sweep": {"Time->End revolutions": ("1", "double")},
     "blade-flexible-casing": {"Time->End revolutions": ("0.25", "double")},
     # rotor 37: the blade starts between the lobes, meets the first after a quarter revolution
     "rotor37-casing": {"Time->End revolutions": ("0.5", "double")},

@@ -27,6 +27,7 @@ RTOL = 1e-7   # of each dataset's largest magnitude (the balance error: absolute
 HORIZON = {
     "blade-casing": {"Time->End revolutions": ("1", "double")},
     "blade-coating": {"Time->End revolutions": ("1", "double")},
+    "blade-coating-sweep": {"Time->End revolutions": ("1", "double")},
     "blade-flexible-casing": {"Time->End revolutions": ("0.5", "double")},
     "rotor37-casing": {"Time->End revolutions": ("1", "double")},
     "rotor37-massless": {"Time->End revolutions": ("10", "double")},

@@ -160,6 +160,14 @@ def main():
         print(f"  {'ok ' if ok else 'BAD'} bumps at {centres} deg, columns from {start:g} deg: {r.lobe_count} "
               f"lobe(s) at {np.round(np.degrees(r.lobe_angles), 1)}")
 
+    # ---- (b2) contrast: a pure cosine of order 3 of amplitude 0.5 over the mean -----------------------
+    angle = columns(0.0)
+    cosine = 1e-5 * (1 + 0.5 * np.cos(3 * angle))[:, None] * np.ones((1, 4))
+    r = wear_lobes(angle, cosine)
+    check(r.dominant_order == 3 and math.isclose(r.contrast, 0.5, rel_tol=1e-9),
+          f"cosine of order 3, amplitude 0.5 of the mean: order {r.dominant_order}, contrast {r.contrast}")
+    print(f"(b2) a cosine of order 3 at half the mean: contrast {r.contrast:.12f}")
+
     # ---- (c) no wear, uniform wear -----------------------------------------------------------------
     print("(c) zero and uniform wear")
     f = coating_file(os.path.join(wd, "zero.h5"), {"Casing": (columns(), np.zeros((N_U, N_V)))})
@@ -184,7 +192,7 @@ def main():
     ok &= check(p.stderr.strip() == "", f"epaphe-rotor wear: stderr {p.stderr.strip()!r}")
     m = re.search(r"^lobes: (\d+)", p.stdout, re.M)
     ok &= check(m is not None and int(m.group(1)) == 5, f"printed lobe count: {m.group(1) if m else None}, expected 5")
-    ok &= check(re.search(r"^dominant harmonic: order 5,", p.stdout, re.M) is not None, "printed harmonic is not 5")
+    ok &= check(re.search(r"^dominant harmonic: order 5 ", p.stdout, re.M) is not None, "printed harmonic is not 5")
     ok &= check("plastic dissipation at the end: 0.00125 J" in p.stdout, "printed plastic dissipation")
     ok &= check(re.search(r"^max wear: 2\d\.?\d* um", p.stdout, re.M) is not None, "printed max wear (~20 um)")
     if check(os.path.isfile(png), f"{png} not written"):

@@ -25,7 +25,7 @@
       order of each set at each speed. A deck with an abradable coating also gets the wear map over
       speed: per speed the final wear profile around the casing, its lobes and dominant harmonic
       (as `wear` below), in DIR/map.h5 (/wear/{angle, profile [speeds x columns], dominant_order,
-      lobes, max_wear}) and DIR/map-wear.png (angle across, speed up, wear depth as colour, the
+      lobes, max_wear, contrast}) and DIR/map-wear.png (angle across, speed up, wear depth as colour, the
       dominant harmonic at the right), printed per speed.
 
   epaphe-rotor wear RUN.h5 [--surface S] [--png F] [--csv F]
@@ -106,7 +106,7 @@ def speed_map(deck, speeds, revs, skip, sets, component, ranks, run_exe, mpiexec
     if wear_map is not None:
         result["wear"] = wear_map
         with h5py.File(os.path.join(out, "map.h5"), "a") as f:
-            for k in ("angle", "profile", "dominant_order", "lobes", "max_wear"):
+            for k in ("angle", "profile", "dominant_order", "lobes", "max_wear", "contrast"):
                 f[f"wear/{k}"] = wear_map[k]
             f["wear"].attrs["surface"] = wear_map["surface"]
     import matplotlib
@@ -124,9 +124,9 @@ def speed_map(deck, speeds, revs, skip, sets, component, ranks, run_exe, mpiexec
 def speed_wear_map(runs):
     """The final wear of each run of a speed sweep [(speed, file)] with a coating: dict(surface, angle
     (n_u,) rad, profile (speeds x n_u) m -- the deepest wear of each column --, dominant_order,
-    lobes, max_wear (per speed), as epaphe.measures.wear_lobes defines them); None when the runs have
+    lobes, max_wear, contrast (per speed), as epaphe.measures.wear_lobes defines them); None when the runs have
     no coating. Prints one line per speed."""
-    rows, orders, counts, deepest, angle, surface = [], [], [], [], None, None
+    rows, orders, counts, deepest, contrasts, angle, surface = [], [], [], [], [], None, None
     for w, h5 in runs:
         with Run(h5) as run:
             if run.file.get("coating") is None:
@@ -138,10 +138,11 @@ def speed_wear_map(runs):
         orders.append(lobes.dominant_order)
         counts.append(lobes.lobe_count)
         deepest.append(lobes.max_wear)
-        print(f"wear at {w:g} rad/s: {lobes.lobe_count} lobe(s), dominant harmonic {lobes.dominant_order}, "
-              f"max wear {lobes.max_wear * 1e6:.3g} um")
+        contrasts.append(lobes.contrast)
+        print(f"wear at {w:g} rad/s: {lobes.lobe_count} lobe(s), dominant harmonic {lobes.dominant_order} "
+              f"(amplitude {lobes.contrast:.2f} of the mean wear), max wear {lobes.max_wear * 1e6:.3g} um")
     return dict(surface=surface, angle=angle, profile=np.array(rows), dominant_order=np.array(orders),
-                lobes=np.array(counts), max_wear=np.array(deepest))
+                lobes=np.array(counts), max_wear=np.array(deepest), contrast=np.array(contrasts))
 
 
 # ---- abradable coating: wear lobes ----------------------------------------------------------------
@@ -257,7 +258,8 @@ def wear(path, surface=None, png=None, csv=None):
     print(f"lobes: {lobes.lobe_count}" + (f" at {degs(lobes.lobe_angles)} deg" if lobes.lobe_count else "")
           + " (runs of columns worn deeper than half the max wear)")
     if lobes.dominant_order:
-        print(f"dominant harmonic: order {lobes.dominant_order}, peaks at {degs(lobes.harmonic_angles)} deg")
+        print(f"dominant harmonic: order {lobes.dominant_order} (amplitude {lobes.contrast:.2f} of the mean wear), "
+              f"peaks at {degs(lobes.harmonic_angles)} deg")
     else:
         print("dominant harmonic: none (no wear, or the same wear all round)")
     print("plastic dissipation at the end: "
