@@ -39,6 +39,7 @@ public:
   std::ostream& out() const;
 
 private:
+  std::string sessionBase_;  // a private directory for Open MPI's session files ("" : none), removed at the end
   std::unique_ptr<Teuchos::GlobalMPISession> mpi_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
   bool kokkos_ = false;
