@@ -13,6 +13,7 @@
 #include <Tpetra_MultiVector.hpp>
 
 #include <algorithm>
+#include <numeric>
 #include <array>
 #include <memory>
 #include <cmath>
@@ -540,6 +541,47 @@ void keepTranslations(const FullModel& full, const MultiVector& Phi, ReducedMode
   for (int d = 0; d < 3; ++d) red.translationMass[d] = rigidMass(full, d);
 }
 
+/// Mode selection by participation: of the candidate modes, columns [first, first + count) of V
+/// (M-orthonormal, ascending frequency), the `keep` with the largest generalized force under a unit
+/// load along `dir` on every retained node, r_k = sum over the retained nodes of phi_k(node) . dir:
+/// the mode's participation in that load pattern (its effective mass for it is r_k^2, Kammer &
+/// Triller's ranking of modes by effective mass, for the load the contact applies). On a bar hitting
+/// a wall end-on, the bending and twisting modes have r_k = 0 (their face moves antisymmetrically)
+/// and give way to the axial ones. Returns the chosen columns in ascending frequency (ties in r_k^2
+/// within 1e-12 of the largest: the lower mode).
+std::vector<std::size_t> selectByParticipation(const MultiVector& V, const ReducedModel& red,
+                                               const std::vector<int>& rIndex, int first, int count, int keep,
+                                               const std::array<double, 3>& dir) {
+  std::vector<int> axisOf;  // per retained DOF r: its direction (0, 1, 2)
+  for (std::size_t nd = 0; nd < red.nodeDof.size(); ++nd)
+    if (const int r = red.nodeDof[nd]; r >= 0) {
+      if (axisOf.size() <= static_cast<std::size_t>(r)) axisOf.resize(static_cast<std::size_t>(r) + 1, 0);
+      axisOf[r] = static_cast<int>(nd % 3);
+    }
+  std::vector<double> weight(rIndex.size(), 0.0);  // the load on free DOF g: dir's component if retained
+  for (std::size_t g = 0; g < rIndex.size(); ++g)
+    if (rIndex[g] >= 0) weight[g] = dir[axisOf[rIndex[g]]];
+  const auto map = V.getMap();
+  const auto v = V.getLocalViewHost(Tpetra::Access::ReadOnly);
+  std::vector<double> local(static_cast<std::size_t>(count), 0.0), r(local.size(), 0.0);
+  for (LO l = 0; l < static_cast<LO>(map->getNodeNumElements()); ++l) {
+    const double w = weight[map->getGlobalElement(l)];
+    if (w != 0.0)
+      for (int k = 0; k < count; ++k) local[k] += w * v(l, first + k);
+  }
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, count, local.data(), r.data());
+  double top = 0.0;
+  for (double x : r) top = std::max(top, x * x);
+  std::vector<int> order(static_cast<std::size_t>(count));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return r[a] * r[a] > r[b] * r[b] + 1e-12 * top; });
+  order.resize(static_cast<std::size_t>(keep));
+  std::sort(order.begin(), order.end());
+  std::vector<std::size_t> cols;
+  for (int k : order) cols.push_back(static_cast<std::size_t>(first + k));
+  return cols;
+}
+
 }  // namespace
 
 ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& retained, const CraigBamptonOptions& opt,
@@ -588,10 +630,24 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   // A free body's six rigid-body modes come first (lambda = 0, theta = 1/sigma: the block of 6 Krylov
   // vectors resolves the six-fold eigenvalue); they give way to the exact ones, and the elastic
   // vectors are made M-orthogonal to those (Anasazi's are, to its tolerance).
-  eo.count = m + nRigid;
+  const int candidates = std::max(m, opt.candidates);
+  EPAPHE_REQUIRE(nR + candidates + nRigid <= nFree, body << ": " << candidates << " candidate modes and " << nR
+                                                         << " retained DOFs exceed the model's " << nFree
+                                                         << " free DOFs; ask fewer 'Candidate modes'");
+  eo.count = candidates + nRigid;
   eo.shift = -sigma;
   eo.tolerance = opt.eigenTolerance;
   EigenResult er = lowestEigenpairs(full.K, full.M, *factor, eo);
+  if (candidates > m) {  // keep the m the contact's load excites most (selectByParticipation)
+    std::vector<std::size_t> cols(static_cast<std::size_t>(nRigid));
+    std::iota(cols.begin(), cols.end(), std::size_t{0});
+    for (std::size_t c : selectByParticipation(*er.vectors, red, rIndex, nRigid, candidates, m, opt.loadDirection))
+      cols.push_back(c);
+    std::vector<double> lambda;
+    for (std::size_t c : cols) lambda.push_back(er.lambda[c]);
+    er.vectors = er.vectors->subCopy(Teuchos::ArrayView<const std::size_t>(cols));
+    er.lambda = lambda;
+  }
   const double top = er.lambda.back();
   for (int k = 0; k < nRigid + m; ++k)
     EPAPHE_REQUIRE((k < nRigid) == (std::abs(er.lambda[k]) <= 1e-8 * top),

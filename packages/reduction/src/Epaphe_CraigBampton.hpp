@@ -12,6 +12,7 @@
 #include "Epaphe_ReducedModel.hpp"
 #include "Epaphe_SparseSolver.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,11 @@ struct CraigBamptonOptions {
   /// by about tau^2 / (relative gap), so 1e-6 gives the frequencies to about 1e-11 (measured on the
   /// 64,500-DOF blade: equal to 1e-10's to 11 digits, with 48 solves instead of 66).
   double checkTolerance = 1e-6;
+  /// Massless boundary: keep, of the lowest `candidates` elastic modes (0: just the lowest `modes`),
+  /// the `modes` that a load spread evenly over the retained nodes along `loadDirection` excites most
+  /// (selectByParticipation in Epaphe_CraigBampton.cpp).
+  int candidates = 0;
+  std::array<double, 3> loadDirection{0.0, 0.0, 0.0};
 };
 
 struct ReductionReport {

@@ -291,6 +291,9 @@ CraigBamptonOptions reductionOptions(const ParameterList& rp) {
   o.solver = deck::getEnum<LinearSolver>(rp, "Linear solver");
   o.iterativeTolerance = rp.get<double>("Iterative tolerance");
   o.checkFrequencies = rp.get<int>("Frequency check");
+  o.candidates = rp.get<int>("Candidate modes");
+  const auto d = deck::getDoubles(rp, "Load direction");
+  for (std::size_t i = 0; i < 3 && i < d.size(); ++i) o.loadDirection[i] = d[i];
   return o;
 }
 

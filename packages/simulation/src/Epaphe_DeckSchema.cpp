@@ -138,6 +138,12 @@ void addReductionParameters(Teuchos::ParameterList& body) {
           "contact only)");
   addInt(red, "Fixed-interface modes", 20, "Modes kept: Craig-Bampton's fixed-interface modes, or for Massless "
                                            "boundary the body's elastic normal modes with the retained nodes free", 0, 100000);
+  addInt(red, "Candidate modes", 0, "Massless boundary: compute this many of the lowest elastic modes and keep "
+                                    "the 'Fixed-interface modes' of them that a load along 'Load direction' on every "
+                                    "retained node excites most (their generalized force, Kammer & Triller's effective "
+                                    "mass); 0: the lowest modes, as many as kept", 0, 100000);
+  addDoubleArray(red, "Load direction", {0, 0, 0}, "Massless boundary with 'Candidate modes': the direction of the "
+                                                   "load the contact puts on the retained nodes, e.g. a wall's normal");
   addString(red, "Retained node set", "", "Nodes kept as physical DOFs (empty: the contact node set)");
   addEnum(red, "Linear solver", "MUMPS", {"MUMPS", "KLU2", "Belos CG"},
           {int(LinearSolver::Mumps), int(LinearSolver::Klu2), int(LinearSolver::BelosCg)},

@@ -167,7 +167,13 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
                      "\nretained=" + retainedSet + "\nmethod=" + rp.get<std::string>("Method") +
                      "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
                      "\ncheck=" + std::to_string(checkCount) + "\nsolver=" + rp.get<std::string>("Linear solver") +
-                     "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")));
+                     "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")) +
+                     "\ncandidates=" + std::to_string(rp.get<int>("Candidate modes")) + "\nload=" +
+                     [&] {
+                       std::string t;
+                       for (double x : deck::getDoubles(rp, "Load direction")) t += std::to_string(x) + " ";
+                       return t;
+                     }());
 
   int cached = 0;
   if (useCache && comm->getRank() == 0) cached = loadReducedModel(cacheFile, key, b->rom) ? 1 : 0;

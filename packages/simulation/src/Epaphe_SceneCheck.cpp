@@ -220,6 +220,21 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
                        << (rigid ? " (and the free body's 6 rigid-body modes)" : "") << " exceed the model's "
                        << freeDofs << " free DOFs; keep fewer modes");
   }
+  if (const int candidates = rp.get<int>("Candidate modes"); candidates > 0) {
+    EPAPHE_REQUIRE(method == ReductionMethod::MasslessBoundary,
+                   ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates
+                       << " selects modes for a Massless boundary only; remove it, or set 'Method' to Massless boundary");
+    EPAPHE_REQUIRE(candidates >= modes, ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates
+                                            << " is fewer than the " << modes << " 'Fixed-interface modes' kept");
+    const int rigid = clamped.empty() ? 6 : 0;
+    EPAPHE_REQUIRE(retainedDofs + candidates + rigid <= freeDofs,
+                   ctx << ": " << candidates << " candidate modes and " << retainedDofs << " retained DOFs exceed the "
+                       << "model's " << freeDofs << " free DOFs; ask fewer 'Candidate modes'");
+    const auto d = deck::getVec3(rp, "Load direction", origin);
+    EPAPHE_REQUIRE(d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0,
+                   ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates << " needs the direction "
+                       << "of the contact's load: set '" << deck::pathOf(rp, "Load direction") << "', e.g. {1, 0, 0}");
+  }
   const auto g = deck::getVec3(bp, "Gravity", origin);
   if (!clamped.empty() && (method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan))
     for (int d = 0; d < 3; ++d)
