@@ -5,6 +5,9 @@
 //   ForwardIncrementLagrange  eqs. 2.30-2.33: MC lambda = -g*, the gaps close exactly
 //   PenaltyContact            eq. 2.34: lambda = k_p (-g*)
 //   CoulombFriction           eqs. 2.29, 2.31: a joint normal-tangential solve with either normal law
+//   CoatingContact            an abradable coating's element law (Legrand et al. 2012) on the nodes
+//                             facing a coated surface, as rows the law above it solves (made by
+//                             SurfaceContact when a surface has a coating)
 //
 // A strategy sees the step through ContactStepViews (views allocated once by SurfaceContact and
 // shared with the detection) and the host list of active nodes; it writes, per active node, the
