@@ -24,8 +24,11 @@ MEASURES = {
     "displacement": ("displacement_rms", "m"),
     "rebound velocity": ("rebound_velocity", "m/s"),
     "energy balance": ("energy_balance", "-"),
+    "max wear": ("max_wear", "m"),
+    "plastic dissipation": ("plastic_dissipation", "J"),
 }
-DEFAULT_MEASURES = [k for k in MEASURES if k != "peak force"]  # a Lagrange peak grows as 1/h
+# a Lagrange peak grows as 1/h; the coating's measures exist only with a coating
+DEFAULT_MEASURES = [k for k in MEASURES if k not in ("peak force", "max wear", "plastic dissipation")]
 # what the error of each measure is (all are dimensionless); the legend of the work-precision diagram
 ERROR_DEFINITIONS = {
     "contact start": "|t - t_ref| / contact duration",
@@ -37,6 +40,8 @@ ERROR_DEFINITIONS = {
     "displacement": "RMS difference / largest displacement",
     "rebound velocity": "relative",
     "energy balance": "largest relative balance error",
+    "max wear": "relative (the deepest wear of any coating at the end)",
+    "plastic dissipation": "relative (the coatings' at the end)",
 }
 
 
@@ -46,7 +51,8 @@ def raw_measures(h, w, peak_ref):
     (study.Watch): contact start and end (s: the first record whose total force exceeds
     w.threshold x `peak_ref` (else the run's own peak), the record after the last one), impulse
     (N s), peak and plateau force (N), max penetration (m), rebound velocity (m/s, along w.comp),
-    energy balance (the largest |relative balance error|), duration (s)."""
+    energy balance (the largest |relative balance error|), duration (s); with a coating, max wear
+    (m) and plastic dissipation (J) at the end."""
     t = h["t"]
     dt = t[1] - t[0] if t.size > 1 else float("nan")
     m = {}
@@ -68,6 +74,10 @@ def raw_measures(h, w, peak_ref):
         m["rebound velocity"] = float(h["momentum"][-1, w.comp] / h["mass"])
     if h["balance"] is not None:
         m["energy balance"] = float(np.nanmax(np.abs(h["balance"])))
+    if h.get("wear") is not None:
+        m["max wear"] = h["wear"]
+    if h.get("plastic") is not None:
+        m["plastic dissipation"] = h["plastic"]
     return m
 
 

@@ -375,6 +375,12 @@ def read_history(path, w):
         h["momentum"] = body.momentum if body is not None and f"{body.prefix}/momentum" in run.file else None
         h["mass"] = body.rigid_mass if body is not None else float("nan")
         h["balance"] = run.energy.balance_error if "energy/balance_error" in run.file else None
+        coating = run.file.get("coating")
+        h["wear"] = (max(float(np.max(g["wear"][-1])) for g in coating.values() if "wear" in g and len(g["wear"]))
+                     if coating is not None and len(coating) else None)
+        h["plastic"] = (float(run.file["energy/plastic_dissipation"][-1])
+                        if "energy/plastic_dissipation" in run.file and len(run.file["energy/plastic_dissipation"])
+                        else None)
         h["attrs"] = dict(run.attrs)
     return h
 
@@ -419,5 +425,5 @@ def write_csv(path, study, runs, exact_row, wanted):
 
 
 def unit_tag(unit):
-    return {"s": "s", "N s": "Ns", "N": "N", "m": "m", "m/s": "m_per_s", "-": "rel"}[unit]
+    return {"s": "s", "N s": "Ns", "N": "N", "m": "m", "m/s": "m_per_s", "-": "rel", "J": "J"}[unit]
 
