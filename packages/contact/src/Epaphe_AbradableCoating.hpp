@@ -1,9 +1,9 @@
 #pragma once
 // An abradable coating on a rigid surface (a casing): the model of Legrand, Batailly & Pierre,
-// J. Comput. Nonlinear Dynam. 7(1) 011010 (2012), section 2.3. The coating is a layer of
+// J. Comput. Nonlinear Dynam. 7(1) 011010 (2012). The coating is a layer of
 // independent one-dimensional bar elements normal to the surface, of length t (the thickness) and
 // face area A_e, each elastic-plastic with linear isotropic hardening (Simo & Hughes, Computational
-// Inelasticity (1998), section 1.3, box 1.4), loaded in compression only (a bar has no mass and the
+// Inelasticity (1998), chapter 1: the 1-D return mapping), loaded in compression only (a bar has no mass and the
 // blade cannot pull it). The elements tile the surface's parameter domain: n_u x n_v cells of equal
 // parameter size (for the Casing surface, around the circumference x along the axis). Element e under
 // a node is the cell of the node's foot point (u, v), in the surface's own frame, so a turning casing
