@@ -35,6 +35,9 @@ struct CraigBamptonOptions {
   /// the `modes` that a load spread evenly over the retained nodes along `loadDirection` excites most
   /// (selectByParticipation in Epaphe_CraigBampton.cpp).
   int candidates = 0;
+  /// Massless boundary: every eigenpair at once by LAPACK on the dense matrices (small models)
+  /// instead of Anasazi's lowest ones.
+  bool denseEigen = false;
   std::array<double, 3> loadDirection{0.0, 0.0, 0.0};
 };
 

@@ -292,6 +292,7 @@ CraigBamptonOptions reductionOptions(const ParameterList& rp) {
   o.iterativeTolerance = rp.get<double>("Iterative tolerance");
   o.checkFrequencies = rp.get<int>("Frequency check");
   o.candidates = rp.get<int>("Candidate modes");
+  o.denseEigen = rp.get<std::string>("Eigensolver") == "LAPACK dense";
   const auto d = deck::getDoubles(rp, "Load direction");
   for (std::size_t i = 0; i < 3 && i < d.size(); ++i) o.loadDirection[i] = d[i];
   return o;

@@ -142,6 +142,11 @@ void addReductionParameters(Teuchos::ParameterList& body) {
                                     "the 'Fixed-interface modes' of them that a load along 'Load direction' on every "
                                     "retained node excites most (their generalized force, Kammer & Triller's effective "
                                     "mass); 0: the lowest modes, as many as kept", 0, 100000);
+  addEnum(red, "Eigensolver", "Anasazi", {"Anasazi", "LAPACK dense"}, {0, 1},
+          "Massless boundary: Anasazi (block Krylov-Schur, shift-invert through the factor: the lowest modes of "
+          "any model) or LAPACK dense (every mode at once by dsygvd on the dense K and M: models of at most "
+          "6000 DOFs; with 'Candidate modes', the whole spectrum to choose from for the cost of a few Anasazi "
+          "pairs)");
   addDoubleArray(red, "Load direction", {0, 0, 0}, "Massless boundary with 'Candidate modes': the direction of the "
                                                    "load the contact puts on the retained nodes, e.g. a wall's normal");
   addString(red, "Retained node set", "", "Nodes kept as physical DOFs (empty: the contact node set)");

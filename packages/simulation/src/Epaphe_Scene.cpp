@@ -168,7 +168,8 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
                      "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
                      "\ncheck=" + std::to_string(checkCount) + "\nsolver=" + rp.get<std::string>("Linear solver") +
                      "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")) +
-                     "\ncandidates=" + std::to_string(rp.get<int>("Candidate modes")) + "\nload=" +
+                     "\ncandidates=" + std::to_string(rp.get<int>("Candidate modes")) +
+                     "\neigensolver=" + rp.get<std::string>("Eigensolver") + "\nload=" +
                      [&] {
                        std::string t;
                        for (double x : deck::getDoubles(rp, "Load direction")) t += std::to_string(x) + " ";
