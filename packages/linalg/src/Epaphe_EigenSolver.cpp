@@ -1,6 +1,8 @@
 #include "Epaphe_EigenSolver.hpp"
 
 #include "Epaphe_Error.hpp"
+#include "Epaphe_FullModel.hpp"
+#include "Epaphe_ReducedModel.hpp"
 
 #include <AnasaziBasicEigenproblem.hpp>
 #include <AnasaziBlockKrylovSchurSolMgr.hpp>
@@ -134,6 +136,25 @@ EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuch
   r.operatorApplications = op->applications;
   r.operatorVectors = op->vectors;
   r.operatorSeconds = op->seconds;
+  return r;
+}
+
+EigenResult denseLowestEigenpairs(const CrsMatrix& K, const CrsMatrix& M, int count, const std::string& what) {
+  const int n = static_cast<int>(K.getGlobalNumRows());
+  EPAPHE_REQUIRE(n <= 6000, what << ": the dense eigensolver holds two " << n << " x " << n
+                                 << " matrices; above 6000 DOFs use 'Eigensolver' = Anasazi");
+  EPAPHE_REQUIRE(count >= 1 && count <= n, what << ": " << count << " eigenpairs asked of " << n << " DOFs");
+  std::vector<double> V;
+  const std::vector<double> w = denseEigenpairs(gatherDense(K), gatherDense(M), n, &V);
+  EigenResult r;
+  r.lambda.assign(w.begin(), w.begin() + count);
+  const auto map = K.getRowMap();
+  r.vectors = Teuchos::rcp(new MultiVector(map, static_cast<std::size_t>(count)));
+  auto v = r.vectors->getLocalViewHost(Tpetra::Access::ReadWrite);
+  for (LO l = 0; l < static_cast<LO>(map->getNodeNumElements()); ++l) {
+    const GO g = map->getGlobalElement(l);
+    for (int k = 0; k < count; ++k) v(l, k) = V[static_cast<std::size_t>(k) * n + g];
+  }
   return r;
 }
 

@@ -8,6 +8,7 @@
 
 #include <Teuchos_RCP.hpp>
 
+#include <string>
 #include <vector>
 
 namespace epaphe {
@@ -30,5 +31,10 @@ struct EigenResult {
 /// `factorOfShifted` solves with K - shift * M (K itself when shift = 0).
 EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuchos::RCP<const CrsMatrix>& M,
                              const SparseSolver& factorOfShifted, const EigenOptions& options);
+
+/// The same for a small model, every eigenpair at once (denseEigenpairs on K and M gathered dense on
+/// every rank, at most 6000 DOFs: O(n^3), 0.40 s on 1212 DOFs where Anasazi took 0.69 s for the lowest
+/// 100 and 26 s for 400); the lowest `count` are returned on K's row map. `what` names the model.
+EigenResult denseLowestEigenpairs(const CrsMatrix& K, const CrsMatrix& M, int count, const std::string& what);
 
 }  // namespace epaphe

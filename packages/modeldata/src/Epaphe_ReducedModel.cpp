@@ -93,17 +93,27 @@ ReductionKind reductionKindNamed(const std::string& name) {
 }
 
 
+extern "C" void dsygvd_(const int* itype, const char* jobz, const char* uplo, const int* n, double* a, const int* lda,
+                        double* b, const int* ldb, double* w, double* work, const int* lwork, int* iwork,
+                        const int* liwork, int* info);
+
 std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vector<double>& M, int n,
                                     std::vector<double>* vectors) {
   std::vector<double> A(K), B(M), w(static_cast<std::size_t>(n));
   const char jobz = vectors ? 'V' : 'N';
-  Teuchos::LAPACK<int, double> lapack;
-  int info = 0;
+  const int itype = 1;
+  int info = 0, lwork = -1, liwork = -1, iquery = 0;
   double query = 0;
-  lapack.SYGV(1, jobz, 'U', n, A.data(), n, B.data(), n, w.data(), &query, -1, &info);
-  std::vector<double> work(static_cast<std::size_t>(query));
-  lapack.SYGV(1, jobz, 'U', n, A.data(), n, B.data(), n, w.data(), work.data(), static_cast<int>(work.size()), &info);
-  EPAPHE_REQUIRE(info == 0, "dense eigenvalue problem of size " << n << " failed (LAPACK dsygv info = " << info
+  // divide and conquer (dsygvd): with the vectors, 4 times faster than dsygv's QR iteration (measured:
+  // 0.40 against 1.56 s on 1212 DOFs, one thread)
+  dsygvd_(&itype, &jobz, "U", &n, A.data(), &n, B.data(), &n, w.data(), &query, &lwork, &iquery, &liwork, &info);
+  lwork = static_cast<int>(query);
+  liwork = iquery;
+  std::vector<double> work(static_cast<std::size_t>(lwork));
+  std::vector<int> iwork(static_cast<std::size_t>(liwork));
+  dsygvd_(&itype, &jobz, "U", &n, A.data(), &n, B.data(), &n, w.data(), work.data(), &lwork, iwork.data(), &liwork,
+          &info);
+  EPAPHE_REQUIRE(info == 0, "dense eigenvalue problem of size " << n << " failed (LAPACK dsygvd info = " << info
                                 << "): the mass matrix is not positive definite");
   if (vectors) *vectors = std::move(A);
   return w;

@@ -103,7 +103,7 @@ struct ReducedModel {
 };
 
 /// K x = lambda M x for dense symmetric K and positive definite M (n x n, column-major) by LAPACK
-/// dsygv: ascending eigenvalues; with `vectors`, the M-orthonormal eigenvectors (column-major).
+/// dsygvd: ascending eigenvalues; with `vectors`, the M-orthonormal eigenvectors (column-major).
 std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vector<double>& M, int n,
                                     std::vector<double>* vectors = nullptr);
 

@@ -541,42 +541,6 @@ void keepTranslations(const FullModel& full, const MultiVector& Phi, ReducedMode
   for (int d = 0; d < 3; ++d) red.translationMass[d] = rigidMass(full, d);
 }
 
-extern "C" void dsygvd_(const int* itype, const char* jobz, const char* uplo, const int* n, double* a, const int* lda,
-                        double* b, const int* ldb, double* w, double* work, const int* lwork, int* iwork,
-                        const int* liwork, int* info);
-
-/// The lowest `count` eigenpairs of K x = lambda M x of a small model, every one of them at once by
-/// LAPACK's divide and conquer (dsygvd) on the dense matrices gathered on each rank: O(n^3), but on
-/// 1212 DOFs it takes about a second where Anasazi needs 26 s for 400 pairs, and it holds the whole
-/// spectrum a selection by participation chooses from. M-orthonormal vectors, ascending.
-EigenResult denseLowestEigenpairs(const FullModel& full, int count) {
-  const int n = static_cast<int>(full.K->getGlobalNumRows());
-  EPAPHE_REQUIRE(n <= 6000, "body '" << full.name << "': the dense eigensolver holds two " << n << " x " << n
-                                     << " matrices; above 6000 DOFs use 'Eigensolver' = Anasazi");
-  std::vector<double> A = gatherDense(*full.K), B = gatherDense(*full.M), w(static_cast<std::size_t>(n));
-  const int itype = 1;
-  int lwork = -1, liwork = -1, info = 0, iw = 0;
-  double ww = 0;
-  dsygvd_(&itype, "V", "U", &n, A.data(), &n, B.data(), &n, w.data(), &ww, &lwork, &iw, &liwork, &info);
-  lwork = static_cast<int>(ww);
-  liwork = iw;
-  std::vector<double> work(static_cast<std::size_t>(lwork));
-  std::vector<int> iwork(static_cast<std::size_t>(liwork));
-  dsygvd_(&itype, "V", "U", &n, A.data(), &n, B.data(), &n, w.data(), work.data(), &lwork, iwork.data(), &liwork, &info);
-  EPAPHE_REQUIRE(info == 0, "body '" << full.name << "': LAPACK dsygvd failed (info " << info
-                                     << "); use 'Eigensolver' = Anasazi");
-  EigenResult r;
-  r.lambda.assign(w.begin(), w.begin() + count);
-  const auto map = full.K->getRowMap();
-  r.vectors = Teuchos::rcp(new MultiVector(map, static_cast<std::size_t>(count)));
-  auto v = r.vectors->getLocalViewHost(Tpetra::Access::ReadWrite);
-  for (LO l = 0; l < static_cast<LO>(map->getNodeNumElements()); ++l) {
-    const GO g = map->getGlobalElement(l);
-    for (int k = 0; k < count; ++k) v(l, k) = A[static_cast<std::size_t>(k) * n + g];
-  }
-  return r;
-}
-
 /// Mode selection by participation: of the candidate modes, columns [first, first + count) of V
 /// (M-orthonormal, ascending frequency), the `keep` with the largest generalized force under a unit
 /// load along `dir` on every retained node, r_k = sum over the retained nodes of phi_k(node) . dir:
@@ -673,7 +637,8 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   eo.count = candidates + nRigid;
   eo.shift = -sigma;
   eo.tolerance = opt.eigenTolerance;
-  EigenResult er = opt.denseEigen ? denseLowestEigenpairs(full, eo.count) : lowestEigenpairs(full.K, full.M, *factor, eo);
+  EigenResult er = opt.denseEigen ? denseLowestEigenpairs(*full.K, *full.M, eo.count, body)
+                                  : lowestEigenpairs(full.K, full.M, *factor, eo);
   if (candidates > m) {  // keep the m the contact's load excites most (selectByParticipation)
     std::vector<std::size_t> cols(static_cast<std::size_t>(nRigid));
     std::iota(cols.begin(), cols.end(), std::size_t{0});
