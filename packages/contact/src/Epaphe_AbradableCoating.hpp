@@ -47,35 +47,40 @@ struct CoatingMaterial {
   static CoatingMaterial fromParameters(const Teuchos::ParameterList& pl, const std::string& where);
 };
 
-namespace coating {
+/// One element's law (its surface's t, E, sigma_Y, H and its face area A), copied by value in kernels.
+struct ElementLaw {
+  double t = 0, E = 0, sY = 0, H = 0, A = 0;
 
-/// Stress (Pa, compression positive) of an element of thickness t at compression delta from its
-/// unworn free end, plastic shortening up: the return mapping above, without changing the state.
-/// delta is capped at t (the rigid surface behind); no contact (delta <= up) gives 0.
-KOKKOS_INLINE_FUNCTION double stress(double t, double E, double sY, double H, double delta, double up) {
-  if (!(t > 0.0)) return 0.0;
-  if (delta > t) delta = t;
-  const double trial = E * (delta - up) / t;
-  if (trial <= 0.0) return 0.0;
-  if (trial <= sY + H * up / t) return trial;
-  return E * (H * delta + sY * t) / (t * (E + H));
-}
+  /// The current yield stress sigma_y(u_p) = sigma_Y + H u_p / t is not reached at penetration p
+  /// beyond the worn front (compression u_p + p): the elastic branch.
+  KOKKOS_INLINE_FUNCTION bool elastic(double p, double up) const { return E * p / t <= sY + H * up / t; }
 
-/// The plastic shortening after the element reached compression delta (capped at t) from up.
-KOKKOS_INLINE_FUNCTION double plasticShortening(double t, double E, double sY, double H, double delta, double up) {
-  if (!(t > 0.0)) return 0.0;
-  if (delta > t) delta = t;
-  const double next = (E * delta - sY * t) / (E + H);
-  return next > up ? next : up;
-}
+  /// Stress (Pa, compression positive) at compression delta from the unworn free end, plastic
+  /// shortening up: the return mapping above, without changing the state. delta is capped at t (the
+  /// rigid surface behind); no contact (delta <= up) gives 0.
+  KOKKOS_INLINE_FUNCTION double stress(double delta, double up) const {
+    if (!(t > 0.0)) return 0.0;
+    if (delta > t) delta = t;
+    const double trial = E * (delta - up) / t;
+    if (trial <= 0.0) return 0.0;
+    if (trial <= sY + H * up / t) return trial;
+    return E * (H * delta + sY * t) / (t * (E + H));
+  }
 
-/// Plastic work (J / m^2 of face) of the increment up0 -> up1 (>= up0): the yield stress integrated.
-KOKKOS_INLINE_FUNCTION double dissipation(double t, double sY, double H, double up0, double up1) {
-  if (!(t > 0.0) || !(up1 > up0)) return 0.0;
-  return sY * (up1 - up0) + H * (up1 * up1 - up0 * up0) / (2.0 * t);
-}
+  /// The plastic shortening after the element reached compression delta (capped at t) from up.
+  KOKKOS_INLINE_FUNCTION double plasticShortening(double delta, double up) const {
+    if (!(t > 0.0)) return 0.0;
+    if (delta > t) delta = t;
+    const double next = (E * delta - sY * t) / (E + H);
+    return next > up ? next : up;
+  }
 
-}  // namespace coating
+  /// Plastic work (J) of the increment up0 -> up1 (>= up0): the yield force integrated.
+  KOKKOS_INLINE_FUNCTION double dissipation(double up0, double up1) const {
+    if (!(t > 0.0) || !(up1 > up0)) return 0.0;
+    return A * (sY * (up1 - up0) + H * (up1 * up1 - up0 * up0) / (2.0 * t));
+  }
+};
 
 /// Every coated surface's elements, concatenated; copied by value into kernels. Per surface s:
 /// law(s) = {t, E, sigma_Y, H}, grid(s) = {n_u, n_v, first element} (n_u = 0: no coating).
@@ -94,6 +99,11 @@ struct CoatingViews {
     i = i < 0 ? 0 : (i >= nu ? nu - 1 : i);
     j = j < 0 ? 0 : (j >= nv ? nv - 1 : j);
     return grid(s, 2) + i * nv + j;
+  }
+  /// Element e's law.
+  KOKKOS_INLINE_FUNCTION ElementLaw elementLaw(int e) const {
+    const int s = surface(e);
+    return ElementLaw{law(s, 0), law(s, 1), law(s, 2), law(s, 3), area(e)};
   }
   /// How far surface s's profile lies in front of the surface at element e: t - u_p (0 without one).
   KOKKOS_INLINE_FUNCTION double offset(int s, int e) const { return e < 0 ? 0.0 : law(s, 0) - wear(e); }

@@ -33,8 +33,8 @@ double CoatingContact::addedStiffness() const {
   if (!penalty_) return 0.0;  // Lagrange: the coating's compliance is in the solve (implicit)
   double k = kp_;
   for (int e = 0; e < coat_.numElements(); ++e) {
-    const int s = coat_.surface(e);
-    if (coat_.law(s, 0) > 0.0) k = std::max(k, coat_.area(e) * coat_.law(s, 1) / coat_.law(s, 0));
+    const ElementLaw L = coat_.elementLaw(e);
+    if (L.t > 0.0) k = std::max(k, L.A * L.E / L.t);
   }
   return k;
 }
@@ -57,13 +57,13 @@ void CoatingContact::setRows(const ContactStepViews& v, const Kokkos::View<int*>
           row(k, 2) = penalty ? kp * (-g) : -g;
           return;
         }
-        const int s = c.surface(e);
-        const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), A = c.area(e), up = c.wear(e);
+        const ElementLaw L = c.elementLaw(e);
+        const double t = L.t, E = L.E, A = L.A, up = c.wear(e);
         if (penalty) {  // the element's force at the predicted penetration; the penalty spring past it
           const double delta = up - g;
           row(k, 0) = 0.0;
           row(k, 1) = 1.0;
-          row(k, 2) = A * coating::stress(t, E, sY, H, delta, up) + (delta > t ? kp * (delta - t) : 0.0);
+          row(k, 2) = A * L.stress(delta, up) + (delta > t ? kp * (delta - t) : 0.0);
           return;
         }
         if (branch(k) == kElastic) {
@@ -71,7 +71,7 @@ void CoatingContact::setRows(const ContactStepViews& v, const Kokkos::View<int*>
           row(k, 1) = t / (A * E);
           row(k, 2) = -g;
         } else if (branch(k) == kPlastic) {
-          const double kt = A * E * H / (t * (E + H)), l0 = A * E * sY / (E + H);
+          const double kt = A * E * L.H / (t * (E + L.H)), l0 = A * E * L.sY / (E + L.H);
           row(k, 0) = kt;
           row(k, 1) = 1.0;
           row(k, 2) = kt * (up - g) + l0;
@@ -127,18 +127,18 @@ int CoatingContact::classify(const ContactStepViews& v, const Kokkos::View<int*>
           branch(k) = kRigid;
           return;
         }
-        const int s = c.surface(e);
-        const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), up = c.wear(e);
+        const ElementLaw L = c.elementLaw(e);
+        const double t = L.t, up = c.wear(e);
         const double pen = guess ? -gap(k) : p(k);
         int next;
         const bool crushedNow = !guess && branch(k) == kRigid;
         if (crushedNow) {
-          const double holds = c.area(e) * coating::stress(t, E, sY, H, t, up);
-          next = force(k) < holds ? (E * (t - up) / t <= sY + H * up / t ? kElastic : kPlastic) : kRigid;
+          const double holds = L.A * L.stress(t, up);
+          next = force(k) < holds ? (L.elastic(t - up, up) ? kElastic : kPlastic) : kRigid;
         } else if (!(t > 0.0) || pen >= t - up) {
           next = kRigid;
         } else {
-          next = E * pen / t <= sY + H * up / t ? kElastic : kPlastic;
+          next = L.elastic(pen, up) ? kElastic : kPlastic;
         }
         if (next != branch(k)) ++n;
         branch(k) = next;
@@ -160,18 +160,17 @@ void CoatingContact::enforce(const ContactStepViews& v, std::vector<int>& active
     lastBranchPasses_ = 1;
     return;
   }
-  classify(v, v.upload(active), static_cast<int>(active.size()), true);
+  auto act = v.upload(active);
+  classify(v, act, static_cast<int>(active.size()), true);
   for (int pass = 0;; ++pass) {
-    const auto act = v.upload(active);
-    const int nA = static_cast<int>(active.size());
-    setRows(v, act, nA);
+    setRows(v, act, static_cast<int>(active.size()));
     inner_->enforce(v, active, q, qn);  // may release nodes: `active` shrinks
     lastBranchPasses_ = pass + 1;
     if (active.empty()) break;
-    const auto kept = v.upload(active);
-    const int nK = static_cast<int>(active.size());
-    penetrations(v, kept, nK);
-    if (pass + 1 == kMaxPasses || classify(v, kept, nK, false) == 0) break;
+    act = v.upload(active);  // the nodes kept, for the classification and the next pass
+    const int nA = static_cast<int>(active.size());
+    penetrations(v, act, nA);
+    if (pass + 1 == kMaxPasses || classify(v, act, nA, false) == 0) break;
   }
 }
 
@@ -206,11 +205,10 @@ void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& a
           upNext(a) = -1.0;
           return;
         }
-        const int s = c.surface(e);
-        const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), up = c.wear(e);
-        const double delta = up + (p(k) > 0.0 ? p(k) : 0.0);
-        upNext(a) = coating::plasticShortening(t, E, sY, H, delta, up);
-        sigma(a) = coating::stress(t, E, sY, H, delta, up);
+        const ElementLaw L = c.elementLaw(e);
+        const double up = c.wear(e), delta = up + (p(k) > 0.0 ? p(k) : 0.0);
+        upNext(a) = L.plasticShortening(delta, up);
+        sigma(a) = L.stress(delta, up);
       });
   // then the elements, in node order (two nodes on one element: the larger shortening), and the energies
   forEach(
@@ -218,12 +216,12 @@ void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& a
         double elastic = 0.0;
         for (int a = 0; a < nA; ++a) {
           if (upNext(a) < 0.0) continue;
-          const int e = element(act(a)), s = c.surface(e);
-          const double t = c.law(s, 0), E = c.law(s, 1), sY = c.law(s, 2), H = c.law(s, 3), A = c.area(e);
+          const int e = element(act(a));
+          const ElementLaw L = c.elementLaw(e);
           const double up0 = c.wear(e), up1 = upNext(a) > up0 ? upNext(a) : up0;
-          energy(0) += A * coating::dissipation(t, sY, H, up0, up1);
+          energy(0) += L.dissipation(up0, up1);
           c.wear(e) = up1;
-          elastic += A * t * sigma(a) * sigma(a) / (2.0 * E);
+          elastic += L.A * L.t * sigma(a) * sigma(a) / (2.0 * L.E);
         }
         energy(1) = elastic;
       });

@@ -10,7 +10,7 @@ namespace epaphe {
 
 struct CoatingOutput::Coated {
   int surface = 0, first = 0, nu = 0, nv = 0;
-  std::string group;
+  std::string name, group;  // the surface's name, /coating/<name>
   std::vector<double> angle, axial, record;
   std::unique_ptr<io::Series> time, wear;
 };
@@ -35,7 +35,8 @@ CoatingOutput::CoatingOutput(io::Hdf5File& file, SurfaceContact& contact, const 
     c->nu = cv.grid(s, 0);
     c->nv = cv.grid(s, 1);
     c->first = cv.grid(s, 2);
-    c->group = "/coating/" + cs.surface->name();
+    c->name = cs.surface->name();
+    c->group = "/coating/" + c->name;
     coatingCentres(*cs.surface, cs.coating, cs.axis.data(), cs.center.data(), c->angle, c->axial);
     if (fresh) {
       file.writeDoubles(c->group + "/angle", c->angle);
@@ -87,7 +88,7 @@ void CoatingOutput::writeMesh(const BSplineSurface& surface, const CoatingMateri
 
 std::vector<std::string> CoatingOutput::surfaces() const {
   std::vector<std::string> names;
-  for (const auto& c : coated_) names.push_back(c->group.substr(9));  // "/coating/" + name
+  for (const auto& c : coated_) names.push_back(c->name);
   return names;
 }
 
@@ -133,7 +134,7 @@ void CoatingOutput::endRun(ExplicitLoop& loop) {
       file_.writeDoubles(c->group + "/harmonic_angles", w.harmonicAngles);
     }
     std::snprintf(buf, sizeof buf, "coating '%s': max wear %.4g um, plastic dissipation %.4g J, %d wear lobe(s)",
-                  c->group.substr(9).c_str(), 1e6 * w.maxWear, dissipation, w.count);
+                  c->name.c_str(), 1e6 * w.maxWear, dissipation, w.count);
     std::string line = buf;
     for (std::size_t i = 0; i < w.angles.size() && i < 24; ++i) {
       std::snprintf(buf, sizeof buf, "%s%.1f", i == 0 ? " at " : ", ", w.angles[i] * 180.0 / M_PI);
