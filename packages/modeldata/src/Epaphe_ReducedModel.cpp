@@ -105,7 +105,7 @@ std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vec
   int info = 0, lwork = -1, liwork = -1, iquery = 0;
   double query = 0;
   // divide and conquer (dsygvd): with the vectors, 4 times faster than dsygv's QR iteration (measured:
-  // 0.40 against 1.56 s on 1212 DOFs, one thread)
+  // LAPACK's two drivers through SciPy on a random 1212 x 1212 pair, one thread: 0.40 against 1.56 s)
   dsygvd_(&itype, &jobz, "U", &n, A.data(), &n, B.data(), &n, w.data(), &query, &lwork, &iquery, &liwork, &info);
   lwork = static_cast<int>(query);
   liwork = iquery;
