@@ -58,6 +58,17 @@ BodyOperator BodyOperator::diagonal(const std::vector<double>& d, const std::str
   return op;
 }
 
+BodyOperator BodyOperator::denseOrDiagonal(const std::vector<double>& a, int n, const std::string& label) {
+  std::vector<double> d(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double v = a[static_cast<std::size_t>(j) * n + i];
+      if (i == j) d[i] = v;
+      else if (v != 0.0) return dense(a, n, label);
+    }
+  return diagonal(d, label);
+}
+
 std::size_t BodyOperator::bytes() const {
   switch (kind_) {
     case Kind::Dense: return dense_.span() * sizeof(double);
@@ -112,6 +123,35 @@ void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const 
     }
     case Kind::None:
       throw Error("BodyOperator: applying an empty operator");
+  }
+}
+
+void BodyOperator::apply2(const DenseMatrix& x, const DenseMatrix& y) const {
+  const int n = static_cast<int>(y.extent(0));
+  switch (kind_) {
+    case Kind::Dense: {
+      // as apply(): a block of rows per thread when it pays, each one dgemm on its rows
+      const int T = Kokkos::DefaultHostExecutionSpace().concurrency();
+      const long ns = static_cast<long>(dense_.span() * sizeof(double) / 50);
+      const double* A = dense_.data();
+      const double* xv = x.data();
+      double* yv = y.data();
+      const int ldx = static_cast<int>(x.stride(1)), ldy = static_cast<int>(y.stride(1));
+      forEach("epaphe::dynamics::gemm2", T, ns / T, [=](const int t) {
+        const int r0 = static_cast<int>(static_cast<long>(n) * t / T);
+        const int r1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
+        if (r1 > r0)
+          Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, r1 - r0, 2, n, 1.0, A + r0, n, xv,
+                                            ldx, 0.0, yv + r0, ldy);
+      });
+      break;
+    }
+    case Kind::Sparse:
+    case Kind::Diagonal:
+    case Kind::None:
+      for (int c = 0; c < 2; ++c)
+        apply(1.0, Kokkos::subview(x, Kokkos::ALL, c), 0.0, Kokkos::subview(y, Kokkos::ALL, c));
+      break;
   }
 }
 
@@ -407,7 +447,7 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     K_ = BodyOperator::dense(model.K, n, "epaphe::dynamics::K");   // = K_res + diag(Kmid)
     Kmid_ = BodyOperator::diagonal(o.Kmid, "epaphe::dynamics::Kmid");
     Kres_ = BodyOperator::dense(Kres, n, "epaphe::dynamics::Kres");
-    M_ = BodyOperator::dense(model.M, n, "epaphe::dynamics::M");
+    M_ = BodyOperator::denseOrDiagonal(model.M, n, "epaphe::dynamics::M");   // diag(0, I)
     D_ = BodyOperator::dense(o.D, n, "epaphe::dynamics::D");
     P_ = BodyOperator::dense(o.P, n, "epaphe::dynamics::P");
     boundary_ = model.boundarySize();
@@ -437,6 +477,8 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
   Pf_ = DenseVector("epaphe::dynamics::Pf", n);
   tmp_ = DenseVector("epaphe::dynamics::tmp", n);
   tmp2_ = DenseVector("epaphe::dynamics::tmp2", n);
+  pair_ = DenseMatrix("epaphe::dynamics::pair", n, 2);
+  image_ = DenseMatrix("epaphe::dynamics::image", n, 2);
 }
 
 Flexibility CentralDifference::flexibility() const {
@@ -519,6 +561,53 @@ double CentralDifference::externalWorkIncrement(const DenseVector& qnp1, const D
 double CentralDifference::strain(const DenseVector& q) const {
   K_.apply(1.0, q, 0.0, tmp_);
   return 0.5 * epaphe::dot(q, tmp_);
+}
+
+CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn, const DenseVector& qnp1,
+                                                          const DenseVector& v) const {
+  const int n = static_cast<int>(qn.extent(0));
+  double* X = pair_.data();
+  const double* Y = image_.data();
+  const double* a = qn.data();
+  const double* b = qnp1.data();
+  const double* w = v.data();
+  auto dotColumn = [n](const double* x, const double* y) {
+    double s = 0.0;
+    for (int i = 0; i < n; ++i) s += x[i] * y[i];
+    return s;
+  };
+  EnergyTerms e;
+  // M [(q_{n+1} - q_n) / h, v]
+  for (int i = 0; i < n; ++i) {
+    X[i] = (b[i] - a[i]) / h_;
+    X[n + i] = w[i];
+  }
+  M_.apply2(pair_, image_);
+  const double kinHalf = 0.5 * dotColumn(X, Y);
+  e.kinetic = 0.5 * dotColumn(X + n, Y + n);
+  // K (or K_res) [q_n, q_{n+1}]
+  for (int i = 0; i < n; ++i) {
+    X[i] = a[i];
+    X[n + i] = b[i];
+  }
+  if (!residual_) {
+    K_.apply2(pair_, image_);
+    e.total = kinHalf + 0.5 * dotColumn(a, Y + n);
+    e.strain = 0.5 * dotColumn(a, Y);
+    return e;
+  }
+  // massless boundary: K = K_res + diag(Kmid); E_{n+1/2} as in halfStepEnergy()
+  Kres_.apply2(pair_, image_);
+  const double* km = Kmid_.diagonalEntries().data();
+  double mid = 0.0, own = 0.0;
+  for (int i = 0; i < n; ++i) {
+    mid += a[i] * km[i] * b[i];
+    own += a[i] * km[i] * a[i];
+  }
+  const double resN = dotColumn(a, Y), resN1 = dotColumn(b, Y + n);
+  e.total = kinHalf + 0.5 * mid + 0.25 * (resN + resN1);
+  e.strain = 0.5 * (resN + own);
+  return e;
 }
 
 double CentralDifference::kinetic(const DenseVector& v) const {

@@ -28,10 +28,11 @@ void EnergyMonitor::afterCorrect(ExplicitLoop& loop) {
   s.contactWork = acc.contactWork;
   for (std::size_t b = 0; b < loop.bodies().size(); ++b) {
     const CentralDifference& cd = *loop.bodies()[b].integrator;
-    const DenseVector q = loop.part(loop.current(), b);
-    s.kinetic += cd.kinetic(loop.velocity(b));
-    s.total += cd.halfStepEnergy(q, loop.part(loop.next(), b));
-    s.strain += cd.strain(q);
+    const CentralDifference::EnergyTerms e =
+        cd.energies(loop.part(loop.current(), b), loop.part(loop.next(), b), loop.velocity(b));
+    s.kinetic += e.kinetic;
+    s.total += e.total;
+    s.strain += e.strain;
     s.externalWork += acc.externalWork[b];
     s.damping += acc.damping[b];
     s.initial += e0_[b];
