@@ -16,6 +16,7 @@ CoulombFriction::CoulombFriction(double mu, bool penalty, double kp, double h, i
                  "contact: friction coefficient mu = " << mu_ << "; Coulomb friction needs a finite value > 0");
   basis_ = Kokkos::View<double* [3][3]>("epaphe::contact::basis", nc);
   disp_ = Kokkos::View<double* [3]>("epaphe::contact::motion", nc);
+  local_ = Kokkos::View<double** [3][3]>("epaphe::contact::local_flexibility", nc, nc);
   state_ = Kokkos::View<int*>("epaphe::contact::state", nc);
   nextState_ = Kokkos::View<int*>("epaphe::contact::next_state", nc);
   returns_ = Kokkos::View<int*>("epaphe::contact::slide_to_stick", nc);
@@ -59,17 +60,20 @@ void CoulombFriction::enforce(const ContactStepViews& v, std::vector<int>& activ
 }
 
 namespace {
-/// Column vectors of node k's unknowns (lambda, s1, s2): stuck, force lambda n + s1 e1 + s2 e2;
-/// sliding, lambda (n + mu t) and no tangential unknowns (their rows are s1 = s2 = 0).
+/// Node k's unknowns (lambda, s1, s2) act along columns c_j in its own basis (n, e1, e2): stuck,
+/// the force lambda n + s1 e1 + s2 e2, c_j = the unit vectors; sliding, lambda (n + mu t) and no
+/// tangential unknowns (their rows are s1 = s2 = 0): c_0 = (1 + mu t.n, mu t.e1, mu t.e2) (t is
+/// tangential, t.n = 0 to round-off, kept so that c_0 is n + mu t exactly). Returns whether it slides.
 template <class B, class T, class S>
-KOKKOS_INLINE_FUNCTION void frictionColumns(const B& basis, const T& tangent, const S& state, int k, double mu,
-                                            int slide, double c[3][3]) {
-  const bool sl = state(k) == slide;
-  for (int e = 0; e < 3; ++e) {
-    c[0][e] = basis(k, 0, e) + (sl ? mu * tangent(k, e) : 0.0);
-    c[1][e] = sl ? 0.0 : basis(k, 1, e);
-    c[2][e] = sl ? 0.0 : basis(k, 2, e);
+KOKKOS_INLINE_FUNCTION bool slidingColumn(const B& basis, const T& tangent, const S& state, int k, double mu,
+                                          int slide, double c0[3]) {
+  if (state(k) != slide) return false;
+  for (int i = 0; i < 3; ++i) {
+    double s = 0.0;
+    for (int e = 0; e < 3; ++e) s += tangent(k, e) * basis(k, i, e);
+    c0[i] = (i == 0 ? 1.0 : 0.0) + mu * s;
   }
+  return true;
 }
 }  // namespace
 
@@ -177,6 +181,7 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
   int bestChanges = -1, passes = 0, releases = 0;
   bool restored = false;
   int nA = static_cast<int>(activeH.size());
+  localFlexibility(v, v.upload(activeH), nA);   // releases only remove nodes: it covers every pass
   for (;;) {
     const auto active = v.upload(activeH);
     countUnknowns(activeH, nA);
@@ -206,17 +211,45 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
   storeForces(v, activeH, nA);
 }
 
+void CoulombFriction::localFlexibility(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
+  const auto C = v.C;
+  const auto basis = basis_;
+  const auto T = local_;
+  forEach(
+      "epaphe::contact::friction_local", nA, 60L * nA, KOKKOS_LAMBDA(const int a) {
+        const int ka = active(a);
+        for (int bb = 0; bb < nA; ++bb) {
+          const int kb = active(bb);
+          double G[3][3];  // G[d][j] = (C_ab e_j,b)_d
+          for (int d = 0; d < 3; ++d)
+            for (int j = 0; j < 3; ++j) {
+              double s = 0.0;
+              for (int e = 0; e < 3; ++e) s += C(ka, kb, d, e) * basis(kb, j, e);
+              G[d][j] = s;
+            }
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              double s = 0.0;
+              for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
+              T(ka, kb, i, j) = s;
+            }
+        }
+      });
+  fence();
+}
+
 void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
   // Only the unknowns that are not known beforehand: lambda_a unless the normal law is penalty
   // (lambda_a = k_p (-g*_a), eq. 2.34), s1_a and s2_a only while node a sticks (a sliding node's
   // force is lambda_a (n_a + mu t_a), its tangential unknowns are zero). The known forces move to
   // the right-hand side. Node a's first unknown is unknownOffset_(a): a step whose active nodes
-  // all slide solves nA (Lagrange) or no unknowns instead of 3 nA.
+  // all slide solves nA (Lagrange) or no unknowns instead of 3 nA. Row i of node a, column j of
+  // node b: e_i,a^T C_ab c_j,b = (T_ab c_j,b)_i, c_j,b in b's basis (slidingColumn).
   const bool penalty = penalty_;
   const double mu = mu_, kp = kp_;
   constexpr int slide = kSlide;
   const auto off = unknownOffset_;
-  const auto C = v.C;
+  const auto T = local_;
   const auto basis = basis_;
   const auto tangent = v.tangent;
   const auto state = state_;
@@ -227,7 +260,7 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   const bool rows = v.rows;  // a normal law's own rows (v.row): alpha, beta, gamma; penalty: {0, 1, force}
   const auto row = v.row;
   forEach(
-      "epaphe::contact::friction_matrix", nA, 60L * nA, KOKKOS_LAMBDA(const int a) {
+      "epaphe::contact::friction_matrix", nA, 20L * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
         const bool sl = state(ka) == slide;
         const int i0 = penalty ? 1 : 0, i1 = sl ? 1 : 3;  // node a's rows: i in [i0, i1)
@@ -237,22 +270,14 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
           for (int d = 0; d < 3; ++d) b[i] -= basis(ka, i, d) * disp(ka, d);
         for (int bb = 0; bb < nA; ++bb) {
           const int kb = active(bb);
-          const bool slb = state(kb) == slide;
+          double c0[3];
+          const bool slb = slidingColumn(basis, tangent, state, kb, mu, slide, c0);
           const int j1 = slb ? 1 : 3;  // node b's columns: j in [j0, j1), j0 as i0
-          double c[3][3];
-          frictionColumns(basis, tangent, state, kb, mu, slide, c);
-          double G[3][3];  // G[d][j] = (F_ab c_j)_d
-          for (int d = 0; d < 3; ++d)
-            for (int j = 0; j < j1; ++j) {
-              double s = 0.0;
-              for (int e = 0; e < 3; ++e) s += C(ka, kb, d, e) * c[j][e];
-              G[d][j] = s;
-            }
           for (int i = i0; i < i1; ++i) {
             const int r = off(a) + i - i0;
             for (int j = 0; j < j1; ++j) {
-              double s = 0.0;
-              for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
+              const double s = slb ? T(ka, kb, i, 0) * c0[0] + T(ka, kb, i, 1) * c0[1] + T(ka, kb, i, 2) * c0[2]
+                                   : T(ka, kb, i, j);
               if (j < i0)
                 b[i] -= s * (rows ? row(kb, 2) : kp * (-gap(kb)));  // node b's known normal force
               else if (i == 0 && rows)
@@ -315,7 +340,7 @@ bool CoulombFriction::releasePulled(std::vector<int>& activeH, int& nA, int& rel
 int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
   // classify: proposed next state and direction per active node
   const double mu = mu_;
-  const auto C = v.C;
+  const auto T = local_;
   const auto basis = basis_;
   const auto tangent = v.tangent;
   const auto state = state_;
@@ -327,7 +352,7 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
   const auto returns = returns_;
   int changes = 0;
   reduce(
-      "epaphe::contact::friction_classify", nA, 40L * nA,
+      "epaphe::contact::friction_classify", nA, 15L * nA,
       KOKKOS_LAMBDA(const int a, int& count) {
         const int ka = active(a);
         const double lambda = sol(3 * a);
@@ -346,31 +371,30 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
             for (int e = 0; e < 3; ++e) t[e] = s[e] / ss;
           }
         } else {
-          // w = d_a + sum_b F_ab f_b, its tangential part
-          double w[3];
-          for (int e = 0; e < 3; ++e) w[e] = disp(ka, e);
+          // the tangential part of w = d_a + sum_b F_ab f_b in a's basis, w_i = e_i,a^T d_a +
+          // sum_b (T_ab f_b)_i, f_b in b's basis: (lambda, s1, s2) stuck, lambda c_0 sliding
+          double w1 = 0.0, w2 = 0.0;
+          for (int e = 0; e < 3; ++e) {
+            w1 += disp(ka, e) * basis(ka, 1, e);
+            w2 += disp(ka, e) * basis(ka, 2, e);
+          }
           for (int b = 0; b < nA; ++b) {
             const int kb = active(b);
-            double c[3][3];
-            frictionColumns(basis, tangent, state, kb, mu, slide, c);
             double f[3];
-            for (int e = 0; e < 3; ++e)
-              f[e] = sol(3 * b) * c[0][e] + sol(3 * b + 1) * c[1][e] + sol(3 * b + 2) * c[2][e];
-            for (int d = 0; d < 3; ++d)
-              for (int e = 0; e < 3; ++e) w[d] += C(ka, kb, d, e) * f[e];
+            if (slidingColumn(basis, tangent, state, kb, mu, slide, f)) {
+              for (int j = 0; j < 3; ++j) f[j] *= sol(3 * b);
+            } else {
+              for (int j = 0; j < 3; ++j) f[j] = sol(3 * b + j);
+            }
+            for (int j = 0; j < 3; ++j) {
+              w1 += T(ka, kb, 1, j) * f[j];
+              w2 += T(ka, kb, 2, j) * f[j];
+            }
           }
           // radial return: the tangential force that would stop the node, the others' forces
           // fixed, s_trial = mu lambda t - K^{-1} w_t, K_ij = e_i^T F_aa e_j (2 x 2); inside the
           // cone it sticks, outside it slides along s_trial (stable when w is small)
-          double w1 = 0.0, w2 = 0.0, K[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
-          for (int e = 0; e < 3; ++e) {
-            w1 += w[e] * basis(ka, 1, e);
-            w2 += w[e] * basis(ka, 2, e);
-          }
-          for (int i = 0; i < 2; ++i)
-            for (int j = 0; j < 2; ++j)
-              for (int d = 0; d < 3; ++d)
-                for (int e = 0; e < 3; ++e) K[i][j] += basis(ka, 1 + i, d) * C(ka, ka, d, e) * basis(ka, 1 + j, e);
+          const double K[2][2] = {{T(ka, ka, 1, 1), T(ka, ka, 1, 2)}, {T(ka, ka, 2, 1), T(ka, ka, 2, 2)}};
           const double det = K[0][0] * K[1][1] - K[0][1] * K[1][0];
           const double d1 = -(K[1][1] * w1 - K[0][1] * w2) / det, d2 = -(-K[1][0] * w1 + K[0][0] * w2) / det;
           double st[3], ss = 0.0;

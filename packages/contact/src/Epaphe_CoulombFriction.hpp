@@ -34,6 +34,9 @@ private:
   // friction system MCf_ and right-hand side rhs_ of the current states, in the unknowns that are
   // not known beforehand (unknownOffset_)
   void assembleSystem(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);
+  // T_ab = B_a C_ab B_b^T of the active pairs, B_a the rows (n_a, e1_a, e2_a): C in the nodes' own
+  // bases, once per step (the passes read it instead of turning C_ab into the bases each time)
+  void localFlexibility(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);
   // solves it in place (ld: MCf_'s leading dimension); solH_, then sol_, hold (lambda, s1, s2) of
   // every active node, the known ones included
   void solveSystem(const ContactStepViews& v, const std::vector<int>& activeH, int nA, int ld);
@@ -58,6 +61,7 @@ private:
   int lastPasses_ = 0;
   Kokkos::View<double* [3][3]> basis_;    // per node: rows n_a, e1_a, e2_a (tangent-plane basis)
   Kokkos::View<double* [3]> disp_;        // d_a = u_a(q*) - u_a(q_n)
+  Kokkos::View<double** [3][3]> local_;   // T_ab (localFlexibility), indexed like C
   Kokkos::View<int*> state_, nextState_, bestState_;   // kStick, kSlide
   Kokkos::View<double* [3]> nextTangent_, bestTangent_;
   Kokkos::View<int*> returns_;
