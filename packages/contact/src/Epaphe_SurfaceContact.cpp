@@ -355,17 +355,25 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     const auto force = force_;
     const auto act = v_.upload(activeH_);   // ascending: the sums below run in node order
     const int nA = numActive_;
+    // One block of rows per thread, the active nodes' columns of Y walked down the block (Y is
+    // column-major: a row-by-row walk across the columns read one cache line per entry, 117 us a
+    // pass on cube-flexible-rings' 1099 rows x 36 nodes); each dq_i sums its terms in node order as
+    // before, so the bits do not change.
+    const int T = Kokkos::DefaultHostExecutionSpace().concurrency(), n = static_cast<int>(q.extent(0));
     forEach(
-        "epaphe::contact::correction", q.extent(0), 8L * nA, KOKKOS_LAMBDA(const int i) {
-          const int r = F.denseRow(i);
-          double s = 0.0;
-          for (int a = 0; r >= 0 && a < nA; ++a) {
+        "epaphe::contact::correction", T, 3L * n * nA / T, KOKKOS_LAMBDA(const int t) {
+          const int i0 = static_cast<int>(static_cast<long>(n) * t / T), i1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
+          for (int i = i0; i < i1; ++i) dq(i) = 0.0;
+          for (int a = 0; a < nA; ++a) {
             const int k = act(a);
             const double l = force(k);
             if (l == 0.0) continue;
-            s += l * (Y(r, 3 * k) * dir(k, 0) + Y(r, 3 * k + 1) * dir(k, 1) + Y(r, 3 * k + 2) * dir(k, 2));
+            const double d0 = dir(k, 0), d1 = dir(k, 1), d2 = dir(k, 2);
+            for (int i = i0; i < i1; ++i) {
+              const int r = F.denseRow(i);
+              if (r >= 0) dq(i) += l * (Y(r, 3 * k) * d0 + Y(r, 3 * k + 1) * d1 + Y(r, 3 * k + 2) * d2);
+            }
           }
-          dq(i) = s;
         });
     if (F.denseRows < F.size()) {
       const RelativeMotion Dk{entDof_, entW_, entN_, entRot_};
