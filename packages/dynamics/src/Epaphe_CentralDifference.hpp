@@ -171,6 +171,10 @@ private:
   bool forced_ = false;
   bool residual_ = false;    // massless boundary: Kmid_ and Kres_ split K for the energy, D_ the exchange h S
   int boundary_ = 0;         // massless boundary: its DOFs, q's first entries
+  int modes_ = 0;            // massless boundary: the modes, q's last entries
+  std::vector<double> phiB_, ae1_, be1_, w_;   // massless boundary: predict()'s factors (masslessOperators)
+  std::vector<double> modalDamping_, ginv_;     // and dampingIncrement()'s
+  mutable std::vector<double> scratch_;         // 2 nb
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_, Kres_;
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;
