@@ -148,7 +148,10 @@ public:
   bool damped() const { return damped_; }
   /// Bytes of the operators one predict() reads (A, and B when damped): the memory traffic floor of
   /// a step's integration.
-  std::size_t predictBytes() const { return A_.bytes() + (damped_ ? B_.bytes() : 0); }
+  std::size_t predictBytes() const {
+    if (residual_) return (w_.size() + phiB_.size()) * sizeof(double);   // the factors predict() reads
+    return A_.bytes() + (damped_ ? B_.bytes() : 0);
+  }
 
   /// Energy terms of the identity above.
   double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;   // E_{n+1/2}
