@@ -17,6 +17,7 @@ CoulombFriction::CoulombFriction(double mu, bool penalty, double kp, double h, i
   basis_ = Kokkos::View<double* [3][3]>("epaphe::contact::basis", nc);
   disp_ = Kokkos::View<double* [3]>("epaphe::contact::motion", nc);
   local_ = Kokkos::View<double** [3][3]>("epaphe::contact::local_flexibility", nc, nc);
+  column_ = Kokkos::View<double* [3]>("epaphe::contact::sliding_column", nc);
   state_ = Kokkos::View<int*>("epaphe::contact::state", nc);
   nextState_ = Kokkos::View<int*>("epaphe::contact::next_state", nc);
   returns_ = Kokkos::View<int*>("epaphe::contact::slide_to_stick", nc);
@@ -184,7 +185,7 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
   localFlexibility(v, v.upload(activeH), nA);   // releases only remove nodes: it covers every pass
   for (;;) {
     const auto active = v.upload(activeH);
-    countUnknowns(activeH, nA);
+    countUnknowns(v, activeH, nA);
     assembleSystem(v, active, nA);
     solveSystem(v, activeH, nA, ld);
     if (!penalty && releasePulled(activeH, nA, releases, nc)) {  // release the nodes the surface would pull
@@ -246,7 +247,7 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   // all slide solves nA (Lagrange) or no unknowns instead of 3 nA. Row i of node a, column j of
   // node b: e_i,a^T C_ab c_j,b = (T_ab c_j,b)_i, c_j,b in b's basis (slidingColumn).
   const bool penalty = penalty_;
-  const double mu = mu_, kp = kp_;
+  const double kp = kp_;
   constexpr int slide = kSlide;
   const auto off = unknownOffset_;
   const auto T = local_;
@@ -257,6 +258,7 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   const auto gap = v.gap;
   const auto A = MCf_;
   const auto rhs = rhs_;
+  const auto column = column_;
   const bool rows = v.rows;  // a normal law's own rows (v.row): alpha, beta, gamma; penalty: {0, 1, force}
   const auto row = v.row;
   forEach(
@@ -270,8 +272,8 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
           for (int d = 0; d < 3; ++d) b[i] -= basis(ka, i, d) * disp(ka, d);
         for (int bb = 0; bb < nA; ++bb) {
           const int kb = active(bb);
-          double c0[3];
-          const bool slb = slidingColumn(basis, tangent, state, kb, mu, slide, c0);
+          const bool slb = state(kb) == slide;
+          const double c0[3] = {column(kb, 0), column(kb, 1), column(kb, 2)};  // read when sliding
           const int j1 = slb ? 1 : 3;  // node b's columns: j in [j0, j1), j0 as i0
           for (int i = i0; i < i1; ++i) {
             const int r = off(a) + i - i0;
@@ -292,11 +294,15 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   fence();
 }
 
-void CoulombFriction::countUnknowns(const std::vector<int>& activeH, int nA) {
+void CoulombFriction::countUnknowns(const ContactStepViews& v, const std::vector<int>& activeH, int nA) {
   int m = 0;
+  double c0[3];
   for (int a = 0; a < nA; ++a) {
     unknownOffsetH_(a) = m;
     m += (penalty_ ? 0 : 1) + (state_(activeH[a]) == kSlide ? 0 : 2);
+    // this pass's sliding columns, read by every row of the system and by classify()
+    if (slidingColumn(basis_, v.tangent, state_, activeH[a], mu_, kSlide, c0))
+      for (int i = 0; i < 3; ++i) column_(activeH[a], i) = c0[i];
   }
   unknownOffsetH_(nA) = m;
   copy(unknownOffset_, unknownOffsetH_);
@@ -350,6 +356,7 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
   const auto nextState = nextState_;
   const auto nextTangent = nextTangent_;
   const auto returns = returns_;
+  const auto column = column_;
   int changes = 0;
   reduce(
       "epaphe::contact::friction_classify", nA, 15L * nA,
@@ -381,8 +388,8 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
           for (int b = 0; b < nA; ++b) {
             const int kb = active(b);
             double f[3];
-            if (slidingColumn(basis, tangent, state, kb, mu, slide, f)) {
-              for (int j = 0; j < 3; ++j) f[j] *= sol(3 * b);
+            if (state(kb) == slide) {
+              for (int j = 0; j < 3; ++j) f[j] = column(kb, j) * sol(3 * b);
             } else {
               for (int j = 0; j < 3; ++j) f[j] = sol(3 * b + j);
             }

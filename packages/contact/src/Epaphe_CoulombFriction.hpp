@@ -41,7 +41,7 @@ private:
   // every active node, the known ones included
   void solveSystem(const ContactStepViews& v, const std::vector<int>& activeH, int nA, int ld);
   // unknownOffset_ of the current states: per active node its first unknown, [nA] their count
-  void countUnknowns(const std::vector<int>& activeH, int nA);
+  void countUnknowns(const ContactStepViews& v, const std::vector<int>& activeH, int nA);
   // Lagrange: drops the nodes with lambda < 0 from activeH (nA updated); true when any was dropped
   bool releasePulled(std::vector<int>& activeH, int& nA, int& releases, int nc);
   // proposed next state and direction of each active node; returns how many change
@@ -62,6 +62,7 @@ private:
   Kokkos::View<double* [3][3]> basis_;    // per node: rows n_a, e1_a, e2_a (tangent-plane basis)
   Kokkos::View<double* [3]> disp_;        // d_a = u_a(q*) - u_a(q_n)
   Kokkos::View<double** [3][3]> local_;   // T_ab (localFlexibility), indexed like C
+  Kokkos::View<double* [3]> column_;      // a sliding node's column c_0 in its basis (countUnknowns, per pass)
   Kokkos::View<int*> state_, nextState_, bestState_;   // kStick, kSlide
   Kokkos::View<double* [3]> nextTangent_, bestTangent_;
   Kokkos::View<int*> returns_;
