@@ -199,6 +199,7 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
     return ::sqrt(su * su + sv * sv);
   };
 
+  const double xNorm = ::sqrt(dot3(x, x));
   Projection p;
   p.iterations = 0;
   p.converged = false;
@@ -244,39 +245,39 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
       dv /= big;
       big = 1.0;
     }
-    {
+    // The full step's parameters (the line search's first trial).
+    const double un1 = toDomain(cur.u + du, s.nu, s.periodicU);
+    const double vn1 = toDomain(cur.v + dv, s.nv, s.periodicV);
+    const double step1 = stepLength(un1, vn1, du, dv);
+    if (step1 < tol) {
       // The last step, shorter than tol: taken by Taylor's formula instead of a new evaluation. The
       // point, tangents and gap it gives differ from an evaluation at the new parameters by
       // O(step^2) x the surface's second and third derivatives (1e-12 of a patch at tol = 1e-6),
       // and a warm-started projection usually ends here after one or two iterations: it saves one
       // of its two or three evaluations.
-      const double un = toDomain(cur.u + du, s.nu, s.periodicU);
-      const double vn = toDomain(cur.v + dv, s.nv, s.periodicV);
-      const double su = openU ? un - cur.u : du, sv = openV ? vn - cur.v : dv;
-      if (::sqrt(su * su + sv * sv) < tol) {
-        for (int c = 0; c < 3; ++c) {
-          cur.S[c] += cur.Su[c] * su + cur.Sv[c] * sv;
-          cur.Su[c] += cur.Suu[c] * su + cur.Suv[c] * sv;
-          cur.Sv[c] += cur.Suv[c] * su + cur.Svv[c] * sv;
-          cur.d[c] = cur.S[c] - x[c];
-        }
-        cur.u = un;
-        cur.v = vn;
-        cur.f = 0.5 * dot3(cur.d, cur.d);
-        p.converged = true;
-        break;
+      const double su = openU ? un1 - cur.u : du, sv = openV ? vn1 - cur.v : dv;
+      for (int c = 0; c < 3; ++c) {
+        cur.S[c] += cur.Su[c] * su + cur.Sv[c] * sv;
+        cur.Su[c] += cur.Suu[c] * su + cur.Suv[c] * sv;
+        cur.Sv[c] += cur.Suv[c] * su + cur.Svv[c] * sv;
+        cur.d[c] = cur.S[c] - x[c];
       }
+      cur.u = un1;
+      cur.v = vn1;
+      cur.f = 0.5 * dot3(cur.d, cur.d);
+      p.converged = true;
+      break;
     }
     // Line search: halve (at most 30 times) until f does not increase, with a slack for round-off.
     const double slack =
         8.0 * 2.2e-16 *
-        (cur.f + ::sqrt(2.0 * cur.f) * (::sqrt(dot3(x, x)) + ::sqrt(dot3(cur.S, cur.S))));
+        (cur.f + ::sqrt(2.0 * cur.f) * (xNorm + ::sqrt(dot3(cur.S, cur.S))));
     double alpha = 1.0, stepNorm = 0.0;
     bool accepted = false;
     for (int ls = 0; ls <= 30; ++ls) {
-      const double un = toDomain(cur.u + alpha * du, s.nu, s.periodicU);
-      const double vn = toDomain(cur.v + alpha * dv, s.nv, s.periodicV);
-      stepNorm = stepLength(un, vn, alpha * du, alpha * dv);
+      const double un = ls == 0 ? un1 : toDomain(cur.u + alpha * du, s.nu, s.periodicU);
+      const double vn = ls == 0 ? vn1 : toDomain(cur.v + alpha * dv, s.nv, s.periodicV);
+      stepNorm = ls == 0 ? step1 : stepLength(un, vn, alpha * du, alpha * dv);
       evalFoot(s, x, un, vn, trial);
       if (trial.f <= cur.f + slack || (ls == 0 && stepNorm < tol)) {
         accepted = true;
