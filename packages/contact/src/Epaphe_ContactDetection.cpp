@@ -242,7 +242,7 @@ Teuchos::RCP<const Teuchos::ParameterList> ContactDetection::getValidParameters(
   deck::addDouble(*pl, "Edge tolerance", 1e-3, "A node beyond the edge of an open surface by less than this "
                                                "fraction of a patch still touches it (nodes on a shared edge, "
                                                "lateral round-off); farther, it is beyond the surface", 0.0, 1.0);
-  deck::addBool(*pl, "Skip distant nodes", true, "Skip the Newton projection of a node whose last gap exceeds twice "
+  deck::addBool(*pl, "Skip distant nodes", true, "Skip the Newton projection of a node whose last gap exceeds "
                                                  "how far it and the surfaces can have moved since (results "
                                                  "unchanged to round-off; output steps project every node); false "
                                                  "projects every node at every step");
@@ -442,7 +442,11 @@ void ContactDetection::project(bool all, bool refineOnly) {
       double move = ::sqrt(dx);
       for (int s = 0; s < ns; ++s)
         move += ::fabs(v.turn(s, 0)) * (t - v.tLast(k)) * v.turn(s, 7) + (v.travel(s) - v.travelLast(k, s));
-      const double b = v.gLast(k) - 2.0 * move;
+      // The distance to a surface is 1-Lipschitz in the node's position and moves by at most the
+      // surface's own motion: the gap now is at least the last one less `move`, and the node cannot
+      // have crossed the surface (a crossing needs a segment at least gLast long). A lower bound of
+      // the gap, b > 0: out of contact for certain (b is kept for the add passes' refine test).
+      const double b = v.gLast(k) - move;
       if (b > 0.0) {
         v.skipped(k) = 1;
         v.bound(k) = b;

@@ -177,11 +177,11 @@ TEST(ContactDetection, RefineProjectsExactlyTheFlaggedNodes) {
   DenseVector q("q", 6);
   d.detect(q, 0.0, false);
   EXPECT_EQ(d.lastProjected(), 2);  // first step: nothing to skip from
-  q(2) = -0.1;                      // node 0 moves down by 0.1: 0.5 - 2 * 0.1 > 0, still skipped
+  q(2) = -0.1;                      // node 0 moves down by 0.1: 0.5 - 0.1 > 0, still skipped
   d.detect(q, 1e-3, false);
   EXPECT_EQ(d.lastProjected(), 0);
   EXPECT_EQ(d.views().skipped(0), 1);
-  EXPECT_NEAR(d.views().bound(0), 0.3, 1e-14);
+  EXPECT_NEAR(d.views().bound(0), 0.4, 1e-14);   // the last gap less the motion since
   EXPECT_NEAR(d.views().gap(0), 0.5, 1e-14);  // the last projection's
   d.views().refine(0) = 1;
   EXPECT_EQ(d.refine(), 1);
