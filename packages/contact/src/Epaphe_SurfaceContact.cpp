@@ -67,6 +67,10 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   controlColumns();
   initDetection(nodes);
   initWorkViews(nodes, N);
+  // Every surface rigid and F dense: D_k = I on node k's DOFs, so F D_k^T is F's columns at them
+  // and Y need not be built (relativeColumns, the correction read F)
+  directF_ = F_.denseRows == F_.size();
+  for (std::size_t s = 0; s < surfaces_.size(); ++s) directF_ = directF_ && info_(s, 0) < 0;
   enforcement_ = makeContactEnforcement(opt_, nc);
   const CoatingViews& coat = detection_->views().coat;
   if (coat.any()) {  // nodes facing a coated surface follow its element law; the deck's law solves its rows
@@ -360,6 +364,10 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     // pass on cube-flexible-rings' 1099 rows x 36 nodes); each dq_i sums its terms in node order as
     // before, so the bits do not change.
     const int T = Kokkos::DefaultHostExecutionSpace().concurrency(), n = static_cast<int>(q.extent(0));
+    const bool direct = directF_;
+    const auto blocks = blocks_;
+    const auto nodeBlk = nodeBlk_;
+    const auto dof = dof_;
     forEach(
         "epaphe::contact::correction", T, 3L * n * nA / T, KOKKOS_LAMBDA(const int t) {
           const int i0 = static_cast<int>(static_cast<long>(n) * t / T), i1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
@@ -369,6 +377,16 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
             const double l = force(k);
             if (l == 0.0) continue;
             const double d0 = dir(k, 0), d1 = dir(k, 1), d2 = dir(k, 2);
+            if (direct) {  // Y's columns are F's at the node's DOFs, zero outside its body's block
+              const int blk = nodeBlk(k), b0 = blocks(blk, 0), n = blocks(blk, 1);
+              const double* f0 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0) - b0) * n);
+              const double* f1 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 1) - b0) * n);
+              const double* f2 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 2) - b0) * n);
+              const int lo = i0 > b0 ? i0 : b0, hi = i1 < b0 + n ? i1 : b0 + n;
+              for (int i = lo; i < hi; ++i)
+                dq(i) += l * (f0[i - b0] * d0 + f1[i - b0] * d1 + f2[i - b0] * d2);
+              continue;
+            }
             for (int i = i0; i < i1; ++i) {
               const int r = F.denseRow(i);
               if (r >= 0) dq(i) += l * (Y(r, 3 * k) * d0 + Y(r, 3 * k + 1) * d1 + Y(r, 3 * k + 2) * d2);
@@ -607,6 +625,28 @@ void SurfaceContact::relativeColumns() {
   // surface's block are not zero) and T_k on the carried surfaces; then C_ab = D_a Y_b.
   const int nA = numActive_;
   const auto active = v_.upload(activeH_);
+  if (directF_) {  // D_k = I: C_ab = F's block at (node a's DOFs, node b's), 0 across bodies
+    const auto F = F_;
+    const auto blocks = blocks_;
+    const auto nodeBlk = nodeBlk_;
+    const auto dof = dof_;
+    const auto C = C_;
+    forEach(
+        "epaphe::contact::relative_flexibility", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
+          const int ka = active(a), blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
+          const std::size_t start = F.start(blk);
+          for (int b = 0; b < nA; ++b) {
+            const int kb = active(b);
+            const bool same = nodeBlk(kb) == blk;
+            for (int e = 0; e < 3; ++e) {
+              const std::size_t col = start + static_cast<std::size_t>(same ? dof(kb, e) - b0 : 0) * n;
+              for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = same ? F.dense(col + (dof(ka, d) - b0)) : 0.0;
+            }
+          }
+        });
+    fence();
+    return;
+  }
   const auto surf = surf_;
   const auto info = info_;
   const auto entDof = entDof_;

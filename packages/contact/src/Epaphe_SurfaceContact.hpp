@@ -254,6 +254,7 @@ private:
   Kokkos::View<int* [2]> needRange_;
   Kokkos::View<int* [2]>::HostMirror needRangeH_;
   long tRows_ = 0;
+  bool directF_ = false;   // every surface rigid, F dense: C and the correction read F (no Y)
   // per carried surface on a dense block (offset -1 otherwise): F (B_u x B_v) on the block's rows,
   // column (e2, a, b) of the extended control grid (nuE x nvE) at ctrlOff_(s) + ((e2 nuE + a) nvE + b) n
   Kokkos::View<double*> ctrlF_;
