@@ -56,7 +56,7 @@ void CoulombFriction::enforce(const ContactStepViews& v, std::vector<int>& activ
     frictionless_->enforce(v, active, q, qn);
     return;
   }
-  prepare(v, q, *qn);
+  prepare(v, active, q, *qn);
   solve(v, active);
 }
 
@@ -78,7 +78,8 @@ KOKKOS_INLINE_FUNCTION bool slidingColumn(const B& basis, const T& tangent, cons
 }
 }  // namespace
 
-void CoulombFriction::prepare(const ContactStepViews& v, const DenseVector& q, const DenseVector& qn) {
+void CoulombFriction::prepare(const ContactStepViews& v, const std::vector<int>& activeH, const DenseVector& q,
+                              const DenseVector& qn) {
   // Per node: d_a = u_a(q*) - u_a(q_n), the tangent-plane basis (e1, e2) of n_a, and the initial
   // state: sliding against the predicted tangential motion (t = -d_t / |d_t|) when there is one,
   // stuck otherwise.
@@ -98,8 +99,10 @@ void CoulombFriction::prepare(const ContactStepViews& v, const DenseVector& q, c
   const bool warm = warm_;
   const auto prev = prev_;
   const auto prevTangent = prevTangent_;
+  const auto active = v.upload(activeH);
   forEach(
-      "epaphe::contact::friction_prepare", normal.extent(0), 60, KOKKOS_LAMBDA(const int k) {
+      "epaphe::contact::friction_prepare", static_cast<int>(activeH.size()), 60, KOKKOS_LAMBDA(const int a) {
+        const int k = active(a);  // the active nodes only: nothing reads the others' state
         double n[3], dsp[3], dn = 0.0, dd = 0.0, xx = 0.0;
         for (int e = 0; e < 3; ++e) n[e] = normal(k, e);
         D.apply(k, dq, dsp);  // relative motion d_a = D_a (q* - q_n)

@@ -28,7 +28,7 @@ public:
   void reset() override;
 
 private:
-  void prepare(const ContactStepViews& v, const DenseVector& q, const DenseVector& qn);
+  void prepare(const ContactStepViews& v, const std::vector<int>& active, const DenseVector& q, const DenseVector& qn);
   void solve(const ContactStepViews& v, std::vector<int>& active);
   // the phases of one solve (`active`: the uploaded active set, its first nA entries):
   // friction system MCf_ and right-hand side rhs_ of the current states, in the unknowns that are
