@@ -255,7 +255,6 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   const auto off = unknownOffset_;
   const auto T = local_;
   const auto basis = basis_;
-  const auto tangent = v.tangent;
   const auto state = state_;
   const auto disp = disp_;
   const auto gap = v.gap;

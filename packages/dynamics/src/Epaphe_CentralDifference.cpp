@@ -317,13 +317,13 @@ std::string fullModelDampingProblem(const DampingOptions& damping) {
 
 namespace {
 
-/// The massless boundary's operators (ReducedModel::massless(), q = [u_b, eta]), dense n x n,
-/// column-major: A, B and the flexibility P of the common form, D (damping and the exchange below)
-/// and Kmid (the modes' diagonal stiffness).
+/// The massless boundary's operators (ReducedModel::massless(), q = [u_b, eta]): the flexibility P
+/// of the common form (dense n x n, column-major), Kmid (the modes' diagonal stiffness), and the
+/// factors that predict() and dampingIncrement() apply A, B and D by (below).
 struct MasslessOperators {
-  std::vector<double> A, B, P, D, Kmid;
-  std::vector<double> Ae1, Be1, W;   // 1 + A_e, 1 + B_e (per mode) and W (m x n, column-major): predict()'s factors
-  std::vector<double> d, Ginv;       // the modes' damping and G^{-1} (nb x nb): dampingIncrement()'s
+  std::vector<double> P, Kmid;
+  std::vector<double> Ae1, Be1, W;   // 1 + A_e, 1 + B_e (per mode) and W (m x n, column-major)
+  std::vector<double> d, Ginv;       // the modes' damping D_e and G^{-1} (nb x nb)
 };
 
 // q = [u_b, eta] (Epaphe_ReducedModel.hpp). The boundary is static, u_b = Phi_b eta + r with the
@@ -348,6 +348,10 @@ struct MasslessOperators {
 // E_b q = u_b): an exchange, zero in lasting contact, that the balance counts with the damping as
 // h S in D, S = sym(L^T G^{-1} E_b). In a lasting contact with a stiff boundary this is the
 // trapezoidal rule on the contact spring over 2h: stable for any boundary stiffness.
+// Applied by their factors: with C q_n - C (q_n - q_{n-1}) = C q_{n-1} and the boundary rows
+// cancelling, 2 q_n - q_{n-1} + A q_n + B (q_n - q_{n-1}) is eta* = (I + A_e) eta_n + (I + B_e)
+// (eta_n - eta_{n-1}) + W q_{n-1}, u_b* = Phi_b eta*; and dq^T (D + h S) dq = sum_k d_k deta_k^2 +
+// h du^T G^{-1} (du - Phi_b deta).
 MasslessOperators masslessOperators(const ReducedModel& model, double h, const DampingOptions& damping) {
   const int n = model.size;
   const int nb = model.boundarySize(), m = model.numModes;
@@ -355,33 +359,26 @@ MasslessOperators masslessOperators(const ReducedModel& model, double h, const D
   const auto& Phi = model.boundaryModes;
   auto phi = [&](int c, int k) { return Phi[static_cast<std::size_t>(k) * nb + c]; };
   auto at = [n](std::vector<double>& X, int i, int j) -> double& { return X[static_cast<std::size_t>(j) * n + i]; };
-  const std::vector<double> Ginv = spdInverse(model.residualFlexibility, nb, "the residual flexibility of body '" +
-                                              model.name + "'", "keep fewer modes, or recompute the reduction");
+  std::vector<double> Ginv = spdInverse(model.residualFlexibility, nb, "the residual flexibility of body '" +
+                                        model.name + "'", "keep fewer modes, or recompute the reduction");
   auto ginv = [&](int c, int c2) { return Ginv[static_cast<std::size_t>(c2) * nb + c]; };
-  std::vector<double> A(static_cast<std::size_t>(n) * n, 0.0), B(A.size(), 0.0), P(A.size(), 0.0), D(A.size(), 0.0),
-      Kmid(static_cast<std::size_t>(n), 0.0), Pe(static_cast<std::size_t>(m));
+  std::vector<double> P(static_cast<std::size_t>(n) * n, 0.0), Kmid(static_cast<std::size_t>(n), 0.0),
+      Pe(static_cast<std::size_t>(m)), Ae1(Pe.size()), Be1(Pe.size());
   for (int k = 0; k < m; ++k) {
     Pe[k] = 1.0 / (1.0 / (h * h) + d[k] / (2 * h));
-    const double Ae = -Pe[k] * w2[k], Be = -Pe[k] * d[k] / h;
-    at(A, nb + k, nb + k) = Ae;
-    at(B, nb + k, nb + k) = Be;
+    Ae1[k] = 1.0 - Pe[k] * w2[k];       // I + A_e, A_e = -P_e Omega^2
+    Be1[k] = 1.0 - Pe[k] * d[k] / h;    // I + B_e, B_e = -P_e D_e / h
     at(P, nb + k, nb + k) = 0.5 * Pe[k];
-    at(D, nb + k, nb + k) = d[k];
     Kmid[nb + k] = w2[k];
     for (int c = 0; c < nb; ++c) {
-      at(A, c, nb + k) = phi(c, k) * (1.0 + Ae);
-      at(B, c, nb + k) = phi(c, k) * (1.0 + Be);
       at(P, c, nb + k) = at(P, nb + k, c) = 0.5 * phi(c, k) * Pe[k];
       for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += 0.5 * phi(c, k) * Pe[k] * phi(c2, k);
     }
   }
-  for (int c = 0; c < nb; ++c) {
-    at(A, c, c) = -1.0;
-    at(B, c, c) = -1.0;
+  for (int c = 0; c < nb; ++c)
     for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += model.residualFlexibility[static_cast<std::size_t>(c2) * nb + c];
-  }
-  // C = [Phi_b W; W], W = P_e Phi_b^T G^{-1} L / 2 (m x n): A += C, B -= C.
-  std::vector<double> W(static_cast<std::size_t>(m) * n, 0.0);   // column-major m x n
+  // W = P_e Phi_b^T G^{-1} L / 2 (m x n, column-major), L q = u_b - Phi_b eta
+  std::vector<double> W(static_cast<std::size_t>(m) * n, 0.0);
   for (int k = 0; k < m; ++k)
     for (int c2 = 0; c2 < nb; ++c2) {
       double s = 0;   // (Phi_b^T G^{-1})_{k c2}
@@ -389,34 +386,7 @@ MasslessOperators masslessOperators(const ReducedModel& model, double h, const D
       W[static_cast<std::size_t>(c2) * m + k] += 0.5 * Pe[k] * s;                 // L's I part
       for (int j = 0; j < m; ++j) W[static_cast<std::size_t>(nb + j) * m + k] -= 0.5 * Pe[k] * s * phi(c2, j);   // -Phi_b
     }
-  for (int j = 0; j < n; ++j)
-    for (int k = 0; k < m; ++k) {
-      const double w = W[static_cast<std::size_t>(j) * m + k];
-      if (w == 0) continue;
-      at(A, nb + k, j) += w;
-      at(B, nb + k, j) -= w;
-      for (int c = 0; c < nb; ++c) {
-        at(A, c, j) += phi(c, k) * w;
-        at(B, c, j) -= phi(c, k) * w;
-      }
-    }
-  // D + h S, S = sym(L^T G^{-1} E_b) = [G^{-1}, -G^{-1} Phi_b / 2; -Phi_b^T G^{-1} / 2, 0]
-  std::vector<double> Dexchange = D;
-  for (int c = 0; c < nb; ++c)
-    for (int c2 = 0; c2 < nb; ++c2) {
-      at(Dexchange, c, c2) += h * ginv(c, c2);
-      for (int k = 0; k < m; ++k) {
-        at(Dexchange, c, nb + k) -= 0.5 * h * ginv(c, c2) * phi(c2, k);
-        at(Dexchange, nb + k, c) -= 0.5 * h * ginv(c, c2) * phi(c2, k);
-      }
-    }
-  std::vector<double> Ae1(static_cast<std::size_t>(m)), Be1(Ae1.size());
-  for (int k = 0; k < m; ++k) {
-    Ae1[k] = 1.0 - Pe[k] * w2[k];
-    Be1[k] = 1.0 - Pe[k] * d[k] / h;
-  }
-  return {std::move(A),   std::move(B),   std::move(P), std::move(Dexchange), std::move(Kmid), std::move(Ae1),
-          std::move(Be1), std::move(W),   d,            Ginv};
+  return {std::move(P), std::move(Kmid), std::move(Ae1), std::move(Be1), std::move(W), d, std::move(Ginv)};
 }
 
 }  // namespace
@@ -449,14 +419,12 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     // the boundary is static (masslessOperators, where it is derived)
     MasslessOperators o = masslessOperators(model, h, damping);
     const std::vector<double> Kres = model.residualStiffness();   // of the residual r = u_b - Phi_b eta
-    damped_ = true;   // B carries the boundary's rows; the exchange is counted with damping
-    A_ = BodyOperator::dense(o.A, n, "epaphe::dynamics::A");
-    B_ = BodyOperator::dense(o.B, n, "epaphe::dynamics::B");
+    damped_ = true;   // the exchange is counted with damping
+    // A, B and D are applied by their factors (predict(), dampingIncrement())
     K_ = BodyOperator::dense(model.K, n, "epaphe::dynamics::K");   // = K_res + diag(Kmid)
     Kmid_ = BodyOperator::diagonal(o.Kmid, "epaphe::dynamics::Kmid");
     Kres_ = BodyOperator::dense(Kres, n, "epaphe::dynamics::Kres");
     M_ = BodyOperator::denseOrDiagonal(model.M, n, "epaphe::dynamics::M");   // diag(0, I)
-    D_ = BodyOperator::dense(o.D, n, "epaphe::dynamics::D");
     P_ = BodyOperator::dense(o.P, n, "epaphe::dynamics::P");
     boundary_ = model.boundarySize();
     residual_ = true;
