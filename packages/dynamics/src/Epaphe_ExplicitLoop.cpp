@@ -119,13 +119,14 @@ bool ExplicitLoop::advance() {
       if (!guards_->options().allowLargeMotion) fail(large);
       if (acc_.largeMotionSteps++ == 0) out_ << "warning: " << large << " (further such steps are counted)\n";
     }
-    ScopedPhase phase(cost_, "energy");
-    acc_.contactWork += contact_->workIncrement(Q_[iNext_], Q_[iPrev_]);
-    totalForce_ = contact_->totalForce();
-    active_ = contact_->numActive();
   }
   {
-    ScopedPhase phase(cost_, "energy");
+    ScopedPhase phase(cost_, "energy");   // one phase for the step's work and dissipation increments
+    if (contact_) {
+      acc_.contactWork += contact_->workIncrement(Q_[iNext_], Q_[iPrev_]);
+      totalForce_ = contact_->totalForce();
+      active_ = contact_->numActive();
+    }
     for (std::size_t b = 0; b < bodies_.size(); ++b) {
       acc_.damping[b] += bodies_[b].integrator->dampingIncrement(part(Q_[iNext_], b), part(Q_[iPrev_], b));
       acc_.externalWork[b] += bodies_[b].integrator->externalWorkIncrement(part(Q_[iNext_], b), part(Q_[iPrev_], b));
