@@ -79,6 +79,24 @@ std::size_t BodyOperator::bytes() const {
   }
 }
 
+namespace {
+/// f(r0, r1) on one block of an n x n dense operator's rows per thread, as one parallel region when
+/// the product pays for it (forEach: about 50 bytes of the matrix per ns on one core, measured: 419 x
+/// 419 in 19.5 us; a 112 x 112 one stays on the calling thread). Each block is one BLAS call on its
+/// rows (column-major: rows r0..r1 start at the matrix + r0, leading dimension n), so each core
+/// streams its part of the matrix from its own cache. The blocks do not depend on the path taken:
+/// same bits either way.
+template <class F>
+void forRowBlocks(const char* name, int n, std::size_t bytes, const F& f) {
+  const int T = Kokkos::DefaultHostExecutionSpace().concurrency();
+  forEach(name, T, static_cast<long>(bytes / 50) / T, [=](const int t) {
+    const int r0 = static_cast<int>(static_cast<long>(n) * t / T);
+    const int r1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
+    if (r1 > r0) f(r0, r1);
+  });
+}
+}  // namespace
+
 void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const DenseVector& y) const {
   // The per-step work of a small dense model is a few microseconds: an OpenMP kernel launch per
   // vector operation would cost more than the work (measured: 2 threads 4.5x slower than 1 on a
@@ -90,21 +108,11 @@ void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const 
   const int n = static_cast<int>(y.extent(0));
   switch (kind_) {
     case Kind::Dense: {
-      // One block of rows per thread when the product pays for a parallel region (forEach: about 50
-      // bytes of the matrix per ns on one core, measured: 419 x 419 in 19.5 us; a 112 x 112 one
-      // stays on the calling thread). Each block is a BLAS dgemv on its rows (column-major: rows
-      // r0..r1 start at dense_ + r0, leading dimension n), so each core streams half the matrix
-      // from its own cache. The blocks do not depend on the path taken: same bits either way.
-      const int T = Kokkos::DefaultHostExecutionSpace().concurrency();
-      const long ns = static_cast<long>(dense_.span() * sizeof(double) / 50);
       const double* A = dense_.data();
       const double* xv = x.data();
       double* yv = y.data();
-      forEach("epaphe::dynamics::gemv", T, ns / T, [=](const int t) {
-        const int r0 = static_cast<int>(static_cast<long>(n) * t / T);
-        const int r1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
-        if (r1 > r0)
-          Teuchos::BLAS<int, double>().GEMV(Teuchos::NO_TRANS, r1 - r0, n, alpha, A + r0, n, xv, 1, beta, yv + r0, 1);
+      forRowBlocks("epaphe::dynamics::gemv", n, bytes(), [=](int r0, int r1) {
+        Teuchos::BLAS<int, double>().GEMV(Teuchos::NO_TRANS, r1 - r0, n, alpha, A + r0, n, xv, 1, beta, yv + r0, 1);
       });
       break;
     }
@@ -130,19 +138,13 @@ void BodyOperator::apply2(const DenseMatrix& x, const DenseMatrix& y) const {
   const int n = static_cast<int>(y.extent(0));
   switch (kind_) {
     case Kind::Dense: {
-      // as apply(): a block of rows per thread when it pays, each one dgemm on its rows
-      const int T = Kokkos::DefaultHostExecutionSpace().concurrency();
-      const long ns = static_cast<long>(dense_.span() * sizeof(double) / 50);
       const double* A = dense_.data();
       const double* xv = x.data();
       double* yv = y.data();
       const int ldx = static_cast<int>(x.stride(1)), ldy = static_cast<int>(y.stride(1));
-      forEach("epaphe::dynamics::gemm2", T, ns / T, [=](const int t) {
-        const int r0 = static_cast<int>(static_cast<long>(n) * t / T);
-        const int r1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
-        if (r1 > r0)
-          Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, r1 - r0, 2, n, 1.0, A + r0, n, xv,
-                                            ldx, 0.0, yv + r0, ldy);
+      forRowBlocks("epaphe::dynamics::gemm2", n, bytes(), [=](int r0, int r1) {
+        Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, r1 - r0, 2, n, 1.0, A + r0, n, xv, ldx,
+                                          0.0, yv + r0, ldy);
       });
       break;
     }
@@ -527,22 +529,7 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
 }
 
 double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const {
-  // 1/2 v^T M v with v = (q_{n+1} - q_n)/h, plus 1/2 q_n^T K q_{n+1}
-  copy(tmp2_, qnp1);
-  epaphe::axpby(-1.0 / h_, qn, 1.0 / h_, tmp2_);
-  M_.apply(1.0, tmp2_, 0.0, tmp_);
-  const double kin = 0.5 * epaphe::dot(tmp2_, tmp_);
-  if (!residual_) {
-    K_.apply(1.0, qnp1, 0.0, tmp_);
-    return kin + 0.5 * epaphe::dot(qn, tmp_);
-  }
-  // massless boundary: modes as above, plus 1/4 (q_n^T K_res q_n + q_{n+1}^T K_res q_{n+1})
-  Kmid_.apply(1.0, qnp1, 0.0, tmp_);
-  double e = kin + 0.5 * epaphe::dot(qn, tmp_);
-  Kres_.apply(1.0, qnp1, 0.0, tmp_);
-  e += 0.25 * epaphe::dot(qnp1, tmp_);
-  Kres_.apply(1.0, qn, 0.0, tmp_);
-  return e + 0.25 * epaphe::dot(qn, tmp_);
+  return energies(qn, qnp1, qnp1).total;   // (any third vector: only E_{n+1/2} is read)
 }
 
 double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
