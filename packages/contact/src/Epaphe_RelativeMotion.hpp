@@ -37,18 +37,27 @@ struct RelativeMotion {
   }
 };
 
-/// Column 3 k + e of F D^T as an accessor of the system rows, for RelativeMotion::apply: Y, stored
-/// on the dense rows of F; in a diagonal block of F, F_ii times the weights of node k's entries at
-/// DOF i (the only rows where D_k^T is not zero).
+/// Column 3 k + e of F D^T as an accessor of the system rows, for RelativeMotion::apply, read where
+/// it is kept: on node k's own block when dense, w_0 times F's column at its DOF e (F itself); on the
+/// block of its surface when that has control columns (patch(k): that block, else -1), Y, which holds
+/// it at the contact nodes' rows only, the only rows read; in a diagonal block of F, F_ii times the
+/// weights of node k's entries at DOF i (the only rows where D_k^T is not zero).
 template <class Y>
 struct FlexibleColumn {
   Y y;
   Flexibility::Packed F;
   RelativeMotion D;
+  Kokkos::View<int*> nodeBlock, patch;
   int k, e;
   KOKKOS_INLINE_FUNCTION double operator()(int i) const {
     const int r = F.denseRow(i);
-    if (r >= 0) return y(r, 3 * k + e);
+    if (r >= 0) {
+      const int own = nodeBlock(k), b0 = F.blocks(own, 0), n = F.blocks(own, 1);
+      if (i >= b0 && i < b0 + n)  // (a dense row: its block is dense)
+        return D.w(k, 0) * F.dense(F.start(own) + static_cast<std::size_t>(D.dof(k, 0, e) - b0) * n + (i - b0));
+      const int pb = patch(k);
+      return pb >= 0 && i >= F.blocks(pb, 0) && i < F.blocks(pb, 0) + F.blocks(pb, 1) ? y(r, 3 * k + e) : 0.0;
+    }
     double s = 0.0;
     for (int m = 0; m < D.count(k); ++m)
       for (int e2 = 0; e2 < 3; ++e2)

@@ -67,10 +67,6 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   controlColumns();
   initDetection(nodes);
   initWorkViews(nodes, N);
-  // Every surface rigid and F dense: D_k = I on node k's DOFs, so F D_k^T is F's columns at them
-  // and Y need not be built (relativeColumns, the correction read F)
-  directF_ = F_.denseRows == F_.size();
-  for (std::size_t s = 0; s < surfaces_.size(); ++s) directF_ = directF_ && info_(s, 0) < 0;
   enforcement_ = makeContactEnforcement(opt_, nc);
   const CoatingViews& coat = detection_->views().coat;
   if (coat.any()) {  // nodes facing a coated surface follow its element law; the deck's law solves its rows
@@ -226,6 +222,24 @@ void SurfaceContact::initWorkViews(const ContactNodes& nodes, int N) {
   wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, maxGrid_[0]);
   wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, maxGrid_[1]);
   Y_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::FDt", F_.denseRows, 3 * nc);
+  {  // per block, the dense rows of the contact nodes' DOFs in it
+    const int nb = static_cast<int>(blocks_.extent(0));
+    std::vector<std::vector<int>> rows(nb);
+    for (int k = 0; k < nc; ++k)
+      for (int d = 0; d < 3; ++d) {
+        const int r = F_.denseRow(nodes.dofs[3 * k + d]);
+        if (r >= 0) rows[nodeBlock_[k]].push_back(r);
+      }
+    nodeRowOff_ = Kokkos::View<int*>("epaphe::contact::node_row_offset", nb + 1);
+    std::vector<int> all;
+    for (int b = 0; b < nb; ++b) {
+      nodeRowOff_(b) = static_cast<int>(all.size());
+      all.insert(all.end(), rows[b].begin(), rows[b].end());
+    }
+    nodeRowOff_(nb) = static_cast<int>(all.size());
+    nodeRows_ = Kokkos::View<int*>("epaphe::contact::node_rows", all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) nodeRows_(i) = all[i];
+  }
   T_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::BuFDt", tRows_, 3 * nc);
   dq_ = DenseVector("epaphe::contact::correction", N);
   corrected_ = Kokkos::View<int*>("epaphe::contact::added", nc);
@@ -242,6 +256,7 @@ void SurfaceContact::initWorkViews(const ContactNodes& nodes, int N) {
   entDof_ = Kokkos::View<int** [3]>("epaphe::contact::entry_dof", nc, maxEntries);
   entW_ = Kokkos::View<double**>("epaphe::contact::entry_weight", nc, maxEntries);
   entN_ = Kokkos::View<int*>("epaphe::contact::entries", nc);
+  patch_ = Kokkos::View<int*>("epaphe::contact::patch_block", nc);
   entRot_ = Kokkos::View<double* [3][3]>("epaphe::contact::entry_rotation", nc);
   C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
   tangent_ = Kokkos::View<double* [3]>("epaphe::contact::tangent", nc);
@@ -350,46 +365,85 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     enforcement_->enforce(v_, activeH_, q, qCurrent);  // lambda_a and c_a of the active nodes
     numActive_ = static_cast<int>(activeH_.size());
     lastFrictionPasses_ = enforcement_->lastPasses();
-    // dq = F G lambda (eqs. 2.35-2.36), G_a = D_a^T c_a: on the dense rows of F, F D_a^T = Y, one
-    // pass over them; on a diagonal block, dq_i = F_ii (sum_a D_a^T c_a lambda_a)_i, scattered from
-    // the entries of D (one thread: the same sums in the same order on any number of threads).
-    const auto Y = Y_;
+    // dq = F G lambda (eqs. 2.35-2.36), G_a = D_a^T c_a. On the dense rows of F: node a's own part,
+    // F's columns at its DOFs, and a patch node's part on its surface's block, F (B_u x B_v) x, the
+    // control columns times the control points' coefficients x summed over the nodes first. On a
+    // diagonal block, dq_i = F_ii (sum_a D_a^T c_a lambda_a)_i, scattered from the entries of D (one
+    // thread: the same sums in the same order on any number of threads).
     const auto F = F_;
     const auto dir = dir_;
     const auto force = force_;
     const auto act = v_.upload(activeH_);   // ascending: the sums below run in node order
     const int nA = numActive_;
-    // One block of rows per thread, the active nodes' columns of Y walked down the block (Y is
-    // column-major: a row-by-row walk across the columns read one cache line per entry, 117 us a
-    // pass on cube-flexible-rings' 1099 rows x 36 nodes); each dq_i sums its terms in node order as
-    // before, so the bits do not change.
     const int T = Kokkos::DefaultHostExecutionSpace().concurrency(), n = static_cast<int>(q.extent(0));
-    const bool direct = directF_;
     const auto blocks = blocks_;
     const auto nodeBlk = nodeBlk_;
     const auto dof = dof_;
+    const auto patch = patch_;
+    const auto coefOff = coefOff_;
+    const auto ctrlOff = ctrlOff_;
+    const auto ctrlDim = ctrlDim_;
+    const auto coef = coef_;
+    const auto ctrl = ctrlF_;
+    const auto info = info_;
+    const int ns = static_cast<int>(surfaces_.size());
+    const bool patches = coef_.extent(0) > 0;
+    if (patches) {  // x = -sum_k lambda_k b_a b_b R_k^T c_k, over the patch nodes in node order
+      const auto foot = foot_;
+      const auto rot = entRot_;
+      const auto surf = surf_;
+      forEach(
+          "epaphe::contact::control_coefficients", 1, 0, KOKKOS_LAMBDA(const int) {
+            for (std::size_t x = 0; x < coef.extent(0); ++x) coef(x) = 0.0;
+            for (int a = 0; a < nA; ++a) {
+              const int k = act(a), s = surf(k);
+              const double l = force(k);
+              if (l == 0.0 || patch(k) < 0) continue;
+              const int nuE = ctrlDim(s, 0), nvE = ctrlDim(s, 1);
+              int i, j;
+              double tu, tv, bu[4], bv[4], d1[4], d2[4];
+              surface_detail::locate(foot(k, 0), info(s, 1), info(s, 4) != 0, i, tu);
+              surface_detail::locate(foot(k, 1), info(s, 2), info(s, 5) != 0, j, tv);
+              surface_detail::cubicBasis(tu, bu, d1, d2);
+              surface_detail::cubicBasis(tv, bv, d1, d2);
+              for (int e2 = 0; e2 < 3; ++e2) {
+                const double c = -l * (rot(k, 0, e2) * dir(k, 0) + rot(k, 1, e2) * dir(k, 1) + rot(k, 2, e2) * dir(k, 2));
+                if (c == 0.0) continue;
+                for (int r = 0; r < 4; ++r)
+                  for (int t = 0; t < 4; ++t)
+                    coef(coefOff(s) + (static_cast<long>(e2) * nuE + i + r) * nvE + j + t) += c * bu[r] * bv[t];
+              }
+            }
+          });
+    }
+    // One block of rows per thread, each active node's three columns of F walked down it (F is
+    // column-major); each dq_i sums its terms in node order on any number of threads
     forEach(
         "epaphe::contact::correction", T, 3L * n * nA / T, KOKKOS_LAMBDA(const int t) {
           const int i0 = static_cast<int>(static_cast<long>(n) * t / T), i1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
           for (int i = i0; i < i1; ++i) dq(i) = 0.0;
           for (int a = 0; a < nA; ++a) {
-            const int k = act(a);
+            const int k = act(a), blk = nodeBlk(k), b0 = blocks(blk, 0), n = blocks(blk, 1);
             const double l = force(k);
-            if (l == 0.0) continue;
+            if (l == 0.0 || F.denseRow(b0) < 0) continue;
             const double d0 = dir(k, 0), d1 = dir(k, 1), d2 = dir(k, 2);
-            if (direct) {  // Y's columns are F's at the node's DOFs, zero outside its body's block
-              const int blk = nodeBlk(k), b0 = blocks(blk, 0), n = blocks(blk, 1);
-              const double* f0 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0) - b0) * n);
-              const double* f1 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 1) - b0) * n);
-              const double* f2 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 2) - b0) * n);
-              const int lo = i0 > b0 ? i0 : b0, hi = i1 < b0 + n ? i1 : b0 + n;
-              for (int i = lo; i < hi; ++i)
-                dq(i) += l * (f0[i - b0] * d0 + f1[i - b0] * d1 + f2[i - b0] * d2);
-              continue;
-            }
-            for (int i = i0; i < i1; ++i) {
-              const int r = F.denseRow(i);
-              if (r >= 0) dq(i) += l * (Y(r, 3 * k) * d0 + Y(r, 3 * k + 1) * d1 + Y(r, 3 * k + 2) * d2);
+            const double* f0 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0) - b0) * n);
+            const double* f1 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 1) - b0) * n);
+            const double* f2 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 2) - b0) * n);
+            const int lo = i0 > b0 ? i0 : b0, hi = i1 < b0 + n ? i1 : b0 + n;
+            for (int i = lo; i < hi; ++i) dq(i) += l * (f0[i - b0] * d0 + f1[i - b0] * d1 + f2[i - b0] * d2);
+          }
+          if (!patches) return;
+          for (int s = 0; s < ns; ++s) {
+            if (coefOff(s) < 0) continue;
+            const int blk = info(s, 0), b0 = blocks(blk, 0), n = blocks(blk, 1);
+            const int lo = i0 > b0 ? i0 : b0, hi = i1 < b0 + n ? i1 : b0 + n;
+            const long nc = 3L * ctrlDim(s, 0) * ctrlDim(s, 1);
+            for (long x = 0; x < nc; ++x) {
+              const double c = coef(coefOff(s) + x);
+              if (c == 0.0) continue;
+              const double* g = &ctrl(ctrlOff(s) + x * n);
+              for (int i = lo; i < hi; ++i) dq(i) += c * g[i - b0];
             }
           }
         });
@@ -484,6 +538,8 @@ void SurfaceContact::motionEntries() {
   const auto entN = entN_;
   const auto entRot = entRot_;
   const auto rot = rot_;
+  const auto patch = patch_;
+  const auto ctrlOff = ctrlOff_;
   const int maxE = static_cast<int>(entW_.extent(1));
   forEach(
       "epaphe::contact::relative_motion", numNodes(), 30L + 20L * (maxE > 1 ? 2 * (wu.extent(1) + wv.extent(1)) + maxE : 0), KOKKOS_LAMBDA(const int k) {
@@ -525,6 +581,7 @@ void SurfaceContact::motionEntries() {
           }
         }
         entN(k) = m;
+        patch(k) = s >= 0 && ctrlOff(s) >= 0 && m > 1 ? info(s, 0) : -1;
       });
 }
 
@@ -581,7 +638,8 @@ void SurfaceContact::controlColumns() {
         }
     }
   }
-  // T (relativeColumns), per carried surface with control columns: rows tOff_(s) + (3 q + e2) nuE + A;
+  // T (relativeColumns), per carried surface with control columns: rows tOff_(s) + 3 nv A + 3 q + e2
+  // (a patch's rows A = i..i+3 are one contiguous run);
   // the dense rows of its grid DOFs at gridRowOff_(s) + (3 q + e2) nu + p (-1: clamped), and B_u
   // transposed at buOff_(s) + p nuE + A
   tOff_ = Kokkos::View<long*>("epaphe::contact::T_offset", ns);
@@ -618,45 +676,62 @@ void SurfaceContact::controlColumns() {
   for (std::size_t i = 0; i < buT.size(); ++i) buT_(i) = buT[i];
   ctrlF_ = Kokkos::View<double*>("epaphe::contact::control_columns", G.size());
   for (std::size_t i = 0; i < G.size(); ++i) ctrlF_(i) = G[i];
+  // P(s2, s) for two surfaces with control columns on one block: s's control columns G on s2's grid
+  // rows, contracted with s2's B_u as T is, P(:, c) = sum_p B_u(A, p) G(grid row (p, q, e2'), c). It
+  // is about G's size (s2's grid rows are most of the block's).
+  pOff_ = Kokkos::View<long**>("epaphe::contact::P_offset", ns, ns);
+  coefOff_ = Kokkos::View<long*>("epaphe::contact::coefficient_offset", ns);
+  std::vector<double> P;
+  long coefs = 0;
+  for (int s2 = 0; s2 < ns; ++s2) {
+    coefOff_(s2) = -1;
+    if (ctrlOff_(s2) >= 0) {
+      coefOff_(s2) = coefs;
+      coefs += 3L * ctrlDim_(s2, 0) * ctrlDim_(s2, 1);
+    }
+    for (int s = 0; s < ns; ++s) {
+      pOff_(s2, s) = -1;
+      if (tOff_(s2) < 0 || ctrlOff_(s) < 0 || surfaces_[s].block != surfaces_[s2].block) continue;
+      const int blk = surfaces_[s].block, n = F_.blocks(blk, 1), r0 = F_.denseRow(F_.blocks(blk, 0));
+      const int nu2 = surfaces_[s2].surface->nu(), nv2 = surfaces_[s2].surface->nv(), nuE2 = ctrlDim_(s2, 0);
+      const long rowsP = 3L * nv2 * nuE2, cols = 3L * ctrlDim_(s, 0) * ctrlDim_(s, 1);
+      pOff_(s2, s) = static_cast<long>(P.size());
+      P.resize(P.size() + rowsP * cols, 0.0);
+      for (long c = 0; c < cols; ++c) {
+        const double* g = &G[ctrlOff_(s) + c * n];
+        double* out = &P[pOff_(s2, s) + c * rowsP];
+        for (int qe = 0; qe < 3 * nv2; ++qe)
+          for (int p = 0; p < nu2; ++p) {
+            const int j = rows[gridRowOff_(s2) + static_cast<long>(qe) * nu2 + p];
+            const double y = j >= 0 ? g[j - r0] : 0.0;
+            if (y == 0.0) continue;
+            const double* b = &buT[buOff_(s2) + static_cast<long>(p) * nuE2];
+            for (int A = 0; A < nuE2; ++A) out[static_cast<long>(A) * 3 * nv2 + qe] += b[A] * y;
+          }
+      }
+    }
+  }
+  P_ = Kokkos::View<double*>("epaphe::contact::control_columns_on_grids", P.size());
+  for (std::size_t i = 0; i < P.size(); ++i) P_(i) = P[i];
+  coef_ = Kokkos::View<double*>("epaphe::contact::control_coefficients", coefs);
 }
 
 void SurfaceContact::relativeColumns() {
-  // For the active nodes: Y_k = F D_k^T (N x 3; only the rows of the node's block and of the
-  // surface's block are not zero) and T_k on the carried surfaces; then C_ab = D_a Y_b.
+  // For the active nodes: what C_ab = D_a F D_b^T needs of F D_b^T beyond F itself. Its part on
+  // node b's own (dense) block is F's columns at b's DOFs, read in place; a carried surface on a
+  // diagonal block has no dense rows; so only a patch node (its surface's block has control
+  // columns) has a part to form: Y at the contact nodes' rows of that block, and T on the grids
+  // there (eq. 2.26). Then C_ab = D_a Y_b.
   const int nA = numActive_;
   const auto active = v_.upload(activeH_);
-  if (directF_) {  // D_k = I: C_ab = F's block at (node a's DOFs, node b's), 0 across bodies
-    const auto F = F_;
-    const auto blocks = blocks_;
-    const auto nodeBlk = nodeBlk_;
-    const auto dof = dof_;
-    const auto C = C_;
-    forEach(
-        "epaphe::contact::relative_flexibility", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
-          const int ka = active(a), blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
-          const std::size_t start = F.start(blk);
-          for (int b = 0; b < nA; ++b) {
-            const int kb = active(b);
-            const bool same = nodeBlk(kb) == blk;
-            for (int e = 0; e < 3; ++e) {
-              const std::size_t col = start + static_cast<std::size_t>(same ? dof(kb, e) - b0 : 0) * n;
-              for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = same ? F.dense(col + (dof(ka, d) - b0)) : 0.0;
-            }
-          }
-        });
-    fence();
-    return;
-  }
   const auto surf = surf_;
   const auto info = info_;
-  const auto entDof = entDof_;
-  const auto entN = entN_;
   const auto F = F_;
   const auto Y = Y_;
   const auto blocks = blocks_;
   const auto nodeBlk = nodeBlk_;
-  const RelativeMotion D{entDof_, entW_, entN_, entRot_};
-  const int rows = F.denseRows;
+  const auto dof = dof_;
+  const auto patch = patch_;
   const auto ctrl = ctrlF_;
   const auto ctrlOff = ctrlOff_;
   const auto ctrlDim = ctrlDim_;
@@ -669,6 +744,10 @@ void SurfaceContact::relativeColumns() {
   const auto gridRowOff = gridRowOff_;
   const auto buT = buT_;
   const auto buOff = buOff_;
+  const auto Pm = P_;
+  const auto pOff = pOff_;
+  const auto nodeRows = nodeRows_;
+  const auto nodeRowOff = nodeRowOff_;
   const int ns = static_cast<int>(surfaces_.size());
   if (tRows_ > 0) {  // per surface, the rows of B_u that the patches of the active nodes read
     for (int s = 0; s < ns; ++s) {
@@ -677,7 +756,7 @@ void SurfaceContact::relativeColumns() {
     }
     for (int a = 0; a < nA; ++a) {
       const int k = activeH_[a], s = surfH_(k);
-      if (s < 0 || tOff_(s) < 0 || entN_(k) <= 1) continue;
+      if (patch_(k) < 0) continue;
       int i;
       double t;
       surface_detail::locate(foot_(k, 0), info_(s, 1), info_(s, 4) != 0, i, t);
@@ -685,70 +764,79 @@ void SurfaceContact::relativeColumns() {
       needRangeH_(s, 1) = std::max(needRangeH_(s, 1), i + 3);
     }
     copy(needRange_, needRangeH_);
-  }
-  // Y(:, 3k + e) = sum_m w_m F(:, dof_m,e) on the dense rows: axpys of contiguous columns over the
-  // entry's block (a diagonal block's part of F D^T is read from the entries, FlexibleColumn)
-  forEach(
-      "epaphe::contact::relative_columns", 3 * nA, 2L * rows * static_cast<long>(entW_.extent(1) > 1 ? 4 : 1) + 10, KOKKOS_LAMBDA(const int ae) {
-        const int k = active(ae / 3), e = ae % 3, c = 3 * k + e;
-        for (int r = 0; r < rows; ++r) Y(r, c) = 0.0;
-        const int s = surf(k);
-        // a carried surface with its control columns: its part of the column from the 4 x 4
-        // control points of the foot point's patch (eq. 2.22) instead of the grid nodes' entries
-        const bool patch = s >= 0 && ctrlOff(s) >= 0 && entN(k) > 1;
-        if (patch) {
-          const int blk = info(s, 0), n = blocks(blk, 1), r0 = F.denseRow(blocks(blk, 0));
-          const int nuE = ctrlDim(s, 0), nvE = ctrlDim(s, 1);
-          int i, j;
-          double tu, tv, bu[4], bv[4], d1[4], d2[4];
-          surface_detail::locate(foot(k, 0), info(s, 1), info(s, 4) != 0, i, tu);
-          surface_detail::locate(foot(k, 1), info(s, 2), info(s, 5) != 0, j, tv);
-          surface_detail::cubicBasis(tu, bu, d1, d2);
-          surface_detail::cubicBasis(tv, bv, d1, d2);
-          for (int e2 = 0; e2 < 3; ++e2) {
-            const double w = -rot(k, e, e2);  // D_k's grid part: -R sum w_pq u_pq
-            if (w == 0.0) continue;
-            for (int a = 0; a < 4; ++a)
-              for (int b = 0; b < 4; ++b) {
-                const double wab = w * bu[a] * bv[b];
-                const std::size_t col =
-                    ctrlOff(s) + ((static_cast<std::size_t>(e2) * nuE + i + a) * nvE + j + b) * static_cast<std::size_t>(n);
-                for (int r = 0; r < n; ++r) Y(r0 + r, c) += wab * ctrl(col + r);
+    const long work = 200L * (nodeRows_.extent(0) + 3L * maxGrid_[0] * maxGrid_[1]) + 10;
+    forEach(
+        "epaphe::contact::relative_columns", 3 * nA, work, KOKKOS_LAMBDA(const int ae) {
+          const int k = active(ae / 3), e = ae % 3, c = 3 * k + e;
+          const int s = surf(k), pb = patch(k);
+          // a patch node's part on its surface's block comes from the 4 x 4 control points of the
+          // foot point's patch (eq. 2.22), w_ab = -R(e, e2) b_a b_b (D_k's grid part: -R sum w_pq
+          // u_pq), instead of the grid nodes' entries: Y at the contact nodes' rows of that block
+          // (C's own term reads them), T from P below; the correction reads the control columns
+          int pi = 0, pj = 0;
+          double bu[4] = {0.0, 0.0, 0.0, 0.0}, bv[4] = {0.0, 0.0, 0.0, 0.0};
+          if (pb >= 0) {
+            const int n = blocks(pb, 1), r0 = F.denseRow(blocks(pb, 0));
+            const int nuE = ctrlDim(s, 0), nvE = ctrlDim(s, 1);
+            double tu, tv, d1[4], d2[4];
+            surface_detail::locate(foot(k, 0), info(s, 1), info(s, 4) != 0, pi, tu);
+            surface_detail::locate(foot(k, 1), info(s, 2), info(s, 5) != 0, pj, tv);
+            surface_detail::cubicBasis(tu, bu, d1, d2);
+            surface_detail::cubicBasis(tv, bv, d1, d2);
+            for (int x = nodeRowOff(pb); x < nodeRowOff(pb + 1); ++x) {
+              const int r = nodeRows(x);
+              double y = 0.0;
+              for (int e2 = 0; e2 < 3; ++e2) {
+                const double w = -rot(k, e, e2);
+                if (w == 0.0) continue;
+                for (int a = 0; a < 4; ++a)
+                  for (int b = 0; b < 4; ++b)
+                    y += w * bu[a] * bv[b] *
+                         ctrl(ctrlOff(s) + ((static_cast<std::size_t>(e2) * nuE + pi + a) * nvE + pj + b) * static_cast<std::size_t>(n) + (r - r0));
               }
-          }
-        }
-        for (int m = 0; m < (patch ? 1 : entN(k)); ++m) {
-          const int blk = m == 0 ? nodeBlk(k) : info(s, 0);
-          const int b0 = blocks(blk, 0), n = blocks(blk, 1), r0 = F.denseRow(b0);
-          for (int e2 = 0; e2 < 3; ++e2) {
-            const double w = D.coefficient(k, m, e, e2);
-            const int j = entDof(k, m, e2);
-            if (w == 0.0 || j < 0 || F.denseRow(j) < 0) continue;
-            const std::size_t col = F.start(blk) + static_cast<std::size_t>(j - b0) * n;
-            for (int i = 0; i < n; ++i) Y(r0 + i, c) += w * F.dense(col + i);
-          }
-        }
-        // T(:, c): column c on the grid of each carried surface s2 on a dense block where it has
-        // rows, contracted with the rows A of B_u that the active patches read (eq. 2.26):
-        //   T(s2; A, q, e2) = sum_p B_u(A, p) Y(grid DOF (p, q, e2), c)
-        for (int s2 = 0; s2 < ns; ++s2) {
-          const int blk2 = info(s2, 0), lo = need(s2, 0), hi = need(s2, 1);
-          if (tOff(s2) < 0 || hi < lo || !(nodeBlk(k) == blk2 || (s >= 0 && info(s, 0) == blk2))) continue;
-          const int nu = info(s2, 1), nv = info(s2, 2), nuE = ctrlDim(s2, 0);
-          for (int qe = 0; qe < 3 * nv; ++qe) {
-            double* t = &T(tOff(s2) + static_cast<long>(qe) * nuE, c);
-            for (int A = lo; A <= hi; ++A) t[A] = 0.0;
-            for (int p = 0; p < nu; ++p) {
-              const int j = gridRow(gridRowOff(s2) + static_cast<long>(qe) * nu + p);
-              const double y = j >= 0 ? Y(j, c) : 0.0;
-              if (y == 0.0) continue;
-              const double* b = &buT(buOff(s2) + static_cast<long>(p) * nuE);
-              for (int A = lo; A <= hi; ++A) t[A] += b[A] * y;
+              Y(r, c) = y;
             }
           }
-        }
-      });
-  fence();
+          // T(:, c): column c on the grid of each carried surface s2 with control columns where it
+          // has rows, contracted with the rows A of B_u that the active patches read (eq. 2.26):
+          //   T(s2; A, q, e2) = sum_p B_u(A, p) (F D_k^T)(grid DOF (p, q, e2), e),
+          // on the node's own block from F's column at its DOF, on its surface's from P (16 columns)
+          for (int s2 = 0; s2 < ns; ++s2) {
+            const int blk2 = info(s2, 0), lo = need(s2, 0), hi = need(s2, 1);
+            const bool own = nodeBlk(k) == blk2, carried = s >= 0 && info(s, 0) == blk2;
+            if (tOff(s2) < 0 || hi < lo || !(own || carried)) continue;
+            const int nu = info(s2, 1), nv = info(s2, 2), nuE = ctrlDim(s2, 0);
+            const int b0 = blocks(blk2, 0), n = blocks(blk2, 1), r0 = F.denseRow(b0);
+            const double* fcol = &F.dense(F.start(blk2) + static_cast<std::size_t>(own ? dof(k, e) - b0 : 0) * n);
+            const int m = 3 * nv;  // T's rows A = lo..hi: one run of (hi - lo + 1) m
+            double* t = &T(tOff(s2) + static_cast<long>(lo) * m, c);
+            for (int x = 0; x < (hi - lo + 1) * m; ++x) t[x] = 0.0;
+            if (own)  // (the node's block is never its surface's: no self-contact)
+              for (int qe = 0; qe < m; ++qe)
+                for (int p = 0; p < nu; ++p) {
+                  const int j = gridRow(gridRowOff(s2) + static_cast<long>(qe) * nu + p);
+                  const double y = j >= 0 ? fcol[j - r0] : 0.0;
+                  if (y == 0.0) continue;
+                  const double* b = &buT(buOff(s2) + static_cast<long>(p) * nuE);
+                  for (int A = lo; A <= hi; ++A) t[(A - lo) * m + qe] += b[A] * y;
+                }
+            if (pb != blk2) continue;
+            const long rowsP = 3L * nv * nuE;
+            const int nuEs = ctrlDim(s, 0), nvEs = ctrlDim(s, 1);
+            for (int e2 = 0; e2 < 3; ++e2) {
+              const double w = -rot(k, e, e2);
+              if (w == 0.0) continue;
+              for (int a = 0; a < 4; ++a)
+                for (int b = 0; b < 4; ++b) {
+                  const double wab = w * bu[a] * bv[b];
+                  const double* pc = &Pm(pOff(s2, s) + ((static_cast<long>(e2) * nuEs + pi + a) * nvEs + pj + b) * rowsP) + static_cast<long>(lo) * m;
+                  for (int x = 0; x < (hi - lo + 1) * m; ++x) t[x] += wab * pc[x];
+                }
+            }
+          }
+        });
+    fence();
+  }
   relativeFlexibility(active);
 }
 
@@ -761,21 +849,25 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   const auto T = T_;
   const auto tOff = tOff_;
   const auto nodeBlk = nodeBlk_;
+  const auto patch = patch_;
+  const auto blocks = blocks_;
   const auto ctrlDim = ctrlDim_;
   const auto foot = foot_;
   const auto wv = wv_;
   const auto C = C_;
   const RelativeMotion D{entDof_, entW_, entN_, entRot_};
-  // C_ab = D_a Y_b, one active node a per iteration, every b: a node on a rigid surface reads w_0
-  // times rows of Y_b; on a carried surface with control columns its grid part is
-  // -R_a sum_pq w_p w_q Y_b(grid node pq) = -R_a sum_r b_r sum_q w_q T_b(i + r, q), the cubic basis
-  // b_r of the foot point's patch i (eqs. 2.22, 2.26); otherwise D_a's entries are walked
+  // C_ab = D_a (F D_b^T), one active node a per iteration, every b. Node a's own part reads F D_b^T
+  // at a's DOFs: F's block at (a's DOFs, b's) when both are in one dense block, Y_b when b's patch
+  // is on a's block (FlexibleColumn in a diagonal block). On a carried surface with control columns
+  // its grid part is -R_a sum_pq w_p w_q (F D_b^T)(grid node pq) = -R_a sum_r b_r sum_q w_q
+  // T_b(i + r, q), the cubic basis b_r of the foot point's patch i (eqs. 2.22, 2.26); on one with
+  // none (a diagonal block) D_a's entries are walked.
   forEach(
       "epaphe::contact::relative_flexibility", nA, 30L * static_cast<long>(entW_.extent(1)) * nA, KOKKOS_LAMBDA(const int a) {
-        const int ka = active(a), sa = surf(ka);
-        const bool patch = sa >= 0 && tOff(sa) >= 0 && D.count(ka) > 1;
-        const bool direct = D.count(ka) == 1 || patch;
+        const int ka = active(a), sa = surf(ka), pa = patch(ka);
+        const bool direct = D.count(ka) == 1 || pa >= 0;
         const double w0 = D.w(ka, 0);
+        const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
         int dof[3], row[3];
         double R[3][3];
         for (int d = 0; d < 3; ++d) {
@@ -783,23 +875,22 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
           row[d] = F.denseRow(dof[d]);
           for (int e = 0; e < 3; ++e) R[d][e] = D.rot(ka, d, e);
         }
-        int i = 0, nv = 0, nuE = 0, blk = -1;
+        const bool dense = row[0] >= 0;
+        int i = 0, nv = 0;
         long t0 = 0;
         double bu[4] = {0.0, 0.0, 0.0, 0.0};
-        if (patch) {
+        if (pa >= 0) {
           double tu, d1[4], d2[4];
           surface_detail::locate(foot(ka, 0), info(sa, 1), info(sa, 4) != 0, i, tu);
           surface_detail::cubicBasis(tu, bu, d1, d2);
           nv = info(sa, 2);
-          nuE = ctrlDim(sa, 0);
-          t0 = tOff(sa) + i;
-          blk = info(sa, 0);
+          t0 = tOff(sa) + 3L * nv * i;
         }
         for (int b = 0; b < nA; ++b) {
           const int kb = active(b);
           if (!direct) {
             for (int e = 0; e < 3; ++e) {
-              const FlexibleColumn<decltype(Y)> col{Y, F, D, kb, e};
+              const FlexibleColumn<decltype(Y)> col{Y, F, D, nodeBlk, patch, kb, e};
               double r[3];
               D.apply(ka, col, r);
               for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = r[d];
@@ -807,21 +898,33 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
             continue;
           }
           double own[3][3];
-          for (int d = 0; d < 3; ++d)
+          if (dense && nodeBlk(kb) == blk) {  // F's block
+            const double wb = D.w(kb, 0);
+            for (int e = 0; e < 3; ++e) {
+              const double* col = &F.dense(F.start(blk) + static_cast<std::size_t>(D.dof(kb, 0, e) - b0) * n);
+              for (int d = 0; d < 3; ++d) own[d][e] = w0 * (wb * col[dof[d] - b0]);
+            }
+          } else if (dense) {  // b's patch on a's block, or nothing
+            const bool on = patch(kb) == blk;
             for (int e = 0; e < 3; ++e)
-              own[d][e] = w0 * (row[d] >= 0 ? Y(row[d], 3 * kb + e) : FlexibleColumn<decltype(Y)>{Y, F, D, kb, e}(dof[d]));
-          if (patch) {  // the grid part, R_a g
+              for (int d = 0; d < 3; ++d) own[d][e] = w0 * (on ? Y(row[d], 3 * kb + e) : 0.0);
+          } else {
+            for (int e = 0; e < 3; ++e)
+              for (int d = 0; d < 3; ++d) own[d][e] = w0 * FlexibleColumn<decltype(Y)>{Y, F, D, nodeBlk, patch, kb, e}(dof[d]);
+          }
+          if (pa >= 0) {  // the grid part, R_a g
             double g[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // g[e][e2]
-            if (nodeBlk(kb) == blk || (surf(kb) >= 0 && info(surf(kb), 0) == blk)) {
-              for (int r = 0; r < 4; ++r)
-                for (int q = 0; q < nv; ++q) {
-                  const double w = bu[r] * wv(ka, q);
-                  if (w == 0.0) continue;
-                  for (int e2 = 0; e2 < 3; ++e2) {
-                    const long t = t0 + static_cast<long>(3 * q + e2) * nuE + r;
-                    for (int e = 0; e < 3; ++e) g[e][e2] -= w * T(t, 3 * kb + e);
+            if (nodeBlk(kb) == pa || (surf(kb) >= 0 && info(surf(kb), 0) == pa)) {
+              for (int e = 0; e < 3; ++e) {  // T's rows of the patch, (r, q, e2), are one run of 12 nv
+                const double* tc = &T(t0, 3 * kb + e);
+                for (int r = 0; r < 4; ++r, tc += 3 * nv)
+                  for (int q = 0; q < nv; ++q) {
+                    const double w = bu[r] * wv(ka, q);
+                    g[e][0] -= w * tc[3 * q];
+                    g[e][1] -= w * tc[3 * q + 1];
+                    g[e][2] -= w * tc[3 * q + 2];
                   }
-                }
+              }
             }
             for (int d = 0; d < 3; ++d)
               for (int e = 0; e < 3; ++e) own[d][e] = own[d][e] + R[d][0] * g[e][0] + R[d][1] * g[e][1] + R[d][2] * g[e][2];

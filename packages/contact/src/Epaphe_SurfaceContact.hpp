@@ -196,8 +196,8 @@ private:
   void detect(const DenseVector& q, bool all);
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
   void motionEntries();     // entries of D_k (spline weights) of every node on a surface
-  void relativeColumns();      // Y = F D^T (and T) of the active nodes, then relativeFlexibility()
-  void relativeFlexibility(const Kokkos::View<int*>& active);  // C_ab = D_a Y_b of the active pairs (uploaded)
+  void relativeColumns();      // the patch nodes' Y and T (what F D^T needs beyond F), then relativeFlexibility()
+  void relativeFlexibility(const Kokkos::View<int*>& active);  // C_ab = D_a F D_b^T of the active pairs (uploaded)
   void controlColumns();    // ctrlF_: F times the carried surfaces' interpolation, once
   // construction, in this order:
   // blocks_ checked against the flexibility and filled; returns its host copy
@@ -241,12 +241,17 @@ private:
   Kokkos::View<int** [3]> entDof_;        // entries of D_k: DOF triples, weights, count
   Kokkos::View<double**> entW_;
   Kokkos::View<int*> entN_;
+  Kokkos::View<int*> patch_;              // per node: its surface's block if that has control columns, else -1
   Kokkos::View<double* [3][3]> entRot_;   // R of each node's surface when its entries were made
-  Kokkos::View<double**, Kokkos::LayoutLeft> Y_;   // F D_k^T, column 3 k + e (active nodes), dense rows of F only
+  // F D_k^T, column 3 k + e, is never formed whole: its part on node k's own dense block is F's
+  // columns at k's DOFs, read in place; a carried surface on a diagonal block has no dense rows; a
+  // patch node's part on its surface's block is read where needed: Y_ at the contact nodes' rows
+  // of that block (nodeRows_), T_ on its grids, the control columns in the correction
+  Kokkos::View<double**, Kokkos::LayoutLeft> Y_;
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
-  // per carried surface with control columns (tOff_(s) >= 0): Y on its grid contracted with the
-  // rows [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
-  // tOff_(s) + (3 q + e2) nuE + A; the dense rows of its grid DOFs (gridRow_) and B_u^T (buT_)
+  // per carried surface with control columns (tOff_(s) >= 0): F D_k^T on its grid contracted with
+  // the rows [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
+  // tOff_(s) + 3 nv A + 3 q + e2; the dense rows of its grid DOFs (gridRow_) and B_u^T (buT_)
   Kokkos::View<double**, Kokkos::LayoutLeft> T_;
   Kokkos::View<long*> tOff_, gridRowOff_, buOff_;
   Kokkos::View<int*> gridRow_;
@@ -254,12 +259,23 @@ private:
   Kokkos::View<int* [2]> needRange_;
   Kokkos::View<int* [2]>::HostMirror needRangeH_;
   long tRows_ = 0;
-  bool directF_ = false;   // every surface rigid, F dense: C and the correction read F (no Y)
   // per carried surface on a dense block (offset -1 otherwise): F (B_u x B_v) on the block's rows,
   // column (e2, a, b) of the extended control grid (nuE x nvE) at ctrlOff_(s) + ((e2 nuE + a) nvE + b) n
   Kokkos::View<double*> ctrlF_;
   Kokkos::View<long*> ctrlOff_;
   Kokkos::View<int* [2]> ctrlDim_;
+  // ...and those columns on the grid of a carried surface s2 of the same block, contracted with B_u
+  // as T is: P(s2, s) at pOff_(s2, s) (-1: other blocks), column (e2, a, b) of s, row 3 nv2 A + 3 q + e2',
+  // so that a node's T on s2 is 16 runs of P's column, not 16 columns of F over the whole block
+  Kokkos::View<double*> P_;
+  Kokkos::View<long**> pOff_;
+  // per carried surface with control columns: the active nodes' coefficients of the correction on
+  // its control columns, at coefOff_(s) + (e2 nuE + a) nvE + b (summed over the nodes, then applied)
+  Kokkos::View<double*> coef_;
+  Kokkos::View<long*> coefOff_;
+  // per block: the dense rows of the contact nodes' DOFs in it, from nodeRowOff_(blk) to
+  // nodeRowOff_(blk + 1) (a patch column of Y holds its surface's part at those rows only)
+  Kokkos::View<int*> nodeRows_, nodeRowOff_;
   int maxGrid_[2] = {0, 0};
   long long projections_ = 0, projectionsSkipped_ = 0;
   double time_ = 0.0;
