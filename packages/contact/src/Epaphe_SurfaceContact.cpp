@@ -259,6 +259,7 @@ void SurfaceContact::initWorkViews(const ContactNodes& nodes, int N) {
   patch_ = Kokkos::View<int*>("epaphe::contact::patch_block", nc);
   entRot_ = Kokkos::View<double* [3][3]>("epaphe::contact::entry_rotation", nc);
   C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
+  known_ = Kokkos::View<int*>("epaphe::contact::known_rows", nc);
   tangent_ = Kokkos::View<double* [3]>("epaphe::contact::tangent", nc);
   dir_ = Kokkos::View<double* [3]>("epaphe::contact::direction", nc);
   mu_ = Kokkos::View<double*>("epaphe::contact::friction", nc);
@@ -325,7 +326,6 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     ScopedPhase phase(cost, "projection");
     detect(q, false);
   }
-  const int projected = detection_->lastProjected();
 
   ScopedPhase phase(cost, "contact");
   // From here the step only copies views it owns into locals (kernel captures) and allocates none
@@ -339,8 +339,9 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
   }
   numActive_ = static_cast<int>(activeH_.size());
   const bool friction = opt_.friction > 0.0;
-  projections_ += projected;
-  projectionsSkipped_ += nc - projected;
+  const long long ns = detection_->numSurfaces(), projected = detection_->lastProjected();
+  projections_ += ns * projected;   // a node not skipped is projected on every surface
+  projectionsSkipped_ += ns * (nc - projected);
   if (numActive_ == 0) {
     enforcement_->commit(v_, activeH_);
     const auto tangent = tangent_;
@@ -354,6 +355,7 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     return;
   }
   motionEntries();
+  fill(known_, 0);  // D (and so C) changed
   // Active set (Lagrange): the nodes the predictor made penetrate, less those the surface would
   // pull (lambda < 0, released inside the solves), plus those the correction of the others makes
   // penetrate through the coupling of F (their corrected gap g*_a + n_a . D_a dq < 0): solved
@@ -855,8 +857,10 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   const auto foot = foot_;
   const auto wv = wv_;
   const auto C = C_;
+  const auto known = known_;
   const RelativeMotion D{entDof_, entW_, entN_, entRot_};
-  // C_ab = D_a (F D_b^T), one active node a per iteration, every b. Node a's own part reads F D_b^T
+  // C_ab = D_a (F D_b^T), one active node a per iteration, every b unless both were active at the
+  // last pass of this step too (D and F do not change within a step: C_ab was made then). Node a's own part reads F D_b^T
   // at a's DOFs: F's block at (a's DOFs, b's) when both are in one dense block, Y_b when b's patch
   // is on a's block (FlexibleColumn in a diagonal block). On a carried surface with control columns
   // its grid part is -R_a sum_pq w_p w_q (F D_b^T)(grid node pq) = -R_a sum_r b_r sum_q w_q
@@ -888,6 +892,7 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
         }
         for (int b = 0; b < nA; ++b) {
           const int kb = active(b);
+          if (known(ka) && known(kb)) continue;
           if (!direct) {
             for (int e = 0; e < 3; ++e) {
               const FlexibleColumn<decltype(Y)> col{Y, F, D, nodeBlk, patch, kb, e};
@@ -934,6 +939,9 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
         }
       });
   fence();
+  // known: in this pass's active set (a node released and added again was not in every pass between)
+  for (int k = 0; k < numNodes(); ++k) known_(k) = 0;
+  for (int a = 0; a < nA; ++a) known_(activeH_[a]) = 1;
 }
 
 double SurfaceContact::workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const {

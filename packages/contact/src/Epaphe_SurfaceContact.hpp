@@ -142,7 +142,8 @@ public:
   void setPenetrationOffsets(const std::vector<double>& depth, double rampEnd) {
     detection_->setPenetrationOffsets(depth, rampEnd);
   }
-  /// Node projections done and skipped by the detections of correct() since construction.
+  /// Projections of a node on a surface done and skipped by the detections of correct() since
+  /// construction.
   long long projections() const { return projections_; }
   long long projectionsSkipped() const { return projectionsSkipped_; }
 
@@ -249,6 +250,7 @@ private:
   // of that block (nodeRows_), T_ on its grids, the control columns in the correction
   Kokkos::View<double**, Kokkos::LayoutLeft> Y_;
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
+  Kokkos::View<int*> known_;              // per node: its row and column of C made at this step
   // per carried surface with control columns (tOff_(s) >= 0): F D_k^T on its grid contracted with
   // the rows [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
   // tOff_(s) + 3 nv A + 3 q + e2; the dense rows of its grid DOFs (gridRow_) and B_u^T (buT_)
