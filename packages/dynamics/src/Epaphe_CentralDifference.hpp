@@ -59,7 +59,7 @@ class BodyOperator {
 public:
   using Sparse = KokkosSparse::CrsMatrix<double, int, Kokkos::DefaultExecutionSpace, void, std::size_t>;
   BodyOperator() = default;
-  /// n x n, column-major.
+  /// n x n, column-major (stored by rows: see forRowBlocks).
   static BodyOperator dense(const std::vector<double>& a, int n, const std::string& label);
   /// diag(rowScale) A, A in compressed rows (rowScale empty: A).
   static BodyOperator sparse(const SparseRows& a, const std::vector<double>& rowScale, const std::string& label);
@@ -74,7 +74,8 @@ public:
   /// dgemm, about the cost of one dgemv: 0.63 against 1.15 us for two on 68 x 68, 23 against 39 us
   /// on 419 x 419, OpenBLAS 0.3.21 on this project's machine).
   void apply2(const DenseMatrix& x, const DenseMatrix& y) const;
-  const DenseMatrix& denseMatrix() const { return dense_; }
+  /// The dense operator, column-major (a copy: it is stored by rows; empty when not dense).
+  DenseMatrix denseMatrix() const;
   /// Bytes one apply() reads of the operator's own storage (values and indices).
   std::size_t bytes() const;
   const DenseVector& diagonalEntries() const { return diagonal_; }
