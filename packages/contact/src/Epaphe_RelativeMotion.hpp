@@ -37,26 +37,23 @@ struct RelativeMotion {
   }
 };
 
-/// Column 3 k + e of F D^T as an accessor of the system rows, for RelativeMotion::apply, read where
-/// it is kept: on node k's own block when dense, w_0 times F's column at its DOF e (F itself); on the
-/// block of its surface when that has control columns (patch(k): that block, else -1), Y, which holds
-/// it at the contact nodes' rows only, the only rows read; in a diagonal block of F, F_ii times the
-/// weights of node k's entries at DOF i (the only rows where D_k^T is not zero).
-template <class Y>
+/// Column 3 k + e of F D^T as an accessor of the system rows, for RelativeMotion::apply, at the
+/// rows D_a reads for another node a: a's own DOFs and its surface's grid DOFs. On node k's own
+/// dense block it is w_0 times F's column at k's DOF e (F itself); on another dense block it is not
+/// read (a's body carries no surface, SurfaceContact refuses that, so no patch of k's is on a's
+/// block; a's grid DOFs on a dense block make a a patch node, whose C uses T); in a diagonal block
+/// of F, F_ii times the weights of node k's entries at DOF i (the only rows where D_k^T is not zero).
 struct FlexibleColumn {
-  Y y;
   Flexibility::Packed F;
   RelativeMotion D;
-  Kokkos::View<int*> nodeBlock, patch;
+  Kokkos::View<int*> nodeBlock;
   int k, e;
   KOKKOS_INLINE_FUNCTION double operator()(int i) const {
-    const int r = F.denseRow(i);
-    if (r >= 0) {
+    if (F.denseRow(i) >= 0) {
       const int own = nodeBlock(k), b0 = F.blocks(own, 0), n = F.blocks(own, 1);
-      if (i >= b0 && i < b0 + n)  // (a dense row: its block is dense)
-        return D.w(k, 0) * F.dense(F.start(own) + static_cast<std::size_t>(D.dof(k, 0, e) - b0) * n + (i - b0));
-      const int pb = patch(k);
-      return pb >= 0 && i >= F.blocks(pb, 0) && i < F.blocks(pb, 0) + F.blocks(pb, 1) ? y(r, 3 * k + e) : 0.0;
+      return i >= b0 && i < b0 + n  // (a dense row: its block is dense)
+                 ? D.w(k, 0) * F.dense(F.start(own) + static_cast<std::size_t>(D.dof(k, 0, e) - b0) * n + (i - b0))
+                 : 0.0;
     }
     double s = 0.0;
     for (int m = 0; m < D.count(k); ++m)

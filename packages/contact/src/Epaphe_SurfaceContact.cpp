@@ -221,25 +221,8 @@ void SurfaceContact::initWorkViews(const ContactNodes& nodes, int N) {
   const int nc = static_cast<int>(nodes_.size());
   wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, maxGrid_[0]);
   wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, maxGrid_[1]);
-  Y_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::FDt", F_.denseRows, 3 * nc);
-  {  // per block, the dense rows of the contact nodes' DOFs in it
-    const int nb = static_cast<int>(blocks_.extent(0));
-    std::vector<std::vector<int>> rows(nb);
-    for (int k = 0; k < nc; ++k)
-      for (int d = 0; d < 3; ++d) {
-        const int r = F_.denseRow(nodes.dofs[3 * k + d]);
-        if (r >= 0) rows[nodeBlock_[k]].push_back(r);
-      }
-    nodeRowOff_ = Kokkos::View<int*>("epaphe::contact::node_row_offset", nb + 1);
-    std::vector<int> all;
-    for (int b = 0; b < nb; ++b) {
-      nodeRowOff_(b) = static_cast<int>(all.size());
-      all.insert(all.end(), rows[b].begin(), rows[b].end());
-    }
-    nodeRowOff_(nb) = static_cast<int>(all.size());
-    nodeRows_ = Kokkos::View<int*>("epaphe::contact::node_rows", all.size());
-    for (std::size_t i = 0; i < all.size(); ++i) nodeRows_(i) = all[i];
-  }
+  pbasis_ = Kokkos::View<double* [8]>("epaphe::contact::patch_basis", nc);
+  pcell_ = Kokkos::View<int* [2]>("epaphe::contact::patch_cell", nc);
   T_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::BuFDt", tRows_, 3 * nc);
   dq_ = DenseVector("epaphe::contact::correction", N);
   corrected_ = Kokkos::View<int*>("epaphe::contact::added", nc);
@@ -391,9 +374,10 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     const int ns = static_cast<int>(surfaces_.size());
     const bool patches = coef_.extent(0) > 0;
     if (patches) {  // x = -sum_k lambda_k b_a b_b R_k^T c_k, over the patch nodes in node order
-      const auto foot = foot_;
       const auto rot = entRot_;
       const auto surf = surf_;
+      const auto pbasis = pbasis_;
+      const auto pcell = pcell_;
       forEach(
           "epaphe::contact::control_coefficients", 1, 0, KOKKOS_LAMBDA(const int) {
             for (std::size_t x = 0; x < coef.extent(0); ++x) coef(x) = 0.0;
@@ -401,19 +385,13 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
               const int k = act(a), s = surf(k);
               const double l = force(k);
               if (l == 0.0 || patch(k) < 0) continue;
-              const int nuE = ctrlDim(s, 0), nvE = ctrlDim(s, 1);
-              int i, j;
-              double tu, tv, bu[4], bv[4], d1[4], d2[4];
-              surface_detail::locate(foot(k, 0), info(s, 1), info(s, 4) != 0, i, tu);
-              surface_detail::locate(foot(k, 1), info(s, 2), info(s, 5) != 0, j, tv);
-              surface_detail::cubicBasis(tu, bu, d1, d2);
-              surface_detail::cubicBasis(tv, bv, d1, d2);
+              const int nuE = ctrlDim(s, 0), nvE = ctrlDim(s, 1), i = pcell(k, 0), j = pcell(k, 1);
               for (int e2 = 0; e2 < 3; ++e2) {
                 const double c = -l * (rot(k, 0, e2) * dir(k, 0) + rot(k, 1, e2) * dir(k, 1) + rot(k, 2, e2) * dir(k, 2));
                 if (c == 0.0) continue;
                 for (int r = 0; r < 4; ++r)
                   for (int t = 0; t < 4; ++t)
-                    coef(coefOff(s) + (static_cast<long>(e2) * nuE + i + r) * nvE + j + t) += c * bu[r] * bv[t];
+                    coef(coefOff(s) + (static_cast<long>(e2) * nuE + i + r) * nvE + j + t) += c * pbasis(k, r) * pbasis(k, 4 + t);
               }
             }
           });
@@ -641,41 +619,35 @@ void SurfaceContact::controlColumns() {
     }
   }
   // T (relativeColumns), per carried surface with control columns: rows tOff_(s) + 3 nv A + 3 q + e2
-  // (a patch's rows A = i..i+3 are one contiguous run);
-  // the dense rows of its grid DOFs at gridRowOff_(s) + (3 q + e2) nu + p (-1: clamped), and B_u
-  // transposed at buOff_(s) + p nuE + A
+  // (a patch's rows A = i..i+3 are one contiguous run); for P below, the dense rows of its grid DOFs
+  // at gridRowOff[s] + (3 q + e2) nu + p (-1: clamped), and B_u transposed at buOff[s] + p nuE + A
   tOff_ = Kokkos::View<long*>("epaphe::contact::T_offset", ns);
-  gridRowOff_ = Kokkos::View<long*>("epaphe::contact::grid_row_offset", ns);
-  buOff_ = Kokkos::View<long*>("epaphe::contact::BuT_offset", ns);
+  std::vector<long> gridRowOff(ns, -1), buOff(ns, -1);
   needRange_ = Kokkos::View<int* [2]>("epaphe::contact::needed_rows", ns);
   needRangeH_ = Kokkos::create_mirror_view(needRange_);
   std::vector<int> rows;
   std::vector<double> buT;
   long tRows = 0;
   for (int s = 0; s < ns; ++s) {
-    tOff_(s) = gridRowOff_(s) = buOff_(s) = -1;
+    tOff_(s) = -1;
     if (ctrlOff_(s) < 0) continue;
     const ContactSurface& cs = surfaces_[s];
     const BSplineSurface& S = *cs.surface;
     const int nu = S.nu(), nv = S.nv(), inNv = S.inputNv(), nuE = ctrlDim_(s, 0);
     tOff_(s) = tRows;
     tRows += 3L * nuE * nv;
-    gridRowOff_(s) = static_cast<long>(rows.size());
+    gridRowOff[s] = static_cast<long>(rows.size());
     for (int q = 0; q < nv; ++q)
       for (int e2 = 0; e2 < 3; ++e2)
         for (int p = 0; p < nu; ++p) {
           const int j = cs.gridDofs[3 * (static_cast<std::size_t>(p) * inNv + q) + e2];
           rows.push_back(j < 0 ? -1 : F_.denseRow(j));
         }
-    buOff_(s) = static_cast<long>(buT.size());
+    buOff[s] = static_cast<long>(buT.size());
     for (int p = 0; p < nu; ++p)
       for (int a = 0; a < nuE; ++a) buT.push_back(S.operatorU()[static_cast<std::size_t>(a) * nu + p]);
   }
   tRows_ = tRows;
-  gridRow_ = Kokkos::View<int*>("epaphe::contact::grid_rows", rows.size());
-  for (std::size_t i = 0; i < rows.size(); ++i) gridRow_(i) = rows[i];
-  buT_ = Kokkos::View<double*>("epaphe::contact::BuT", buT.size());
-  for (std::size_t i = 0; i < buT.size(); ++i) buT_(i) = buT[i];
   ctrlF_ = Kokkos::View<double*>("epaphe::contact::control_columns", G.size());
   for (std::size_t i = 0; i < G.size(); ++i) ctrlF_(i) = G[i];
   // P(s2, s) for two surfaces with control columns on one block: s's control columns G on s2's grid
@@ -704,10 +676,10 @@ void SurfaceContact::controlColumns() {
         double* out = &P[pOff_(s2, s) + c * rowsP];
         for (int qe = 0; qe < 3 * nv2; ++qe)
           for (int p = 0; p < nu2; ++p) {
-            const int j = rows[gridRowOff_(s2) + static_cast<long>(qe) * nu2 + p];
+            const int j = rows[gridRowOff[s2] + static_cast<long>(qe) * nu2 + p];
             const double y = j >= 0 ? g[j - r0] : 0.0;
             if (y == 0.0) continue;
-            const double* b = &buT[buOff_(s2) + static_cast<long>(p) * nuE2];
+            const double* b = &buT[buOff[s2] + static_cast<long>(p) * nuE2];
             for (int A = 0; A < nuE2; ++A) out[static_cast<long>(A) * 3 * nv2 + qe] += b[A] * y;
           }
       }
@@ -722,19 +694,15 @@ void SurfaceContact::relativeColumns() {
   // For the active nodes: what C_ab = D_a F D_b^T needs of F D_b^T beyond F itself. Its part on
   // node b's own (dense) block is F's columns at b's DOFs, read in place; a carried surface on a
   // diagonal block has no dense rows; so only a patch node (its surface's block has control
-  // columns) has a part to form: Y at the contact nodes' rows of that block, and T on the grids
-  // there (eq. 2.26). Then C_ab = D_a Y_b.
+  // columns) has a part to form: T on the grids of that block (eq. 2.26), and its patch's basis.
+  // Then C_ab = D_a (F D_b^T).
   const int nA = numActive_;
   const auto active = v_.upload(activeH_);
   const auto surf = surf_;
   const auto info = info_;
-  const auto F = F_;
-  const auto Y = Y_;
-  const auto blocks = blocks_;
-  const auto nodeBlk = nodeBlk_;
-  const auto dof = dof_;
   const auto patch = patch_;
-  const auto ctrl = ctrlF_;
+  const auto pbasis = pbasis_;
+  const auto pcell = pcell_;
   const auto ctrlOff = ctrlOff_;
   const auto ctrlDim = ctrlDim_;
   const auto foot = foot_;
@@ -742,14 +710,8 @@ void SurfaceContact::relativeColumns() {
   const auto T = T_;
   const auto tOff = tOff_;
   const auto need = needRange_;
-  const auto gridRow = gridRow_;
-  const auto gridRowOff = gridRowOff_;
-  const auto buT = buT_;
-  const auto buOff = buOff_;
   const auto Pm = P_;
   const auto pOff = pOff_;
-  const auto nodeRows = nodeRows_;
-  const auto nodeRowOff = nodeRowOff_;
   const int ns = static_cast<int>(surfaces_.size());
   if (tRows_ > 0) {  // per surface, the rows of B_u that the patches of the active nodes read
     for (int s = 0; s < ns; ++s) {
@@ -766,62 +728,44 @@ void SurfaceContact::relativeColumns() {
       needRangeH_(s, 1) = std::max(needRangeH_(s, 1), i + 3);
     }
     copy(needRange_, needRangeH_);
-    const long work = 200L * (nodeRows_.extent(0) + 3L * maxGrid_[0] * maxGrid_[1]) + 10;
+    const long work = 600L * maxGrid_[1] + 10;
     forEach(
         "epaphe::contact::relative_columns", 3 * nA, work, KOKKOS_LAMBDA(const int ae) {
           const int k = active(ae / 3), e = ae % 3, c = 3 * k + e;
           const int s = surf(k), pb = patch(k);
           // a patch node's part on its surface's block comes from the 4 x 4 control points of the
           // foot point's patch (eq. 2.22), w_ab = -R(e, e2) b_a b_b (D_k's grid part: -R sum w_pq
-          // u_pq), instead of the grid nodes' entries: Y at the contact nodes' rows of that block
-          // (C's own term reads them), T from P below; the correction reads the control columns
+          // u_pq), instead of the grid nodes' entries: its basis kept for PatchColumns (C's own
+          // term, the correction), T from P below
           int pi = 0, pj = 0;
           double bu[4] = {0.0, 0.0, 0.0, 0.0}, bv[4] = {0.0, 0.0, 0.0, 0.0};
           if (pb >= 0) {
-            const int n = blocks(pb, 1), r0 = F.denseRow(blocks(pb, 0));
-            const int nuE = ctrlDim(s, 0), nvE = ctrlDim(s, 1);
             double tu, tv, d1[4], d2[4];
             surface_detail::locate(foot(k, 0), info(s, 1), info(s, 4) != 0, pi, tu);
             surface_detail::locate(foot(k, 1), info(s, 2), info(s, 5) != 0, pj, tv);
             surface_detail::cubicBasis(tu, bu, d1, d2);
             surface_detail::cubicBasis(tv, bv, d1, d2);
-            for (int x = nodeRowOff(pb); x < nodeRowOff(pb + 1); ++x) {
-              const int r = nodeRows(x);
-              double y = 0.0;
-              for (int e2 = 0; e2 < 3; ++e2) {
-                const double w = -rot(k, e, e2);
-                if (w == 0.0) continue;
-                for (int a = 0; a < 4; ++a)
-                  for (int b = 0; b < 4; ++b)
-                    y += w * bu[a] * bv[b] *
-                         ctrl(ctrlOff(s) + ((static_cast<std::size_t>(e2) * nuE + pi + a) * nvE + pj + b) * static_cast<std::size_t>(n) + (r - r0));
+            if (e == 0) {
+              pcell(k, 0) = pi;
+              pcell(k, 1) = pj;
+              for (int r = 0; r < 4; ++r) {
+                pbasis(k, r) = bu[r];
+                pbasis(k, 4 + r) = bv[r];
               }
-              Y(r, c) = y;
             }
           }
-          // T(:, c): column c on the grid of each carried surface s2 with control columns where it
-          // has rows, contracted with the rows A of B_u that the active patches read (eq. 2.26):
-          //   T(s2; A, q, e2) = sum_p B_u(A, p) (F D_k^T)(grid DOF (p, q, e2), e),
-          // on the node's own block from F's column at its DOF, on its surface's from P (16 columns)
+          // T(:, c): column c on the grid of each carried surface s2 with control columns on the
+          // block of node k's surface, contracted with the rows A of B_u that the active patches
+          // read (eq. 2.26): T(s2; A, q, e2) = sum_p B_u(A, p) (F D_k^T)(grid DOF (p, q, e2), e),
+          // 16 columns of P. (F D_k^T has no other part on a grid: no contact node is on a body
+          // that carries a surface, so k's own block carries none.)
           for (int s2 = 0; s2 < ns; ++s2) {
             const int blk2 = info(s2, 0), lo = need(s2, 0), hi = need(s2, 1);
-            const bool own = nodeBlk(k) == blk2, carried = s >= 0 && info(s, 0) == blk2;
-            if (tOff(s2) < 0 || hi < lo || !(own || carried)) continue;
-            const int nu = info(s2, 1), nv = info(s2, 2), nuE = ctrlDim(s2, 0);
-            const int b0 = blocks(blk2, 0), n = blocks(blk2, 1), r0 = F.denseRow(b0);
-            const double* fcol = &F.dense(F.start(blk2) + static_cast<std::size_t>(own ? dof(k, e) - b0 : 0) * n);
+            if (tOff(s2) < 0 || hi < lo || !(s >= 0 && info(s, 0) == blk2)) continue;
+            const int nv = info(s2, 2), nuE = ctrlDim(s2, 0);
             const int m = 3 * nv;  // T's rows A = lo..hi: one run of (hi - lo + 1) m
             double* t = &T(tOff(s2) + static_cast<long>(lo) * m, c);
             for (int x = 0; x < (hi - lo + 1) * m; ++x) t[x] = 0.0;
-            if (own)  // (the node's block is never its surface's: no self-contact)
-              for (int qe = 0; qe < m; ++qe)
-                for (int p = 0; p < nu; ++p) {
-                  const int j = gridRow(gridRowOff(s2) + static_cast<long>(qe) * nu + p);
-                  const double y = j >= 0 ? fcol[j - r0] : 0.0;
-                  if (y == 0.0) continue;
-                  const double* b = &buT(buOff(s2) + static_cast<long>(p) * nuE);
-                  for (int A = lo; A <= hi; ++A) t[(A - lo) * m + qe] += b[A] * y;
-                }
             if (pb != blk2) continue;
             const long rowsP = 3L * nv * nuE;
             const int nuEs = ctrlDim(s, 0), nvEs = ctrlDim(s, 1);
@@ -847,7 +791,6 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   const auto surf = surf_;
   const auto info = info_;
   const auto F = F_;
-  const auto Y = Y_;
   const auto T = T_;
   const auto tOff = tOff_;
   const auto nodeBlk = nodeBlk_;
@@ -861,8 +804,8 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   // C_ab = D_a (F D_b^T), one active node a per iteration, every b unless both were active at the
   // last pass of this step too (D and F do not change within a step: C_ab was made then). Node a's own part reads F D_b^T
-  // at a's DOFs: F's block at (a's DOFs, b's) when both are in one dense block, Y_b when b's patch
-  // is on a's block (FlexibleColumn in a diagonal block). On a carried surface with control columns
+  // at a's DOFs: F's block at (a's DOFs, b's) when both are in one dense block, else 0 (a's body
+  // carries no surface: no patch of b's is on it), FlexibleColumn in a diagonal block. On a carried surface with control columns
   // its grid part is -R_a sum_pq w_p w_q (F D_b^T)(grid node pq) = -R_a sum_r b_r sum_q w_q
   // T_b(i + r, q), the cubic basis b_r of the foot point's patch i (eqs. 2.22, 2.26); on one with
   // none (a diagonal block) D_a's entries are walked.
@@ -895,7 +838,7 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
           if (known(ka) && known(kb)) continue;
           if (!direct) {
             for (int e = 0; e < 3; ++e) {
-              const FlexibleColumn<decltype(Y)> col{Y, F, D, nodeBlk, patch, kb, e};
+              const FlexibleColumn col{F, D, nodeBlk, kb, e};
               double r[3];
               D.apply(ka, col, r);
               for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = r[d];
@@ -909,17 +852,16 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
               const double* col = &F.dense(F.start(blk) + static_cast<std::size_t>(D.dof(kb, 0, e) - b0) * n);
               for (int d = 0; d < 3; ++d) own[d][e] = w0 * (wb * col[dof[d] - b0]);
             }
-          } else if (dense) {  // b's patch on a's block, or nothing
-            const bool on = patch(kb) == blk;
+          } else if (dense) {
             for (int e = 0; e < 3; ++e)
-              for (int d = 0; d < 3; ++d) own[d][e] = w0 * (on ? Y(row[d], 3 * kb + e) : 0.0);
+              for (int d = 0; d < 3; ++d) own[d][e] = 0.0;
           } else {
             for (int e = 0; e < 3; ++e)
-              for (int d = 0; d < 3; ++d) own[d][e] = w0 * FlexibleColumn<decltype(Y)>{Y, F, D, nodeBlk, patch, kb, e}(dof[d]);
+              for (int d = 0; d < 3; ++d) own[d][e] = w0 * FlexibleColumn{F, D, nodeBlk, kb, e}(dof[d]);
           }
           if (pa >= 0) {  // the grid part, R_a g
             double g[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // g[e][e2]
-            if (nodeBlk(kb) == pa || (surf(kb) >= 0 && info(surf(kb), 0) == pa)) {
+            if (surf(kb) >= 0 && info(surf(kb), 0) == pa) {
               for (int e = 0; e < 3; ++e) {  // T's rows of the patch, (r, q, e2), are one run of 12 nv
                 const double* tc = &T(t0, 3 * kb + e);
                 for (int r = 0; r < 4; ++r, tc += 3 * nv)

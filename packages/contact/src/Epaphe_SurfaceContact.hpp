@@ -197,7 +197,7 @@ private:
   void detect(const DenseVector& q, bool all);
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
   void motionEntries();     // entries of D_k (spline weights) of every node on a surface
-  void relativeColumns();      // the patch nodes' Y and T (what F D^T needs beyond F), then relativeFlexibility()
+  void relativeColumns();      // the patch nodes' basis and T (what F D^T needs beyond F), then relativeFlexibility()
   void relativeFlexibility(const Kokkos::View<int*>& active);  // C_ab = D_a F D_b^T of the active pairs (uploaded)
   void controlColumns();    // ctrlF_: F times the carried surfaces' interpolation, once
   // construction, in this order:
@@ -244,20 +244,21 @@ private:
   Kokkos::View<int*> entN_;
   Kokkos::View<int*> patch_;              // per node: its surface's block if that has control columns, else -1
   Kokkos::View<double* [3][3]> entRot_;   // R of each node's surface when its entries were made
-  // F D_k^T, column 3 k + e, is never formed whole: its part on node k's own dense block is F's
-  // columns at k's DOFs, read in place; a carried surface on a diagonal block has no dense rows; a
-  // patch node's part on its surface's block is read where needed: Y_ at the contact nodes' rows
-  // of that block (nodeRows_), T_ on its grids, the control columns in the correction
-  Kokkos::View<double**, Kokkos::LayoutLeft> Y_;
+  // F D_k^T, column 3 k + e, is never formed: its part on node k's own dense block is F's columns
+  // at k's DOFs, read in place; a carried surface on a diagonal block has no dense rows; a patch
+  // node's part on its surface's block is needed only on that block's grids (T_: no contact node
+  // is on a body that carries a surface) and in the correction (the control columns). Per patch
+  // node (made by relativeColumns for the active ones): its patch's cubic basis, b(u) then b(v),
+  // and first control point
+  Kokkos::View<double* [8]> pbasis_;
+  Kokkos::View<int* [2]> pcell_;
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
   Kokkos::View<int*> known_;              // per node: its row and column of C made at this step
   // per carried surface with control columns (tOff_(s) >= 0): F D_k^T on its grid contracted with
   // the rows [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
-  // tOff_(s) + 3 nv A + 3 q + e2; the dense rows of its grid DOFs (gridRow_) and B_u^T (buT_)
+  // tOff_(s) + 3 nv A + 3 q + e2
   Kokkos::View<double**, Kokkos::LayoutLeft> T_;
-  Kokkos::View<long*> tOff_, gridRowOff_, buOff_;
-  Kokkos::View<int*> gridRow_;
-  Kokkos::View<double*> buT_;
+  Kokkos::View<long*> tOff_;
   Kokkos::View<int* [2]> needRange_;
   Kokkos::View<int* [2]>::HostMirror needRangeH_;
   long tRows_ = 0;
@@ -275,9 +276,7 @@ private:
   // its control columns, at coefOff_(s) + (e2 nuE + a) nvE + b (summed over the nodes, then applied)
   Kokkos::View<double*> coef_;
   Kokkos::View<long*> coefOff_;
-  // per block: the dense rows of the contact nodes' DOFs in it, from nodeRowOff_(blk) to
-  // nodeRowOff_(blk + 1) (a patch column of Y holds its surface's part at those rows only)
-  Kokkos::View<int*> nodeRows_, nodeRowOff_;
+
   int maxGrid_[2] = {0, 0};
   long long projections_ = 0, projectionsSkipped_ = 0;
   double time_ = 0.0;
