@@ -703,7 +703,6 @@ void SurfaceContact::relativeColumns() {
   const auto patch = patch_;
   const auto pbasis = pbasis_;
   const auto pcell = pcell_;
-  const auto ctrlOff = ctrlOff_;
   const auto ctrlDim = ctrlDim_;
   const auto foot = foot_;
   const auto rot = entRot_;
@@ -735,8 +734,8 @@ void SurfaceContact::relativeColumns() {
           const int s = surf(k), pb = patch(k);
           // a patch node's part on its surface's block comes from the 4 x 4 control points of the
           // foot point's patch (eq. 2.22), w_ab = -R(e, e2) b_a b_b (D_k's grid part: -R sum w_pq
-          // u_pq), instead of the grid nodes' entries: its basis kept for PatchColumns (C's own
-          // term, the correction), T from P below
+          // u_pq), instead of the grid nodes' entries: T from P below, and the basis kept for the
+          // correction's control coefficients
           int pi = 0, pj = 0;
           double bu[4] = {0.0, 0.0, 0.0, 0.0}, bv[4] = {0.0, 0.0, 0.0, 0.0};
           if (pb >= 0) {
@@ -796,33 +795,32 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   const auto nodeBlk = nodeBlk_;
   const auto patch = patch_;
   const auto blocks = blocks_;
-  const auto ctrlDim = ctrlDim_;
   const auto foot = foot_;
   const auto wv = wv_;
   const auto C = C_;
   const auto known = known_;
   const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   // C_ab = D_a (F D_b^T), one active node a per iteration, every b unless both were active at the
-  // last pass of this step too (D and F do not change within a step: C_ab was made then). Node a's own part reads F D_b^T
-  // at a's DOFs: F's block at (a's DOFs, b's) when both are in one dense block, else 0 (a's body
-  // carries no surface: no patch of b's is on it), FlexibleColumn in a diagonal block. On a carried surface with control columns
-  // its grid part is -R_a sum_pq w_p w_q (F D_b^T)(grid node pq) = -R_a sum_r b_r sum_q w_q
-  // T_b(i + r, q), the cubic basis b_r of the foot point's patch i (eqs. 2.22, 2.26); on one with
-  // none (a diagonal block) D_a's entries are walked.
+  // last pass of this step too (D and F do not change within a step: C_ab was made then).
+  // Node a's own part reads F D_b^T at a's DOFs: F's block at (a's DOFs, b's) when both are in one
+  // dense block, else 0 (a's body carries no surface: no patch of b's is on it), FlexibleColumn in
+  // a diagonal block. On a carried surface with control columns its grid part is
+  // -R_a sum_pq w_p w_q (F D_b^T)(grid node pq) = -R_a sum_r b_r sum_q w_q T_b(i + r, q), the cubic
+  // basis b_r of the foot point's patch i (eqs. 2.22, 2.26); on one with none (a diagonal block)
+  // D_a's entries are walked.
   forEach(
       "epaphe::contact::relative_flexibility", nA, 30L * static_cast<long>(entW_.extent(1)) * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a), sa = surf(ka), pa = patch(ka);
         const bool direct = D.count(ka) == 1 || pa >= 0;
         const double w0 = D.w(ka, 0);
         const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
-        int dof[3], row[3];
+        int dof[3];
         double R[3][3];
         for (int d = 0; d < 3; ++d) {
           dof[d] = D.dof(ka, 0, d);
-          row[d] = F.denseRow(dof[d]);
           for (int e = 0; e < 3; ++e) R[d][e] = D.rot(ka, d, e);
         }
-        const bool dense = row[0] >= 0;
+        const bool dense = F.denseRow(dof[0]) >= 0;  // a's block is dense
         int i = 0, nv = 0;
         long t0 = 0;
         double bu[4] = {0.0, 0.0, 0.0, 0.0};
@@ -881,7 +879,7 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
         }
       });
   fence();
-  // known: in this pass's active set (a node released and added again was not in every pass between)
+  // known: active at this pass (C_ab is reused only for two nodes active together at the last pass)
   for (int k = 0; k < numNodes(); ++k) known_(k) = 0;
   for (int a = 0; a < nA; ++a) known_(activeH_[a]) = 1;
 }
