@@ -3,8 +3,8 @@
 // 2.32 and 2.35), block diagonal over the bodies whose coordinates are stacked in the system q.
 // A reduced body's block is dense (size^2 entries). A full body with lumped mass and no or
 // mass-proportional damping has a diagonal M/h^2 + D/2h, hence a diagonal block (size entries):
-// its part of Y = F D^T and of the correction F G lambda is a scaling of the entries of D, with
-// no N x N storage anywhere.
+// its part of F D^T and of the correction F G lambda is a scaling of the entries of D, with no
+// N x N storage anywhere.
 #include <Kokkos_Core.hpp>
 
 #include <vector>
@@ -31,7 +31,7 @@ public:
   int blockSize(int b) const { return blocks_[b].size; }
 
   /// What the contact kernels read, copied into them by value. The rows of the dense blocks are
-  /// numbered consecutively ("dense rows", the rows of Y = F D^T that are stored).
+  /// numbered consecutively ("dense rows").
   struct Packed {
     Kokkos::View<int* [2]> blocks;       // per block: offset, size
     Kokkos::View<std::size_t*> start;    // per block: where its entries start in `dense` (dense blocks)
