@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Finding (2026-11-26): the coated bar's energy with Lagrange at h/2 is not robust to round-off.
+
+verification.coating's bar (bar-on-wall.xml at 10 m/s, 32 J, into the wall coated with 2 mm of an
+elastic-plastic coating, Lagrange, h = 5e-8 s) balances: the energy the bar loses equals the
+coating's plastic dissipation to 0.15 %. Its initial velocity changed by 1e-15 to 1e-12 of itself
+(round-off) should change nothing that matters. Measured on 2026-11-26, 7 of 8 such runs end
+with a dissipation of 90-105 J against a contact work of 20-26 J. Whether the lucky unperturbed run
+reproduces depends on the warm start's history.
+
+The diagnosis is that the face nodes' foot points change coating element during the impact (43 -> 44,
+64 -> 54). A node 0.35 mm into the worn profile of its old element is then 0.35 mm into an unworn
+one, which it "wears" at once: about 5.4 J of dissipation per node in one step, with no work done.
+
+Runs the deck three times, perturbed by 1e-15, 1e-14 and 1e-12, and checks each run's
+|energy lost - plastic dissipation| against 1 % of the initial energy (coating.py's tolerance).
+With --expect-finding it passes while at least one run misses that by more than 5 %. Once none
+does, it fails, which says to drop --expect-finding (label finding).
+"""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
+
+expect_finding = "--expect-finding" in sys.argv  # (this script's option; the rest is parse_args')
+if expect_finding:
+    sys.argv.remove("--expect-finding")
+a = parse_args()
+coat = {"Surfaces->Wall->Origin": ("{0.204, -0.04, -0.04}", "Array(double)"),  # as coating.py
+        "Surfaces->Wall->Coating->Thickness": ("2e-3", "double"),
+        "Surfaces->Wall->Coating->Young's modulus": ("1e10", "double"),
+        "Surfaces->Wall->Coating->Yield stress": ("1e8", "double"),
+        "Surfaces->Wall->Coating->Hardening modulus": ("1e9", "double"),
+        "Surfaces->Wall->Coating->Elements": ("{10, 10}", "Array(int)"),
+        "Contact->Method": ("Lagrange", "string"),
+        "Time->Time step": ("5e-8", "double"),
+        "Time->End time": ("1e-3", "double"), "Output->Every": ("10", "int")}
+off = []
+for i, eps in enumerate((1e-15, 1e-14, 1e-12)):
+    name = f"bar-perturbed-{i}"
+    v0 = 10.0 * (1.0 + eps)
+    deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"),
+                   dict(coat, **{"Bodies->Bar->Initial velocity": (f"{{{v0!r}, 0, 0}}", "Array(double)"),
+                                 "Output->File": (name + ".h5", "string")}))
+    run([a.run, deck], a.workdir)
+    h = history(os.path.join(a.workdir, name + ".h5"))
+    e0, e1 = h["energy/total"][0], h["energy/total"][-1]
+    plastic, elastic = h["energy/plastic_dissipation"][-1], h["energy/coating_elastic"][-1]
+    work = h["energy/contact_work"][-1]
+    miss = abs(e0 - e1 - plastic - elastic) / e0
+    print(f"v0 (1 + {eps:g}): energy {e0:.4f} -> {e1:.4f} J, contact work {work:.3f} J, plastic dissipation "
+          f"{plastic:.3f} J: lost - dissipated = {miss * 100:.2f} % of {e0:.4g} J")
+    off.append(miss)
+
+if expect_finding:
+    failures = [] if max(off) > 0.05 else [
+        f"every perturbed run now balances (largest miss {max(off) * 100:.2f} %): the finding is gone; "
+        "drop --expect-finding from verification.coating-perturbed"]
+else:
+    failures = [f"run {i}: lost - dissipated {m * 100:.2f} % of the initial energy (1 % allowed)"
+                for i, m in enumerate(off) if m > 0.01]
+sys.exit(verdict(failures))
