@@ -8,8 +8,8 @@ coating's plastic dissipation to 0.15 %. Its initial velocity changed by 1e-15 t
 with a dissipation of 90-105 J against a contact work of 20-26 J. Whether the lucky unperturbed run
 reproduces depends on the warm start's history.
 
-The diagnosis is that the face nodes' foot points change coating element during the impact (43 -> 44,
-64 -> 54). A node 0.35 mm into the worn profile of its old element is then 0.35 mm into an unworn
+The diagnosis: each face node sits on a corner shared by four coating elements (node 0 on 33, 34, 43
+and 44), and its foot point falls into each of them in turn during the impact. A node 0.35 mm into the worn profile of its old element is then 0.35 mm into an unworn
 one, which it "wears" at once: about 5.4 J of dissipation per node in one step, with no work done.
 
 Runs the deck three times, perturbed by 1e-15, 1e-14 and 1e-12, and checks each run's
