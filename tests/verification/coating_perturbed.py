@@ -1,21 +1,19 @@
 #!/usr/bin/env python3
-"""Finding (2026-11-26): the coated bar's energy with Lagrange at h/2 is not robust to round-off.
+"""The coated bar's energy with Lagrange at h/2 is robust to round-off.
 
 verification.coating's bar (bar-on-wall.xml at 10 m/s, 32 J, into the wall coated with 2 mm of an
 elastic-plastic coating, Lagrange, h = 5e-8 s) balances: the energy the bar loses equals the
 coating's plastic dissipation to 0.15 %. Its initial velocity changed by 1e-15 to 1e-12 of itself
-(round-off) should change nothing that matters. Measured on 2026-11-26, 7 of 8 such runs end
-with a dissipation of 90-105 J against a contact work of 20-26 J. Whether the lucky unperturbed run
-reproduces depends on the warm start's history.
+(round-off) must change nothing that matters.
 
-The diagnosis: each face node sits on a corner shared by four coating elements (node 0 on 33, 34, 43
-and 44), and its foot point falls into each of them in turn during the impact. A node 0.35 mm into the worn profile of its old element is then 0.35 mm into an unworn
-one, which it "wears" at once: about 5.4 J of dissipation per node in one step, with no work done.
+Each face node sits on a corner shared by four coating elements. Until 2026-11-26 its foot point
+fell into each of them in turn, and it wore each unworn one at once: 91-105 J dissipated against
+21-26 J of contact work, in 7 of 8 perturbed runs (the finding this test recorded). A node now keeps
+its element while its foot point stays within 1e-6 of a cell of it (CoatingViews::element).
 
-Runs the deck three times, perturbed by 1e-15, 1e-14 and 1e-12, and checks each run's
-|energy lost - plastic dissipation| against 1 % of the initial energy (coating.py's tolerance).
-With --expect-finding it passes while at least one run misses that by more than 5 %. Once none
-does, it fails, which says to drop --expect-finding (label finding).
+Runs the deck three times, perturbed by 1e-15, 1e-14 and 1e-12, and asserts each run's
+|energy lost - plastic dissipation| within 1 % of the initial energy (coating.py's tolerance).
+(--expect-finding inverts the verdict: it passes while some run misses by more than 5 %.)
 """
 import os
 import sys

@@ -92,10 +92,20 @@ struct CoatingViews {
   Kokkos::View<int*> surface;  // [e] its surface
 
   /// Element of surface s under the foot point (u, v) (s's own parameters), -1 without a coating.
-  KOKKOS_INLINE_FUNCTION int element(int s, const SurfaceView& S, double u, double v) const {
+  /// `previous`: the element the node had on s at its last projection (-1: none): it is kept while
+  /// the foot point lies within 1e-6 of a cell of it, so that a node on an element boundary does not
+  /// change element with round-off (it would at once wear an unworn neighbour to its depth:
+  /// verification.coating-perturbed).
+  KOKKOS_INLINE_FUNCTION int element(int s, const SurfaceView& S, double u, double v, int previous = -1) const {
     const int nu = grid(s, 0), nv = grid(s, 1);
     if (nu == 0) return -1;
-    int i = static_cast<int>(::floor(u / S.uMax() * nu)), j = static_cast<int>(::floor(v / S.vMax() * nv));
+    const double x = u / S.uMax() * nu, y = v / S.vMax() * nv;
+    if (previous >= grid(s, 2) && previous < grid(s, 2) + nu * nv) {
+      const int ip = (previous - grid(s, 2)) / nv, jp = (previous - grid(s, 2)) % nv;
+      constexpr double slack = 1e-6;
+      if (x >= ip - slack && x <= ip + 1 + slack && y >= jp - slack && y <= jp + 1 + slack) return previous;
+    }
+    int i = static_cast<int>(::floor(x)), j = static_cast<int>(::floor(y));
     i = i < 0 ? 0 : (i >= nu ? nu - 1 : i);
     j = j < 0 ? 0 : (j >= nv ? nv - 1 : j);
     return grid(s, 2) + i * nv + j;

@@ -494,7 +494,7 @@ void ContactDetection::project(bool all, bool refineOnly) {
       eligible = eligible && p.converged && !(p.beyond > 0.0);
       v.travelLast(k, s) = v.travel(s);
       // through a coating: the gap to its current profile; the bound's to the unworn one
-      const int e = v.coat.element(s, S, p.u, p.v);
+      const int e = v.coat.element(s, S, p.u, p.v, v.selected(k) == s ? v.element(k) : -1);
       const double pg = p.gap - v.coat.offset(s, e);
       const double gUnworn = e < 0 ? p.gap : p.gap - v.coat.law(s, 0);
       gmin = gUnworn < gmin ? gUnworn : gmin;
