@@ -30,21 +30,14 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python")))
-from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
+from epaphe_testing import COATED_BAR, history, parse_args, run, variant, verdict  # noqa: E402
 from epaphe.measures import wear_lobes  # noqa: E402
 
 a = parse_args("--bar-deck", "--rigid-deck")
 failures = []
 
 # ---- 1. energy on the bar ----------------------------------------------------------------------
-coat = {"Surfaces->Wall->Origin": ("{0.204, -0.04, -0.04}", "Array(double)"),  # the front at 0.202
-        "Surfaces->Wall->Coating->Thickness": ("2e-3", "double"),
-        "Surfaces->Wall->Coating->Young's modulus": ("1e10", "double"),
-        "Surfaces->Wall->Coating->Yield stress": ("1e8", "double"),
-        "Surfaces->Wall->Coating->Hardening modulus": ("1e9", "double"),
-        "Surfaces->Wall->Coating->Elements": ("{10, 10}", "Array(int)"),
-        "Bodies->Bar->Initial velocity": ("{10, 0, 0}", "Array(double)"),
-        "Time->End time": ("1e-3", "double"), "Output->Every": ("10", "int")}
+coat = COATED_BAR
 for method in ("Lagrange", "Penalty"):
     extra = {"Contact->Method": (method, "string")}
     if method == "Penalty":

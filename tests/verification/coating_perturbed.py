@@ -19,21 +19,13 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
+from epaphe_testing import COATED_BAR, history, parse_args, run, variant, verdict  # noqa: E402
 
 expect_finding = "--expect-finding" in sys.argv  # (this script's option; the rest is parse_args')
 if expect_finding:
     sys.argv.remove("--expect-finding")
 a = parse_args()
-coat = {"Surfaces->Wall->Origin": ("{0.204, -0.04, -0.04}", "Array(double)"),  # as coating.py
-        "Surfaces->Wall->Coating->Thickness": ("2e-3", "double"),
-        "Surfaces->Wall->Coating->Young's modulus": ("1e10", "double"),
-        "Surfaces->Wall->Coating->Yield stress": ("1e8", "double"),
-        "Surfaces->Wall->Coating->Hardening modulus": ("1e9", "double"),
-        "Surfaces->Wall->Coating->Elements": ("{10, 10}", "Array(int)"),
-        "Contact->Method": ("Lagrange", "string"),
-        "Time->Time step": ("5e-8", "double"),
-        "Time->End time": ("1e-3", "double"), "Output->Every": ("10", "int")}
+coat = dict(COATED_BAR, **{"Contact->Method": ("Lagrange", "string"), "Time->Time step": ("5e-8", "double")})
 off = []
 for i, eps in enumerate((1e-15, 1e-14, 1e-12)):
     name = f"bar-perturbed-{i}"
