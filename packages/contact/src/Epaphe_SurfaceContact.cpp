@@ -704,7 +704,6 @@ void SurfaceContact::relativeColumns() {
   const auto pbasis = pbasis_;
   const auto pcell = pcell_;
   const auto ctrlDim = ctrlDim_;
-  const auto foot = foot_;
   const auto rot = entRot_;
   const auto T = T_;
   const auto tOff = tOff_;
@@ -712,7 +711,10 @@ void SurfaceContact::relativeColumns() {
   const auto Pm = P_;
   const auto pOff = pOff_;
   const int ns = static_cast<int>(surfaces_.size());
-  if (tRows_ > 0) {  // per surface, the rows of B_u that the patches of the active nodes read
+  if (tRows_ > 0) {
+    // per patch node, its patch: the first control point (i, j) and the cubic basis of the foot
+    // point (eq. 2.22), read below, by C and by the correction; per surface, the rows of B_u that
+    // the patches of the active nodes read
     for (int s = 0; s < ns; ++s) {
       needRangeH_(s, 0) = 1 << 30;
       needRangeH_(s, 1) = -1;
@@ -720,9 +722,18 @@ void SurfaceContact::relativeColumns() {
     for (int a = 0; a < nA; ++a) {
       const int k = activeH_[a], s = surfH_(k);
       if (patch_(k) < 0) continue;
-      int i;
-      double t;
-      surface_detail::locate(foot_(k, 0), info_(s, 1), info_(s, 4) != 0, i, t);
+      int i, j;
+      double tu, tv, bu[4], bv[4], d1[4], d2[4];
+      surface_detail::locate(foot_(k, 0), info_(s, 1), info_(s, 4) != 0, i, tu);
+      surface_detail::locate(foot_(k, 1), info_(s, 2), info_(s, 5) != 0, j, tv);
+      surface_detail::cubicBasis(tu, bu, d1, d2);
+      surface_detail::cubicBasis(tv, bv, d1, d2);
+      pcell_(k, 0) = i;
+      pcell_(k, 1) = j;
+      for (int r = 0; r < 4; ++r) {
+        pbasis_(k, r) = bu[r];
+        pbasis_(k, 4 + r) = bv[r];
+      }
       needRangeH_(s, 0) = std::min(needRangeH_(s, 0), i);
       needRangeH_(s, 1) = std::max(needRangeH_(s, 1), i + 3);
     }
@@ -732,27 +743,9 @@ void SurfaceContact::relativeColumns() {
         "epaphe::contact::relative_columns", 3 * nA, work, KOKKOS_LAMBDA(const int ae) {
           const int k = active(ae / 3), e = ae % 3, c = 3 * k + e;
           const int s = surf(k), pb = patch(k);
-          // a patch node's part on its surface's block comes from the 4 x 4 control points of the
-          // foot point's patch (eq. 2.22), w_ab = -R(e, e2) b_a b_b (D_k's grid part: -R sum w_pq
-          // u_pq), instead of the grid nodes' entries: T from P below, and the basis kept for the
-          // correction's control coefficients
-          int pi = 0, pj = 0;
-          double bu[4] = {0.0, 0.0, 0.0, 0.0}, bv[4] = {0.0, 0.0, 0.0, 0.0};
-          if (pb >= 0) {
-            double tu, tv, d1[4], d2[4];
-            surface_detail::locate(foot(k, 0), info(s, 1), info(s, 4) != 0, pi, tu);
-            surface_detail::locate(foot(k, 1), info(s, 2), info(s, 5) != 0, pj, tv);
-            surface_detail::cubicBasis(tu, bu, d1, d2);
-            surface_detail::cubicBasis(tv, bv, d1, d2);
-            if (e == 0) {
-              pcell(k, 0) = pi;
-              pcell(k, 1) = pj;
-              for (int r = 0; r < 4; ++r) {
-                pbasis(k, r) = bu[r];
-                pbasis(k, 4 + r) = bv[r];
-              }
-            }
-          }
+          // a patch node's part on its surface's block comes from the 4 x 4 control points of its
+          // patch, w_ab = -R(e, e2) b_a b_b (D_k's grid part: -R sum w_pq u_pq), instead of the grid
+          // nodes' entries
           // T(:, c): column c on the grid of each carried surface s2 with control columns on the
           // block of node k's surface, contracted with the rows A of B_u that the active patches
           // read (eq. 2.26): T(s2; A, q, e2) = sum_p B_u(A, p) (F D_k^T)(grid DOF (p, q, e2), e),
@@ -773,8 +766,9 @@ void SurfaceContact::relativeColumns() {
               if (w == 0.0) continue;
               for (int a = 0; a < 4; ++a)
                 for (int b = 0; b < 4; ++b) {
-                  const double wab = w * bu[a] * bv[b];
-                  const double* pc = &Pm(pOff(s2, s) + ((static_cast<long>(e2) * nuEs + pi + a) * nvEs + pj + b) * rowsP) + static_cast<long>(lo) * m;
+                  const double wab = w * pbasis(k, a) * pbasis(k, 4 + b);
+                  const double* pc = &Pm(pOff(s2, s) + ((static_cast<long>(e2) * nuEs + pcell(k, 0) + a) * nvEs + pcell(k, 1) + b) * rowsP) +
+                                     static_cast<long>(lo) * m;
                   for (int x = 0; x < (hi - lo + 1) * m; ++x) t[x] += wab * pc[x];
                 }
             }
@@ -795,7 +789,8 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   const auto nodeBlk = nodeBlk_;
   const auto patch = patch_;
   const auto blocks = blocks_;
-  const auto foot = foot_;
+  const auto pcell = pcell_;
+  const auto pbasis = pbasis_;
   const auto wv = wv_;
   const auto C = C_;
   const auto known = known_;
@@ -821,16 +816,8 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
           for (int e = 0; e < 3; ++e) R[d][e] = D.rot(ka, d, e);
         }
         const bool dense = F.denseRow(dof[0]) >= 0;  // a's block is dense
-        int i = 0, nv = 0;
-        long t0 = 0;
-        double bu[4] = {0.0, 0.0, 0.0, 0.0};
-        if (pa >= 0) {
-          double tu, d1[4], d2[4];
-          surface_detail::locate(foot(ka, 0), info(sa, 1), info(sa, 4) != 0, i, tu);
-          surface_detail::cubicBasis(tu, bu, d1, d2);
-          nv = info(sa, 2);
-          t0 = tOff(sa) + 3L * nv * i;
-        }
+        const int nv = pa >= 0 ? info(sa, 2) : 0;
+        const long t0 = pa >= 0 ? tOff(sa) + 3L * nv * pcell(ka, 0) : 0;  // (its patch: relativeColumns)
         for (int b = 0; b < nA; ++b) {
           const int kb = active(b);
           if (known(ka) && known(kb)) continue;
@@ -864,7 +851,7 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
                 const double* tc = &T(t0, 3 * kb + e);
                 for (int r = 0; r < 4; ++r, tc += 3 * nv)
                   for (int q = 0; q < nv; ++q) {
-                    const double w = bu[r] * wv(ka, q);
+                    const double w = pbasis(ka, r) * wv(ka, q);
                     g[e][0] -= w * tc[3 * q];
                     g[e][1] -= w * tc[3 * q + 1];
                     g[e][2] -= w * tc[3 * q + 2];
