@@ -4,7 +4,6 @@
 
 #include "Epaphe_Error.hpp"
 
-#include <KokkosSparse_spmv.hpp>
 #include <Teuchos_BLAS.hpp>
 #include <Teuchos_LAPACK.hpp>
 
@@ -112,8 +111,8 @@ void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const 
   // The per-step work of a small dense model is a few microseconds: an OpenMP kernel launch per
   // vector operation would cost more than the work (measured: 2 threads 4.5x slower than 1 on a
   // 112-DOF model). The vectors live in host memory (OpenMP), so dense and diagonal operators run as
-  // plain loops and one BLAS dgemv (OpenBLAS, which threads large products itself); the sparse
-  // product is KokkosKernels' spmv.
+  // plain loops and one BLAS dgemv per thread's block of rows; the sparse product the same way
+  // (below).
   static_assert(Kokkos::SpaceAccessibility<Kokkos::HostSpace, DenseVector::memory_space>::accessible,
                 "the explicit step runs on host memory");
   const int n = static_cast<int>(y.extent(0));
@@ -128,9 +127,34 @@ void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const 
       });
       break;
     }
-    case Kind::Sparse:
-      KokkosSparse::spmv("N", alpha, sparse_, x, beta, y);
+    case Kind::Sparse: {
+      // CSR rows summed in four interleaved partial sums. KokkosKernels 13.2's spmv on the OpenMP
+      // space sums each row in one dependent chain of additions (its 4-way unrolled loop is for the
+      // Serial space only): latency-bound at about 1 ns per entry (the lumped bar, 1212 rows of up
+      // to 36 entries: 30-49 us a product); four chains take the adds' throughput instead.
+      const auto rows = sparse_.graph.row_map.data();
+      const int* cols = sparse_.graph.entries.data();
+      const double* vals = sparse_.values.data();
+      const double* xv = x.data();
+      double* yv = y.data();
+      forRowBlocks("epaphe::dynamics::spmv", n, bytes(), [=](int r0, int r1) {
+        for (int i = r0; i < r1; ++i) {
+          double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+          std::size_t k = rows[i];
+          const std::size_t end = rows[i + 1];
+          for (; k + 4 <= end; k += 4) {
+            s0 += vals[k] * xv[cols[k]];
+            s1 += vals[k + 1] * xv[cols[k + 1]];
+            s2 += vals[k + 2] * xv[cols[k + 2]];
+            s3 += vals[k + 3] * xv[cols[k + 3]];
+          }
+          for (; k < end; ++k) s0 += vals[k] * xv[cols[k]];
+          const double s = alpha * ((s0 + s1) + (s2 + s3));
+          yv[i] = beta == 0.0 ? s : s + beta * yv[i];
+        }
+      });
       break;
+    }
     case Kind::Diagonal: {
       const double* d = diagonal_.data();
       const double* xv = x.data();
@@ -606,16 +630,19 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
   M_.apply2(pair_, image_);
   const double kinHalf = 0.5 * dotColumn(X, Y);
   e.kinetic = 0.5 * dotColumn(X + n, Y + n);
-  // K (or K_res) [q_n, q_{n+1}]
+  if (!residual_) {
+    // One product K q_n serves both terms, K being symmetric: q_n^T K q_{n+1} = q_{n+1}^T (K q_n)
+    // (a sparse K: one spmv a record instead of two, 30 us of the lumped bar's 1212 DOFs).
+    K_.apply(1.0, qn, 0.0, tmp_);
+    const double* Kqn = tmp_.data();
+    e.total = kinHalf + 0.5 * dotColumn(b, Kqn);
+    e.strain = 0.5 * dotColumn(a, Kqn);
+    return e;
+  }
+  // K_res [q_n, q_{n+1}]
   for (int i = 0; i < n; ++i) {
     X[i] = a[i];
     X[n + i] = b[i];
-  }
-  if (!residual_) {
-    K_.apply2(pair_, image_);
-    e.total = kinHalf + 0.5 * dotColumn(a, Y + n);
-    e.strain = 0.5 * dotColumn(a, Y);
-    return e;
   }
   // massless boundary: K = K_res + diag(Kmid); E_{n+1/2} as in halfStepEnergy()
   Kres_.apply2(pair_, image_);

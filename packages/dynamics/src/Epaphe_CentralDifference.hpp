@@ -127,7 +127,7 @@ struct HighestEigenvalue {
 
 /// The highest eigenvalue of M^{-1} (K + k S) for a full model with lumped mass (M = diag(m), K
 /// sparse, S = diag(1 on `stiffenedDofs`)): Lanczos on the symmetric M^{-1/2} (K + k S) M^{-1/2},
-/// products by KokkosKernels spmv, from a fixed pseudo-random start, until the residual bound
+/// products by BodyOperator's sparse product, from a fixed pseudo-random start, until the residual bound
 /// beta_j |s_j| of the largest Ritz value theta is below 1e-10 theta (at most 1000 iterations, no
 /// reorthogonalization: the extreme Ritz values converge first). The estimate is theta + that
 /// bound, never above the Gershgorin bound, which is used when Lanczos does not converge.
@@ -162,7 +162,8 @@ public:
   double kinetic(const DenseVector& v) const;
   double strain(const DenseVector& q) const;
   /// What an energy record needs, E_{n+1/2} (halfStepEnergy), 1/2 v^T M v and 1/2 q_n^T K q_n, with
-  /// each operator read once (M on two velocities, K or K_res on q_n and q_{n+1}): two matrix passes
+  /// each operator read once: M on two velocities, K on q_n alone (K symmetric: q_n^T K q_{n+1} =
+  /// q_{n+1}^T (K q_n)), K_res on q_n and q_{n+1} (its two quadratic forms differ): two matrix passes
   /// instead of four (six on a massless boundary). The same sums as the functions above to round-off.
   struct EnergyTerms {
     double total = 0, kinetic = 0, strain = 0;
