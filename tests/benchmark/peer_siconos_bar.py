@@ -131,6 +131,11 @@ ROWS = [
 
 
 def main():
+    if len(sys.argv) == 3:  # one row in this fresh process, as JSON (peer_bar.py times the whole process)
+        import json
+        r = siconos_bar(int(sys.argv[1]), float(sys.argv[2]))
+        print(json.dumps(dict(errs=r["errs"], setup_seconds=r["setup_seconds"], loop_seconds=r["loop_seconds"])))
+        return 0
     print("V1 bar on a rigid wall, Siconos 4.4 (Moreau-Jean, LCP Lemke, e = 0): exact start 2.0e-5 s, "
           "end 1.0e-4 s, plateau 1.6e6 N, rebound 100 m/s")
     print(f"{'elements':>8} {'h':>6} {'theta':>5} {'mass':>10} | {'start':>6} {'end':>6} {'force':>6} "
