@@ -57,10 +57,11 @@ namespace surface_detail {
 /// Eq. 2.22 uniform cubic B-spline basis on one patch, local t in [0, 1], and its derivatives.
 KOKKOS_INLINE_FUNCTION void cubicBasis(double t, double b[4], double db[4], double ddb[4]) {
   const double s = 1.0 - t, t2 = t * t, t3 = t2 * t;
-  b[0] = s * s * s / 6.0;
-  b[1] = (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0;
-  b[2] = (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0;
-  b[3] = t3 / 6.0;
+  constexpr double sixth = 1.0 / 6.0;   // a product, not four divisions (a closest point evaluates this often)
+  b[0] = s * s * s * sixth;
+  b[1] = (3.0 * t3 - 6.0 * t2 + 4.0) * sixth;
+  b[2] = (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) * sixth;
+  b[3] = t3 * sixth;
   db[0] = -0.5 * s * s;
   db[1] = 1.5 * t2 - 2.0 * t;
   db[2] = -1.5 * t2 + t + 0.5;
@@ -75,6 +76,7 @@ KOKKOS_INLINE_FUNCTION void cubicBasis(double t, double b[4], double db[4], doub
 KOKKOS_INLINE_FUNCTION double toDomain(double u, int n, bool periodic) {
   if (periodic) {
     const double N = double(n);
+    if (u >= 0.0 && u < N) return u;  // already inside: the wrap below would leave it unchanged
     u -= N * ::floor(u / N);
     if (u >= N) u -= N;  // rounding of a tiny negative u
     return u < 0.0 ? 0.0 : u;
