@@ -239,6 +239,37 @@ std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOption
   return D;
 }
 
+namespace {
+/// |last component| of the unit eigenvector of the symmetric tridiagonal T (diagonal `alpha`,
+/// off-diagonal `beta`) for its eigenvalue `theta`: inverse iteration, two solves with T - theta I
+/// factored once (LU with partial pivoting; theta moved by 1e-13 of itself if a pivot is exactly 0).
+double lastComponent(const std::vector<double>& alpha, const std::vector<double>& beta, double theta) {
+  const int m = static_cast<int>(alpha.size());
+  if (m == 1) return 1.0;
+  Teuchos::LAPACK<int, double> lapack;
+  std::vector<double> dl, d, du, du2(static_cast<std::size_t>(m)), x;
+  std::vector<int> ipiv(static_cast<std::size_t>(m));
+  int info = 1;
+  for (double shift = theta; info != 0; shift += 1e-13 * std::abs(theta) + 1e-300) {
+    dl.assign(beta.begin(), beta.begin() + (m - 1));
+    du = dl;
+    d = alpha;
+    for (double& v : d) v -= shift;
+    lapack.GTTRF(m, dl.data(), d.data(), du.data(), du2.data(), ipiv.data(), &info);
+  }
+  x.assign(static_cast<std::size_t>(m), 1.0);
+  for (int pass = 0; pass < 2; ++pass) {
+    lapack.GTTRS('N', m, 1, dl.data(), d.data(), du.data(), du2.data(), ipiv.data(), x.data(), m, &info);
+    double norm = 0;
+    for (double v : x) norm = std::max(norm, std::abs(v));
+    for (double& v : x) v /= norm;
+  }
+  double norm2 = 0;
+  for (double v : x) norm2 += v * v;
+  return std::abs(x[static_cast<std::size_t>(m) - 1]) / std::sqrt(norm2);
+}
+}  // namespace
+
 HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector<int>& stiffenedDofs,
                                     double addedStiffness) {
   EPAPHE_REQUIRE(model.sparse(), "highestEigenvalue: body '" << model.name << "' is not a full model with lumped mass");
@@ -291,12 +322,15 @@ HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector
     // The largest Ritz value theta of T_j and its residual bound beta_j |last component of its vector|.
     const int m = j + 1;
     if (m % 10 == 0 || m == maxIterations || b <= 1e-14 * std::abs(a)) {
-      std::vector<double> d(alpha), e(beta), z(static_cast<std::size_t>(m) * m), work(std::max(1, 2 * m - 2));
+      // T's eigenvalues alone (dsteqr without vectors: O(m^2), where the m x m eigenvectors cost
+      // O(m^3) and 3 s of the setup at a thousand iterations), then the largest one's eigenvector by
+      // two steps of inverse iteration on the tridiagonal T - theta I (dgttrf/dgttrs, O(m)).
+      std::vector<double> d(alpha), e(beta), none(1);
       int info = 0;
-      lapack.STEQR('I', m, d.data(), e.data(), z.data(), m, work.data(), &info);
+      lapack.STEQR('N', m, d.data(), e.data(), none.data(), 1, none.data(), &info);
       EPAPHE_REQUIRE(info == 0, "stable step of body '" << model.name << "': LAPACK dsteqr failed (info " << info << ")");
       r.ritz = d[m - 1];
-      r.residual = b * std::abs(z[static_cast<std::size_t>(m - 1) * m + m - 1]);
+      r.residual = b * lastComponent(alpha, beta, r.ritz);
       if (r.residual <= 1e-10 * r.ritz) {
         r.converged = true;
         break;
@@ -447,6 +481,9 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
       B[i] = -P[i] * D[i] / h;                        // B = -P D / h
     }
     A_ = BodyOperator::sparse(model.sparseK, minusP, "epaphe::dynamics::A");   // A = -P K
+    minusPinv_.resize(D.size());
+    for (int i = 0; i < n; ++i) minusPinv_[i] = -(model.lumpedMass[i] / (h * h) + D[i] / (2 * h));
+    aqn_ = DenseVector("epaphe::dynamics::Aqn", n);
     K_ = BodyOperator::sparse(model.sparseK, {}, "epaphe::dynamics::K");
     M_ = BodyOperator::diagonal(model.lumpedMass, "epaphe::dynamics::M");
     D_ = BodyOperator::diagonal(D, "epaphe::dynamics::D");
@@ -553,7 +590,14 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
     return;
   }
   for (int i = 0; i < n; ++i) qs[i] = 2.0 * q0[i] - q1[i];                          // 2 q_n - q_{n-1}
-  A_.apply(1.0, qn, 1.0, qstar);                                                    // + A q_n
+  if (aqn_.extent(0) > 0) {                                                         // + A q_n, kept (energies())
+    A_.apply(1.0, qn, 0.0, aqn_);
+    const double* aq = aqn_.data();
+    for (int i = 0; i < n; ++i) qs[i] += aq[i];                                     // as apply's beta = 1
+    aqnOf_ = q0;
+  } else {
+    A_.apply(1.0, qn, 1.0, qstar);
+  }
   if (damped_) {                                                                    // + B (q_n - q_{n-1})
     double* d = tmp_.data();
     for (int i = 0; i < n; ++i) d[i] = q0[i] - q1[i];
@@ -633,7 +677,13 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
   if (!residual_) {
     // One product K q_n serves both terms, K being symmetric: q_n^T K q_{n+1} = q_{n+1}^T (K q_n)
     // (a sparse K: one spmv a record instead of two, 30 us of the lumped bar's 1212 DOFs).
-    K_.apply(1.0, qn, 0.0, tmp_);
+    if (aqnOf_ == a) {   // the step's own q_n: K q_n = -(M/h^2 + D/2h) (A q_n), A = -P K
+      const double* aq = aqn_.data();
+      double* kq = tmp_.data();
+      for (int i = 0; i < n; ++i) kq[i] = minusPinv_[i] * aq[i];
+    } else {
+      K_.apply(1.0, qn, 0.0, tmp_);
+    }
     const double* Kqn = tmp_.data();
     e.total = kinHalf + 0.5 * dotColumn(b, Kqn);
     e.strain = 0.5 * dotColumn(a, Kqn);

@@ -139,6 +139,9 @@ public:
   CentralDifference(const ReducedModel& model, double h, const DampingOptions& damping);
 
   /// q* = 2 q_n - q_{n-1} + A q_n + B (q_n - q_{n-1}) + P f (f constant; see setConstantForce).
+  /// A full model with lumped mass keeps A q_n: energies() at the same q_n (same buffer, not written
+  /// in between, as in the explicit loop's step) reads K q_n = -P^{-1} (A q_n) from it instead of a
+  /// second sparse product.
   void predict(const DenseVector& qn, const DenseVector& qnm1, const DenseVector& qstar) const;
   /// A constant external force in reduced coordinates (gravity, a static load).
   void setConstantForce(const std::vector<double>& f);
@@ -183,6 +186,9 @@ private:
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_, Kres_;
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;
+  mutable DenseVector aqn_;                     // lumped mass: A q_n of the last predict()
+  mutable const double* aqnOf_ = nullptr;       // and the q_n buffer it was made from
+  std::vector<double> minusPinv_;               // lumped mass: -(M/h^2 + D/2h), so K q = minusPinv_ (A q)
   mutable DenseMatrix pair_, image_;   // n x 2: energies()' vectors and their images
 };
 
