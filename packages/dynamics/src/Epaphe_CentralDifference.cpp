@@ -250,13 +250,15 @@ double lastComponent(const std::vector<double>& alpha, const std::vector<double>
   std::vector<double> dl, d, du, du2(static_cast<std::size_t>(m)), x;
   std::vector<int> ipiv(static_cast<std::size_t>(m));
   int info = 1;
-  for (double shift = theta; info != 0; shift += 1e-13 * std::abs(theta) + 1e-300) {
+  double shift = theta;
+  for (int attempt = 0; attempt < 8 && info != 0; ++attempt, shift += 1e-13 * std::abs(theta) + 1e-300) {
     dl.assign(beta.begin(), beta.begin() + (m - 1));
     du = dl;
     d = alpha;
     for (double& v : d) v -= shift;
     lapack.GTTRF(m, dl.data(), d.data(), du.data(), du2.data(), ipiv.data(), &info);
   }
+  if (info != 0) return 1.0;   // no factor: the bound beta_j itself, which never declares convergence early
   x.assign(static_cast<std::size_t>(m), 1.0);
   for (int pass = 0; pass < 2; ++pass) {
     lapack.GTTRS('N', m, 1, dl.data(), d.data(), du.data(), du2.data(), ipiv.data(), x.data(), m, &info);
@@ -592,6 +594,7 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
   for (int i = 0; i < n; ++i) qs[i] = 2.0 * q0[i] - q1[i];                          // 2 q_n - q_{n-1}
   if (aqn_.extent(0) > 0) {                                                         // + A q_n, kept (energies())
     A_.apply(1.0, qn, 0.0, aqn_);
+    fence();
     const double* aq = aqn_.data();
     for (int i = 0; i < n; ++i) qs[i] += aq[i];                                     // as apply's beta = 1
     aqnOf_ = q0;
@@ -675,8 +678,8 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
   const double kinHalf = 0.5 * dotColumn(X, Y);
   e.kinetic = 0.5 * dotColumn(X + n, Y + n);
   if (!residual_) {
-    // One product K q_n serves both terms, K being symmetric: q_n^T K q_{n+1} = q_{n+1}^T (K q_n)
-    // (a sparse K: one spmv a record instead of two, 30 us of the lumped bar's 1212 DOFs).
+    // One product K q_n serves both terms, K being symmetric: q_n^T K q_{n+1} = q_{n+1}^T (K q_n);
+    // a lumped model takes it from the predictor's A q_n, without a product.
     if (aqnOf_ == a) {   // the step's own q_n: K q_n = -(M/h^2 + D/2h) (A q_n), A = -P K
       const double* aq = aqn_.data();
       double* kq = tmp_.data();
