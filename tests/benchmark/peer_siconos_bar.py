@@ -51,14 +51,15 @@ T0, T1, F = U0 / V0, U0 / V0 + 2 * L / C, RHO * C * S * V0
 RESTITUTION = 0.0
 
 
-def bar_matrices(elements, mass):
-    """Stiffness and mass matrices (dense) of the bar of 'elements' linear elements."""
-    le = L / elements
-    ke = E * S / le * np.array([[1.0, -1.0], [-1.0, 1.0]])
+def bar_matrices(elements, mass, length=L, area=S, young=E, rho=RHO):
+    """Stiffness and mass matrices (dense) of the bar of 'elements' linear elements (V1's bar unless
+    given)."""
+    le = length / elements
+    ke = young * area / le * np.array([[1.0, -1.0], [-1.0, 1.0]])
     if mass == "consistent":
-        me = RHO * S * le / 6 * np.array([[2.0, 1.0], [1.0, 2.0]])
+        me = rho * area * le / 6 * np.array([[2.0, 1.0], [1.0, 2.0]])
     elif mass == "lumped":
-        me = RHO * S * le / 2 * np.eye(2)
+        me = rho * area * le / 2 * np.eye(2)
     else:
         raise ValueError(f"mass must be 'consistent' or 'lumped', not {mass!r}")
     K = np.zeros((elements + 1, elements + 1))

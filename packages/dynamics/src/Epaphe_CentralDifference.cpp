@@ -33,7 +33,7 @@ DenseMatrix BodyOperator::denseMatrix() const {
   return a;
 }
 
-BodyOperator BodyOperator::sparse(const SparseRows& a, const std::vector<double>& rowScale, const std::string& label) {
+BodyOperator BodyOperator::sparse(const SparseRows& a, const std::string& label) {
   BodyOperator op;
   op.kind_ = Kind::Sparse;
   const int n = a.rows();
@@ -44,11 +44,10 @@ BodyOperator BodyOperator::sparse(const SparseRows& a, const std::vector<double>
   auto ch = Kokkos::create_mirror_view(cols);
   auto vh = Kokkos::create_mirror_view(values);
   for (int i = 0; i <= n; ++i) rh(i) = a.rowStart[i];
-  for (int i = 0; i < n; ++i)
-    for (std::size_t k = a.rowStart[i]; k < a.rowStart[i + 1]; ++k) {
-      ch(k) = a.cols[k];
-      vh(k) = rowScale.empty() ? a.values[k] : rowScale[i] * a.values[k];
-    }
+  for (std::size_t k = 0; k < a.values.size(); ++k) {
+    ch(k) = a.cols[k];
+    vh(k) = a.values[k];
+  }
   Kokkos::deep_copy(rows, rh);
   Kokkos::deep_copy(cols, ch);
   Kokkos::deep_copy(values, vh);
@@ -288,7 +287,7 @@ HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector
     r.gershgorin = std::max(r.gershgorin, row / model.lumpedMass[i]);
   }
   // Lanczos on A = M^{-1/2} (K + k S) M^{-1/2}: A x = s .* ((K + k S) (s .* x)), s = m^{-1/2}
-  const BodyOperator Kop = BodyOperator::sparse(K, {}, "epaphe::dynamics::lanczos::K");
+  const BodyOperator Kop = BodyOperator::sparse(K, "epaphe::dynamics::lanczos::K");
   std::vector<double> v(static_cast<std::size_t>(n)), vPrev(v.size(), 0.0);
   const DenseVector wView("epaphe::dynamics::lanczos::w", n), svView("epaphe::dynamics::lanczos::sv", n);
   double* w = wView.data();
@@ -470,23 +469,20 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
   EPAPHE_REQUIRE(h > 0 && std::isfinite(h), "time step = " << h << " s; it must be a finite value > 0");
   damped_ = damping.type != DampingType::None;
   if (model.sparse()) {
-    // M = diag(m), D = alpha M, P = [M/h^2 + D/2h]^{-1} and B = -P D / h diagonal, A = -P K sparse
+    // M = diag(m), D = alpha M, P = [M/h^2 + D/2h]^{-1} and B = -P D / h diagonal, K sparse
     const std::string problem = fullModelDampingProblem(damping);
     EPAPHE_REQUIRE(problem.empty(), "body '" << model.name << "' is a full model with lumped mass: " << problem);
     const double alpha = damping.type == DampingType::Rayleigh ? damping.alpha : 0.0;
-    std::vector<double> D(static_cast<std::size_t>(n)), P(D.size()), minusP(D.size()), B(D.size());
+    std::vector<double> D(static_cast<std::size_t>(n)), P(D.size()), B(D.size());
     for (int i = 0; i < n; ++i) {
       const double m = model.lumpedMass[i];
       D[i] = alpha * m;
       P[i] = 1.0 / (m / (h * h) + D[i] / (2 * h));   // P = [M/h^2 + D/2h]^{-1}
-      minusP[i] = -P[i];
       B[i] = -P[i] * D[i] / h;                        // B = -P D / h
     }
-    A_ = BodyOperator::sparse(model.sparseK, minusP, "epaphe::dynamics::A");   // A = -P K
-    minusPinv_.resize(D.size());
-    for (int i = 0; i < n; ++i) minusPinv_[i] = -(model.lumpedMass[i] / (h * h) + D[i] / (2 * h));
-    aqn_ = DenseVector("epaphe::dynamics::Aqn", n);
-    K_ = BodyOperator::sparse(model.sparseK, {}, "epaphe::dynamics::K");
+    // A q_n = -P (K q_n): predict() applies K and keeps K q_n for energies() (no second matrix)
+    K_ = BodyOperator::sparse(model.sparseK, "epaphe::dynamics::K");
+    kqn_ = DenseVector("epaphe::dynamics::Kqn", n);
     M_ = BodyOperator::diagonal(model.lumpedMass, "epaphe::dynamics::M");
     D_ = BodyOperator::diagonal(D, "epaphe::dynamics::D");
     P_ = BodyOperator::diagonal(P, "epaphe::dynamics::P");
@@ -592,12 +588,13 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
     return;
   }
   for (int i = 0; i < n; ++i) qs[i] = 2.0 * q0[i] - q1[i];                          // 2 q_n - q_{n-1}
-  if (aqn_.extent(0) > 0) {                                                         // + A q_n, kept (energies())
-    A_.apply(1.0, qn, 0.0, aqn_);
+  if (kqn_.extent(0) > 0) {                                                         // + A q_n = -P (K q_n), K q_n kept
+    K_.apply(1.0, qn, 0.0, kqn_);
     fence();
-    const double* aq = aqn_.data();
-    for (int i = 0; i < n; ++i) qs[i] += aq[i];                                     // as apply's beta = 1
-    aqnOf_ = q0;
+    const double* kq = kqn_.data();
+    const double* p = P_.diagonalEntries().data();
+    for (int i = 0; i < n; ++i) qs[i] -= p[i] * kq[i];
+    kqnOf_ = q0;
   } else {
     A_.apply(1.0, qn, 1.0, qstar);
   }
@@ -679,15 +676,10 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
   e.kinetic = 0.5 * dotColumn(X + n, Y + n);
   if (!residual_) {
     // One product K q_n serves both terms, K being symmetric: q_n^T K q_{n+1} = q_{n+1}^T (K q_n);
-    // a lumped model takes it from the predictor's A q_n, without a product.
-    if (aqnOf_ == a) {   // the step's own q_n: K q_n = -(M/h^2 + D/2h) (A q_n), A = -P K
-      const double* aq = aqn_.data();
-      double* kq = tmp_.data();
-      for (int i = 0; i < n; ++i) kq[i] = minusPinv_[i] * aq[i];
-    } else {
-      K_.apply(1.0, qn, 0.0, tmp_);
-    }
-    const double* Kqn = tmp_.data();
+    // a lumped model takes it from the predictor, without a product.
+    const bool kept = kqnOf_ == a;   // the step's own q_n: predict() made K q_n
+    if (!kept) K_.apply(1.0, qn, 0.0, tmp_);
+    const double* Kqn = kept ? kqn_.data() : tmp_.data();
     e.total = kinHalf + 0.5 * dotColumn(b, Kqn);
     e.strain = 0.5 * dotColumn(a, Kqn);
     return e;

@@ -53,7 +53,7 @@ struct DampingOptions {
 void rayleighFromRatios(double f1, double xi1, double f2, double xi2, double& alpha, double& beta);
 
 /// One linear operator of a body in its coordinates: dense (a reduced body's K, M, D, A, B),
-/// sparse (a full body's K and A = -P K, a KokkosKernels CrsMatrix) or diagonal (a lumped mass, a
+/// sparse (a full body's K, a KokkosKernels CrsMatrix) or diagonal (a lumped mass, a
 /// mass-proportional damping). Its vectors live in host memory (the explicit step runs there).
 class BodyOperator {
 public:
@@ -61,8 +61,8 @@ public:
   BodyOperator() = default;
   /// n x n, column-major (stored by rows: see forRowBlocks).
   static BodyOperator dense(const std::vector<double>& a, int n, const std::string& label);
-  /// diag(rowScale) A, A in compressed rows (rowScale empty: A).
-  static BodyOperator sparse(const SparseRows& a, const std::vector<double>& rowScale, const std::string& label);
+  /// A in compressed rows.
+  static BodyOperator sparse(const SparseRows& a, const std::string& label);
   static BodyOperator diagonal(const std::vector<double>& d, const std::string& label);
   /// dense(), or diagonal() when every entry off the diagonal is zero (a massless boundary's mass,
   /// diag(0, I)): the same products, without reading n^2 - n zeros.
@@ -139,8 +139,8 @@ public:
   CentralDifference(const ReducedModel& model, double h, const DampingOptions& damping);
 
   /// q* = 2 q_n - q_{n-1} + A q_n + B (q_n - q_{n-1}) + P f (f constant; see setConstantForce).
-  /// A full model with lumped mass keeps A q_n: energies() at the same q_n (same buffer, not written
-  /// in between, as in the explicit loop's step) reads K q_n = -P^{-1} (A q_n) from it instead of a
+  /// A full model with lumped mass forms A q_n as -P (K q_n) and keeps K q_n: energies() at the same
+  /// q_n (same buffer, not written in between, as in the explicit loop's step) reads it instead of a
   /// second sparse product.
   void predict(const DenseVector& qn, const DenseVector& qnm1, const DenseVector& qstar) const;
   /// A constant external force in reduced coordinates (gravity, a static load).
@@ -154,7 +154,7 @@ public:
   /// a step's integration.
   std::size_t predictBytes() const {
     if (residual_) return (w_.size() + phiB_.size()) * sizeof(double);   // the factors predict() reads
-    return A_.bytes() + (damped_ ? B_.bytes() : 0);
+    return (kqn_.extent(0) > 0 ? K_ : A_).bytes() + (damped_ ? B_.bytes() : 0);   // lumped: K, not A
   }
 
   /// Energy terms of the identity above.
@@ -186,9 +186,8 @@ private:
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_, Kres_;
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;
-  mutable DenseVector aqn_;                     // lumped mass: A q_n of the last predict()
-  mutable const double* aqnOf_ = nullptr;       // and the q_n buffer it was made from
-  std::vector<double> minusPinv_;               // lumped mass: -(M/h^2 + D/2h), so K q = minusPinv_ (A q)
+  mutable DenseVector kqn_;                     // lumped mass: K q_n of the last predict()
+  mutable const double* kqnOf_ = nullptr;       // and the q_n buffer it was made from
   mutable DenseMatrix pair_, image_;   // n x 2: energies()' vectors and their images
 };
 
