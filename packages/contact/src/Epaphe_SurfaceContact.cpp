@@ -243,6 +243,7 @@ void SurfaceContact::initWorkViews(const ContactNodes& nodes, int N) {
   entRot_ = Kokkos::View<double* [3][3]>("epaphe::contact::entry_rotation", nc);
   C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
   known_ = Kokkos::View<int*>("epaphe::contact::known_rows", nc);
+  fixedC_ = Kokkos::View<int**>("epaphe::contact::fixed_pairs", nc, nc);
   tangent_ = Kokkos::View<double* [3]>("epaphe::contact::tangent", nc);
   dir_ = Kokkos::View<double* [3]>("epaphe::contact::direction", nc);
   mu_ = Kokkos::View<double*>("epaphe::contact::friction", nc);
@@ -794,6 +795,7 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   const auto wv = wv_;
   const auto C = C_;
   const auto known = known_;
+  const auto fixed = fixedC_;
   const RelativeMotion D{entDof_, entW_, entN_, entRot_};
   // C_ab = D_a (F D_b^T), one active node a per iteration, every b unless both were active at the
   // last pass of this step too (D and F do not change within a step: C_ab was made then).
@@ -803,10 +805,15 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   // -R_a sum_pq w_p w_q (F D_b^T)(grid node pq) = -R_a sum_r b_r sum_q w_q T_b(i + r, q), the cubic
   // basis b_r of the foot point's patch i (eqs. 2.22, 2.26); on one with none (a diagonal block)
   // D_a's entries are walked.
+  // Two nodes whose D has its own entry alone (a body's node against a rigid or turning surface:
+  // weight 1 on its DOFs, the turn applied to the gap's normal, not to D) have C_ab = F's block at
+  // their DOFs, the same at every step: made once and kept (fixedC_), where it was made again at
+  // every step with contact (rotor37-massless, frictionless: 7 % of its loop, 117 pairs a step).
   forEach(
       "epaphe::contact::relative_flexibility", nA, 30L * static_cast<long>(entW_.extent(1)) * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a), sa = surf(ka), pa = patch(ka);
         const bool direct = D.count(ka) == 1 || pa >= 0;
+        const bool own = D.count(ka) == 1 && pa < 0;   // D_a is its own entry alone
         const double w0 = D.w(ka, 0);
         const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
         int dof[3];
@@ -820,7 +827,9 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
         const long t0 = pa >= 0 ? tOff(sa) + 3L * nv * pcell(ka, 0) : 0;  // (its patch: relativeColumns)
         for (int b = 0; b < nA; ++b) {
           const int kb = active(b);
-          if (known(ka) && known(kb)) continue;
+          const bool constant = own && D.count(kb) == 1 && patch(kb) < 0;
+          if ((known(ka) && known(kb)) || (constant && fixed(ka, kb))) continue;
+          fixed(ka, kb) = constant ? 1 : 0;
           if (!direct) {
             for (int e = 0; e < 3; ++e) {
               const FlexibleColumn col{F, D, nodeBlk, kb, e};

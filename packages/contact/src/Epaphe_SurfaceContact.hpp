@@ -254,6 +254,7 @@ private:
   Kokkos::View<int* [2]> pcell_;
   Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
   Kokkos::View<int*> known_;              // per node: its row and column of C made at this step
+  Kokkos::View<int**> fixedC_;            // per pair: C_ab made from their own entries alone (constant)
   // per carried surface with control columns (tOff_(s) >= 0): F D_k^T on its grid contracted with
   // the rows [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
   // tOff_(s) + 3 nv A + 3 q + e2
