@@ -6,6 +6,7 @@
 #include "Epaphe_SmallDense.hpp"
 
 #include <cmath>
+#include <type_traits>
 
 namespace epaphe {
 
@@ -216,26 +217,34 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
 }
 
 void CoulombFriction::localFlexibility(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
+  static_assert(std::is_same<decltype(local_)::array_layout, Kokkos::LayoutRight>::value &&
+                    std::is_same<decltype(basis_)::array_layout, Kokkos::LayoutRight>::value &&
+                    std::is_same<decltype(v.C)::array_layout, Kokkos::LayoutRight>::value,
+                "the friction kernels read 3 x 3 blocks of T, C and the bases as contiguous runs");
   const auto C = v.C;
   const auto basis = basis_;
   const auto T = local_;
   forEach(
       "epaphe::contact::friction_local", nA, 60L * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
+        const double* Ba = &basis(ka, 0, 0);   // 3 x 3 blocks, contiguous
         for (int bb = 0; bb < nA; ++bb) {
           const int kb = active(bb);
+          const double* Cab = &C(ka, kb, 0, 0);
+          const double* Bb = &basis(kb, 0, 0);
+          double* Tab = &T(ka, kb, 0, 0);
           double G[3][3];  // G[d][j] = (C_ab e_j,b)_d
           for (int d = 0; d < 3; ++d)
             for (int j = 0; j < 3; ++j) {
               double s = 0.0;
-              for (int e = 0; e < 3; ++e) s += C(ka, kb, d, e) * basis(kb, j, e);
+              for (int e = 0; e < 3; ++e) s += Cab[3 * d + e] * Bb[3 * j + e];
               G[d][j] = s;
             }
           for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) {
               double s = 0.0;
-              for (int d = 0; d < 3; ++d) s += basis(ka, i, d) * G[d][j];
-              T(ka, kb, i, j) = s;
+              for (int d = 0; d < 3; ++d) s += Ba[3 * i + d] * G[d][j];
+              Tab[3 * i + j] = s;
             }
         }
       });
@@ -263,6 +272,9 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   const auto column = column_;
   const bool rows = v.rows;  // a normal law's own rows (v.row): alpha, beta, gamma; penalty: {0, 1, force}
   const auto row = v.row;
+  // Raw pointers into T (T_ab's 3 x 3 entries contiguous, row i at 3 i) and A (column-major,
+  // leading dimension 3 nc): the views' multi-index arithmetic was most of this loop's instructions.
+  const long ld = static_cast<long>(A.extent(0));   // 3 nc, as solveSystem() reads it
   forEach(
       "epaphe::contact::friction_matrix", nA, 20L * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
@@ -272,24 +284,37 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
         b[0] = rows ? row(ka, 2) : -gap(ka);
         for (int i = 1; i < 3; ++i)
           for (int d = 0; d < 3; ++d) b[i] -= basis(ka, i, d) * disp(ka, d);
+        const double ra0 = rows ? row(ka, 0) : 1.0, ra1 = rows ? row(ka, 1) : 0.0;
+        const double* Ta = &T(ka, 0, 0, 0);
+        double* Ar = A.data() + off(a) - i0;   // Ar[i + col ld]: row i of node a
         for (int bb = 0; bb < nA; ++bb) {
           const int kb = active(bb);
-          const bool slb = state(kb) == slide;
-          const double c0[3] = {column(kb, 0), column(kb, 1), column(kb, 2)};  // read when sliding
-          const int j1 = slb ? 1 : 3;  // node b's columns: j in [j0, j1), j0 as i0
-          for (int i = i0; i < i1; ++i) {
-            const int r = off(a) + i - i0;
-            for (int j = 0; j < j1; ++j) {
-              const double s = slb ? T(ka, kb, i, 0) * c0[0] + T(ka, kb, i, 1) * c0[1] + T(ka, kb, i, 2) * c0[2]
-                                   : T(ka, kb, i, j);
-              if (j < i0)
-                b[i] -= s * (rows ? row(kb, 2) : kp * (-gap(kb)));  // node b's known normal force
-              else if (i == 0 && rows)
-                A(r, off(bb) + j - i0) = row(ka, 0) * s + (bb == a && j == 0 ? row(ka, 1) : 0.0);
-              else
-                A(r, off(bb) + j - i0) = s;
+          const double* Tab = Ta + 9L * kb;
+          const int c = off(bb);   // node b's first column
+          if (state(kb) == slide) {   // one column, T_ab c_0 (under penalty known: to the right-hand side)
+            const double c0 = column(kb, 0), c1 = column(kb, 1), c2 = column(kb, 2);
+            double y[3];
+            for (int i = 0; i < 3; ++i) y[i] = Tab[3 * i] * c0 + Tab[3 * i + 1] * c1 + Tab[3 * i + 2] * c2;
+            if (penalty) {
+              const double fb = rows ? row(kb, 2) : kp * (-gap(kb));
+              for (int i = i0; i < i1; ++i) b[i] -= y[i] * fb;
+              continue;
             }
+            for (int i = i0; i < i1; ++i) Ar[i + c * ld] = i == 0 && rows ? ra0 * y[0] + (bb == a ? ra1 : 0.0) : y[i];
+            continue;
           }
+          if (penalty) {   // stuck: its normal column known, its tangential ones solved
+            const double fb = rows ? row(kb, 2) : kp * (-gap(kb));
+            for (int i = i0; i < i1; ++i) {
+              b[i] -= Tab[3 * i] * fb;
+              Ar[i + c * ld] = Tab[3 * i + 1];
+              Ar[i + (c + 1) * ld] = Tab[3 * i + 2];
+            }
+            continue;
+          }
+          for (int i = i0; i < i1; ++i)   // stuck, Lagrange: three columns
+            for (int j = 0; j < 3; ++j)
+              Ar[i + (c + j) * ld] = i == 0 && rows ? ra0 * Tab[j] + (bb == a && j == 0 ? ra1 : 0.0) : Tab[3 * i + j];
         }
         for (int i = i0; i < i1; ++i) rhs(off(a) + i - i0) = b[i];
       });
