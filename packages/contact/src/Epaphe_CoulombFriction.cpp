@@ -412,8 +412,10 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
             w1 += disp(ka, e) * basis(ka, 1, e);
             w2 += disp(ka, e) * basis(ka, 2, e);
           }
+          const double* Ta = &T(ka, 0, 0, 0);   // T_ab: 3 x 3, contiguous
           for (int b = 0; b < nA; ++b) {
             const int kb = active(b);
+            const double* Tab = Ta + 9L * kb;
             double f[3];
             if (state(kb) == slide) {
               for (int j = 0; j < 3; ++j) f[j] = column(kb, j) * sol(3 * b);
@@ -421,8 +423,8 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
               for (int j = 0; j < 3; ++j) f[j] = sol(3 * b + j);
             }
             for (int j = 0; j < 3; ++j) {
-              w1 += T(ka, kb, 1, j) * f[j];
-              w2 += T(ka, kb, 2, j) * f[j];
+              w1 += Tab[3 + j] * f[j];
+              w2 += Tab[6 + j] * f[j];
             }
           }
           // radial return: the tangential force that would stop the node, the others' forces
