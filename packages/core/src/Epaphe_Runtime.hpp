@@ -53,6 +53,7 @@ private:
 /// rotor37-massless' instructions), by its characters when that address is new.
 class CostSplit {
 public:
+  /// The slot of `phase`, a name of static storage (a string literal): its address is kept.
   int slot(const char* phase) {
     for (const auto& [key, i] : keys_)
       if (key == phase) return i;
@@ -66,7 +67,6 @@ public:
     return i;
   }
   void add(int slot, double seconds) { seconds_[slot] += seconds; }
-  void add(const std::string& phase, double seconds) { add(slot(phase.c_str()), seconds); }
   double get(const std::string& phase) const {
     for (std::size_t i = 0; i < names_.size(); ++i)
       if (names_[i] == phase) return seconds_[i];
