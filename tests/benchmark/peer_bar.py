@@ -128,13 +128,19 @@ def epaphe_row(a, name, method, modes, h):
                 setup=setup, inproc=setup + loop, lag=lag, cached=cached)
 
 
-def siconos_row(elements, h):
-    """The row in a fresh python3 process (peer_siconos_bar.py ELEMENTS H), timed as a whole."""
+def siconos_process(script, *args):
+    """A Siconos script of this folder run in a fresh python3 process, timed as a whole: its last
+    line's JSON and the process's wall time (the peer benchmarks' "process" column)."""
     t = time.perf_counter()
-    out = subprocess.run([sys.executable, os.path.join(_here, "peer_siconos_bar.py"), str(elements), repr(h)],
+    out = subprocess.run([sys.executable, os.path.join(_here, script), *map(str, args)],
                          check=True, capture_output=True, text=True).stdout
     wall = time.perf_counter() - t
-    r = json.loads(out.strip().splitlines()[-1])
+    return json.loads(out.strip().splitlines()[-1]), wall
+
+
+def siconos_row(elements, h):
+    """The row in a fresh python3 process (peer_siconos_bar.py ELEMENTS H), timed as a whole."""
+    r, wall = siconos_process("peer_siconos_bar.py", elements, repr(h))
     return dict(model="Siconos Moreau-Jean 0.5", size=f"{elements} elements", h=h, errs=r["errs"], wall=wall,
                 loop=r["loop_seconds"], setup=r["setup_seconds"], inproc=r["setup_seconds"] + r["loop_seconds"],
                 lag=None, cached=None)

@@ -31,10 +31,8 @@ The figure (WORKDIR/peer-bouncing-bar-work-precision.png; README's copy in docs/
 energy drift and the first period's contact duration error against the process time.
 The script asserts only that every run completed and that its numbers are finite.
 """
-import json
 import math
 import os
-import subprocess
 import sys
 import time
 
@@ -48,6 +46,8 @@ _here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(_here, "..", "verification"))
 from epaphe_testing import history, parse_args, run, variant  # noqa: E402
 from v3_bouncing_bar import intervals  # noqa: E402
+sys.path.insert(0, _here)
+from peer_bar import siconos_process  # noqa: E402
 
 L, A, RHO, C, G, H0 = 10.0, 1.0, 1.0, 30.0, 10.0, 5.0
 PERIODS = 10
@@ -78,11 +78,7 @@ def measures(t, force, energy, h):
 
 
 def siconos_row(elements, h):
-    t = time.perf_counter()
-    out = subprocess.run([sys.executable, os.path.join(_here, "peer_siconos_bouncing_bar.py"), str(elements), repr(h),
-                          str(PERIODS)], check=True, capture_output=True, text=True).stdout
-    wall = time.perf_counter() - t
-    r = json.loads(out.strip().splitlines()[-1])
+    r, wall = siconos_process("peer_siconos_bouncing_bar.py", elements, repr(h), PERIODS)
     m = measures(np.array(r["time"]), np.array(r["force"]), np.array(r["energy"]), h)
     return dict(model="Siconos Moreau-Jean 0.5", size=f"{elements} elements", h=h, wall=wall,
                 inproc=r["setup_seconds"] + r["loop_seconds"], loop=r["loop_seconds"], **m)

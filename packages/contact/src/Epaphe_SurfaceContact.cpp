@@ -813,7 +813,7 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
       "epaphe::contact::relative_flexibility", nA, 30L * static_cast<long>(entW_.extent(1)) * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a), sa = surf(ka), pa = patch(ka);
         const bool direct = D.count(ka) == 1 || pa >= 0;
-        const bool own = D.count(ka) == 1 && pa < 0;   // D_a is its own entry alone
+        const bool ownOnly = D.count(ka) == 1 && pa < 0;   // D_a is its own entry alone
         const double w0 = D.w(ka, 0);
         const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
         int dof[3];
@@ -827,7 +827,7 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
         const long t0 = pa >= 0 ? tOff(sa) + 3L * nv * pcell(ka, 0) : 0;  // (its patch: relativeColumns)
         for (int b = 0; b < nA; ++b) {
           const int kb = active(b);
-          const bool constant = own && D.count(kb) == 1 && patch(kb) < 0;
+          const bool constant = ownOnly && D.count(kb) == 1 && patch(kb) < 0;
           if ((known(ka) && known(kb)) || (constant && fixed(ka, kb))) continue;
           fixed(ka, kb) = constant ? 1 : 0;
           if (!direct) {

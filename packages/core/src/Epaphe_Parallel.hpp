@@ -102,6 +102,22 @@ void forEach(const char* name, long n, long nsPerItem, const F& f) {
   }
 }
 
+/// f(r0, r1) on one block of rows [r0, r1) of an n-row product per thread of the team, as one
+/// parallel region when the product's estimated work `ns` pays for it (forEach), else every block
+/// on the calling thread. Blocks start at multiples of `align` rows (a BLAS kernel's row tile: a
+/// row's sum then does not depend on the block it falls in, so 1 and 2 threads give the same bits).
+/// Used for the dense and sparse operators of the step, stored by rows so that a block is one
+/// contiguous piece of memory (Epaphe_CentralDifference.cpp), and the history's node recovery.
+template <class F>
+void forRowBlocks(const char* name, int n, long ns, int align, const F& f) {
+  const int T = Kokkos::DefaultHostExecutionSpace().concurrency();
+  forEach(name, T, ns / T, [=](const int t) {
+    auto edge = [&](int u) { return u == T ? n : static_cast<int>(static_cast<long>(n) * u / T) / align * align; };
+    const int r0 = edge(t), r1 = edge(t + 1);
+    if (r1 > r0) f(r0, r1);
+  });
+}
+
 /// result = reduction over i of f(i, partial), with Kokkos' reducer R (Kokkos::Max<T>, Sum<T>...).
 template <class F, class R>
 void reduce(const char* name, long n, long nsPerItem, const F& f, const R& reducer) {

@@ -87,22 +87,17 @@ std::size_t BodyOperator::bytes() const {
 }
 
 namespace {
-/// f(r0, r1) on one block of an n x n dense operator's rows per thread, as one parallel region when
-/// the product pays for it (forEach: about 50 bytes of the matrix per ns on one core, measured: 419 x
-/// 419 in 19.5 us; a 112 x 112 one stays on the calling thread). The operator is stored by rows, so
-/// a block is one contiguous piece of memory and one BLAS call (transposed) that each core streams
-/// from its own cache: 419 x 419 on 2 threads 2.2x faster than on 1, where a block of rows of a
-/// column-major matrix (a piece of every column) was 1.3x (adjacent-line prefetch fetched the other
-/// core's half too). Blocks start at multiples of 8 rows: OpenBLAS's dgemv_t then gave every row the
-/// same bits on 1 and 2 threads (419 x 419; at other boundaries it did not).
+/// forRowBlocks (Epaphe_Parallel.hpp) on an operator of `bytes`: about 50 bytes of the matrix per ns
+/// on one core, measured (419 x 419 in 19.5 us; a 112 x 112 one stays on the calling thread). The
+/// operator is stored by rows, so a block is one contiguous piece of memory and one BLAS call
+/// (transposed) that each core streams from its own cache: 419 x 419 on 2 threads 2.2x faster than
+/// on 1, where a block of rows of a column-major matrix (a piece of every column) was 1.3x
+/// (adjacent-line prefetch fetched the other core's half too). Blocks start at multiples of 8 rows:
+/// OpenBLAS's dgemv_t then gave every row the same bits on 1 and 2 threads (419 x 419; at other
+/// boundaries it did not).
 template <class F>
-void forRowBlocks(const char* name, int n, std::size_t bytes, const F& f) {
-  const int T = Kokkos::DefaultHostExecutionSpace().concurrency();
-  forEach(name, T, static_cast<long>(bytes / 50) / T, [=](const int t) {
-    auto edge = [&](int u) { return u == T ? n : static_cast<int>(static_cast<long>(n) * u / T) / 8 * 8; };
-    const int r0 = edge(t), r1 = edge(t + 1);
-    if (r1 > r0) f(r0, r1);
-  });
+void operatorRowBlocks(const char* name, int n, std::size_t bytes, const F& f) {
+  forRowBlocks(name, n, static_cast<long>(bytes / 50), 8, f);
 }
 }  // namespace
 
@@ -120,7 +115,7 @@ void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const 
       const double* A = dense_.data();
       const double* xv = x.data();
       double* yv = y.data();
-      forRowBlocks("epaphe::dynamics::gemv", n, bytes(), [=](int r0, int r1) {   // rows r0..r1: columns of the storage
+      operatorRowBlocks("epaphe::dynamics::gemv", n, bytes(), [=](int r0, int r1) {   // rows r0..r1: columns of the storage
         Teuchos::BLAS<int, double>().GEMV(Teuchos::TRANS, n, r1 - r0, alpha, A + static_cast<std::size_t>(r0) * n, n, xv, 1,
                                           beta, yv + r0, 1);
       });
@@ -136,7 +131,7 @@ void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const 
       const double* vals = sparse_.values.data();
       const double* xv = x.data();
       double* yv = y.data();
-      forRowBlocks("epaphe::dynamics::spmv", n, bytes(), [=](int r0, int r1) {
+      operatorRowBlocks("epaphe::dynamics::spmv", n, bytes(), [=](int r0, int r1) {
         for (int i = r0; i < r1; ++i) {
           double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
           std::size_t k = rows[i];
@@ -177,7 +172,7 @@ void BodyOperator::apply2(const DenseMatrix& x, const DenseMatrix& y) const {
       const double* xv = x.data();
       double* yv = y.data();
       const int ldx = static_cast<int>(x.stride(1)), ldy = static_cast<int>(y.stride(1));
-      forRowBlocks("epaphe::dynamics::gemm2", n, bytes(), [=](int r0, int r1) {
+      operatorRowBlocks("epaphe::dynamics::gemm2", n, bytes(), [=](int r0, int r1) {
         Teuchos::BLAS<int, double>().GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, r1 - r0, 2, n, 1.0,
                                           A + static_cast<std::size_t>(r0) * n, n, xv, ldx, 0.0, yv + r0, ldy);
       });

@@ -46,18 +46,16 @@ void NodeRecovery::applyColumns(const double* X, int cols, double* Y) const {
   }
   // One dgemm per thread on its block of R's rows (the watched DOFs), as one parallel region when
   // the product pays for it (about 10 multiply-adds a ns on one core: cube-rings' 1176 x 419 x 64,
-  // 31.5 million, took 2.6 us of its 1-thread step and ran on one thread of two). Blocks start at
-  // multiples of 16 rows, the dgemm kernel's row tile; each entry's sum over k came out the same on
-  // 1 and 2 threads (cube-rings' histories; simulation.node-recovery asserts it).
+  // 31.5 million, took 2.6 us of its 1-thread step and ran on one thread of two). Blocks at multiples
+  // of 16 rows, the dgemm kernel's row tile; each entry's sum over k came out the same on 1 and 2
+  // threads (cube-rings' histories; simulation.node-recovery asserts it).
   const double* R = R_.data();
-  const int T = Kokkos::DefaultHostExecutionSpace().concurrency(), mi = static_cast<int>(m), ni = static_cast<int>(n);
-  forEach("epaphe::output::recover", T, static_cast<long>(m * n * static_cast<std::size_t>(cols) / 10) / T, [=](const int t) {
-    auto edge = [&](int u) { return u == T ? mi : static_cast<int>(static_cast<long>(mi) * u / T) / 16 * 16; };
-    const int r0 = edge(t), r1 = edge(t + 1);
-    if (r1 > r0)
-      Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, r1 - r0, cols, ni, 1.0, R + r0, mi, X, ni,
-                                        0.0, Y + r0, mi);
-  });
+  const int mi = static_cast<int>(m), ni = static_cast<int>(n);
+  forRowBlocks("epaphe::output::recover", mi, static_cast<long>(m * n * static_cast<std::size_t>(cols) / 10), 16,
+               [=](int r0, int r1) {
+                 Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, r1 - r0, cols, ni, 1.0, R + r0,
+                                                   mi, X, ni, 0.0, Y + r0, mi);
+               });
   fence();
 }
 
