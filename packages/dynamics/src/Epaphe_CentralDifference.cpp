@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <sstream>
 
 namespace epaphe {
@@ -390,7 +391,7 @@ namespace {
 /// factors that predict() and dampingIncrement() apply A, B and D by (below).
 struct MasslessOperators {
   std::vector<double> P, Kmid;
-  std::vector<double> Ae1, Be1, W;   // 1 + A_e, 1 + B_e (per mode) and W (m x n, column-major)
+  std::vector<double> Ae1, Be1, Pe;  // 1 + A_e, 1 + B_e and P_e (per mode)
   std::vector<double> d, Ginv;       // the modes' damping D_e and G^{-1} (nb x nb)
 };
 
@@ -418,8 +419,11 @@ struct MasslessOperators {
 // trapezoidal rule on the contact spring over 2h: stable for any boundary stiffness.
 // Applied by their factors: with C q_n - C (q_n - q_{n-1}) = C q_{n-1} and the boundary rows
 // cancelling, 2 q_n - q_{n-1} + A q_n + B (q_n - q_{n-1}) is eta* = (I + A_e) eta_n + (I + B_e)
-// (eta_n - eta_{n-1}) + W q_{n-1}, u_b* = Phi_b eta*; and dq^T (D + h S) dq = sum_k d_k deta_k^2 +
-// h du^T G^{-1} (du - Phi_b deta).
+// (eta_n - eta_{n-1}) + P_e Phi_b^T z_{n-1} / 2, u_b* = Phi_b eta*, where z = G^{-1} r = G^{-1} L q is
+// the residual's force; dq^T (D + h S) dq = sum_k d_k deta_k^2 + h du^T (z_{n+1} - z_{n-1}); and the
+// residual's stored energy r^T G^{-1} r = r . z. A step makes z once, for q_{n+1}
+// (CentralDifference::residual): the exchange reads it at once, the energy record at this step and
+// the next, the predictor two steps later.
 MasslessOperators masslessOperators(const ReducedModel& model, double h, const DampingOptions& damping) {
   const int n = model.size;
   const int nb = model.boundarySize(), m = model.numModes;
@@ -429,7 +433,6 @@ MasslessOperators masslessOperators(const ReducedModel& model, double h, const D
   auto at = [n](std::vector<double>& X, int i, int j) -> double& { return X[static_cast<std::size_t>(j) * n + i]; };
   std::vector<double> Ginv = spdInverse(model.residualFlexibility, nb, "the residual flexibility of body '" +
                                         model.name + "'", "keep fewer modes, or recompute the reduction");
-  auto ginv = [&](int c, int c2) { return Ginv[static_cast<std::size_t>(c2) * nb + c]; };
   std::vector<double> P(static_cast<std::size_t>(n) * n, 0.0), Kmid(static_cast<std::size_t>(n), 0.0),
       Pe(static_cast<std::size_t>(m)), Ae1(Pe.size()), Be1(Pe.size());
   for (int k = 0; k < m; ++k) {
@@ -445,16 +448,7 @@ MasslessOperators masslessOperators(const ReducedModel& model, double h, const D
   }
   for (int c = 0; c < nb; ++c)
     for (int c2 = 0; c2 < nb; ++c2) at(P, c, c2) += model.residualFlexibility[static_cast<std::size_t>(c2) * nb + c];
-  // W = P_e Phi_b^T G^{-1} L / 2 (m x n, column-major), L q = u_b - Phi_b eta
-  std::vector<double> W(static_cast<std::size_t>(m) * n, 0.0);
-  for (int k = 0; k < m; ++k)
-    for (int c2 = 0; c2 < nb; ++c2) {
-      double s = 0;   // (Phi_b^T G^{-1})_{k c2}
-      for (int c = 0; c < nb; ++c) s += phi(c, k) * ginv(c, c2);
-      W[static_cast<std::size_t>(c2) * m + k] += 0.5 * Pe[k] * s;                 // L's I part
-      for (int j = 0; j < m; ++j) W[static_cast<std::size_t>(nb + j) * m + k] -= 0.5 * Pe[k] * s * phi(c2, j);   // -Phi_b
-    }
-  return {std::move(P), std::move(Kmid), std::move(Ae1), std::move(Be1), std::move(W), d, std::move(Ginv)};
+  return {std::move(P), std::move(Kmid), std::move(Ae1), std::move(Be1), std::move(Pe), d, std::move(Ginv)};
 }
 
 }  // namespace
@@ -486,12 +480,10 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     // q = [u_b, eta]: the modes step by the central difference under the boundary's averaged force,
     // the boundary is static (masslessOperators, where it is derived)
     MasslessOperators o = masslessOperators(model, h, damping);
-    const std::vector<double> Kres = model.residualStiffness();   // of the residual r = u_b - Phi_b eta
     damped_ = true;   // the exchange is counted with damping
     // A, B and D are applied by their factors (predict(), dampingIncrement())
     K_ = BodyOperator::dense(model.K, n, "epaphe::dynamics::K");   // = K_res + diag(Kmid)
     Kmid_ = BodyOperator::diagonal(o.Kmid, "epaphe::dynamics::Kmid");
-    Kres_ = BodyOperator::dense(Kres, n, "epaphe::dynamics::Kres");
     M_ = BodyOperator::denseOrDiagonal(model.M, n, "epaphe::dynamics::M");   // diag(0, I)
     P_ = BodyOperator::dense(o.P, n, "epaphe::dynamics::P");
     boundary_ = model.boundarySize();
@@ -500,10 +492,14 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     phiB_ = model.boundaryModes;
     ae1_ = std::move(o.Ae1);
     be1_ = std::move(o.Be1);
-    w_ = std::move(o.W);
+    pe_ = std::move(o.Pe);
     modalDamping_ = std::move(o.d);
     ginv_ = std::move(o.Ginv);
-    scratch_.assign(2 * static_cast<std::size_t>(boundary_), 0.0);
+    for (Residual& r : residuals_) {   // sized once: residual() allocates nothing
+      r.q.assign(static_cast<std::size_t>(n), 0.0);
+      r.r.assign(static_cast<std::size_t>(boundary_), 0.0);
+      r.z.assign(static_cast<std::size_t>(boundary_), 0.0);
+    }
   } else {
     const std::vector<double> D = dampingMatrix(model, damping);
     // P = [M/h^2 + D/2h]^{-1}
@@ -567,14 +563,17 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
   if (residual_) {
     // The massless boundary's A and B by their factors (masslessOperators): with C q_n - C (q_n -
     // q_{n-1}) = C q_{n-1} and the boundary's rows cancelling, the same predictor is
-    //   eta* = (1 + A_e) eta_n + (1 + B_e) (eta_n - eta_{n-1}) + W q_{n-1},  u_b* = Phi_b eta*
-    // (the boundary follows the modes): m n + nb m products instead of 2 n^2 (2.3k against 9.2k on
-    // rotor 37's 68 DOFs), equal to the dense form to round-off.
+    //   eta* = (1 + A_e) eta_n + (1 + B_e) (eta_n - eta_{n-1}) + P_e Phi_b^T z_{n-1} / 2,  u_b* = Phi_b eta*
+    // (the boundary follows the modes), z_{n-1} = G^{-1} r_{n-1} made at step n-2 for the exchange:
+    // 2 nb m products instead of 2 n^2 (1.9k against 9.2k on rotor 37's 68 DOFs), equal to the dense
+    // form to round-off.
     const int nb = boundary_, m = modes_;
     double* eta = qs + nb;
+    const Residual& prev = residual(q1);
     Teuchos::BLAS<int, double> blas;
-    blas.GEMV(Teuchos::NO_TRANS, m, n, 1.0, w_.data(), m, q1, 1, 0.0, eta, 1);   // W q_{n-1}
-    for (int k = 0; k < m; ++k) eta[k] += ae1_[k] * q0[nb + k] + be1_[k] * (q0[nb + k] - q1[nb + k]);
+    blas.GEMV(Teuchos::TRANS, nb, m, 1.0, phiB_.data(), nb, prev.z.data(), 1, 0.0, eta, 1);   // Phi_b^T z_{n-1}
+    for (int k = 0; k < m; ++k)
+      eta[k] = 0.5 * pe_[k] * eta[k] + ae1_[k] * q0[nb + k] + be1_[k] * (q0[nb + k] - q1[nb + k]);
     blas.GEMV(Teuchos::NO_TRANS, nb, m, 1.0, phiB_.data(), nb, eta, 1, 0.0, qs, 1);   // Phi_b eta*
     if (forced_) {
       const double* pf = Pf_.data();
@@ -604,6 +603,22 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
   }
 }
 
+const CentralDifference::Residual& CentralDifference::residual(const double* q) const {
+  const std::size_t n = static_cast<std::size_t>(boundary_ + modes_);
+  for (const Residual& s : residuals_)   // the same values give the same z: a pure function of q
+    if (s.valid && std::memcmp(s.q.data(), q, n * sizeof(double)) == 0) return s;
+  Residual& s = residuals_[nextResidual_];
+  nextResidual_ = (nextResidual_ + 1) % static_cast<int>(residuals_.size());
+  const int nb = boundary_, m = modes_;
+  std::copy(q, q + n, s.q.data());
+  std::copy(q, q + nb, s.r.data());
+  Teuchos::BLAS<int, double> blas;
+  blas.GEMV(Teuchos::NO_TRANS, nb, m, -1.0, phiB_.data(), nb, q + nb, 1, 1.0, s.r.data(), 1);     // r = u_b - Phi_b eta
+  blas.GEMV(Teuchos::NO_TRANS, nb, nb, 1.0, ginv_.data(), nb, s.r.data(), 1, 0.0, s.z.data(), 1);   // z = G^{-1} r
+  s.valid = true;
+  return s;
+}
+
 double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const {
   return energies(qn, qnp1, qnp1).total;   // (any third vector: only E_{n+1/2} is read)
 }
@@ -611,22 +626,17 @@ double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVecto
 double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
   if (!damped_) return 0.0;
   if (residual_) {
-    // dq^T (D + h S) dq by its factors (masslessOperators): sum_k d_k deta_k^2 + h du^T G^{-1} dr,
-    // dr = du - Phi_b deta the residual's change (nb m + nb^2 products instead of n^2)
+    // dq^T (D + h S) dq by its factors (masslessOperators): sum_k d_k deta_k^2 + h du^T (z_{n+1} -
+    // z_{n-1}), z = G^{-1} r the residual's force (z_{n+1} made here, z_{n-1} two steps ago)
     const int nb = boundary_, m = modes_;
-    double* dq = tmp2_.data();
-    double* dr = scratch_.data();   // dr, then G^{-1} dr
     const double* a = qnp1.data();
     const double* b = qnm1.data();
-    for (int i = 0; i < nb + m; ++i) dq[i] = a[i] - b[i];
+    const Residual& za = residual(a);
+    const Residual& zb = residual(b);   // (za stays valid: residual() keeps three)
     double modal = 0.0;
-    for (int k = 0; k < m; ++k) modal += modalDamping_[k] * dq[nb + k] * dq[nb + k];
-    for (int c = 0; c < nb; ++c) dr[c] = dq[c];
-    Teuchos::BLAS<int, double> blas;
-    blas.GEMV(Teuchos::NO_TRANS, nb, m, -1.0, phiB_.data(), nb, dq + nb, 1, 1.0, dr, 1);
-    blas.GEMV(Teuchos::NO_TRANS, nb, nb, 1.0, ginv_.data(), nb, dr, 1, 0.0, dr + nb, 1);   // G^{-1} dr after dr
+    for (int k = 0; k < m; ++k) modal += modalDamping_[k] * (a[nb + k] - b[nb + k]) * (a[nb + k] - b[nb + k]);
     double exchange = 0.0;
-    for (int c = 0; c < nb; ++c) exchange += dq[c] * dr[nb + c];
+    for (int c = 0; c < nb; ++c) exchange += (a[c] - b[c]) * (za.z[c] - zb.z[c]);
     return (modal + h_ * exchange) / (4 * h_);
   }
   copy(tmp2_, qnp1);
@@ -679,20 +689,21 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
     e.strain = 0.5 * dotColumn(a, Kqn);
     return e;
   }
-  // K_res [q_n, q_{n+1}]
-  for (int i = 0; i < n; ++i) {
-    X[i] = a[i];
-    X[n + i] = b[i];
-  }
-  // massless boundary: K = K_res + diag(Kmid); E_{n+1/2} as in halfStepEnergy()
-  Kres_.apply2(pair_, image_);
+  // massless boundary: K = K_res + diag(Kmid), q^T K_res q = r^T G^{-1} r = r . z (the residual's
+  // force z, made for the exchange); E_{n+1/2} as in halfStepEnergy()
+  const Residual& rn = residual(a);
+  const Residual& rn1 = residual(b);   // (rn stays valid: residual() keeps three)
   const double* km = Kmid_.diagonalEntries().data();
   double mid = 0.0, own = 0.0;
   for (int i = 0; i < n; ++i) {
     mid += a[i] * km[i] * b[i];
     own += a[i] * km[i] * a[i];
   }
-  const double resN = dotColumn(a, Y), resN1 = dotColumn(b, Y + n);
+  double resN = 0.0, resN1 = 0.0;
+  for (int c = 0; c < boundary_; ++c) {
+    resN += rn.r[c] * rn.z[c];
+    resN1 += rn1.r[c] * rn1.z[c];
+  }
   e.total = kinHalf + 0.5 * mid + 0.25 * (resN + resN1);
   e.strain = 0.5 * (resN + own);
   return e;

@@ -33,6 +33,7 @@
 #include <KokkosSparse_CrsMatrix.hpp>
 #include <Kokkos_Core.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -153,7 +154,7 @@ public:
   /// Bytes of the operators one predict() reads (A, and B when damped): the memory traffic floor of
   /// a step's integration.
   std::size_t predictBytes() const {
-    if (residual_) return (w_.size() + phiB_.size()) * sizeof(double);   // the factors predict() reads
+    if (residual_) return (ginv_.size() + phiB_.size()) * sizeof(double);   // Phi_b, and G^{-1} for z_{n-1}
     return (kqn_.extent(0) > 0 ? K_ : A_).bytes() + (damped_ ? B_.bytes() : 0);   // lumped: K, not A
   }
 
@@ -180,10 +181,21 @@ private:
   bool residual_ = false;    // massless boundary: Kmid_ and Kres_ split K for the energy, D_ the exchange h S
   int boundary_ = 0;         // massless boundary: its DOFs, q's first entries
   int modes_ = 0;            // massless boundary: the modes, q's last entries
-  std::vector<double> phiB_, ae1_, be1_, w_;   // massless boundary: predict()'s factors (masslessOperators)
+  std::vector<double> phiB_, ae1_, be1_, pe_;  // massless boundary: predict()'s factors (masslessOperators)
   std::vector<double> modalDamping_, ginv_;     // and dampingIncrement()'s
-  mutable std::vector<double> scratch_;         // 2 nb
-  BodyOperator K_, M_, D_, P_, A_, B_, Kmid_, Kres_;
+  /// Massless boundary: the residual r = u_b - Phi_b eta of a q and its force z = G^{-1} r (nb m + nb^2
+  /// products), made once per q: a step reads z of q_{n+1} (the exchange), of q_{n-1} (the predictor)
+  /// and at a record of q_n and q_{n+1} (the energy). Found by q's values, not its buffer: whatever
+  /// wrote a buffer, a q with other values is a new entry. Three kept; a reference stays valid over
+  /// the next call.
+  struct Residual {
+    std::vector<double> q, r, z;
+    bool valid = false;
+  };
+  const Residual& residual(const double* q) const;
+  mutable std::array<Residual, 3> residuals_;
+  mutable int nextResidual_ = 0;
+  BodyOperator K_, M_, D_, P_, A_, B_, Kmid_;
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;
   mutable DenseVector kqn_;                     // lumped mass: K q_n of the last predict()
