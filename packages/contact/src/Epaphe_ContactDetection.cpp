@@ -473,7 +473,10 @@ void ContactDetection::project(bool all, bool refineOnly) {
       double u0 = uLast, v0 = vLast;
       if (!warm) {
         nearestGridPoint(S, xs, u0, v0);
-      } else if (dt > 0.0) {  // predicted: moved on by its last rate, if by less than a patch
+      } else if (dt != 0.0) {
+        // predicted: moved on by its last rate, if by less than a patch; or back, for an output
+        // step's measurement at t_n after the step's detection at t_n+1 (dt = -h): the foot the
+        // detection at t_n found, x having moved since only by the correction
         const double du = v.uvRate(k, s, 0) * dt, dv = v.uvRate(k, s, 1) * dt;
         if (::fabs(du) < 1.0 && ::fabs(dv) < 1.0) {
           u0 += du;
