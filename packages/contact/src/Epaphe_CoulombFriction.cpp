@@ -224,15 +224,18 @@ void CoulombFriction::localFlexibility(const ContactStepViews& v, const Kokkos::
   const auto C = v.C;
   const auto basis = basis_;
   const auto T = local_;
+  // F is symmetric, so C_ba = C_ab^T and T_ba = T_ab^T: node a makes the blocks b >= a and their
+  // transposes (each pair by one thread: no two threads write one block)
   forEach(
-      "epaphe::contact::friction_local", nA, 60L * nA, KOKKOS_LAMBDA(const int a) {
+      "epaphe::contact::friction_local", nA, 30L * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
         const double* Ba = &basis(ka, 0, 0);   // 3 x 3 blocks, contiguous
-        for (int bb = 0; bb < nA; ++bb) {
+        for (int bb = a; bb < nA; ++bb) {
           const int kb = active(bb);
           const double* Cab = &C(ka, kb, 0, 0);
           const double* Bb = &basis(kb, 0, 0);
           double* Tab = &T(ka, kb, 0, 0);
+          double* Tba = &T(kb, ka, 0, 0);
           double G[3][3];  // G[d][j] = (C_ab e_j,b)_d
           for (int d = 0; d < 3; ++d)
             for (int j = 0; j < 3; ++j) {
@@ -245,6 +248,7 @@ void CoulombFriction::localFlexibility(const ContactStepViews& v, const Kokkos::
               double s = 0.0;
               for (int d = 0; d < 3; ++d) s += Ba[3 * i + d] * G[d][j];
               Tab[3 * i + j] = s;
+              Tba[3 * j + i] = s;   // (on the diagonal block, its own transpose: made symmetric)
             }
         }
       });
@@ -293,14 +297,14 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
           const int c = off(bb);   // node b's first column
           if (state(kb) == slide) {   // one column, T_ab c_0 (under penalty known: to the right-hand side)
             const double c0 = column(kb, 0), c1 = column(kb, 1), c2 = column(kb, 2);
-            double y[3];
-            for (int i = 0; i < 3; ++i) y[i] = Tab[3 * i] * c0 + Tab[3 * i + 1] * c1 + Tab[3 * i + 2] * c2;
-            if (penalty) {
-              const double fb = rows ? row(kb, 2) : kp * (-gap(kb));
-              for (int i = i0; i < i1; ++i) b[i] -= y[i] * fb;
-              continue;
+            const double fb = penalty ? (rows ? row(kb, 2) : kp * (-gap(kb))) : 0.0;
+            for (int i = i0; i < i1; ++i) {   // a's rows only: a sliding a has one
+              const double y = Tab[3 * i] * c0 + Tab[3 * i + 1] * c1 + Tab[3 * i + 2] * c2;
+              if (penalty)
+                b[i] -= y * fb;
+              else
+                Ar[i + c * ld] = i == 0 && rows ? ra0 * y + (bb == a ? ra1 : 0.0) : y;
             }
-            for (int i = i0; i < i1; ++i) Ar[i + c * ld] = i == 0 && rows ? ra0 * y[0] + (bb == a ? ra1 : 0.0) : y[i];
             continue;
           }
           if (penalty) {   // stuck: its normal column known, its tangential ones solved
