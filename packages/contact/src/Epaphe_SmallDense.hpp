@@ -42,10 +42,13 @@ inline int solveDense(int n, double* A, int lda, double* b, std::vector<int>& ip
     }
     for (int i = k + 1; i < n; ++i) b[i] -= a(i, k) * b[k];
   }
-  for (int k = n - 1; k >= 0; --k) {  // U x = y
-    double s = b[k];
-    for (int j = k + 1; j < n; ++j) s -= a(k, j) * b[j];
-    b[k] = s / a(k, k);
+  // U x = y column by column, as LAPACK's dgetrs (dtrsm): x_k = y_k / u_kk, then y_i -= u_ik x_k for
+  // i < k, independent updates down a contiguous column. (By rows, each x_k ended a chain of
+  // dependent subtractions: a third of the friction solve's time.)
+  for (int k = n - 1; k >= 0; --k) {
+    b[k] /= a(k, k);
+    const double xk = b[k];
+    for (int i = 0; i < k; ++i) b[i] -= a(i, k) * xk;
   }
   return 0;
 }
