@@ -605,17 +605,22 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
 
 const CentralDifference::Residual& CentralDifference::residual(const double* q) const {
   const std::size_t n = static_cast<std::size_t>(boundary_ + modes_);
-  for (const Residual& s : residuals_)   // the same values give the same z: a pure function of q
-    if (s.valid && std::memcmp(s.q.data(), q, n * sizeof(double)) == 0) return s;
-  Residual& s = residuals_[nextResidual_];
-  nextResidual_ = (nextResidual_ + 1) % static_cast<int>(residuals_.size());
+  ++residualUses_;
+  for (Residual& s : residuals_)   // the same values give the same z: a pure function of q
+    if (s.used > 0 && std::memcmp(s.q.data(), q, n * sizeof(double)) == 0) {
+      s.used = residualUses_;
+      return s;
+    }
+  // a new q replaces the least recently used entry: never the one the previous call returned
+  Residual& s = *std::min_element(residuals_.begin(), residuals_.end(),
+                                  [](const Residual& x, const Residual& y) { return x.used < y.used; });
+  s.used = residualUses_;
   const int nb = boundary_, m = modes_;
   std::copy(q, q + n, s.q.data());
   std::copy(q, q + nb, s.r.data());
   Teuchos::BLAS<int, double> blas;
   blas.GEMV(Teuchos::NO_TRANS, nb, m, -1.0, phiB_.data(), nb, q + nb, 1, 1.0, s.r.data(), 1);     // r = u_b - Phi_b eta
   blas.GEMV(Teuchos::NO_TRANS, nb, nb, 1.0, ginv_.data(), nb, s.r.data(), 1, 0.0, s.z.data(), 1);   // z = G^{-1} r
-  s.valid = true;
   return s;
 }
 
@@ -632,7 +637,7 @@ double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseV
     const double* a = qnp1.data();
     const double* b = qnm1.data();
     const Residual& za = residual(a);
-    const Residual& zb = residual(b);   // (za stays valid: residual() keeps three)
+    const Residual& zb = residual(b);   // (za stays valid: the least recently used entry is replaced)
     double modal = 0.0;
     for (int k = 0; k < m; ++k) modal += modalDamping_[k] * (a[nb + k] - b[nb + k]) * (a[nb + k] - b[nb + k]);
     double exchange = 0.0;
@@ -692,7 +697,7 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
   // massless boundary: K = K_res + diag(Kmid), q^T K_res q = r^T G^{-1} r = r . z (the residual's
   // force z, made for the exchange); E_{n+1/2} as in halfStepEnergy()
   const Residual& rn = residual(a);
-  const Residual& rn1 = residual(b);   // (rn stays valid: residual() keeps three)
+  const Residual& rn1 = residual(b);   // (rn stays valid: the least recently used entry is replaced)
   const double* km = Kmid_.diagonalEntries().data();
   double mid = 0.0, own = 0.0;
   for (int i = 0; i < n; ++i) {

@@ -186,15 +186,15 @@ private:
   /// Massless boundary: the residual r = u_b - Phi_b eta of a q and its force z = G^{-1} r (nb m + nb^2
   /// products), made once per q: a step reads z of q_{n+1} (the exchange), of q_{n-1} (the predictor)
   /// and at a record of q_n and q_{n+1} (the energy). Found by q's values, not its buffer: whatever
-  /// wrote a buffer, a q with other values is a new entry. Three kept; a reference stays valid over
-  /// the next call.
+  /// wrote a buffer, a q with other values is a new entry. Three kept, the least recently used
+  /// replaced: a reference stays valid over the next call.
   struct Residual {
     std::vector<double> q, r, z;
-    bool valid = false;
+    long long used = 0;   // the call that last returned it (0: empty)
   };
   const Residual& residual(const double* q) const;
   mutable std::array<Residual, 3> residuals_;
-  mutable int nextResidual_ = 0;
+  mutable long long residualUses_ = 0;
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_;
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;

@@ -302,3 +302,55 @@ TEST(MasslessCentralDifference, BoundaryFollowsModesCorrectionLeavesResidualAndE
     EXPECT_LT(worstBalance, 1e-11);
   }
 }
+
+// The residual's force z = G^{-1} (u_b - Phi_b eta) is made once per q and kept for the predictor, the
+// damping exchange and the energy (CentralDifference::residual, three entries found by q's values).
+// Whatever the order of the calls, each result must be the one a fresh integrator, which keeps
+// nothing, gives for the same arguments: bit for bit. The calls reuse five states: first an order in
+// which the state found among the kept ones is the oldest and the next one is new (a replacement
+// that evicted the entry just returned would give the new state's z to both), then a random order.
+TEST(MasslessCentralDifference, KeptResidualsGiveWhatAFreshIntegratorGives) {
+  const FullModel full = bar(10);
+  const ReducedModel red = massless(full, 6);
+  const int n = red.size;
+  const double h = 0.25 / (2 * M_PI * reducedFrequencies(red).back());
+  DampingOptions damping;
+  damping.type = DampingType::Modal;
+  damping.ratio = 0.02;
+  CentralDifference cd(red, h, damping);
+  std::vector<DenseVector> q;
+  for (int s = 0; s < 5; ++s) {
+    q.emplace_back("q", n);
+    std::vector<double> v = noise(n, 700u + static_cast<unsigned>(s));
+    for (double& x : v) x *= 1e-6;
+    set(q.back(), v);
+  }
+  DenseVector out("out", n), ref("ref", n);
+  auto check = [&](int what, int a, int b, int c, const std::string& where) {
+    const CentralDifference fresh(red, h, damping);
+    if (what == 0) {
+      EXPECT_EQ(cd.dampingIncrement(q[a], q[b]), fresh.dampingIncrement(q[a], q[b])) << where;
+    } else if (what == 1) {
+      const auto e = cd.energies(q[a], q[b], q[c]), f = fresh.energies(q[a], q[b], q[c]);
+      EXPECT_EQ(e.total, f.total) << where;
+      EXPECT_EQ(e.strain, f.strain) << where;
+      EXPECT_EQ(e.kinetic, f.kinetic) << where;
+    } else {
+      cd.predict(q[a], q[b], out);
+      fresh.predict(q[a], q[b], ref);
+      for (int i = 0; i < n; ++i) EXPECT_EQ(out(i), ref(i)) << where << ", entry " << i;
+    }
+  };
+  check(0, 0, 1, 0, "q0, q1 kept");
+  check(0, 2, 1, 0, "q2 kept");
+  check(1, 0, 3, 4, "q0 found (the oldest), then q3 new");
+  unsigned seed = 12345u;
+  auto next = [&seed](int k) {
+    seed = seed * 1103515245u + 12345u;
+    return static_cast<int>((seed >> 16) % static_cast<unsigned>(k));
+  };
+  for (int call = 0; call < 300; ++call) {
+    const int what = next(3), a = next(5), b = next(5), c = next(5);
+    check(what, a, b, c, "random call " + std::to_string(call));
+  }
+}
