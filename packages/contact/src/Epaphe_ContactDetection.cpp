@@ -460,7 +460,7 @@ void ContactDetection::project(bool all, bool refineOnly) {
     double g = 1e300, gmin = 1e300;
     bool eligible = true;
     for (int s = 0; s < ns; ++s) {
-      const SurfaceView S = v.surf(s);
+      const SurfaceView& S = v.surf(s);   // a reference: a copy would copy its 4 views per node and surface
       double xs[3] = {x[0], x[1], x[2]};
       if (v.turn(s, 8) != 0.0) {
         // in the surface's frame: x_s = c + R^T (x - c)
