@@ -178,7 +178,7 @@ private:
   double h_;
   bool damped_ = false;
   bool forced_ = false;
-  bool residual_ = false;    // massless boundary: Kmid_ and Kres_ split K for the energy, D_ the exchange h S
+  bool residual_ = false;    // massless boundary: energy by Kmid_ and the residual's r . z, exchange by z
   int boundary_ = 0;         // massless boundary: its DOFs, q's first entries
   int modes_ = 0;            // massless boundary: the modes, q's last entries
   std::vector<double> phiB_, ae1_, be1_, pe_;  // massless boundary: predict()'s factors (masslessOperators)

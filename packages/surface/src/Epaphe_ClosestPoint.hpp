@@ -279,9 +279,13 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
       const double vn = ls == 0 ? vn1 : toDomain(cur.v + alpha * dv, s.nv, s.periodicV);
       stepNorm = ls == 0 ? step1 : stepLength2(un, vn, alpha * du, alpha * dv);
       evalFoot(s, x, un, vn, trial);
-      if (!(trial.f <= cur.f) && slack < 0.0)
-        slack = 8.0 * 2.2e-16 * (cur.f + ::sqrt(2.0 * cur.f) * (::sqrt(dot3(x, x)) + ::sqrt(dot3(cur.S, cur.S))));
-      if (trial.f <= cur.f || trial.f <= cur.f + slack || (ls == 0 && stepNorm < tol2)) {
+      bool decrease = trial.f <= cur.f;
+      if (!decrease) {
+        if (slack < 0.0)
+          slack = 8.0 * 2.2e-16 * (cur.f + ::sqrt(2.0 * cur.f) * (::sqrt(dot3(x, x)) + ::sqrt(dot3(cur.S, cur.S))));
+        decrease = trial.f <= cur.f + slack;
+      }
+      if (decrease) {   // (a first step shorter than tol took Taylor's formula above)
         accepted = true;
         break;
       }
