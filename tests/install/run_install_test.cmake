@@ -1,18 +1,35 @@
-# Installs the build tree into a scratch prefix, then configures, builds and runs tests/install
-# against it with find_package(Epaphe).
+# Installs the build tree into a scratch prefix, runs the installed epaphe-run on an installed deck
+# and reads its result with the installed Python package, then configures, builds and runs
+# tests/install against the prefix with find_package(Epaphe).
 file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}/run")
+# Every step runs in ${WORK}/run (no epaphe package there: Python cannot import one from the current
+# directory) and is stopped after 30 min (the consumer's build against Trilinos' headers takes a few).
 function(step)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE r OUTPUT_VARIABLE o ERROR_VARIABLE e)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE r OUTPUT_VARIABLE o ERROR_VARIABLE e
+                  WORKING_DIRECTORY "${WORK}/run" TIMEOUT 1800)
   message("${o}")
   if(NOT r EQUAL 0)
     message(FATAL_ERROR "failed (${r}): ${ARGN}\n${e}")
   endif()
 endfunction()
 step(${CMAKE_COMMAND} --install "${EPAPHE_BUILD}" --prefix "${WORK}/prefix")
-# The Python package from the prefix, as README ("Python") says, with Debian's python3: it imports
-# from there (not from the source tree), without matplotlib, and reads the installed epaphe-run's
-# schema; the installed drivers find it.
-set(_site "${WORK}/prefix/lib/python3/dist-packages")
+# Where the install put the Python package: the one directory under the prefix holding
+# epaphe/__init__.py (README "Python" names <prefix>/lib/python3/dist-packages); PYTHONPATH names it
+# alone below, never the source tree.
+file(GLOB_RECURSE _inits LIST_DIRECTORIES false "${WORK}/prefix/*/__init__.py")
+list(FILTER _inits INCLUDE REGEX "/epaphe/__init__\\.py$")
+list(LENGTH _inits _n)
+if(NOT _n EQUAL 1)
+  message(FATAL_ERROR "the install put ${_n} Python packages 'epaphe' under ${WORK}/prefix (${_inits}), expected "
+                      "one: see the install(DIRECTORY python/epaphe ...) rule in drivers/CMakeLists.txt")
+endif()
+get_filename_component(_site "${_inits}" DIRECTORY)
+get_filename_component(_site "${_site}" DIRECTORY)
+message("the installed Python package: ${_site}/epaphe")
+# The Python package from the prefix, with Debian's python3: it imports from there (not from the
+# source tree), without matplotlib, and reads the installed epaphe-run's schema; the installed
+# drivers find it.
 step(${CMAKE_COMMAND} -E env "PYTHONPATH=${_site}" ${PYTHON} -c [=[
 import os, sys
 import epaphe
@@ -26,6 +43,20 @@ print("import epaphe:", epaphe.__file__, "-", len(s.params), "deck parameters")
 foreach(_driver epaphe-plot epaphe-sweep epaphe-rotor)
   step("${WORK}/prefix/bin/${_driver}" --help)
 endforeach()
+# The installed epaphe-run on the installed bar-on-wall.xml (V1, 2,000 steps), its result read with
+# the installed package: check_installed_run.py says what it asserts (V1's contact times, force and
+# rebound; records, time span, finite energies). No LD_LIBRARY_PATH: the binary's run path must do.
+file(GLOB_RECURSE _deck LIST_DIRECTORIES false "${WORK}/prefix/*/epaphe/inputs/bar-on-wall.xml")
+list(LENGTH _deck _n)
+if(NOT _n EQUAL 1)
+  message(FATAL_ERROR "the install has ${_n} epaphe/inputs/bar-on-wall.xml under ${WORK}/prefix (${_deck}), expected "
+                      "one (<prefix>/share/epaphe/inputs): see install(DIRECTORY inputs/ ...) in the top-level "
+                      "CMakeLists.txt")
+endif()
+step(${CMAKE_COMMAND} -E env --unset=LD_LIBRARY_PATH --unset=PYTHONPATH
+     "${WORK}/prefix/bin/epaphe-run" "${_deck}" --threads 1 --output "${WORK}/run/bar-on-wall.h5")
+step(${CMAKE_COMMAND} -E env "PYTHONPATH=${_site}" ${PYTHON} -s "${SOURCE}/check_installed_run.py"
+     "${_site}" "${WORK}/prefix" "${WORK}/run/bar-on-wall.h5")
 step(${CMAKE_COMMAND} -S "${SOURCE}" -B "${WORK}/build" "-DCMAKE_PREFIX_PATH=${WORK}/prefix"
      "-DTrilinos_DIR=${Trilinos_DIR}" "-DCMAKE_CXX_COMPILER=${CXX}" "-DCMAKE_C_COMPILER=${C}"
      -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
@@ -33,7 +64,7 @@ step(${CMAKE_COMMAND} --build "${WORK}/build")
 step("${WORK}/build/consumer")
 step("${WORK}/build/consumer_online")
 # Epaphe's libraries are static: the shared ones the online consumer needs are Trilinos' it uses.
-execute_process(COMMAND ldd "${WORK}/build/consumer_online" OUTPUT_VARIABLE _ldd)
+execute_process(COMMAND ldd "${WORK}/build/consumer_online" OUTPUT_VARIABLE _ldd TIMEOUT 60)
 if(_ldd MATCHES "libtpetra|libamesos2|libanasazi|libbelos")
   message(FATAL_ERROR "consumer_online links Tpetra or a solver on it (Epaphe::dynamics must not):\n${_ldd}")
 endif()
