@@ -1,4 +1,4 @@
-"""epaphe: read Epaphe runs, edit decks, run studies, measure and plot (README.md, "Python").
+"""epaphe: read Epaphe runs, edit decks, run studies, measure and plot (docs/user/python.md).
 
     import epaphe
     run = epaphe.open("build/run/bar-on-wall.h5")       # an epaphe.results.Run

@@ -1,4 +1,4 @@
-"""Reading an Epaphe run: the HDF5 file epaphe-run writes (layout in README.md, "HDF5 output").
+"""Reading an Epaphe run: the HDF5 file epaphe-run writes (layout in docs/user/output.md).
 
     run = epaphe.open("build/run/bar-on-wall.h5")
     run.status, run.complete                  # 'complete', True

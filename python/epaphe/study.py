@@ -1,4 +1,4 @@
-"""Studies of epaphe-sweep: the study file (inputs/studies/*.xml, format in README.md, "Studies")
+"""Studies of epaphe-sweep: the study file (inputs/studies/*.xml, format in docs/user/studies.md)
 read with line numbers and validated, its variants, the watched quantities of each run, the CSV.
 Errors are StudyError: one line naming the file, line, key and value."""
 import csv

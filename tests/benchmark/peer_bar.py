@@ -19,7 +19,7 @@ at v0. Rows, each on 1 thread:
     wave (the "magic" time step), so contact starts and ends on the exact step; what remains is the
     contact face's lumped mass, stopped at impact (m_f v0^2 / 2 = 16 J of 3200).
 The work-precision figure (each error against the wall time, every row) is written to
-WORKDIR/peer-bar-work-precision.png (README's copy: docs/figures/).
+WORKDIR/peer-bar-work-precision.png (its copy in docs/figures/, shown in docs/user/models.md).
 
 Errors, relative to the exact values, the same convention for both codes (v1_bar_on_wall.measure for
 Epaphe, siconos_bar for Siconos): one record per step, at the step's end t_k+1, holding the step's

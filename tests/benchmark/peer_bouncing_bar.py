@@ -27,7 +27,7 @@ Times, as benchmark.peer-bar takes them: "process" around the whole fresh proces
 Siconos python3 peer_siconos_bouncing_bar.py, its start and imports included), "in-process" each
 code's own timers (Epaphe's setup_time + loop_time, the reduction included: the default cache of
 the reduced model is removed before each run; Siconos' setup + loop).
-The figure (WORKDIR/peer-bouncing-bar-work-precision.png; README's copy in docs/figures/) draws the
+The figure (WORKDIR/peer-bouncing-bar-work-precision.png; its copy in docs/figures/, shown in docs/user/models.md) draws the
 energy drift and the first period's contact duration error against the process time.
 The script asserts only that every run completed and that its numbers are finite.
 """

@@ -15,7 +15,7 @@ function(step)
 endfunction()
 step(${CMAKE_COMMAND} --install "${EPAPHE_BUILD}" --prefix "${WORK}/prefix")
 # Where the install put the Python package: the one directory under the prefix holding
-# epaphe/__init__.py (README "Python" names <prefix>/lib/python3/dist-packages); PYTHONPATH names it
+# epaphe/__init__.py (docs/user/python.md names <prefix>/lib/python3/dist-packages); PYTHONPATH names it
 # alone below, never the source tree.
 file(GLOB_RECURSE _inits LIST_DIRECTORIES false "${WORK}/prefix/*/__init__.py")
 list(FILTER _inits INCLUDE REGEX "/epaphe/__init__\\.py$")

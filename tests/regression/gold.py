@@ -9,7 +9,7 @@ For each deck inputs/<deck>.xml (a glob: a new deck is covered at once, and fail
 gold file), runs epaphe-run on a variant of the deck cut to a horizon that holds its first contacts
 (HORIZON below; 1 thread, no reduced-model cache, so that the reduction itself is checked too),
 reduces the history it writes to at most MAX_RECORDS records per dataset and compares it with
-<gold>/<deck>.h5. What is compared (all from the HDF5 output, see the README's "HDF5 output"):
+<gold>/<deck>.h5. What is compared (all from the HDF5 output, see docs/user/output.md):
 
 - /time, /energy/*, /bodies/<b>/momentum: sampled at the last record of each of MAX_RECORDS windows
   of equal length (the last record of the run included; fewer windows on a deck with many datasets,
@@ -89,7 +89,7 @@ TOLERANCES = {
 # the smallest scale of a dataset: a dataset whose values all stay below it is compared in absolute
 # terms, atol x floor. Gap: nodes in contact throughout (two-bars) have gaps of the Lagrange solve's
 # round-off, 1e-16 m, differing by 2e-16 m between thread counts: a micron is the floor (3e-14 m of
-# tolerance there, far below the 1e-12 m penetrations the README quotes as physics).
+# tolerance there, far below the 1e-12 m penetrations docs/user/rotation.md quotes as physics).
 FLOORS = {"time": 1e-12, "energy": 1e-12, "balance": 1.0, "momentum": 1e-12, "displacement": 1e-12,
           "velocity": 1e-9, "gap": 1e-6, "force": 1e-6, "frequency": 1e-6, "summary": 1e-12}
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The abradable coating (README "Abradable coating"; Legrand, Batailly & Pierre 2012) in whole runs.
+"""The abradable coating (docs/user/coatings.md; Legrand, Batailly & Pierre 2012) in whole runs.
 
 1. Energy: the bar of bar-on-wall.xml at 10 m/s (32 J) into the wall coated with 2 mm of an
    elastic-plastic coating that stops it (yield 100 MPa, E = 10 GPa, H = 1 GPa, 1 cm^2 elements),

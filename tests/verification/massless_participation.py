@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Mode selection by participation (Reduction->Candidate modes, Load direction; README "A massless
-boundary"): model only the modes the contact's load excites.
+"""Mode selection by participation (Reduction->Candidate modes, Load direction; docs/user/models.md,
+"Massless boundary"): model only the modes the contact's load excites.
 
 Scene: V1, inputs/bar-on-wall.xml (the 3-D bar of 100 x 1 x 1 hexahedra hitting the wall end-on),
 reduced with a massless boundary at h = 2e-7 s, three ways:

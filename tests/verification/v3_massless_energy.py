@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""V3 with the massless boundary (README "A massless boundary"): where its energy goes, derived and
+"""V3 with the massless boundary (docs/theory/reduction.md, "Massless boundary"): where its energy goes, derived and
 checked over the bouncing bar's 10 periods (the deck of verification.v3-bouncing-bar, reduced to
 `--modes` elastic modes and the 6 rigid-body ones, Lagrange contact, records every step).
 
@@ -30,7 +30,7 @@ V_2 and V (v3_bouncing_bar.py); with (2) the losses up to any time are at most
   (3)  B = (1 + gamma/2) h^2 / (4 delta) sum_landings V_i^2,
 and so is the energy's distance from its start (gains and losses alternate). (3) is derived for the
 exact solution's 40 landings and releases; the run chatters (a landing splits into short contacts,
-README V3), which adds landings and releases at lower face speeds: the script prints them with the
+docs/user/models.md, V3), which adds landings and releases at lower face speeds: the script prints them with the
 losses and gains they sum to, so the premise of (3) can be judged beside its verdict.
 
 Asserted:

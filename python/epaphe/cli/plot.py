@@ -1,4 +1,4 @@
-"""epaphe-plot: figures from Epaphe HDF5 histories (the layout in README.md, "HDF5 output").
+"""epaphe-plot: figures from Epaphe HDF5 histories (the layout in docs/user/output.md).
 
     epaphe-plot FILE.h5 [FILE2.h5 ...] [--out DIR] [--label L ...] [--body B] [--nodeset S]
                 [--node K] [--tmin T] [--tmax T] [--what gap,force,displacement,velocity,energy]

@@ -5,7 +5,7 @@
                  [--reference REF] [--no-plots]
     epaphe-sweep DECK.xml --vary "Time->Time step=4e-7,2e-7,1e-7" [--reference exact:bar-on-wall] [...]
 
-A study (inputs/studies/*.xml, format in README.md, "Studies") names a base deck, the deck
+A study (inputs/studies/*.xml, format in docs/user/studies.md) names a base deck, the deck
 parameters to vary (zipped lists of the same length, or their product), overrides applied to every
 run, a reference (an exact solution: `bar-on-wall` (docs/verification.md V1) or `two-bars` (V2), computed
 from each run's deck; or a run named by its overrides), the measures and the plots.
