@@ -127,7 +127,7 @@ void addReductionParameters(Teuchos::ParameterList& body) {
           "Craig-Bampton (eq. 2.12), Guyan (eq. 2.11, no modes), None (the full model, dense: small models only) "
           "or Full, lumped mass (no reduction: K kept sparse, M lumped to its diagonal by HRZ scaling, a step is "
           "one sparse product and the contact flexibility is diagonal; cheaper than a dense reduced model once "
-          "the retained interface is large, see the README; damping: none or Rayleigh with Beta = 0; "
+          "the retained interface is large, see docs/user/models.md; damping: none or Rayleigh with Beta = 0; "
           "'Fixed-interface modes', 'Retained node set' and the cache are unused; 'Frequency check' compares "
           "the lumped model's frequencies with the consistent-mass model's), or Massless boundary (MacNeal's "
           "residual flexibility: the body's own lowest normal modes with the retained nodes free, plus the "
