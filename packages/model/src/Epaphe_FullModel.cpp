@@ -13,12 +13,48 @@
 
 namespace epaphe {
 
+void forEachOwnedHex(const FullModel& m, const Map& rows,
+                     const std::function<void(const std::array<int, 8>&, const double (&)[8][3])>& fn) {
+  double x[8][3];
+  for (const auto& hex : m.mesh.hexes) {
+    bool mine = false;
+    for (int a = 0; a < 8 && !mine; ++a)
+      for (int d = 0; d < 3; ++d) {
+        const int g = m.eq[3 * hex[a] + d];
+        if (g >= 0 && rows.isNodeGlobalElement(g)) { mine = true; break; }
+      }
+    if (!mine) continue;
+    for (int a = 0; a < 8; ++a)
+      for (int d = 0; d < 3; ++d) x[a][d] = m.mesh.coords[hex[a]][d];
+    fn(hex, x);
+  }
+}
+
+void insertElementMatrix(const FullModel& m, const std::array<int, 8>& hex, const double* Ae, CrsMatrix& A) {
+  const auto& rows = *A.getRowMap();
+  GO cols[24];
+  double values[24];
+  for (int a = 0; a < 24; ++a) {
+    const int row = m.eq[3 * hex[a / 3] + a % 3];
+    if (row < 0 || !rows.isNodeGlobalElement(row)) continue;
+    int n = 0;
+    for (int b = 0; b < 24; ++b) {
+      const int col = m.eq[3 * hex[b / 3] + b % 3];
+      if (col < 0) continue;
+      cols[n] = col;
+      values[n++] = Ae[a * 24 + b];
+    }
+    A.insertGlobalValues(row, Teuchos::ArrayView<const GO>(cols, n), Teuchos::ArrayView<const double>(values, n));
+  }
+}
+
 FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& mat,
                            const std::vector<int>& clamped, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   checkMaterial(mat, ("body '" + name + "'").c_str());
   FullModel m;
   m.name = name;
   m.mesh = std::move(mesh);
+  m.material = mat;
   const int nn = m.mesh.numNodes();
   std::vector<char> fixed(static_cast<std::size_t>(nn), 0);
   for (int n : clamped) {
@@ -35,35 +71,12 @@ FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& m
   // 27 neighbour nodes x 3 directions bound the row length of a hexahedral mesh.
   m.K = Teuchos::rcp(new CrsMatrix(map, 81));
   m.M = Teuchos::rcp(new CrsMatrix(map, 81));
-  double x[8][3], Ke[24 * 24], Me[24 * 24];
-  std::vector<GO> cols;
-  std::vector<double> kv, mv;
-  for (const auto& hex : m.mesh.hexes) {
-    bool mine = false;
-    for (int a = 0; a < 8 && !mine; ++a)
-      for (int d = 0; d < 3; ++d) {
-        const int g = m.eq[3 * hex[a] + d];
-        if (g >= 0 && map->isNodeGlobalElement(g)) { mine = true; break; }
-      }
-    if (!mine) continue;
-    for (int a = 0; a < 8; ++a)
-      for (int d = 0; d < 3; ++d) x[a][d] = m.mesh.coords[hex[a]][d];
+  double Ke[24 * 24], Me[24 * 24];
+  forEachOwnedHex(m, *map, [&](const std::array<int, 8>& hex, const double (&x)[8][3]) {
     hex8StiffnessMass(x, mat, Ke, Me);
-    for (int a = 0; a < 24; ++a) {
-      const int row = m.eq[3 * hex[a / 3] + a % 3];
-      if (row < 0 || !map->isNodeGlobalElement(row)) continue;
-      cols.clear(); kv.clear(); mv.clear();
-      for (int b = 0; b < 24; ++b) {
-        const int col = m.eq[3 * hex[b / 3] + b % 3];
-        if (col < 0) continue;
-        cols.push_back(col);
-        kv.push_back(Ke[a * 24 + b]);
-        mv.push_back(Me[a * 24 + b]);
-      }
-      m.K->insertGlobalValues(row, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(kv));
-      m.M->insertGlobalValues(row, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(mv));
-    }
-  }
+    insertElementMatrix(m, hex, Ke, *m.K);
+    insertElementMatrix(m, hex, Me, *m.M);
+  });
   m.K->fillComplete();
   m.M->fillComplete();
   return m;

@@ -9,6 +9,9 @@
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_RCP.hpp>
 
+#include <array>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +23,10 @@ struct FullModel {
   std::vector<int> eq;      // 3 * node + direction -> free DOF index, or -1 when constrained
   int numFree = 0;
   Teuchos::RCP<CrsMatrix> K, M;   // over the free DOFs, row map contiguous and uniform
+  /// The material of a model assembled from its elements (assembleHexModel), so that terms of the
+  /// same elements can be added later (the centrifugal load, the geometric stiffness); empty for an
+  /// imported model, whose elements Epaphe does not know.
+  std::optional<Material> material;
 
   int numNodes() const { return mesh.numNodes(); }
 };
@@ -28,6 +35,15 @@ struct FullModel {
 /// directions fixed. Each rank inserts the rows it owns.
 FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& mat,
                            const std::vector<int>& clamped, const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+
+/// Calls fn(hex, x) for each hexahedron of the mesh with a free DOF in `rows` (the rows this rank
+/// inserts), x its nodes' coordinates.
+void forEachOwnedHex(const FullModel& model, const Map& rows,
+                     const std::function<void(const std::array<int, 8>&, const double (&)[8][3])>& fn);
+
+/// Inserts into A (not yet fill-complete) the rows it owns of a 24 x 24 element matrix Ae (row-major,
+/// DOF order (node, direction) of `hex`), on the free DOFs.
+void insertElementMatrix(const FullModel& model, const std::array<int, 8>& hex, const double* Ae, CrsMatrix& A);
 
 /// The dense n x n (column-major) copy of a distributed matrix, on every rank. For small models.
 std::vector<double> gatherDense(const CrsMatrix& A);

@@ -68,6 +68,8 @@ struct ReducedModel {
   std::vector<double> residualFlexibility;  // massless boundary: G, square on the retained DOFs, column-major
   std::vector<double> modalTranslation;  // massless boundary: Phi^T M e_d, numModes x 3, column-major
   std::array<double, 3> translationMass = {0, 0, 0};  // massless boundary: e_d^T M e_d over the free DOFs
+  double speed = 0;                       // a body at speed: Omega (rad/s) of its model, 0 at rest
+  std::vector<double> staticDisplacement; // a body at speed: u_s, 3 per node (coords are x + u_s); empty at rest
 
   /// The deck's name of its kind ("Craig-Bampton", ...), for messages and files.
   std::string method() const { return reductionName(kind); }

@@ -6,11 +6,13 @@
 
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <memory>
 
 namespace epaphe {
 
 // Bump when the cache layout changes: older files then miss and are rebuilt.
-constexpr const char* cacheFormat = "3 (node grids)";
+constexpr const char* cacheFormat = "4 (static state at speed)";
 
 std::string contentKey(const std::string& text) {
   std::uint64_t h = 1469598103934665603ull;
@@ -23,10 +25,22 @@ std::string contentKey(const std::string& text) {
   return buf;
 }
 
-void saveReducedModel(const ReducedModel& r, const std::string& path, const std::string& key) {
+namespace {
+
+/// Writes `path` through a temporary file renamed at the end, so that a reader never sees half a file.
+void writeAtomically(const std::string& path, const std::function<void(io::Hdf5File&)>& write) {
   const std::string tmp = path + ".tmp";
   {
     io::Hdf5File f(tmp, io::Hdf5File::Mode::Create);
+    write(f);
+    f.close();
+  }
+  EPAPHE_REQUIRE(std::rename(tmp.c_str(), path.c_str()) == 0,
+                 "cannot move the reduced-model cache " << tmp << " to " << path << ": check the directory's permissions");
+}
+
+void writeReducedModel(io::Hdf5File& f, const ReducedModel& r, const std::string& key) {
+  {
     const auto n = static_cast<std::uint64_t>(r.size);
     const auto nn = static_cast<std::uint64_t>(r.numNodes());
     f.setAttribute("/", "key", key);
@@ -45,6 +59,8 @@ void saveReducedModel(const ReducedModel& r, const std::string& path, const std:
     f.writeInts("/retainedNodes", std::vector<long long>(r.retainedNodes.begin(), r.retainedNodes.end()));
     f.writeDoubles("/modeFrequencies", r.modeFrequencies);
     f.writeDoubles("/fullFrequencies", r.fullFrequencies);
+    f.writeDoubles("/speed", std::vector<double>{r.speed});
+    f.writeDoubles("/staticDisplacement", r.staticDisplacement);
     f.writeDoubles("/boundaryModes", r.boundaryModes);
     f.writeDoubles("/residualFlexibility", r.residualFlexibility);
     f.writeDoubles("/modalTranslation", r.modalTranslation);
@@ -62,16 +78,10 @@ void saveReducedModel(const ReducedModel& r, const std::string& path, const std:
       grids += name + "\n";
     }
     f.setAttribute("/", "nodeGridNames", grids);
-    f.close();
   }
-  EPAPHE_REQUIRE(std::rename(tmp.c_str(), path.c_str()) == 0,
-                 "cannot move the reduced-model cache " << tmp << " to " << path << ": check the directory's permissions");
 }
 
-bool loadReducedModel(const std::string& path, const std::string& key, ReducedModel& r) {
-  if (!std::ifstream(path)) return false;
-  io::Hdf5File f(path, io::Hdf5File::Mode::ReadOnly);
-  if (!f.hasAttribute("/", "key") || f.stringAttribute("/", "key") != key) return false;
+bool readReducedModel(const io::Hdf5File& f, const std::string& path, ReducedModel& r) {
   auto toInts = [](const std::vector<long long>& v) { return std::vector<int>(v.begin(), v.end()); };
   r.name = f.stringAttribute("/", "name");
   r.kind = reductionKindNamed(f.stringAttribute("/", "method"));
@@ -91,6 +101,9 @@ bool loadReducedModel(const std::string& path, const std::string& key, ReducedMo
   r.retainedNodes = toInts(f.readInts("/retainedNodes"));
   r.modeFrequencies = f.readDoubles("/modeFrequencies");
   r.fullFrequencies = f.readDoubles("/fullFrequencies");
+  const auto speed = f.readDoubles("/speed");
+  r.speed = speed.empty() ? 0.0 : speed[0];
+  r.staticDisplacement = f.readDoubles("/staticDisplacement");
   r.boundaryModes.clear();  // massless boundary only (files written before it have neither)
   r.residualFlexibility.clear();
   r.modalTranslation.clear();
@@ -121,6 +134,52 @@ bool loadReducedModel(const std::string& path, const std::string& key, ReducedMo
                                                             "delete the file to rebuild it");
     r.nodeGrids[name] = NodeGrid{static_cast<int>(dims[0]), static_cast<int>(dims[1]), nodes};
   }
+  return true;
+}
+
+/// The file's key matches: false when it is absent or holds another.
+bool openWithKey(const std::string& path, const std::string& key, std::unique_ptr<io::Hdf5File>& f) {
+  if (!std::ifstream(path)) return false;
+  f = std::make_unique<io::Hdf5File>(path, io::Hdf5File::Mode::ReadOnly);
+  return f->hasAttribute("/", "key") && f->stringAttribute("/", "key") == key;
+}
+
+}  // namespace
+
+void saveReducedModel(const ReducedModel& r, const std::string& path, const std::string& key) {
+  writeAtomically(path, [&](io::Hdf5File& f) { writeReducedModel(f, r, key); });
+}
+
+bool loadReducedModel(const std::string& path, const std::string& key, ReducedModel& r) {
+  std::unique_ptr<io::Hdf5File> f;
+  return openWithKey(path, key, f) && readReducedModel(*f, path, r);
+}
+
+// The parametric model: its common-basis model as a reduced model, and under /parametric the sample
+// speeds, the boundary size, the stiffness coefficients C_1.. and the static state's g_0...
+void saveParametricModel(const SpeedParametricModel& p, const std::string& path, const std::string& key) {
+  writeAtomically(path, [&](io::Hdf5File& f) {
+    writeReducedModel(f, p.base, key);
+    const auto N = static_cast<std::uint64_t>(p.base.size);
+    f.writeDoubles("/parametric/speeds", p.speeds);
+    f.setAttribute("/", "boundarySize", static_cast<long long>(p.boundarySize));
+    for (std::size_t k = 0; k < p.stiffness.size(); ++k)
+      f.writeDoubles("/parametric/stiffness" + std::to_string(k + 1), {N, N}, p.stiffness[k].data());
+    for (std::size_t k = 0; k < p.growth.size(); ++k)
+      f.writeDoubles("/parametric/growth" + std::to_string(k), p.growth[k]);
+  });
+}
+
+bool loadParametricModel(const std::string& path, const std::string& key, SpeedParametricModel& p) {
+  std::unique_ptr<io::Hdf5File> f;
+  if (!openWithKey(path, key, f) || !readReducedModel(*f, path, p.base) || !f->exists("/parametric/speeds")) return false;
+  p.speeds = f->readDoubles("/parametric/speeds");
+  p.boundarySize = static_cast<int>(f->intAttribute("/", "boundarySize"));
+  p.stiffness.clear();
+  p.growth.clear();
+  for (std::size_t k = 1; k < p.speeds.size(); ++k)
+    p.stiffness.push_back(f->readDoubles("/parametric/stiffness" + std::to_string(k)));
+  for (std::size_t k = 0; k < p.speeds.size(); ++k) p.growth.push_back(f->readDoubles("/parametric/growth" + std::to_string(k)));
   return true;
 }
 

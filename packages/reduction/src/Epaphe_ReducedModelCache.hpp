@@ -3,6 +3,7 @@
 // The key is a hash of everything the reduction depends on (the caller's canonical text of the
 // model and reduction parameters, and the Epaphe version).
 #include "Epaphe_ReducedModel.hpp"
+#include "Epaphe_SpeedParametricModel.hpp"
 
 #include <string>
 
@@ -16,5 +17,9 @@ void saveReducedModel(const ReducedModel& model, const std::string& path, const 
 /// True and fills `out` when `path` holds a reduced model with this key; false when the file is
 /// absent or holds another key. A file that exists but cannot be read raises an error.
 bool loadReducedModel(const std::string& path, const std::string& key, ReducedModel& out);
+
+/// The same for the parametric model of a rotating body over a speed range.
+void saveParametricModel(const SpeedParametricModel& model, const std::string& path, const std::string& key);
+bool loadParametricModel(const std::string& path, const std::string& key, SpeedParametricModel& out);
 
 }  // namespace epaphe

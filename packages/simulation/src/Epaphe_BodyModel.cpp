@@ -285,6 +285,38 @@ FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const
   return assembleHexModel(body, std::move(mesh), mat, clamped, comm);
 }
 
+RotationOptions rotationOptions(const ParameterList& rotation, const std::string& context) {
+  RotationOptions o;
+  o.speed = rotation.get<double>("Speed");
+  EPAPHE_REQUIRE(std::isfinite(o.speed), context << "->Speed = " << o.speed << " rad/s; give a finite speed");
+  o.axis = spinAxis(deck::getVec3(rotation, "Axis point", context), deck::getVec3(rotation, "Axis", context),
+                    context + "->Axis");
+  o.stressStiffening = rotation.get<bool>("Stress stiffening");
+  o.spinSoftening = rotation.get<bool>("Spin softening");
+  o.staticState = deck::getEnum<StaticState>(rotation, "Static state");
+  o.staticTolerance = rotation.get<double>("Static tolerance");
+  return o;
+}
+
+std::string rotationKeyText(const ParameterList& rotation) {
+  const double speed = rotation.get<double>("Speed");
+  const auto range = deck::getDoubles(rotation, "Speed range");
+  if (speed == 0 && range.empty()) return "";  // at rest: the key of a model without rotation
+  std::ostringstream t;
+  t.precision(17);
+  if (range.empty())
+    t << "\nrotation=" << speed;
+  else  // the parametric model does not depend on the speed taken from it
+    t << "\nrotation range=" << range[0] << " " << range[1] << " samples=" << rotation.get<int>("Sample speeds");
+  t << " axis=";
+  for (double x : deck::getDoubles(rotation, "Axis")) t << x << " ";
+  t << "point=";
+  for (double x : deck::getDoubles(rotation, "Axis point")) t << x << " ";
+  t << "stiffening=" << rotation.get<bool>("Stress stiffening") << " softening=" << rotation.get<bool>("Spin softening")
+    << " static=" << rotation.get<std::string>("Static state") << " tolerance=" << rotation.get<double>("Static tolerance");
+  return t.str();
+}
+
 CraigBamptonOptions reductionOptions(const ParameterList& rp) {
   CraigBamptonOptions o;
   o.modes = deck::getEnum<ReductionMethod>(rp, "Method") == ReductionMethod::Guyan ? 0 : rp.get<int>("Fixed-interface modes");

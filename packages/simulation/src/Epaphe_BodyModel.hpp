@@ -8,6 +8,7 @@
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_Mesh.hpp"
+#include "Epaphe_ModelAtSpeed.hpp"
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_ParameterList.hpp>
@@ -45,6 +46,13 @@ CasingGeometry casingGeometry(const Teuchos::ParameterList& pl, const std::strin
 /// Checks a body's Casing mesh (element counts, clearance law keys) with errors naming the deck key;
 /// called before any body is built.
 void checkCasingMesh(const std::string& body, const Teuchos::ParameterList& meshParams, const std::string& origin);
+
+/// The rotation of the body's Rotation sublist; an Error names `context` for a speed that is not a
+/// number or an axis of zero length.
+RotationOptions rotationOptions(const Teuchos::ParameterList& rotation, const std::string& context);
+
+/// What the model at speed depends on, for the reduced-model cache key ("" at rest).
+std::string rotationKeyText(const Teuchos::ParameterList& rotation);
 
 /// The Craig-Bampton options of the body's Reduction sublist (modes: its 'Fixed-interface modes').
 CraigBamptonOptions reductionOptions(const Teuchos::ParameterList& reductionParams);

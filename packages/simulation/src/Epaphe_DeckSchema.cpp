@@ -183,6 +183,29 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
                  "refused otherwise. Its work is the run's external work in the energy balance");
   addString(body, "Contact node set", "", "Nodes checked against every surface (empty: no contact)");
   addStringArray(body, "Watched node sets", {}, "Node sets whose displacement and velocity are written");
+  auto& rot = body.sublist("Rotation", false, "The body turns at a steady speed and is modelled in its own frame, "
+                                              "where the centrifugal load is static (the casing turns around it)");
+  addDouble(rot, "Speed", 0.0, "Omega (rad/s) about the Axis; 0: the body at rest. Built-in meshes: the model is "
+                               "the tangent at the centrifugal static state ('Static state'), K_e + K_sigma - "
+                               "Omega^2 M_perp, and the nodes start at their static position (the tip growth)");
+  addDoubleArray(rot, "Axis", {0, 0, 1}, "Direction of the rotation axis (need not be unit)");
+  addDoubleArray(rot, "Axis point", {0, 0, 0}, "A point of the rotation axis (m)");
+  addDoubleArray(rot, "Speed range", {}, "{minimum, maximum} (rad/s): build one parametric reduced model over "
+                                        "the range from Craig-Bampton reductions at 'Sample speeds' and take the "
+                                        "model at 'Speed' from it (a speed sweep then reduces nothing per speed); "
+                                        "empty: reduce at 'Speed' directly");
+  addInt(rot, "Sample speeds", 3, "Speeds of the range reduced directly (Chebyshev-Lobatto points in Omega^2, "
+                                  "both ends included)", 2, 12);
+  addEnum(rot, "Static state", "Automatic", {"Linear", "Stress-stiffened", "Automatic"}, {0, 1, 2},
+          "The centrifugal static state: Linear, (K_e - Omega^2 M_perp) u_s = Omega^2 f_c; Stress-stiffened, "
+          "K_sigma(u_s) added to the left side by fixed point (the tension that untwists a blade stiffens it against its "
+          "own load: close to a geometrically nonlinear static step); Automatic, the stress-stiffened state where it "
+          "moves the largest static displacement by more than 'Static tolerance' of the linear one");
+  addDouble(rot, "Static tolerance", 0.01, "Automatic static state: the relative change of the largest static "
+                                           "displacement above which the stress-stiffened state is kept", 0.0, 1.0);
+  addBool(rot, "Stress stiffening", true, "Keep the geometric stiffness K_sigma of the centrifugal prestress");
+  addBool(rot, "Spin softening", true, "Keep -Omega^2 M_perp, the change of the centrifugal load with the "
+                                       "displacement, in the static state and in the stiffness");
   addReductionParameters(body);
 }
 
@@ -337,6 +360,17 @@ Deck deckAtSpeed(const Deck& deck, double omega, double revolutions, const std::
   }
   EPAPHE_REQUIRE(turning > 0, deck.origin << ": no surface turns (no non-zero 'Surfaces-><name>->Rotation speed'), "
                                           "so a speed sweep has nothing to vary");
+  // A rotating body turns at the sweep's speed too (its sense kept): its model at that speed comes
+  // from its parametric model when it has a 'Speed range' (nothing reduced per speed).
+  if (raw->isSublist("Bodies")) {
+    Teuchos::ParameterList& bodies = raw->sublist("Bodies");
+    for (auto it = bodies.begin(); it != bodies.end(); ++it) {
+      if (!bodies.isSublist(bodies.name(it)) || !bodies.sublist(bodies.name(it)).isSublist("Rotation")) continue;
+      Teuchos::ParameterList& rot = bodies.sublist(bodies.name(it)).sublist("Rotation");
+      const double speed = rot.isType<double>("Speed") ? rot.get<double>("Speed") : 0.0;
+      if (speed != 0.0 || rot.isParameter("Speed range")) rot.set("Speed", std::copysign(omega, speed == 0.0 ? 1.0 : speed));
+    }
+  }
   if (revolutions > 0) {
     Teuchos::ParameterList& time = raw->sublist("Time");
     time.remove("End time", false);

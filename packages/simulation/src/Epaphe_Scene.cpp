@@ -59,6 +59,8 @@ void broadcast(ReducedModel& r, const Teuchos::Comm<int>& comm) {
   bcastVec(r.residualFlexibility);
   bcastVec(r.modalTranslation);
   Teuchos::broadcast(comm, 0, 3, r.translationMass.data());
+  Teuchos::broadcast(comm, 0, Teuchos::outArg(r.speed));
+  bcastVec(r.staticDisplacement);
   std::vector<double> xyz;
   if (comm.getRank() == 0)
     for (const auto& c : r.coords) xyz.insert(xyz.end(), c.begin(), c.end());
@@ -174,9 +176,20 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
                        std::string t;
                        for (double x : deck::getDoubles(rp, "Load direction")) t += std::to_string(x) + " ";
                        return t;
-                     }());
+                     }() + rotationKeyText(bp.sublist("Rotation")));
 
+  const RotationOptions rotation = rotationOptions(bp.sublist("Rotation"), ctx + ", Rotation");
   int cached = 0;
+  if (!deck::getDoubles(bp.sublist("Rotation"), "Speed range").empty()) {
+    // a rotating body over a speed range: its model at the speed, from the parametric model
+    const SpeedParametricModel pm = parametricModel(b, bp, key, cacheFile, useCache, rotation);
+    b->rom = pm.at(std::abs(rotation.speed), reductionOptions(rp).modes, ctx);
+    b->rom.speed = rotation.speed;
+    out << "[" << b->name << "] " << b->rom.method() << " at " << rotation.speed << " rad/s from the parametric model ("
+        << pm.base.size << " DOFs, samples";
+    for (double w : pm.speeds) out << " " << w;
+    out << " rad/s): " << b->rom.size << " reduced DOFs\n";
+  } else {
   if (useCache && comm->getRank() == 0) cached = loadReducedModel(cacheFile, key, b->rom) ? 1 : 0;
   Teuchos::broadcast(*comm, 0, Teuchos::outArg(cached));
   if (cached) {
@@ -189,6 +202,17 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
     out << "[" << b->name << "] full model: " << full.numNodes() << " nodes, " << full.numFree << " free DOFs, "
         << full.mesh.hexes.size() << " hexahedra, " << (hasBuiltInMesh(bp) ? "built" : "imported") << " in "
         << formatDuration(built.seconds()) << "\n";
+    SpeedReport atSpeed;
+    if (rotation.speed != 0) {  // checkScene refused a rotating imported model
+      full = modelAtSpeed(full, rotation, &atSpeed);
+      out << "[" << b->name << "] at " << rotation.speed << " rad/s: "
+          << (atSpeed.stiffened ? "stress-stiffened (" + std::to_string(atSpeed.passes) + " passes)" : std::string("linear"))
+          << " static state and K_e + K_sigma - Omega^2 M_perp in " << formatDuration(atSpeed.seconds)
+          << "; largest static displacement " << atSpeed.largestDisplacement << " m (node "
+          << full.mesh.nodeId(atSpeed.largestNode) << "; linear state " << atSpeed.linearLargest << " m";
+      if (atSpeed.passes > 0) out << ", the stress-stiffened one moves it by " << 100 * atSpeed.stiffenedChange << " %";
+      out << "); Coriolis terms Omega ||G|| / sqrt(||K|| ||M||) = " << atSpeed.coriolisRatio << " (not kept)\n";
+    }
     const CraigBamptonOptions cbo = reductionOptions(rp);
     const bool retains = method != ReductionMethod::None && method != ReductionMethod::FullLumped;
     EPAPHE_REQUIRE(!retains || !retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
@@ -200,6 +224,8 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
     } catch (const Error& e) {
       throw Error(origin + ": " + e.what());
     }
+    b->rom.speed = rotation.speed;
+    b->rom.staticDisplacement = std::move(atSpeed.staticDisplacement);
     if (b->rom.sparse())
       out << "[" << b->name << "] full model kept: K sparse (" << b->rom.sparseK.values.size()
           << " entries), mass lumped to its diagonal (HRZ)\n";
@@ -220,11 +246,98 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
     }
     if (useCache && comm->getRank() == 0) saveReducedModel(b->rom, cacheFile, key);
   }
+  }
   if (b->fromCache)
     out << "[" << b->name << "] reduced model (" << b->rom.method() << ", " << b->rom.size << " DOFs) reused from "
         << cacheFile << "\n";
   b->fullFrequencies = b->rom.fullFrequencies;
   if (!b->rom.sparse()) b->reducedFrequencies = reducedFrequencies(b->rom);
+  if (!b->rom.staticDisplacement.empty()) reportGrowth(*b, bp, out);
+}
+
+/// The parametric model of a body over its 'Rotation->Speed range': from the cache when the key
+/// matches (the key leaves out the speed, so that a speed sweep reduces nothing per speed), else
+/// built from direct reductions at the sample speeds and cached. On every rank.
+SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, const std::string& key,
+                                            const std::string& cacheFile, bool useCache, const RotationOptions& rotation) {
+  auto comm = rt_.comm();
+  std::ostream& out = rt_.out();
+  const ParameterList& rp = bp.sublist("Reduction");
+  const ParameterList& rotp = bp.sublist("Rotation");
+  SpeedParametricModel pm;
+  int cached = 0;
+  if (useCache && comm->getRank() == 0) cached = loadParametricModel(cacheFile, key, pm) ? 1 : 0;
+  Teuchos::broadcast(*comm, 0, Teuchos::outArg(cached));
+  if (cached) {
+    broadcast(pm.base, *comm);
+    int sizes[2] = {static_cast<int>(pm.speeds.size()), pm.boundarySize};
+    Teuchos::broadcast(*comm, 0, 2, sizes);
+    pm.speeds.resize(static_cast<std::size_t>(sizes[0]));
+    pm.boundarySize = sizes[1];
+    Teuchos::broadcast(*comm, 0, sizes[0], pm.speeds.data());
+    pm.stiffness.resize(static_cast<std::size_t>(sizes[0] - 1));
+    pm.growth.resize(static_cast<std::size_t>(sizes[0]));
+    const std::size_t N = static_cast<std::size_t>(pm.base.size), rows = 3 * pm.base.coords.size();
+    for (auto& c : pm.stiffness) {
+      c.resize(N * N);
+      Teuchos::broadcast(*comm, 0, static_cast<int>(c.size()), c.data());
+    }
+    for (auto& g : pm.growth) {
+      g.resize(rows);
+      Teuchos::broadcast(*comm, 0, static_cast<int>(g.size()), g.data());
+    }
+    b->fromCache = true;
+    return pm;
+  }
+  Stopwatch built;
+  const FullModel full = buildBodyModel(b->name, bp, deck_.origin, comm);
+  std::string retainedSet = rp.get<std::string>("Retained node set");
+  if (retainedSet.empty()) retainedSet = b->contactSet;
+  const std::string ctx = deck_.origin + ": body '" + b->name + "'";
+  EPAPHE_REQUIRE(!retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
+                                           << " needs a 'Retained node set' (or a 'Contact node set')");
+  const auto retainedNodes = full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'");
+  const auto range = deck::getDoubles(rotp, "Speed range");
+  const auto speeds = sampleSpeeds(range[0], range[1], rotp.get<int>("Sample speeds"));
+  try {
+    pm = parametricCraigBampton(full, retainedNodes, reductionOptions(rp), rotation, speeds, &b->report);
+  } catch (const Error& e) {
+    throw Error(deck_.origin + ": " + e.what());
+  }
+  out << "[" << b->name << "] parametric model over " << range[0] << " to " << range[1] << " rad/s: " << speeds.size()
+      << " Craig-Bampton reductions and static states, common basis of " << pm.base.size << " DOFs ("
+      << pm.boundarySize << " retained), in " << formatDuration(built.seconds()) << "\n";
+  if (useCache && comm->getRank() == 0) saveParametricModel(pm, cacheFile, key);
+  return pm;
+}
+
+/// The static displacement at speed of the contact and watched node sets: its largest length and
+/// its largest radial part (along P (x - x_0), away from the axis), the tip growth that closes a
+/// casing's clearance.
+void Scene::reportGrowth(const Body& b, const ParameterList& bp, std::ostream& out) const {
+  const SpinAxis axis = rotationOptions(bp.sublist("Rotation"), deck_.origin).axis;
+  const auto& a = axis.direction;
+  std::vector<std::string> sets;
+  if (!b.contactSet.empty()) sets.push_back(b.contactSet);
+  for (const std::string& ws : deck::getStrings(bp, "Watched node sets")) sets.push_back(ws);
+  for (const std::string& set : sets) {
+    double largest = 0, radial = -1e300;
+    for (int n : b.rom.nodeSet(set, deck_.origin + ": body '" + b.name + "'")) {
+      const double* u = &b.rom.staticDisplacement[3 * static_cast<std::size_t>(n)];
+      double r[3], along = 0;  // r = P (x - x_0) at rest, x = coords - u
+      for (int d = 0; d < 3; ++d) r[d] = b.rom.coords[n][d] - u[d] - axis.point[d];
+      for (int d = 0; d < 3; ++d) along += r[d] * a[d];
+      double len = 0;
+      for (int d = 0; d < 3; ++d) len += (r[d] - along * a[d]) * (r[d] - along * a[d]);
+      len = std::sqrt(len);
+      double growth = 0;
+      for (int d = 0; d < 3; ++d) growth += (len > 0 ? (r[d] - along * a[d]) / len : 0.0) * u[d];
+      largest = std::max(largest, std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+      radial = std::max(radial, growth);
+    }
+    out << "[" << b.name << "] at " << b.rom.speed << " rad/s, node set '" << set << "': static displacement up to "
+        << largest << " m, radial growth up to " << radial << " m\n";
+  }
 }
 
 /// Initial velocity, watched and contact node sets, the integrator and gravity of a reduced body.

@@ -9,6 +9,7 @@
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Runtime.hpp"
 #include "Epaphe_SceneBody.hpp"
+#include "Epaphe_SpeedParametricModel.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
 #include <Teuchos_ParameterList.hpp>
@@ -54,6 +55,9 @@ private:
   using Body = SceneBody;
   // The steps of build(), in order.
   void loadOrReduce(Body* body, const Teuchos::ParameterList& bodyParams);
+  SpeedParametricModel parametricModel(Body* body, const Teuchos::ParameterList& bodyParams, const std::string& key,
+                                       const std::string& cacheFile, bool useCache, const RotationOptions& rotation);
+  void reportGrowth(const Body& body, const Teuchos::ParameterList& bodyParams, std::ostream& out) const;
   void setInitialState(Body* body, const Teuchos::ParameterList& bodyParams, double h, const DampingOptions& damping);
   /// Builds the surfaces and the contact; returns, per body, the reduced DOFs of the surfaces it
   /// carries (penalty springs act on them too, for the stable step).

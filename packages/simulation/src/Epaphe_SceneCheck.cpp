@@ -370,6 +370,29 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
     const ParameterList& bp = bl.sublist(bl.name(it));
     bodyModelFiles(bl.name(it), bp, origin);  // the files an imported model reads exist
     if (hasBuiltInMesh(bp)) checkBodyMesh(P, bl.name(it), buildBodyMesh(bl.name(it), bp, origin), origin);
+    // a rotating body: a finite speed, an axis, and elements Epaphe knows (its built-in meshes)
+    const std::string ctx = origin + ": body '" + bl.name(it) + "', Rotation";
+    const RotationOptions rotation = rotationOptions(bp.sublist("Rotation"), ctx);
+    const auto range = deck::getDoubles(bp.sublist("Rotation"), "Speed range");
+    EPAPHE_REQUIRE((rotation.speed == 0 && range.empty()) || hasBuiltInMesh(bp),
+                   ctx << "->Speed = " << rotation.speed << " rad/s: the model is imported, and Epaphe builds the "
+                       << "centrifugal terms from the elements of its built-in meshes only; remove the key (the body "
+                          "at rest)");
+    if (!range.empty()) {
+      EPAPHE_REQUIRE(range.size() == 2 && range[0] >= 0 && range[1] > range[0] && std::isfinite(range[1]),
+                     ctx << "->Speed range has " << range.size() << " value(s)"
+                         << (range.size() == 2 ? " {" + std::to_string(range[0]) + ", " + std::to_string(range[1]) + "}" : "")
+                         << "; give {minimum, maximum} in rad/s with 0 <= minimum < maximum");
+      EPAPHE_REQUIRE(std::abs(rotation.speed) >= range[0] && std::abs(rotation.speed) <= range[1],
+                     ctx << "->Speed = " << rotation.speed << " rad/s is outside 'Speed range' {" << range[0] << ", "
+                         << range[1] << "}: the parametric model covers only its range; widen the range or change the speed");
+      const auto method = deck::getEnum<ReductionMethod>(bp.sublist("Reduction"), "Method");
+      EPAPHE_REQUIRE(method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan,
+                     ctx << "->Speed range: the parametric model over a speed range is built by Craig-Bampton or "
+                         << "Guyan, not by '" << bp.sublist("Reduction").get<std::string>("Method")
+                         << "'; set 'Reduction->Method' to Craig-Bampton, or remove 'Speed range' (the model is then "
+                            "reduced at 'Speed' directly)");
+    }
   }
   checkBodyFacesNotOwnContact(P, origin);
   // The files the run creates: the history, and each reduced-model cache.

@@ -28,6 +28,15 @@
       lobes, max_wear, contrast}) and DIR/map-wear.png (angle across, speed up, wear depth as colour, the
       dominant harmonic at the right), printed per speed.
 
+  epaphe-rotor campbell DECK.xml [--body B] [--orders 1-12] [--speeds N] [--count K] [--out DIR]
+                   [--campbell EPAPHE_CAMPBELL]
+      Campbell diagram of a rotating body with 'Rotation->Speed range': epaphe-campbell builds its
+      parametric model and tabulates its frequencies over the range beside the full model's at the
+      sample speeds and half-way between (DIR/campbell.h5); this command adds the engine-order lines
+      f = k Omega / 2 pi (k in --orders, "1-12" or "1,2,6"), lists every crossing (speed, order, mode,
+      frequency) and writes them to DIR/campbell.h5 (/crossings: speed, order, mode, frequency per
+      row) and DIR/campbell.png (speed (rad/s) across, frequency (Hz) up).
+
   epaphe-rotor wear RUN.h5 [--surface S] [--png F] [--csv F]
       Wear of the abradable coating of surface S (by default the only coated surface of the run) at
       the last record of /coating/<S>/wear: the largest wear depth (um); the lobes, runs of element
@@ -275,6 +284,62 @@ def wear(path, surface=None, png=None, csv=None):
     return coat, lobes
 
 
+def parse_orders(text):
+    """Engine orders from "1-12" or "1,2,6" (positive integers)."""
+    try:
+        if "-" in text:
+            lo, hi = (int(x) for x in text.split("-"))
+            orders = list(range(lo, hi + 1))
+        else:
+            orders = [int(x) for x in text.split(",")]
+    except ValueError:
+        raise EpapheError(f"--orders {text}: give a range 1-12 or a list 1,2,6 of engine orders")
+    if not orders or min(orders) < 1:
+        raise EpapheError(f"--orders {text}: engine orders are integers >= 1")
+    return orders
+
+
+def campbell(deck, body, orders, points, count, out, exe=None):
+    """Runs epaphe-campbell on `deck`, then draws the diagram and lists the crossings."""
+    import h5py
+    import matplotlib
+    matplotlib.use("Agg")
+    from .. import campbell as cb
+    os.makedirs(out, exist_ok=True)
+    if exe is None:
+        exe = os.path.join(os.path.dirname(find_run(None)), "epaphe-campbell")
+    if not (os.path.isfile(exe) and os.access(exe, os.X_OK)):
+        raise EpapheError(f"epaphe-campbell not found at {exe}: give it with --campbell")
+    h5 = os.path.join(out, "campbell.h5")
+    cmd = [exe, os.path.abspath(deck), "--output", h5, "--speeds", str(points)]
+    if body:
+        cmd += ["--body", body]
+    if count:
+        cmd += ["--count", str(count)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=7200)
+    sys.stdout.write(proc.stdout)
+    if proc.returncode != 0:
+        raise EpapheError(f"epaphe-campbell failed (exit {proc.returncode}): {proc.stderr.strip()}")
+    with h5py.File(h5, "r") as f:
+        table = {"speeds": f["speeds"][()], "frequencies": f["frequencies"][()],
+                 "full_speeds": f["full/speeds"][()], "full_frequencies": f["full/frequencies"][()]}
+        name = f.attrs["body"]
+    rows = cb.crossings(table["speeds"], table["frequencies"], orders)
+    with h5py.File(h5, "a") as f:
+        if "crossings" in f:
+            del f["crossings"]
+        d = f.create_dataset("crossings", data=np.array(rows, dtype=float).reshape(-1, 4))
+        d.attrs["columns"] = "speed_rad_s,engine_order,mode,frequency_hz"
+    print(f"\n{len(rows)} crossings of modes 1-{table['frequencies'].shape[1]} with engine orders "
+          f"{orders[0]}-{orders[-1]}:")
+    for w, k, mode, fr in rows:
+        print(f"  {w:10.2f} rad/s ({w * 30 / np.pi:8.1f} rpm)  EO {k:2d}  mode {mode:2d}  {fr:9.2f} Hz")
+    png = os.path.join(out, "campbell.png")
+    cb.draw(table, orders, f"{os.path.basename(deck)}, body {name}: Campbell diagram", png)
+    print(f"written {h5} and {png}")
+    return rows
+
+
 def main(argv=None):
     try:
         return run(sys.argv[1:] if argv is None else argv)
@@ -310,13 +375,23 @@ def run(argv):
     m.add_argument("--mpiexec")
     m.add_argument("--run")
     m.add_argument("--out", default="speed-map")
+    cb = sub.add_parser("campbell")
+    cb.add_argument("deck")
+    cb.add_argument("--body")
+    cb.add_argument("--orders", default="1-12")
+    cb.add_argument("--speeds", type=int, default=41)
+    cb.add_argument("--count", type=int)
+    cb.add_argument("--out", default="campbell")
+    cb.add_argument("--campbell", help="the epaphe-campbell executable (default: beside epaphe-run)")
     w = sub.add_parser("wear")
     w.add_argument("file")
     w.add_argument("--surface")
     w.add_argument("--png")
     w.add_argument("--csv")
     a = ap.parse_args(argv)
-    if a.cmd == "wear":
+    if a.cmd == "campbell":
+        campbell(a.deck, a.body, parse_orders(a.orders), a.speeds, a.count, a.out, a.campbell)
+    elif a.cmd == "wear":
         wear(a.file, a.surface, a.png, a.csv)
     elif a.cmd == "map":
         speeds = [float(x) for x in a.speeds.split(",")]

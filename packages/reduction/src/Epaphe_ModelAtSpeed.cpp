@@ -1,0 +1,103 @@
+#include "Epaphe_ModelAtSpeed.hpp"
+
+#include "Epaphe_Error.hpp"
+#include "Epaphe_Runtime.hpp"
+#include "Epaphe_SparseSolver.hpp"
+
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace epaphe {
+
+namespace {
+
+/// max over nodes of |u_n| (u: 3 per node)
+double largestLength(const std::vector<double>& u) {
+  double m = 0;
+  for (std::size_t n = 0; 3 * n + 2 < u.size(); ++n)
+    m = std::max(m, std::sqrt(u[3 * n] * u[3 * n] + u[3 * n + 1] * u[3 * n + 1] + u[3 * n + 2] * u[3 * n + 2]));
+  return m;
+}
+
+}  // namespace
+
+FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& o, SpeedReport* report) {
+  Stopwatch watch;
+  EPAPHE_REQUIRE(std::isfinite(o.speed), "body '" << rest.name << "': rotation speed " << o.speed
+                                                  << " rad/s is not a finite number");
+  const double w2 = o.speed * o.speed;
+  const CentrifugalTerms c = assembleCentrifugal(rest, o.axis);
+
+  // (K_e - Omega^2 M_perp) u_s = Omega^2 f_c
+  auto statics = o.spinSoftening ? Tpetra::MatrixMatrix::add(1.0, false, *rest.K, -w2, false, *c.perpendicularMass)
+                                 : rest.K;
+  MultiVector f(*c.load, Teuchos::Copy), us(c.load->getMap(), 1);
+  f.scale(w2);
+  const std::string what = " of body '" + rest.name + "' at " + std::to_string(o.speed) +
+                           " rad/s (a speed above the first critical one in the plane of rotation makes it singular)";
+  makeSolver(statics, o.solver, "K_e - Omega^2 M_perp" + what)->solve(f, us);
+  std::vector<double> u = nodalValues(rest, us);
+  const double linear = largestLength(u);
+
+  // The stress-stiffened state: (K_e - Omega^2 M_perp + K_sigma(u_s)) u_s = Omega^2 f_c by fixed point,
+  // each pass with K_sigma of the last u_s, until u_s moves by less than 1e-8 of its size.
+  int passes = 0;
+  bool stiffened = false;
+  if (o.stressStiffening && o.staticState != StaticState::Linear) {
+    std::vector<double> last = u;
+    MultiVector v(c.load->getMap(), 1);
+    for (passes = 1; passes <= 50; ++passes) {
+      auto A = Tpetra::MatrixMatrix::add(1.0, false, *statics, 1.0, false, *assembleGeometricStiffness(rest, last));
+      makeSolver(A, o.solver, "K_e - Omega^2 M_perp + K_sigma" + what)->solve(f, v);
+      std::vector<double> next = nodalValues(rest, v);
+      double change = 0, size = 0;
+      for (std::size_t k = 0; k < next.size(); ++k) {
+        change = std::max(change, std::abs(next[k] - last[k]));
+        size = std::max(size, std::abs(next[k]));
+      }
+      last.swap(next);
+      if (change <= 1e-8 * size) break;
+    }
+    EPAPHE_REQUIRE(passes <= 50, "body '" << rest.name << "' at " << o.speed << " rad/s: the stress-stiffened static "
+                                          << "state did not converge in 50 passes; set 'Rotation->Static state' to Linear");
+    const double moved = std::abs(largestLength(last) / linear - 1);
+    stiffened = o.staticState == StaticState::StressStiffened || moved > o.staticTolerance;
+    if (report) report->stiffenedChange = moved;
+    if (stiffened) u.swap(last);
+  }
+
+  FullModel at = rest;
+  at.K = statics;
+  if (o.stressStiffening) at.K = Tpetra::MatrixMatrix::add(1.0, false, *statics, 1.0, false, *assembleGeometricStiffness(rest, u));
+  for (int n = 0; n < at.numNodes(); ++n)
+    for (int d = 0; d < 3; ++d) at.mesh.coords[n][d] += u[3 * static_cast<std::size_t>(n) + d];
+
+  if (report) {
+    report->speed = o.speed;
+    report->linearLargest = linear;
+    report->stiffened = stiffened;
+    report->passes = passes;
+    report->staticDisplacement = u;
+    report->largestDisplacement = 0;
+    report->largestNode = -1;
+    for (int n = 0; n < rest.numNodes(); ++n) {
+      const double* un = &u[3 * static_cast<std::size_t>(n)];
+      const double len = std::sqrt(un[0] * un[0] + un[1] * un[1] + un[2] * un[2]);
+      if (len > report->largestDisplacement) {
+        report->largestDisplacement = len;
+        report->largestNode = n;
+      }
+    }
+    // Omega ||G|| / sqrt(||K(Omega)|| ||M||), G = 2 int rho N^T [a]_x N: kg/s against kg/s
+    const double scale = std::sqrt(at.K->getFrobeniusNorm() * rest.M->getFrobeniusNorm());
+    report->coriolisRatio = scale > 0 ? 2 * std::abs(o.speed) * c.coriolis->getFrobeniusNorm() / scale : 0;
+    report->seconds = watch.seconds();
+  }
+  return at;
+}
+
+}  // namespace epaphe

@@ -1,0 +1,64 @@
+#pragma once
+// One reduced model of a rotating body over a speed range [Omega_min, Omega_max], built from a few
+// Craig-Bampton reductions at sample speeds Omega_s (Epaphe_ModelAtSpeed.hpp for each):
+//
+//   T = [ I      0   ]   a common basis: the boundary columns are the constraint modes at the first
+//       [ Psi_1  V   ]   sample; V orthonormalises every sample's fixed-interface modes Phi_s and the
+//                        changes of its constraint modes Psi_s - Psi_1 (they vanish on the retained DOFs)
+//
+//   K_T(Omega) = sum_k xi^k C_k,   xi = (Omega / Omega_max)^2,   k = 0 .. S-1,   M_T = T^T M T,
+//
+// the C_k interpolating T^T K(Omega_s) T at the S samples exactly (a polynomial in Omega^2: K(Omega) is
+// K_e - Omega^2 M_perp + K_sigma(u_s(Omega)) with u_s a series in Omega^2; with S = 3 and a sample at
+// rest this is the classical K_0 + Omega^2 K_1 + Omega^4 K_2). The static state is interpolated the
+// same way, u_s(Omega) = sum_k xi^k g_k.
+//
+// At a speed, at() reduces this model once more by Craig-Bampton on its own interior block, dense:
+// the model handed to a run has today's size (retained DOFs + the deck's modes). At a sample speed the
+// common basis contains that speed's constraint and fixed-interface modes, so the result is the direct
+// reduction at that speed (Rayleigh-Ritz recovers eigenvectors its space contains); between samples
+// it is an interpolation, whose error against direct reductions the tests and epaphe-modes --campbell
+// measure.
+#include "Epaphe_CraigBampton.hpp"
+#include "Epaphe_ModelAtSpeed.hpp"
+#include "Epaphe_ReducedModel.hpp"
+
+#include <vector>
+
+namespace epaphe {
+
+struct SpeedParametricModel {
+  /// The model on the common basis T: K = C_0 (the stiffness at rest), M = T^T M T, recovery = T,
+  /// coords at rest; its size N, numModes = N - retained DOFs.
+  ReducedModel base;
+  std::vector<double> speeds;                        // the samples, ascending (rad/s)
+  std::vector<std::vector<double>> stiffness;        // C_1 .. C_(S-1), N x N column-major each
+  std::vector<std::vector<double>> growth;           // g_0 .. g_(S-1), 3 per node each
+  int boundarySize = 0;                              // retained DOFs, the first columns of T
+
+  double minSpeed() const { return speeds.front(); }
+  double maxSpeed() const { return speeds.back(); }
+  /// T^T K(Omega) T.
+  std::vector<double> stiffnessAt(double speed) const;
+  /// u_s(Omega), 3 per node.
+  std::vector<double> staticDisplacementAt(double speed) const;
+  /// The lowest frequencies (Hz) of the common-basis model at `speed`, with the retained DOFs free.
+  std::vector<double> frequenciesAt(double speed, int count) const;
+  /// The Craig-Bampton model at `speed` with `modes` fixed-interface modes (see above); its coords are
+  /// the static position at that speed. An Error names `context` when the speed is outside
+  /// [minSpeed, maxSpeed] (by more than 1e-9 of the range) or `modes` exceeds the interior size.
+  ReducedModel at(double speed, int modes, const std::string& context) const;
+};
+
+/// Builds the parametric model of `rest` (built-in elements) from Craig-Bampton reductions at
+/// `speeds` (at least 2, distinct; sorted here), each with `options.modes` modes, about `rotation`'s
+/// axis (its speed is ignored). Cost: one static state and one reduction per sample.
+SpeedParametricModel parametricCraigBampton(const FullModel& rest, const std::vector<int>& retained,
+                                            const CraigBamptonOptions& options, const RotationOptions& rotation,
+                                            std::vector<double> speeds, ReductionReport* report = nullptr);
+
+/// `count` sample speeds spread over [min, max] at Chebyshev-Lobatto points in Omega^2 (both ends
+/// included): the interpolation in Omega^2 is then well conditioned.
+std::vector<double> sampleSpeeds(double minSpeed, double maxSpeed, int count);
+
+}  // namespace epaphe
