@@ -140,6 +140,7 @@ int main(int argc, char** argv) {
         const double w = half == 0 ? samples[s] : std::sqrt(0.5 * (samples[s] * samples[s] + samples[s + 1] * samples[s + 1]));
         epaphe::RotationOptions o = rotation;
         o.speed = w;
+        o.staticState = pm.staticState;  // the parametric model's samples' static state
         epaphe::SpeedReport sr;
         const epaphe::FullModel at = w == 0 ? rest : epaphe::modelAtSpeed(rest, o, &sr);
         const epaphe::ReducedModel direct = epaphe::craigBampton(at, retainedNodes, co);

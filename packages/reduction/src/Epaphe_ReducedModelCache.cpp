@@ -163,6 +163,7 @@ void saveParametricModel(const SpeedParametricModel& p, const std::string& path,
     const auto N = static_cast<std::uint64_t>(p.base.size);
     f.writeDoubles("/parametric/speeds", p.speeds);
     f.setAttribute("/", "boundarySize", static_cast<long long>(p.boundarySize));
+    f.setAttribute("/", "staticState", static_cast<long long>(p.staticState));
     for (std::size_t k = 0; k < p.stiffness.size(); ++k)
       f.writeDoubles("/parametric/stiffness" + std::to_string(k + 1), {N, N}, p.stiffness[k].data());
     for (std::size_t k = 0; k < p.growth.size(); ++k)
@@ -175,6 +176,7 @@ bool loadParametricModel(const std::string& path, const std::string& key, SpeedP
   if (!openWithKey(path, key, f) || !readReducedModel(*f, path, p.base) || !f->exists("/parametric/speeds")) return false;
   p.speeds = f->readDoubles("/parametric/speeds");
   p.boundarySize = static_cast<int>(f->intAttribute("/", "boundarySize"));
+  p.staticState = static_cast<StaticState>(f->intAttribute("/", "staticState"));
   p.stiffness.clear();
   p.growth.clear();
   for (std::size_t k = 1; k < p.speeds.size(); ++k)

@@ -125,12 +125,18 @@ SpeedParametricModel parametricCraigBampton(const FullModel& rest, const std::ve
   std::vector<Dense> grow(static_cast<std::size_t>(S));
   std::vector<Teuchos::RCP<const CrsMatrix>> K(static_cast<std::size_t>(S));
   ReductionReport rep;
-  for (int s = 0; s < S; ++s) {
-    RotationOptions o = rotation;
+  // One static state for every sample: an automatic choice is made at the highest speed, where the
+  // stress-stiffened and linear states differ most, and kept for the others, so that u_s(Omega) and
+  // K_sigma are interpolated across one model.
+  RotationOptions common = rotation;
+  for (int s = S - 1; s >= 0; --s) {
+    RotationOptions o = common;
     o.speed = speeds[s];
     SpeedReport sr;
     const FullModel at = o.speed == 0 ? rest : modelAtSpeed(rest, o, &sr);
     grow[s] = o.speed == 0 ? Dense(rows, 0.0) : sr.staticDisplacement;
+    if (s == S - 1 && common.staticState == StaticState::Automatic)
+      common.staticState = sr.stiffened ? StaticState::StressStiffened : StaticState::Linear;
     ReductionReport r;
     CraigBamptonOptions co = options;
     co.checkFrequencies = 0;
@@ -186,6 +192,7 @@ SpeedParametricModel parametricCraigBampton(const FullModel& rest, const std::ve
 
   SpeedParametricModel p;
   p.speeds = speeds;
+  p.staticState = common.staticState == StaticState::Automatic ? StaticState::Linear : common.staticState;
   p.boundarySize = nR;
   p.base = red[0];
   p.base.name = rest.name;

@@ -35,6 +35,8 @@ struct SpeedParametricModel {
   std::vector<std::vector<double>> stiffness;        // C_1 .. C_(S-1), N x N column-major each
   std::vector<std::vector<double>> growth;           // g_0 .. g_(S-1), 3 per node each
   int boundarySize = 0;                              // retained DOFs, the first columns of T
+  /// The static state of every sample (an Automatic choice resolved at the highest speed).
+  StaticState staticState = StaticState::Linear;
 
   double minSpeed() const { return speeds.front(); }
   double maxSpeed() const { return speeds.back(); }

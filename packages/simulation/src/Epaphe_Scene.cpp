@@ -270,10 +270,11 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
   Teuchos::broadcast(*comm, 0, Teuchos::outArg(cached));
   if (cached) {
     broadcast(pm.base, *comm);
-    int sizes[2] = {static_cast<int>(pm.speeds.size()), pm.boundarySize};
-    Teuchos::broadcast(*comm, 0, 2, sizes);
+    int sizes[3] = {static_cast<int>(pm.speeds.size()), pm.boundarySize, static_cast<int>(pm.staticState)};
+    Teuchos::broadcast(*comm, 0, 3, sizes);
     pm.speeds.resize(static_cast<std::size_t>(sizes[0]));
     pm.boundarySize = sizes[1];
+    pm.staticState = static_cast<StaticState>(sizes[2]);
     Teuchos::broadcast(*comm, 0, sizes[0], pm.speeds.data());
     pm.stiffness.resize(static_cast<std::size_t>(sizes[0] - 1));
     pm.growth.resize(static_cast<std::size_t>(sizes[0]));
@@ -305,7 +306,9 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
     throw Error(deck_.origin + ": " + e.what());
   }
   out << "[" << b->name << "] parametric model over " << range[0] << " to " << range[1] << " rad/s: " << speeds.size()
-      << " Craig-Bampton reductions and static states, common basis of " << pm.base.size << " DOFs ("
+      << " Craig-Bampton reductions and "
+      << (pm.staticState == StaticState::StressStiffened ? "stress-stiffened" : "linear")
+      << " static states, common basis of " << pm.base.size << " DOFs ("
       << pm.boundarySize << " retained), in " << formatDuration(built.seconds()) << "\n";
   if (useCache && comm->getRank() == 0) saveParametricModel(pm, cacheFile, key);
   return pm;

@@ -324,6 +324,7 @@ def campbell(deck, body, orders, points, count, out, exe=None):
         table = {"speeds": f["speeds"][()], "frequencies": f["frequencies"][()],
                  "full_speeds": f["full/speeds"][()], "full_frequencies": f["full/frequencies"][()]}
         name = f.attrs["body"]
+        name = name.decode() if isinstance(name, bytes) else str(name)
     rows = cb.crossings(table["speeds"], table["frequencies"], orders)
     with h5py.File(h5, "a") as f:
         if "crossings" in f:
