@@ -49,6 +49,7 @@ RUN_TIME_ONLY = {
     "coating-elements-one-value.xml": "gap of --check: the Coating list is read where the surfaces are built",
     "coating-elements-zero.xml": "gap of --check: the Coating list is read where the surfaces are built",
     "coating-on-body-face.xml": "gap of --check: the Coating list is read where the surfaces are built",
+    "coating-on-body-face-no-elements.xml": "gap of --check: the Coating list is read where the surfaces are built",
     "coating-thickness-without-elements.xml": "gap of --check: the Coating list is read where the surfaces are built",
     "coating-too-many-elements.xml": "gap of --check: the Coating list is read where the surfaces are built",
 }

@@ -500,7 +500,8 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
     so.id = static_cast<int>(surfaces_.size());
     const auto type = deck::getEnum<SurfaceType>(s, "Type");
     if (type == SurfaceType::BodyFace) {
-      EPAPHE_REQUIRE(CoatingMaterial::fromParameters(s.sublist("Coating"), "").elements[0] == 0,
+      EPAPHE_REQUIRE(CoatingMaterial::fromParameters(s.sublist("Coating"), origin + ": " + deck::pathOf(s, "Coating"))
+                             .elements[0] == 0,
                      origin << ": '" << deck::pathOf(s, "Coating") << "': a coating is supported on rigid surfaces only "
                                "(a rigid casing behind it), not on a Body face; remove the Coating list");
       const std::string bodyName = s.get<std::string>("Body"), gridName = s.get<std::string>("Node grid");
