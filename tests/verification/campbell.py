@@ -13,7 +13,9 @@ with tolerances stated before measuring (measured values printed beside them):
     Omega^2) equals k Omega / 2 pi there within 0.5 % of f;
   - EO 4 crosses mode 1 (the first flapwise mode rises from 684 Hz, the line 4 Omega / 2 pi passes it
     inside the range): at least that crossing is found;
-  - the PNG and the HDF5 table /crossings exist.
+  - the PNG and the HDF5 table /crossings exist;
+  - a speed sweep (epaphe-run --speeds, as epaphe-rotor map runs it) builds the parametric model once
+    and takes every other speed's model from its cache: no reduction per speed.
 """
 import argparse
 import os
@@ -32,6 +34,7 @@ def main():
     ap.add_argument("--campbell", required=True)
     ap.add_argument("--deck", required=True)
     ap.add_argument("--workdir", required=True)
+    ap.add_argument("--run", required=True)
     a = ap.parse_args()
     os.makedirs(a.workdir, exist_ok=True)
     out = os.path.join(a.workdir, "campbell")
@@ -96,6 +99,17 @@ def main():
     if not (os.path.exists(png) and os.path.getsize(png) > 10000):
         failures.append(f"{png} is missing or empty")
     print(f"samples {samples}; {len(cross)} crossings")
+    sweep = os.path.join(a.workdir, "sweep")
+    os.makedirs(sweep, exist_ok=True)
+    for name in os.listdir(sweep):
+        os.remove(os.path.join(sweep, name))
+    p = subprocess.run([os.path.abspath(a.run), os.path.abspath(a.deck), "--speeds", "900,1000,1100", "--revolutions", "0.05"], cwd=sweep,
+                       capture_output=True, text=True, timeout=TIMEOUT)
+    built, reused = p.stdout.count("parametric model over"), p.stdout.count("reused from")
+    print(f"speed sweep over 3 speeds: the parametric model built {built} time(s), reused {reused} time(s)")
+    if p.returncode != 0 or built != 1 or reused != 2:
+        failures.append(f"a speed sweep of 3 speeds built the parametric model {built} time(s) and reused it {reused} "
+                        f"time(s) (1 and 2 expected; exit {p.returncode})")
     for m in failures:
         print("FAIL " + m)
     print("FAILED" if failures else "PASSED")

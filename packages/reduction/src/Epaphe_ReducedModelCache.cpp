@@ -5,6 +5,7 @@
 #include "Epaphe_Version.hpp"
 
 #include <cstdio>
+#include <unistd.h>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -29,7 +30,9 @@ namespace {
 
 /// Writes `path` through a temporary file renamed at the end, so that a reader never sees half a file.
 void writeAtomically(const std::string& path, const std::function<void(io::Hdf5File&)>& write) {
-  const std::string tmp = path + ".tmp";
+  // a file of this process's own: runs of a speed sweep on several ranks may write the same cache at
+  // once, and the rename leaves one whole file whichever comes last
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   {
     io::Hdf5File f(tmp, io::Hdf5File::Mode::Create);
     write(f);

@@ -342,6 +342,18 @@ Deck readDeckFromString(const std::string& xml, const std::string& origin) {
   return d;
 }
 
+std::string stem(const std::string& path) {
+  const auto dot = path.rfind('.');
+  const auto slash = path.rfind('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path;
+  return path.substr(0, dot);
+}
+
+std::string cacheFileOf(const Teuchos::ParameterList& rp, const std::string& outputPath, const std::string& body) {
+  const std::string given = rp.get<std::string>("Cache file");
+  return given.empty() ? stem(outputPath) + "." + body + ".rom.h5" : given;
+}
+
 Deck deckAtSpeed(const Deck& deck, double omega, double revolutions, const std::string& outputFile) {
   EPAPHE_REQUIRE(std::isfinite(omega) && omega > 0,
                  deck.origin << ": rotation speed " << omega << " rad/s for a speed sweep; give speeds > 0");
@@ -369,6 +381,15 @@ Deck deckAtSpeed(const Deck& deck, double omega, double revolutions, const std::
       Teuchos::ParameterList& rot = bodies.sublist(bodies.name(it)).sublist("Rotation");
       const double speed = rot.isType<double>("Speed") ? rot.get<double>("Speed") : 0.0;
       if (speed != 0.0 || rot.isParameter("Speed range")) rot.set("Speed", std::copysign(omega, speed == 0.0 ? 1.0 : speed));
+      // every speed reads the one parametric model: its cache is named after the deck's own output,
+      // not after each speed's
+      Teuchos::ParameterList& red = bodies.sublist(bodies.name(it)).sublist("Reduction");
+      const bool named = red.isType<std::string>("Cache file") && !red.get<std::string>("Cache file").empty();
+      if (rot.isParameter("Speed range") && !named) {
+        const Teuchos::ParameterList& P = *deck.params;
+        red.set("Cache file", cacheFileOf(P.sublist("Bodies").sublist(bodies.name(it)).sublist("Reduction"),
+                                          P.sublist("Output").get<std::string>("File"), bodies.name(it)));
+      }
     }
   }
   if (revolutions > 0) {

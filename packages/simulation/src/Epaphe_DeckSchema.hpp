@@ -35,4 +35,11 @@ Deck readDeckFromString(const std::string& xml, const std::string& origin);
 /// output's /run/deck is the deck that ran. A deck where no surface turns is an error.
 Deck deckAtSpeed(const Deck& deck, double omega, double revolutions, const std::string& outputFile);
 
+/// 'Output->File' without its extension, the stem of the cache, XDMF and other files of a run.
+std::string stem(const std::string& path);
+
+/// The reduced-model cache file of a body: 'Reduction->Cache file', else <output stem>.<body>.rom.h5.
+std::string cacheFileOf(const Teuchos::ParameterList& reductionParams, const std::string& outputPath,
+                        const std::string& body);
+
 }  // namespace epaphe

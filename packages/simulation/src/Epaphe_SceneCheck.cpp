@@ -322,18 +322,6 @@ RigidGrid rigidSurfaceGrid(const ParameterList& s, const std::string& origin) {
   return g;
 }
 
-std::string stem(const std::string& path) {
-  const auto dot = path.rfind('.');
-  const auto slash = path.rfind('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path;
-  return path.substr(0, dot);
-}
-
-std::string cacheFileOf(const ParameterList& rp, const std::string& outputPath, const std::string& body) {
-  const std::string given = rp.get<std::string>("Cache file");
-  return given.empty() ? stem(outputPath) + "." + body + ".rom.h5" : given;
-}
-
 double fastestRotation(const ParameterList& P) {
   double omega = 0;
   for (const auto& s : P.sublist("Surfaces"))

@@ -41,11 +41,4 @@ struct RigidGrid {
 };
 RigidGrid rigidSurfaceGrid(const Teuchos::ParameterList& surface, const std::string& origin);
 
-/// 'Output->File' without its extension, the stem of the cache, XDMF and other files of a run.
-std::string stem(const std::string& path);
-
-/// The reduced-model cache file of a body: 'Reduction->Cache file', else <output stem>.<body>.rom.h5.
-std::string cacheFileOf(const Teuchos::ParameterList& reductionParams, const std::string& outputPath,
-                        const std::string& body);
-
 }  // namespace epaphe
