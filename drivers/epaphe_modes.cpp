@@ -5,7 +5,8 @@
 //
 //   epaphe-modes DECK.xml --modes N1,N2,... [--body NAME] [--count K] [--csv FILE] [--threads N]
 //
-// The deck's reduction settings are used (retained node set, linear solver); --count defaults to
+// A body with 'Rotation->Speed' is taken at that speed (Epaphe_ModelAtSpeed.hpp; epaphe-campbell
+// covers a speed range). The deck's reduction settings are used (retained node set, linear solver); --count defaults to
 // the body's 'Frequency check' (10 when 0). Prints the table of frequencies and relative errors
 // and, with --csv, writes one line per (modes, mode): modes,mode,full_hz,reduced_hz,relative_error,
 // reduction_seconds. Exit code 1 on an error, 2 for a wrong command line.
@@ -14,6 +15,7 @@
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Error.hpp"
+#include "Epaphe_ModelAtSpeed.hpp"
 #include "Epaphe_ReducedModel.hpp"
 #include "Epaphe_Runtime.hpp"
 
@@ -91,9 +93,18 @@ int main(int argc, char** argv) {
     EPAPHE_REQUIRE(count >= 1, "--count " << count << ": give 1 or more frequencies to compare");
 
     epaphe::Stopwatch sw;
-    const epaphe::FullModel full = epaphe::buildBodyModel(body, bp, deckPath, rt.comm());
+    epaphe::FullModel full = epaphe::buildBodyModel(body, bp, deckPath, rt.comm());
     rt.out() << "[" << body << "] full model: " << full.numNodes() << " nodes, " << full.numFree << " free DOFs ("
              << epaphe::formatDuration(sw.seconds()) << ")\n";
+    // a rotating body: its model at 'Rotation->Speed' (Epaphe_ModelAtSpeed.hpp)
+    const epaphe::RotationOptions rotation =
+        epaphe::rotationOptions(bp.sublist("Rotation"), deckPath + ": body '" + body + "', Rotation");
+    if (rotation.speed != 0) {
+      EPAPHE_REQUIRE(full.material.has_value(), deckPath << ": body '" << body << "', Rotation->Speed = " << rotation.speed
+                                                         << " rad/s: an imported model cannot be built at speed");
+      full = epaphe::modelAtSpeed(full, rotation, nullptr);
+      rt.out() << "[" << body << "] at " << rotation.speed << " rad/s\n";
+    }
     const std::vector<int> retainedNodes = full.mesh.nodeSet(retained, deckPath + ": body '" + body + "', retained set");
     const epaphe::CraigBamptonOptions base = epaphe::reductionOptions(rp);
     const std::string method = rp.get<std::string>("Method");
