@@ -179,7 +179,6 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
                      }() + rotationKeyText(bp.sublist("Rotation")));
 
   const RotationOptions rotation = rotationOptions(bp.sublist("Rotation"), ctx + ", Rotation");
-  int cached = 0;
   if (!deck::getDoubles(bp.sublist("Rotation"), "Speed range").empty()) {
     // a rotating body over a speed range: its model at the speed, from the parametric model
     const SpeedParametricModel pm = parametricModel(b, bp, key, cacheFile, useCache, rotation);
@@ -190,6 +189,31 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
     for (double w : pm.speeds) out << " " << w;
     out << " rad/s): " << b->rom.size << " reduced DOFs\n";
   } else {
+    loadOrBuildReducedModel(b, bp, key, cacheFile, useCache, rotation);
+  }
+  if (b->fromCache)
+    out << "[" << b->name << "] reduced model (" << b->rom.method() << ", " << b->rom.size << " DOFs) reused from "
+        << cacheFile << "\n";
+  b->fullFrequencies = b->rom.fullFrequencies;
+  if (!b->rom.sparse()) b->reducedFrequencies = reducedFrequencies(b->rom);
+  if (!b->rom.staticDisplacement.empty()) reportGrowth(*b, bp, out);
+}
+
+/// The body's reduced model at rest or at its speed ('Rotation->Speed'): from its cache when the key
+/// matches, else built (at speed: Epaphe_ModelAtSpeed.hpp), reduced by the factory (reduceBody),
+/// frequency-checked and cached.
+void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std::string& key, const std::string& cacheFile,
+                                    bool useCache, const RotationOptions& rotation) {
+  const std::string& origin = deck_.origin;
+  auto comm = rt_.comm();
+  std::ostream& out = rt_.out();
+  const ParameterList& rp = bp.sublist("Reduction");
+  const std::string ctx = origin + ": body '" + b->name + "'";
+  std::string retainedSet = rp.get<std::string>("Retained node set");
+  if (retainedSet.empty()) retainedSet = b->contactSet;
+  const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
+  const int checkCount = rp.get<int>("Frequency check");
+  int cached = 0;
   if (useCache && comm->getRank() == 0) cached = loadReducedModel(cacheFile, key, b->rom) ? 1 : 0;
   Teuchos::broadcast(*comm, 0, Teuchos::outArg(cached));
   if (cached) {
@@ -246,13 +270,6 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
     }
     if (useCache && comm->getRank() == 0) saveReducedModel(b->rom, cacheFile, key);
   }
-  }
-  if (b->fromCache)
-    out << "[" << b->name << "] reduced model (" << b->rom.method() << ", " << b->rom.size << " DOFs) reused from "
-        << cacheFile << "\n";
-  b->fullFrequencies = b->rom.fullFrequencies;
-  if (!b->rom.sparse()) b->reducedFrequencies = reducedFrequencies(b->rom);
-  if (!b->rom.staticDisplacement.empty()) reportGrowth(*b, bp, out);
 }
 
 /// The parametric model of a body over its 'Rotation->Speed range': from the cache when the key

@@ -55,6 +55,8 @@ private:
   using Body = SceneBody;
   // The steps of build(), in order.
   void loadOrReduce(Body* body, const Teuchos::ParameterList& bodyParams);
+  void loadOrBuildReducedModel(Body* body, const Teuchos::ParameterList& bodyParams, const std::string& key,
+                               const std::string& cacheFile, bool useCache, const RotationOptions& rotation);
   SpeedParametricModel parametricModel(Body* body, const Teuchos::ParameterList& bodyParams, const std::string& key,
                                        const std::string& cacheFile, bool useCache, const RotationOptions& rotation);
   void reportGrowth(const Body& body, const Teuchos::ParameterList& bodyParams, std::ostream& out) const;
