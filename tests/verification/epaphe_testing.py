@@ -42,9 +42,14 @@ def parse_args(*extra):
     return a
 
 
-def run(cmd, cwd, expect_ok=True):
+def run(cmd, cwd, expect_ok=True, timeout=1800):
+    """Runs `cmd` in `cwd`; a run that outlasts `timeout` seconds is killed and fails the test with
+    its command line (ctest's TIMEOUT would kill the whole script without saying which run hung)."""
     os.makedirs(cwd, exist_ok=True)
-    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
+    try:
+        proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        raise SystemExit(f"command still running after {timeout} s, killed: {' '.join(cmd)}")
     if expect_ok and proc.returncode != 0:
         sys.stderr.write(proc.stdout + proc.stderr)
         raise SystemExit(f"command failed ({proc.returncode}): {' '.join(cmd)}")
