@@ -6,9 +6,11 @@
 // benchmark.launch-overhead), while most loops of a contact step do well under a microsecond of
 // work (16 tip nodes of a blade, 100 DOFs of a bar). Run in parallel, they made 2 threads slower
 // than 1 (bar-on-wall: 0.44x). Every loop states its work per item in nanoseconds (measured on one
-// thread, rounded up); a loop whose total is below serialWorkNs() runs serially. Results do not
-// depend on the choice: the functors write per item, and the reductions used here (max, integer
-// sums) are exact in any order.
+// thread, rounded up); a loop whose total is below serialWorkNs() runs serially. The state does not
+// depend on the choice: the functors write per item, and the reductions of the step (max, integer
+// sums) are exact in any order. The floating-point sums of the outputs (epaphe::dot for energies and
+// momenta, SurfaceContact::workIncrement) are not: run in parallel they differ from the serial sum by
+// round-off (1e-15 relative between 1 and 2 threads, faults.restart-2threads), and never feed back.
 //
 // The serial path calls the functor on the host, so the views must be host-accessible: with a
 // device backend (CUDA) every loop goes to Kokkos.
