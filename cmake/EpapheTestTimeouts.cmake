@@ -11,6 +11,7 @@
 set(EPAPHE_TEST_TIMEOUT_FACTOR 4)
 set(EPAPHE_TEST_TIMEOUT_FLOOR 60)
 file(STRINGS ${PROJECT_SOURCE_DIR}/tests/test-times.txt _epaphe_test_times REGEX "^[^#].* [0-9.]+$")
+set_property(DIRECTORY ${PROJECT_SOURCE_DIR} APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tests/test-times.txt)
 set_property(GLOBAL PROPERTY EPAPHE_TEST_TIMES "${_epaphe_test_times}")
 
 function(epaphe_test_timeouts)
