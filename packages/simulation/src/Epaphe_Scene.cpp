@@ -24,6 +24,12 @@ namespace {
 
 /// The rotation of a surface (thesis section 3.3), rigid or carried by a body: 'Rotation speed',
 /// 'Initial angle', 'Rotation axis', 'Rotation center'.
+/// The nodes a reduction keeps: 'Reduction->Retained node set', else the body's contact node set.
+std::string retainedSetOf(const SceneBody& b, const ParameterList& rp) {
+  const std::string given = rp.get<std::string>("Retained node set");
+  return given.empty() ? b.contactSet : given;
+}
+
 void setRotation(ContactSurface& cs, const ParameterList& s, const std::string& origin) {
   cs.omega = s.get<double>("Rotation speed");
   cs.phase = s.get<double>("Initial angle") * M_PI / 180.0;
@@ -153,8 +159,7 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
   std::ostream& out = rt_.out();
   const ParameterList& rp = bp.sublist("Reduction");
   const std::string ctx = origin + ": body '" + b->name + "'";
-  std::string retainedSet = rp.get<std::string>("Retained node set");
-  if (retainedSet.empty()) retainedSet = b->contactSet;
+  const std::string retainedSet = retainedSetOf(*b, rp);
   const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
   const int checkCount = rp.get<int>("Frequency check");
 
@@ -209,8 +214,7 @@ void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std:
   std::ostream& out = rt_.out();
   const ParameterList& rp = bp.sublist("Reduction");
   const std::string ctx = origin + ": body '" + b->name + "'";
-  std::string retainedSet = rp.get<std::string>("Retained node set");
-  if (retainedSet.empty()) retainedSet = b->contactSet;
+  const std::string retainedSet = retainedSetOf(*b, rp);
   const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
   const int checkCount = rp.get<int>("Frequency check");
   int cached = 0;
@@ -309,8 +313,7 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
   }
   Stopwatch built;
   const FullModel full = buildBodyModel(b->name, bp, deck_.origin, comm);
-  std::string retainedSet = rp.get<std::string>("Retained node set");
-  if (retainedSet.empty()) retainedSet = b->contactSet;
+  const std::string retainedSet = retainedSetOf(*b, rp);
   const std::string ctx = deck_.origin + ": body '" + b->name + "'";
   EPAPHE_REQUIRE(!retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
                                            << " needs a 'Retained node set' (or a 'Contact node set')");
