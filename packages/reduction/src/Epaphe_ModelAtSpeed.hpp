@@ -6,7 +6,7 @@
 //   K(Omega) = K_e + K_sigma(u_s) - Omega^2 M_perp                    the tangent stiffness,
 // M unchanged, and the nodes moved to x + u_s, so that contact and clearances start from the static
 // position at speed (the tip growth). Terms: Epaphe_Centrifugal.hpp. The Coriolis matrix Omega G is
-// assembled and its size reported (coriolisCoupling), not kept in the model.
+// assembled and its size reported (SpeedReport::coriolisRatio), not kept in the model.
 #include "Epaphe_Centrifugal.hpp"
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_LinearSolver.hpp"
