@@ -5,7 +5,7 @@
 # The timeout is EPAPHE_TEST_TIMEOUT_FACTOR times the test's measured time in tests/test-times.txt
 # ("name seconds" per line, written by tools/update-test-times from a run's CTestCostData.txt), and
 # at least EPAPHE_TEST_TIMEOUT_FLOOR seconds (a loaded 2-core machine running two tests at once
-# slows a short test by more than the factor). A test with no measured time gets a label default:
+# slows a short test by more than the factor), at least 600 s for the tests of `--rest`. A test with no measured time gets a label default:
 # 1800 s for benchmark, long, study and finding, 300 s otherwise. A TIMEOUT set explicitly is kept.
 # unit.test-timeouts checks that every test has one, and names those with no measured time.
 set(EPAPHE_TEST_TIMEOUT_FACTOR 4)
@@ -28,6 +28,12 @@ function(epaphe_test_timeouts)
         math(EXPR _timeout "${EPAPHE_TEST_TIMEOUT_FACTOR} * (${CMAKE_MATCH_2} + 1)")
         if(_timeout LESS EPAPHE_TEST_TIMEOUT_FLOOR)
           set(_timeout ${EPAPHE_TEST_TIMEOUT_FLOOR})
+        endif()
+        # the --rest tests time whole scenes (benchmark.step took 40 s alone, 282 s beside other work):
+        # at least 600 s
+        get_test_property(${_t} LABELS _labels)
+        if(_labels MATCHES "benchmark|long|study|finding" AND _timeout LESS 600)
+          set(_timeout 600)
         endif()
         break()
       endif()
