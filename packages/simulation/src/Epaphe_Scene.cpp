@@ -151,37 +151,37 @@ void Scene::build() {
   report_.setupSeconds = watch.seconds();
 }
 
+/// The reduced-model cache key of a body: a hash of everything its reduced model depends on (the
+/// model's text and imported files' content hashes, the clamps, the reduction's parameters, the
+/// rotation). Reads the imported files: call it on rank 0.
+std::string Scene::reducedModelKey(const Body& body, const ParameterList& bp) const {
+  const ParameterList& rp = bp.sublist("Reduction");
+  return contentKey(bodyModelKeyText(body.name, bp, deck_.origin) + "clamped=" + bp.get<std::string>("Clamped node set") +
+         "\nretained=" + retainedSetOf(body, rp) + "\nmethod=" + rp.get<std::string>("Method") +
+         "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
+         "\ncheck=" + std::to_string(rp.get<int>("Frequency check")) + "\nsolver=" + rp.get<std::string>("Linear solver") +
+         "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")) +
+         "\ncandidates=" + std::to_string(rp.get<int>("Candidate modes")) +
+         "\neigensolver=" + rp.get<std::string>("Eigensolver") + "\nload=" +
+         [&] {
+           std::string t;
+           for (double x : deck::getDoubles(rp, "Load direction")) t += std::to_string(x) + " ";
+           return t;
+         }() + rotationKeyText(bp.sublist("Rotation")));
+}
+
 /// The body's reduced model: from its cache when the key (model files, mesh, reduction parameters)
 /// matches, else built and reduced by the factory (reduceBody), frequency-checked and cached.
 void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
   const std::string& origin = deck_.origin;
-  auto comm = rt_.comm();
   std::ostream& out = rt_.out();
   const ParameterList& rp = bp.sublist("Reduction");
   const std::string ctx = origin + ": body '" + b->name + "'";
-  const std::string retainedSet = retainedSetOf(*b, rp);
-  const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
-  const int checkCount = rp.get<int>("Frequency check");
-
-  // Cache key: everything the reduced model depends on (imported files: their content hashes, on
-  // rank 0; hashed only when the cache is used).
   bodyModelFiles(b->name, bp, origin);  // every rank checks the files exist before anything waits on rank 0
   const std::string cacheFile = cacheFileOf(rp, output_, b->name);
-  const bool useCache = rp.get<bool>("Cache") && method != ReductionMethod::FullLumped;  // nothing to reduce
-  std::string key;
-  if (useCache && comm->getRank() == 0)
-    key = contentKey(bodyModelKeyText(b->name, bp, origin) + "clamped=" + bp.get<std::string>("Clamped node set") +
-                     "\nretained=" + retainedSet + "\nmethod=" + rp.get<std::string>("Method") +
-                     "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
-                     "\ncheck=" + std::to_string(checkCount) + "\nsolver=" + rp.get<std::string>("Linear solver") +
-                     "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")) +
-                     "\ncandidates=" + std::to_string(rp.get<int>("Candidate modes")) +
-                     "\neigensolver=" + rp.get<std::string>("Eigensolver") + "\nload=" +
-                     [&] {
-                       std::string t;
-                       for (double x : deck::getDoubles(rp, "Load direction")) t += std::to_string(x) + " ";
-                       return t;
-                     }() + rotationKeyText(bp.sublist("Rotation")));
+  const bool useCache =  // a lumped full model has nothing to reduce
+      rp.get<bool>("Cache") && deck::getEnum<ReductionMethod>(rp, "Method") != ReductionMethod::FullLumped;
+  const std::string key = useCache && rt_.comm()->getRank() == 0 ? reducedModelKey(*b, bp) : std::string();
 
   const RotationOptions rotation = rotationOptions(bp.sublist("Rotation"), ctx + ", Rotation");
   if (!deck::getDoubles(bp.sublist("Rotation"), "Speed range").empty()) {

@@ -55,6 +55,7 @@ private:
   using Body = SceneBody;
   // The steps of build(), in order.
   void loadOrReduce(Body* body, const Teuchos::ParameterList& bodyParams);
+  std::string reducedModelKey(const Body& body, const Teuchos::ParameterList& bodyParams) const;
   void loadOrBuildReducedModel(Body* body, const Teuchos::ParameterList& bodyParams, const std::string& key,
                                const std::string& cacheFile, bool useCache, const RotationOptions& rotation);
   SpeedParametricModel parametricModel(Body* body, const Teuchos::ParameterList& bodyParams, const std::string& key,
