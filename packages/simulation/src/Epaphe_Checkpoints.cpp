@@ -101,7 +101,7 @@ long long Checkpoints::restore(ExplicitLoop& loop, const std::string& what) {
   loop.accumulators().restore(file_.readDoubles(c + "/accumulators"), what + ": " + c + "/accumulators");
   if (SurfaceContact* contact = loop.contact()) {
     contact->setWarmStarts(file_.readDoubles(c + "/warm_start"));
-    if (file_.exists(c + "/detection_state"))  // (checkpoints before 2026-11-24 have none: every node projects)
+    if (file_.exists(c + "/detection_state"))  // (a checkpoint without it: every node projects)
       contact->setDetectionState(file_.readDoubles(c + "/detection_state"));
     if (contact->coating()) {
       EPAPHE_REQUIRE(file_.exists(c + "/coating_state"), what << ": " << c << " has no coating state; run the deck anew");
