@@ -352,11 +352,13 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
   sw.restart();
   red.numModes = opt.modes;
   red.size = nR + opt.modes;
-  red.K = project(Kb, Psi, Phi.get(), nR, opt.modes);
-  red.M = project(Mb, Psi, Phi.get(), nR, opt.modes);
+  if (!opt.basisOnly) {
+    red.K = project(Kb, Psi, Phi.get(), nR, opt.modes);
+    red.M = project(Mb, Psi, Phi.get(), nR, opt.modes);
+  }
   rep.projectSeconds = sw.seconds();
 
-  if (opt.checkFrequencies > 0) {  // the frequency check, through the same factor
+  if (opt.checkFrequencies > 0 && !opt.basisOnly) {  // the frequency check, through the same factor
     sw.restart();
     const RetainedCondensed rc(full.K->getRowMap(), cMap, rIndex, nR);
     red.fullFrequencies = frequenciesThroughCondensation(full, red, *factor, Psi, rc,

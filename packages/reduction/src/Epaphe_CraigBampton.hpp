@@ -39,6 +39,9 @@ struct CraigBamptonOptions {
   /// instead of Anasazi's lowest ones.
   bool denseEigen = false;
   std::array<double, 3> loadDirection{0.0, 0.0, 0.0};
+  /// Craig-Bampton: the basis only (recovery, modeFrequencies); K and M are not projected (left
+  /// empty), for callers that project on a basis of their own (Epaphe_SpeedParametricModel.hpp).
+  bool basisOnly = false;
 };
 
 struct ReductionReport {

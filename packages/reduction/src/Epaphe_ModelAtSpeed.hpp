@@ -30,6 +30,10 @@ struct RotationOptions {
   StaticState staticState = StaticState::Automatic;
   double staticTolerance = 0.01;
   LinearSolver solver = LinearSolver::Mumps;
+  /// A starting guess of the stress-stiffened state (3 per node), used with StaticState::StressStiffened
+  /// only: the fixed point starts there instead of at the linear state, which is then not computed
+  /// (SpeedReport::linearLargest and stiffenedChange are 0). Empty: start at the linear state.
+  std::vector<double> initialState;
 };
 
 struct SpeedReport {
