@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -186,5 +187,102 @@ TEST(TurningCarriedSurface, EnergyBalanceIsExactWhileTheSurfaceTurns) {
                 contacts, gridMotion, contactWork, scale);
     EXPECT_GT(gridMotion, 1e-4) << "mu = " << mu;       // the carrier gave way
     EXPECT_GT(std::fabs(contactWork), 1e-3 * scale) << "mu = " << mu;
+  }
+}
+
+namespace {
+
+/// A closed cylinder of radius r about z (64 x 5 grid nodes, interpolated), normal inwards.
+BSplineSurface drum(double r) {
+  const int nu = 64, nv = 5;
+  std::vector<double> g;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double th = 2 * M_PI * i / nu;
+      g.insert(g.end(), {r * std::cos(th), r * std::sin(th), -1.0 + 2.0 * j / (nv - 1)});
+    }
+  SurfaceOptions o;
+  o.closureU = Closure::Periodic;
+  o.closureV = Closure::Open;
+  o.orientation = -1;
+  return BSplineSurface("drum", nu, nv, g, o);
+}
+
+}  // namespace
+
+// The sign of friction on a turning surface (docs/theory/divergence.md, equations (42), (43)): a free
+// point mass m inside a rigid drum of radius R turning at omega, launched along the drum's surface
+// at v0, is pressed on it by its own velocity (lambda = m v^2 / R) and dragged towards the surface
+// speed V = omega R: m dv/dt = mu m v^2 / R sign(V - v), so v(t) = v0 / (1 - s mu v0 t / R), s = sign(V - v0),
+// until v = V, where it sticks. The surface's work on it is W = m V (v1 - v0), its kinetic energy
+// changes by m (v1^2 - v0^2) / 2 and friction dissipates D = W - dK = m (V - v0)^2 / 2 at v1 = V,
+// whatever mu. Tolerances: O(h) of the central difference (h mu v0 / R = 5e-5 per step) and the
+// interpolated drum's radius (64 grid nodes, about 1e-6 R).
+TEST(TurningRigidDrum, FrictionDragsAFreeBodyTowardsTheSurfaceSpeed) {
+  const double m = 2.0, R = 1.0, omega = 2.0, V = omega * R, mu = 0.5, h = 1e-4;
+  for (const double v0 : {1.0, 3.0}) {
+    const double s = V > v0 ? 1.0 : -1.0;
+    const double tStick = R / (s * mu) * (1.0 / v0 - 1.0 / V);  // 1 s and 1/3 s
+    ReducedModel body = test::pointMass(m);
+    CentralDifference cd(body, h, {});
+    BSplineSurface surface = drum(R);
+    ContactNodes cn;
+    const int dof[3] = {0, 1, 2};
+    const double X[3] = {R, 0.0, 0.0};
+    cn.add(0, 0, dof, X);
+    ContactSurface cs;
+    cs.surface = &surface;
+    cs.omega = omega;
+    ContactOptions o;
+    o.friction = mu;
+    o.timeStep = h;
+    SurfaceContact contact(std::move(cn), {cs}, {{0, 3}}, o, cd.flexibility());
+    DenseVector Q[3] = {DenseVector("q0", 3), DenseVector("q1", 3), DenseVector("q2", 3)};
+    auto qmH = Kokkos::create_mirror_view(Q[0]);
+    qmH(1) = -h * v0;  // q_{-1}: moving along +y (the drum's surface motion at the node) at v0
+    Kokkos::deep_copy(Q[0], qmH);
+    int prev = 0, cur = 1, next = 2;
+    const double e0 = cd.halfStepEnergy(Q[prev], Q[cur]);
+    double work = 0, surfaceWork = 0, worst = 0, vLast = v0;
+    CostSplit cost;
+    const int steps = static_cast<int>(1.5 * tStick / h);
+    for (int n = 0; n < steps; ++n) {
+      cd.predict(Q[cur], Q[prev], Q[next]);
+      contact.setTime((n + 1) * h);
+      contact.correct(Q[next], Q[cur], cost);
+      ASSERT_EQ(contact.numActive(), 1) << "v0 = " << v0 << ", step " << n;
+      work += contact.workIncrement(Q[next], Q[prev]);
+      const auto a = get(Q[prev]), b = get(Q[next]);
+      // the surface's work: the force on the node, lambda (n + mu_a t), on the drum's motion at it,
+      // h omega e_z x (X + q_{n+1})
+      const auto& views = contact.detection().views();
+      double f[3];
+      for (int d = 0; d < 3; ++d)
+        f[d] = contact.force()(0) * (views.normal(0, d) + contact.appliedFriction()(0) * contact.tangent()(0, d));
+      surfaceWork += h * omega * (-f[0] * (X[1] + b[1]) + f[1] * (X[0] + b[0]));
+      const double v = std::hypot(b[0] - a[0], b[1] - a[1]) / (2 * h), t = n * h;  // v_n at t_n
+      if (t < tStick - 0.01) {
+        const double exact = v0 / (1.0 - s * mu * v0 * t / R);
+        worst = std::max(worst, std::fabs(v - exact) / exact);
+        EXPECT_GT(s * (v - vLast), 0.0) << "v0 = " << v0 << ", step " << n << ": not dragged towards V";
+      } else if (t > tStick + 0.01) {
+        EXPECT_NEAR(v, V, 1e-3 * V) << "v0 = " << v0 << ", step " << n << ": not carried with the drum";
+      }
+      vLast = v;
+      std::swap(prev, cur);
+      std::swap(cur, next);
+    }
+    EXPECT_LT(worst, 2e-3) << "v0 = " << v0;
+    const double e1 = cd.halfStepEnergy(Q[prev], Q[cur]);
+    // the contact work of the balance is the work of the contact forces on the body: dK exactly
+    EXPECT_NEAR(e1 - e0, work, 1e-10 * std::max(e0, e1)) << "v0 = " << v0;
+    const double W = m * V * (V - v0), dK = 0.5 * m * (V * V - v0 * v0), D = 0.5 * m * (V - v0) * (V - v0);
+    EXPECT_NEAR(e1 - e0, dK, 2e-3 * std::fabs(dK)) << "v0 = " << v0;
+    EXPECT_NEAR(surfaceWork, W, 2e-3 * std::fabs(W)) << "v0 = " << v0;           // the surface's work
+    EXPECT_NEAR(surfaceWork - work, D, 5e-3 * D) << "v0 = " << v0;               // dissipated by friction
+    EXPECT_NEAR(W, dK + D, 1e-12 * std::fabs(W));
+    std::printf("drum: v0 = %g m/s, V = %g m/s: velocity within %.2g of v0/(1 - s mu v0 t/R); surface work %.6g J "
+                "(closed form %g), kinetic energy change %.6g J (%g), dissipated %.6g J (%g)\n",
+                v0, V, worst, surfaceWork, W, e1 - e0, dK, surfaceWork - work, D);
   }
 }
