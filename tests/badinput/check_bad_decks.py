@@ -38,6 +38,7 @@ RUN_TIME_ONLY = {
     "gravity-clamped-unreduced.xml": "the Rayleigh quotient of a rigid translation on the assembled model",
     "sphere-clamped-at-pole.xml": "the eigenvalues of the massless boundary reduction (the mechanism's zero ones)",
     "rotation-past-critical-speed.xml": "the interior stiffness of the parametric model at the deck's speed",
+    "import-speed-unprinted.xml": "the static displacements of a CalculiX job at speed, read with its matrices",
     # Gaps of --check: faults the deck and its built-in mesh show, seen only where the run builds the model or
     # the surfaces; when --check learns them, this list says so
     "full-model-all-clamped.xml": "gap of --check: the clamped set covers the mesh; seen at the model's assembly",

@@ -385,3 +385,40 @@ std::vector<std::string> calculixInputFiles(const std::string& path) {
 }
 
 }  // namespace epaphe
+
+namespace epaphe {
+
+std::vector<double> readCalculixDisplacements(const std::string& datPath, const Mesh& mesh) {
+  const auto index = Details::nodeIndex(mesh);
+  std::vector<double> u(3 * static_cast<std::size_t>(mesh.numNodes()), 0.0);
+  std::vector<char> seen(static_cast<std::size_t>(mesh.numNodes()), 0);
+  TextLines in(datPath, "CalculiX printed output (*NODE PRINT of U in the static step)");
+  std::string line;
+  bool inBlock = false, eigen = false;
+  while (in.next(line) && !eigen) {
+    const std::string t = trim(line);
+    if (t.rfind("displacements (vx,vy,vz) for set", 0) == 0) { inBlock = true; continue; }
+    if (t.find("E I G E N V A L U E") != std::string::npos) eigen = true;  // a frequency step's output follows
+    if (t.empty() || !inBlock) continue;
+    const auto f = splitFields(t);
+    long long node = 0;
+    double x[3];
+    if (f.size() != 4 || !parseInt(f[0], node) || !parseDouble(f[1], x[0]) || !parseDouble(f[2], x[1]) ||
+        !parseDouble(f[3], x[2])) {
+      inBlock = false;
+      continue;
+    }
+    auto it = index.find(static_cast<int>(node));
+    EPAPHE_REQUIRE(it != index.end(), in.where() << ": node " << node << " is not in the model's mesh; the printed "
+                                                 << "output and the input deck must be of the same model");
+    for (int d = 0; d < 3; ++d) u[3 * static_cast<std::size_t>(it->second) + d] = x[d];  // the last block wins
+    seen[it->second] = 1;
+  }
+  for (int n = 0; n < mesh.numNodes(); ++n)
+    EPAPHE_REQUIRE(seen[n], datPath << ": no displacement printed for node " << mesh.nodeId(n)
+                                    << "; print every node's in the static step: *NODE PRINT, NSET=NALL then U "
+                                       "(NALL holding every node)");
+  return u;
+}
+
+}  // namespace epaphe

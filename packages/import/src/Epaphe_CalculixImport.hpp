@@ -42,6 +42,11 @@ FullModel importCalculix(const CalculixFiles& files, const std::string& name,
 /// `path` and every file it *INCLUDEs, recursively (what the model read from the input deck depends on).
 std::vector<std::string> calculixInputFiles(const std::string& path);
 
+/// The static displacement (3 per node of `mesh`, its order) printed in jobname.dat by *NODE PRINT
+/// ... U: the displacement blocks before any eigenvalue output, the last value of a node kept. An
+/// Error names the first node of the mesh printed nowhere.
+std::vector<double> readCalculixDisplacements(const std::string& datPath, const Mesh& mesh);
+
 /// The eigenvalues (omega^2, ascending as printed) of the first *FREQUENCY step in jobname.dat.
 std::vector<double> readCalculixEigenvalues(const std::string& datPath);
 

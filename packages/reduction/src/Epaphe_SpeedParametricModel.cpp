@@ -112,7 +112,15 @@ std::vector<double> sampleSpeeds(double minSpeed, double maxSpeed, int count) {
 SpeedParametricModel parametricCraigBampton(const FullModel& rest, const std::vector<int>& retained,
                                             const CraigBamptonOptions& options, const RotationOptions& rotation,
                                             std::vector<double> speeds, ReductionReport* report) {
+  BuiltInSpeedSource source(rest, rotation);
+  return parametricCraigBampton(source, retained, options, std::move(speeds), report);
+}
+
+SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std::vector<int>& retained,
+                                            const CraigBamptonOptions& options, std::vector<double> speeds,
+                                            ReductionReport* report) {
   Stopwatch total;
+  const FullModel& rest = source.reference();
   std::sort(speeds.begin(), speeds.end());
   EPAPHE_REQUIRE(speeds.size() >= 2 && std::adjacent_find(speeds.begin(), speeds.end()) == speeds.end() &&
                      speeds.front() >= 0,
@@ -120,38 +128,27 @@ SpeedParametricModel parametricCraigBampton(const FullModel& rest, const std::ve
   const int S = static_cast<int>(speeds.size());
   const std::size_t rows = rest.eq.size();  // 3 per node
 
-  // One static state and one Craig-Bampton reduction per sample.
+  // One model at speed (from the source, fastest first) and one Craig-Bampton reduction per sample.
   std::vector<ReducedModel> red(static_cast<std::size_t>(S));
   std::vector<Dense> grow(static_cast<std::size_t>(S));
   std::vector<Teuchos::RCP<const CrsMatrix>> K(static_cast<std::size_t>(S));
   ReductionReport rep;
-  // One static state for every sample: an automatic choice is made at the highest speed, where the
-  // stress-stiffened and linear states differ most, and kept for the others, so that u_s(Omega) and
-  // K_sigma are interpolated across one model.
-  RotationOptions common = rotation;
   for (int s = S - 1; s >= 0; --s) {
-    RotationOptions o = common;
-    o.speed = speeds[s];
-    if (s < S - 1 && speeds[s] > 0 && common.staticState == StaticState::StressStiffened) {
-      // start the fixed point at the next sample's state scaled by (Omega_s / Omega_s+1)^2
-      const double q = (speeds[s] / speeds[s + 1]) * (speeds[s] / speeds[s + 1]);
-      o.initialState = grow[s + 1];
-      for (double& v : o.initialState) v *= q;
-    }
-    SpeedReport sr;
-    const FullModel at = o.speed == 0 ? rest : modelAtSpeed(rest, o, &sr);
-    grow[s] = o.speed == 0 ? Dense(rows, 0.0) : sr.staticDisplacement;
-    if (s == S - 1 && common.staticState == StaticState::Automatic)
-      common.staticState = sr.stiffened ? StaticState::StressStiffened : StaticState::Linear;
+    SpeedSample at = source.sample(speeds[s]);
+    EPAPHE_REQUIRE(at.staticDisplacement.size() == rows && at.model.eq == rest.eq,
+                   "body '" << rest.name << "': the model at " << speeds[s] << " rad/s has "
+                            << at.staticDisplacement.size() / 3 << " nodes or another DOF numbering than the model at "
+                            << "the reference speed; every sample speed must number the same DOFs");
+    grow[s] = std::move(at.staticDisplacement);
     ReductionReport r;
     CraigBamptonOptions co = options;
     co.checkFrequencies = 0;
     co.basisOnly = true;
-    red[s] = craigBampton(at, retained, co, &r);
-    K[s] = at.K;
+    red[s] = craigBampton(at.model, retained, co, &r);
+    K[s] = at.model.K;
     rep.factorSeconds += r.factorSeconds;
     rep.constraintSeconds += r.constraintSeconds;
-    rep.eigenSeconds += r.eigenSeconds + sr.seconds;
+    rep.eigenSeconds += r.eigenSeconds + at.seconds;
     rep.retainedDofs = r.retainedDofs;
     rep.condensedDofs = r.condensedDofs;
   }
@@ -212,7 +209,7 @@ SpeedParametricModel parametricCraigBampton(const FullModel& rest, const std::ve
 
   SpeedParametricModel p;
   p.speeds = speeds;
-  p.staticState = common.staticState == StaticState::Automatic ? StaticState::Linear : common.staticState;
+  p.staticState = source.staticState();
   p.boundarySize = nR;
   p.base = red[0];
   p.base.name = rest.name;

@@ -22,6 +22,7 @@
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_ModelAtSpeed.hpp"
 #include "Epaphe_ReducedModel.hpp"
+#include "Epaphe_SpeedSampleSource.hpp"
 
 #include <vector>
 
@@ -58,6 +59,13 @@ struct SpeedParametricModel {
 SpeedParametricModel parametricCraigBampton(const FullModel& rest, const std::vector<int>& retained,
                                             const CraigBamptonOptions& options, const RotationOptions& rotation,
                                             std::vector<double> speeds, ReductionReport* report = nullptr);
+
+/// The same from the models of `source` at `speeds` (at least 2, distinct; sorted here): Epaphe's
+/// elements or matrices imported at each speed (Epaphe_SpeedSampleSource.hpp). The interpolation is
+/// exact at the samples whatever the source.
+SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std::vector<int>& retained,
+                                            const CraigBamptonOptions& options, std::vector<double> speeds,
+                                            ReductionReport* report = nullptr);
 
 /// `count` sample speeds spread over [min, max] at Chebyshev-Lobatto points in Omega^2 (both ends
 /// included): the interpolation in Omega^2 is then well conditioned.

@@ -5,6 +5,7 @@
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Error.hpp"
+#include "Epaphe_ImportedSpeedSource.hpp"
 #include "Epaphe_MatrixMarketImport.hpp"
 #include "Epaphe_ReducedModelCache.hpp"
 #include "Epaphe_Runtime.hpp"
@@ -107,6 +108,7 @@ ImportFiles importFiles(const std::string& body, const ParameterList& bp, const 
     }
     f.all = calculixInputFiles(f.ccx.input);
     for (const char* s : {".sti", ".mas", ".dof"}) f.all.push_back(f.ccx.matrices + s);
+    for (const auto& p : importedSpeedFiles(importedSpeeds(body, bp, deckPath))) f.all.push_back(p);  // at speed
   } else if (f.type == MeshType::MatrixMarket) {
     unused({"Input file", "Matrix job", "Clamped node file"});
     f.mm.stiffness = fileKey(mp, "Stiffness file", true, deckPath, body, type);
@@ -308,6 +310,7 @@ std::string rotationKeyText(const ParameterList& rotation) {
     t << "\nrotation=" << speed;
   else  // the parametric model does not depend on the speed taken from it
     t << "\nrotation range=" << range[0] << " " << range[1] << " samples=" << rotation.get<int>("Sample speeds");
+  for (double w : deck::getDoubles(rotation, "Imported speeds")) t << " imported=" << w;  // the files: bodyModelKeyText
   t << " axis=";
   for (double x : deck::getDoubles(rotation, "Axis")) t << x << " ";
   t << "point=";

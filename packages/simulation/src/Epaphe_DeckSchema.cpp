@@ -196,6 +196,13 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
                                         "empty: reduce at 'Speed' directly");
   addInt(rot, "Sample speeds", 3, "Speeds of the range reduced directly (Chebyshev-Lobatto points in Omega^2, "
                                   "both ends included)", 2, 12);
+  addDoubleArray(rot, "Imported speeds", {}, "A CalculiX model (Mesh Type CalculiX) at speed: the speeds (rad/s, "
+                                            "increasing) of the ccx runs of 'Imported jobs', the samples of the "
+                                            "parametric model over 'Speed range' = {first, last}; empty: none");
+  addStringArray(rot, "Imported jobs", {}, "One ccx job per 'Imported speeds' (path without extension, relative to "
+                                           "the deck): its .sti, .mas, .dof from a perturbation step with *FREQUENCY, "
+                                           "SOLVER=MATRIXSTORAGE after the centrifugal static step, its .dat the static "
+                                           "displacement of every node (*NODE PRINT U)");
   addEnum(rot, "Static state", "Automatic", {"Linear", "Stress-stiffened", "Automatic"}, {0, 1, 2},
           "The centrifugal static state: Linear, (K_e - Omega^2 M_perp) u_s = Omega^2 f_c; Stress-stiffened, "
           "K_sigma(u_s) added to the left side by fixed point (the tension that untwists a blade stiffens it against its "

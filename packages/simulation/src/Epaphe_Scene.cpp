@@ -4,6 +4,7 @@
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_Error.hpp"
 #include "Epaphe_FullModel.hpp"
+#include "Epaphe_ImportedSpeedSource.hpp"
 #include "Epaphe_Parallel.hpp"
 #include "Epaphe_ReducedModelCache.hpp"
 #include "Epaphe_SceneCheck.hpp"
@@ -312,22 +313,34 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
     return pm;
   }
   Stopwatch built;
-  const FullModel full = buildBodyModel(b->name, bp, deck_.origin, comm);
+  // The full model at each sample speed: from Epaphe's elements, or from CalculiX jobs at the
+  // imported speeds (Epaphe_ImportedSpeedSource.hpp).
+  const ImportedSpeeds imported = importedSpeeds(b->name, bp, deck_.origin);
+  std::unique_ptr<SpeedSampleSource> source;
+  FullModel full;
+  if (imported.empty()) {
+    full = buildBodyModel(b->name, bp, deck_.origin, comm);
+    source = std::make_unique<BuiltInSpeedSource>(full, rotation);
+  } else {
+    source = calculixSpeedSource(imported, b->name, comm);
+  }
   const std::string retainedSet = retainedSetOf(*b, rp);
   const std::string ctx = deck_.origin + ": body '" + b->name + "'";
   EPAPHE_REQUIRE(!retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
                                            << " needs a 'Retained node set' (or a 'Contact node set')");
-  const auto retainedNodes = full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'");
+  const auto retainedNodes = source->reference().mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'");
   const auto range = deck::getDoubles(rotp, "Speed range");
-  const auto speeds = sampleSpeeds(range[0], range[1], rotp.get<int>("Sample speeds"));
+  const auto speeds =
+      imported.empty() ? sampleSpeeds(range[0], range[1], rotp.get<int>("Sample speeds")) : imported.speeds;
   try {
-    pm = parametricCraigBampton(full, retainedNodes, reductionOptions(rp), rotation, speeds, &b->report);
+    pm = parametricCraigBampton(*source, retainedNodes, reductionOptions(rp), speeds, &b->report);
   } catch (const Error& e) {
     throw Error(deck_.origin + ": " + e.what());
   }
   out << "[" << b->name << "] parametric model over " << range[0] << " to " << range[1] << " rad/s: " << speeds.size()
       << " Craig-Bampton reductions and "
-      << (pm.staticState == StaticState::StressStiffened ? "stress-stiffened" : "linear")
+      << (imported.empty() ? (pm.staticState == StaticState::StressStiffened ? "stress-stiffened" : "linear")
+                           : "CalculiX (imported)")
       << " static states, common basis of " << pm.base.size << " DOFs ("
       << pm.boundarySize << " retained), in " << formatDuration(built.seconds()) << "\n";
   if (useCache && comm->getRank() == 0) saveParametricModel(pm, cacheFile, key);

@@ -5,6 +5,7 @@
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Error.hpp"
+#include "Epaphe_ImportedSpeedSource.hpp"
 #include "Epaphe_Hdf5File.hpp"
 #include "Epaphe_Mesh.hpp"
 
@@ -362,10 +363,12 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
     const std::string ctx = origin + ": body '" + bl.name(it) + "', Rotation";
     const RotationOptions rotation = rotationOptions(bp.sublist("Rotation"), ctx);
     const auto range = deck::getDoubles(bp.sublist("Rotation"), "Speed range");
-    EPAPHE_REQUIRE((rotation.speed == 0 && range.empty()) || hasBuiltInMesh(bp),
+    const bool importedAtSpeed = !importedSpeeds(bl.name(it), bp, origin).empty();
+    EPAPHE_REQUIRE((rotation.speed == 0 && range.empty()) || hasBuiltInMesh(bp) || importedAtSpeed,
                    ctx << "->Speed = " << rotation.speed << " rad/s: the model is imported, and Epaphe builds the "
                        << "centrifugal terms from the elements of its built-in meshes only; remove the key (the body "
-                          "at rest)");
+                          "at rest), or import CalculiX matrices at speed ('Rotation->Imported speeds' and 'Imported "
+                          "jobs' with a 'Speed range')");
     if (!range.empty()) {
       EPAPHE_REQUIRE(range.size() == 2 && range[0] >= 0 && range[1] > range[0] && std::isfinite(range[1]),
                      ctx << "->Speed range has " << range.size() << " value(s)"
