@@ -2,7 +2,8 @@
 // reduced model over 'Rotation->Speed range' (Epaphe_SpeedParametricModel.hpp), beside the full
 // model's at the sample speeds and half-way between them, and the interpolation's error there
 // against a direct reduction at that speed. The data of `epaphe-rotor campbell` (which draws the
-// diagram, the engine orders and their crossings).
+// diagram, the engine orders and their crossings). A CalculiX model at speed ('Rotation->Imported
+// speeds'): the full model at its imported speeds only, with no direct reduction between them.
 //
 //   epaphe-campbell DECK.xml --output FILE.h5 [--body NAME] [--speeds N] [--count K] [--threads N]
 //
@@ -21,6 +22,7 @@
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Error.hpp"
 #include "Epaphe_Hdf5File.hpp"
+#include "Epaphe_ImportedSpeedSource.hpp"
 #include "Epaphe_ModelAtSpeed.hpp"
 #include "Epaphe_Runtime.hpp"
 #include "Epaphe_SpeedParametricModel.hpp"
@@ -30,6 +32,7 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -93,8 +96,11 @@ int main(int argc, char** argv) {
     const auto range = epaphe::deck::getDoubles(rotp, "Speed range");
     EPAPHE_REQUIRE(range.size() == 2 && range[0] >= 0 && range[1] > range[0],
                    ctx << ": a Campbell diagram needs 'Rotation->Speed range' = {minimum, maximum} (rad/s)");
-    EPAPHE_REQUIRE(epaphe::hasBuiltInMesh(bp), ctx << ": the model is imported; Epaphe builds a body at speed from the "
-                                                      "elements of its built-in meshes only");
+    // an imported model: CalculiX jobs at its imported speeds (the samples; no full model between them)
+    const epaphe::ImportedSpeeds imported = epaphe::importedSpeeds(body, bp, deckPath);
+    EPAPHE_REQUIRE(epaphe::hasBuiltInMesh(bp) || !imported.empty(),
+                   ctx << ": the model is imported; Epaphe builds a body at speed from the elements of its built-in "
+                          "meshes, or from CalculiX matrices at speed ('Rotation->Imported speeds', 'Imported jobs')");
     std::string retained = rp.get<std::string>("Retained node set");
     if (retained.empty()) retained = bp.get<std::string>("Contact node set");
     EPAPHE_REQUIRE(!retained.empty(), ctx << " has neither 'Reduction->Retained node set' nor 'Contact node set'");
@@ -103,7 +109,10 @@ int main(int argc, char** argv) {
     const epaphe::CraigBamptonOptions co = epaphe::reductionOptions(rp);
     std::ostream& out = rt.out();
 
-    const epaphe::FullModel rest = epaphe::buildBodyModel(body, bp, deckPath, rt.comm());
+    std::unique_ptr<epaphe::SpeedSampleSource> source;
+    if (!imported.empty()) source = epaphe::calculixSpeedSource(imported, body, rt.comm());
+    const epaphe::FullModel rest = source ? source->reference() : epaphe::buildBodyModel(body, bp, deckPath, rt.comm());
+    if (!source) source = std::make_unique<epaphe::BuiltInSpeedSource>(rest, rotation);
     const auto retainedNodes = rest.mesh.nodeSet(retained, ctx + ", retained set");
     const std::string contactSet = bp.get<std::string>("Contact node set");
     const auto contact = rest.mesh.nodeSet(contactSet.empty() ? retained : contactSet, ctx + ", contact set");
@@ -111,8 +120,9 @@ int main(int argc, char** argv) {
     epaphe::craigBampton(rest, retainedNodes, co);
     const double restSeconds = sw.seconds();
     sw.restart();
-    const auto samples = epaphe::sampleSpeeds(range[0], range[1], rotp.get<int>("Sample speeds"));
-    const epaphe::SpeedParametricModel pm = epaphe::parametricCraigBampton(rest, retainedNodes, co, rotation, samples);
+    const auto samples =
+        imported.empty() ? epaphe::sampleSpeeds(range[0], range[1], rotp.get<int>("Sample speeds")) : imported.speeds;
+    const epaphe::SpeedParametricModel pm = epaphe::parametricCraigBampton(*source, retainedNodes, co, samples);
     const double parametricSeconds = sw.seconds();
     out << "[" << body << "] parametric model: " << samples.size() << " samples, common basis of " << pm.base.size
         << " DOFs, built in " << epaphe::formatDuration(parametricSeconds) << " = " << std::setprecision(3)
@@ -136,13 +146,14 @@ int main(int argc, char** argv) {
     std::vector<double> fullSpeeds, directSpeeds, directGrowth;
     std::vector<std::vector<double>> fullFreq, directFreq, paramFreq;
     for (std::size_t s = 0; s < samples.size(); ++s)
-      for (int half = 0; half < (s + 1 < samples.size() ? 2 : 1); ++half) {
+      for (int half = 0; half < (s + 1 < samples.size() && imported.empty() ? 2 : 1); ++half) {
         const double w = half == 0 ? samples[s] : std::sqrt(0.5 * (samples[s] * samples[s] + samples[s + 1] * samples[s + 1]));
         epaphe::RotationOptions o = rotation;
         o.speed = w;
         o.staticState = pm.staticState;  // the parametric model's samples' static state
         epaphe::SpeedReport sr;
-        const epaphe::FullModel at = w == 0 ? rest : epaphe::modelAtSpeed(rest, o, &sr);
+        const epaphe::FullModel at =
+            !imported.empty() ? source->sample(w).model : (w == 0 ? rest : epaphe::modelAtSpeed(rest, o, &sr));
         const epaphe::ReducedModel direct = epaphe::craigBampton(at, retainedNodes, co);
         fullSpeeds.push_back(w);
         fullFreq.push_back(epaphe::fullModelFrequencies(at, count, co.solver, co.iterativeTolerance,

@@ -16,13 +16,16 @@ Asserted (stated before measuring):
   * at the intermediate speed MIDDLE, the parametric model's frequencies are within BETWEEN = 1e-3 of a
     direct Craig-Bampton reduction of ccx's matrices at MIDDLE, and within FREQ_TOL = 0.5 % of ccx's
     perturbation frequencies there (the reduction's own truncation included);
-  * the tip's largest static displacement at MIDDLE (interpolated) within TIP_TOL = 1 % of ccx's.
+  * the tip's largest static displacement at MIDDLE (interpolated) within TIP_TOL = 1 % of ccx's;
+  * epaphe-campbell on the imported deck: its full-model frequencies at the samples (Campbell points)
+    within SAME of ccx's, its curve at MIDDLE the run's reduced model there (1e-9).
 Measured on this blade (10 x 7 x 1 C3D8, 16 tip nodes retained, 20 modes): at the samples 1e-11 against
 the direct reduction and 2e-7 between the imported full model and ccx; at 750 rad/s 3.0e-4 (mode 2)
 against the direct reduction, 0.076 % against ccx (mostly the reduction's truncation, 0.078 % at the
 samples) and 0.23 % on the tip's static displacement (the NLGEOM state is not quite a quadratic in
 Omega^2).
-Usage: rotating_blade_ccx_import.py --run EPAPHE_RUN --deck inputs/blade-casing.xml --ccx CCX --workdir DIR
+Usage: rotating_blade_ccx_import.py --run EPAPHE_RUN --campbell EPAPHE_CAMPBELL --deck inputs/blade-casing.xml
+       --ccx CCX --workdir DIR
 """
 import argparse
 import os
@@ -92,10 +95,10 @@ def imported_deck(a, name, speed, matrix_job, imported, check):
 
 def main():
     ap = argparse.ArgumentParser()
-    for name in ("--run", "--deck", "--ccx", "--workdir"):
+    for name in ("--run", "--campbell", "--deck", "--ccx", "--workdir"):
         ap.add_argument(name, required=True)
     a = ap.parse_args()
-    for k in ("run", "deck", "ccx", "workdir"):
+    for k in ("run", "campbell", "deck", "ccx", "workdir"):
         if os.sep in getattr(a, k):
             setattr(a, k, os.path.abspath(getattr(a, k)))
     shutil.rmtree(a.workdir, ignore_errors=True)
@@ -126,6 +129,7 @@ def main():
 
     print(f"{'speed':>6} {'mode':>4} {'parametric Hz':>14} {'direct CB Hz':>13} {'diff':>9} {'import full':>12} "
           f"{'ccx Hz':>12} {'diff':>9}")
+    reduced = {}
     for w in SAMPLES + (MIDDLE,):
         par, _, grow, _ = imported_deck(a, f"par{w:g}", w, "m0", True, 0)
         direct, full, _, _ = imported_deck(a, f"direct{w:g}", w, f"m{w:g}", False, MODES)
@@ -156,6 +160,25 @@ def main():
         if tip_err > TIP_TOL:
             failures.append(f"{w:g} rad/s: tip static displacement {grow} m vs ccx {ref[w]['tip']:.6e} m: "
                             f"{100 * tip_err:.3f} % > {100 * TIP_TOL:g} %")
+        reduced[w] = par
+    # the Campbell diagram of the imported model: its points at the samples are ccx's frequencies
+    rb.sh([a.campbell, os.path.join(a.workdir, f"par{MIDDLE:g}.xml"), "--output", "campbell.h5", "--speeds", "5",
+           "--count", str(MODES)], a.workdir, "epaphe-campbell")
+    with h5py.File(os.path.join(a.workdir, "campbell.h5"), "r") as f:
+        full_speeds, full = np.array(f["/full/speeds"]), np.array(f["/full/frequencies"])
+        speeds, curves = np.array(f["/speeds"]), np.array(f["/frequencies"])
+    for w, fr in zip(full_speeds, full):
+        d = np.abs(fr[:MODES] / ref[float(w)]["freqs"] - 1).max()
+        print(f"epaphe-campbell at {w:g} rad/s: full-model frequencies vs ccx {d:.1e}")
+        if d > SAME:
+            failures.append(f"epaphe-campbell at {w:g} rad/s: full-model frequencies vs ccx {d:.1e} > {SAME:g}")
+    if sorted(full_speeds) != sorted(SAMPLES):
+        failures.append(f"epaphe-campbell's full-model speeds {list(full_speeds)}, expected the samples {SAMPLES}")
+    k = int(np.argmin(np.abs(speeds - MIDDLE)))
+    d = np.abs(curves[k][:MODES] / reduced[MIDDLE] - 1).max()
+    print(f"epaphe-campbell's curve at {speeds[k]:g} rad/s vs the run's reduced model: {d:.1e}")
+    if abs(speeds[k] - MIDDLE) > 1e-9 or d > 1e-9:
+        failures.append(f"epaphe-campbell's curve at {speeds[k]:g} rad/s differs from the run's model by {d:.1e}")
     return verdict(failures)
 
 
