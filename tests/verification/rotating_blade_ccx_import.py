@@ -18,7 +18,8 @@ Asserted (stated before measuring):
     perturbation frequencies there (the reduction's own truncation included);
   * the tip's largest static displacement at MIDDLE (interpolated) within TIP_TOL = 1 % of ccx's;
   * epaphe-campbell on the imported deck: its full-model frequencies at the samples (Campbell points)
-    within SAME of ccx's, its curve at MIDDLE the run's reduced model there (1e-9).
+    within SAME of ccx's, its curve at MIDDLE the run's reduced model there (1e-9);
+  * the cache: a second run reuses the parametric model, a changed job file rebuilds it.
 Measured on this blade (10 x 7 x 1 C3D8, 16 tip nodes retained, 20 modes): at the samples 1e-11 against
 the direct reduction and 2e-7 between the imported full model and ccx; at 750 rad/s 3.0e-4 (mode 2)
 against the direct reduction, 0.076 % against ccx (mostly the reduction's truncation, 0.078 % at the
@@ -179,6 +180,20 @@ def main():
     print(f"epaphe-campbell's curve at {speeds[k]:g} rad/s vs the run's reduced model: {d:.1e}")
     if abs(speeds[k] - MIDDLE) > 1e-9 or d > 1e-9:
         failures.append(f"epaphe-campbell's curve at {speeds[k]:g} rad/s differs from the run's model by {d:.1e}")
+    # the cache key holds every imported job's files
+    text = open(os.path.join(a.workdir, f"par{MIDDLE:g}.xml")).read()
+    cached = os.path.join(a.workdir, "cached.xml")
+    open(cached, "w").write(text.replace('name="Cache" type="bool" value="false"', 'name="Cache" type="bool" value="true"'))
+    runs = []
+    for touch in (False, False, True):
+        if touch:
+            with open(os.path.join(a.workdir, "ccx", f"m{SAMPLES[1]:g}.dat"), "a") as f:
+                f.write("\n")
+        runs.append("reused from" in rb.sh([a.run, cached], a.workdir, "epaphe-run with the cache"))
+    print(f"cache: built, then reused {runs[1]}, then after a changed job file reused {runs[2]}")
+    if runs != [False, True, False]:
+        failures.append(f"the cache of the imported parametric model: reused in runs {runs}, expected "
+                        "[False, True, False] (built, reused, rebuilt after a job file changed)")
     return verdict(failures)
 
 
