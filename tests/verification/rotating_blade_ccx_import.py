@@ -139,7 +139,8 @@ def main():
         d_same = np.abs(full / fc - 1)
         d_ccx = np.abs(par / fc - 1)
         for m in range(MODES):
-            print(f"{w:6g} {m + 1:4d} {par[m]:13.6f} {direct[m]:12.6f} {d_direct[m]:9.1e} {full[m]:12.6f} {fc[m]:12.6f} "
+            print(f"{w:6g} {m + 1:4d} {par[m]:13.6f} {direct[m]:12.6f} {d_direct[m]:9.1e} {full[m]:12.6f} "
+                  f"{fc[m]:12.6f} "
                   f"{d_same[m]:9.1e}")
         if grow is None:
             tip_err = np.inf
@@ -183,7 +184,8 @@ def main():
     # the cache key holds every imported job's files
     text = open(os.path.join(a.workdir, f"par{MIDDLE:g}.xml")).read()
     cached = os.path.join(a.workdir, "cached.xml")
-    open(cached, "w").write(text.replace('name="Cache" type="bool" value="false"', 'name="Cache" type="bool" value="true"'))
+    off, on = ('name="Cache" type="bool" value="%s"' % v for v in ("false", "true"))
+    open(cached, "w").write(text.replace(off, on))
     runs = []
     for touch in (False, False, True):
         if touch:
