@@ -20,6 +20,8 @@ Checked, over README.md and docs/**/*.md (the source tree's):
   - no history in README.md, docs/user, docs/theory, docs/developer: no date (YYYY-MM-DD) and no
     commit hash (7 to 40 hexadecimal digits with at least one digit and one letter), outside code
     blocks and inside them alike.
+  - floors: each packages/*/CMakeLists.txt says "Floor N" once, N its longest path of USES from core
+    (core is floor 0; docs/developer/architecture.md, "The package graph").
 """
 import argparse
 import glob
@@ -220,6 +222,33 @@ def check_no_history(source, failures):
     print(f"history: {len(files)} pages checked for dates and commit hashes")
 
 
+def check_floors(source, failures):
+    uses, said = {}, {}
+    for path in sorted(glob.glob(os.path.join(source, "packages", "*", "CMakeLists.txt"))):
+        with open(path, encoding="utf-8") as fh:
+            text = fh.read()
+        name = os.path.basename(os.path.dirname(path))
+        m = re.search(r"^\s*USES\s+([^\n]*)", text, re.M)
+        uses[name] = [u for u in (m.group(1).split() if m else []) if u != name]
+        floors = re.findall(r"Floor (\d+)", text)
+        if len(floors) != 1:
+            failures.append(f"packages/{name}/CMakeLists.txt: {len(floors)} 'Floor N' labels, expected one")
+        else:
+            said[name] = int(floors[0])
+
+    def floor(name, seen=()):
+        if name in seen:
+            raise ValueError(f"a cycle in USES: {' -> '.join(seen + (name,))}")
+        return max((1 + floor(u, seen + (name,)) for u in uses.get(name, [])), default=0)
+    for name, n in said.items():
+        want = floor(name)
+        if n != want:
+            failures.append(f"packages/{name}/CMakeLists.txt: says Floor {n}, but its longest path of USES from "
+                            f"core is {want}: write Floor {want}")
+    print(f"floors: {len(said)} packages checked against their USES")
+    return len(said)
+
+
 def main():
     ap = argparse.ArgumentParser()
     for name in ("--run", "--source", "--workdir"):
@@ -234,6 +263,8 @@ def main():
         failures.append("no deck key read from --print-parameters: its parsing is broken")
     check_readme_deck(a.run, a.source, a.workdir, failures)
     check_no_history(a.source, failures)
+    if check_floors(a.source, failures) == 0:
+        failures.append("no package's floor read: the packages/*/CMakeLists.txt pattern is broken")
     return verdict(failures)
 
 
