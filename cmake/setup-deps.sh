@@ -29,7 +29,7 @@ DEB_PACKAGES=(
   libopenblas-dev liblapack-dev
   libhdf5-openmpi-dev hdf5-tools
   libgtest-dev
-  python3 python3-numpy python3-h5py python3-matplotlib
+  python3 python3-numpy python3-h5py python3-matplotlib python3-venv python3-pip python3-setuptools python3-mypy
   calculix-ccx
   python3-siconos
 )

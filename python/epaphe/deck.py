@@ -6,10 +6,20 @@
     d.line("Time->Time step")                     # 45
     d.override({"Time->End time": "1e-4", "Output->File": ("short.h5", "string")}).write("short.xml")
 """
+from __future__ import annotations
+
 import xml.etree.ElementTree as ET
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Optional, Tuple, Union
 from xml.parsers import expat
 
 from .errors import EpapheError, UnknownName
+
+if TYPE_CHECKING:
+    from .schema import Schema
+
+#: An override's value: the text (or a number, written with str()), or (value, type).
+Value = Union[str, float, int, Tuple[Union[str, float, int], str]]
 
 
 # ---- XML with line numbers ----------------------------------------------------------------------
@@ -81,14 +91,35 @@ def deck_child(node, tag, name):
 
 # ---- decks --------------------------------------------------------------------------------------
 class Deck:
-    """A deck as an ElementTree (`root`), its parameters read through the schema's defaults; `path`
-    is where it came from (for messages), `lines` {key: line} when it was read from a file."""
+    """A deck as an ElementTree (`root`), its parameters read through the schema's defaults.
 
-    def __init__(self, path=None, text=None):
+    Parameters
+    ----------
+    path : str, optional
+        The deck file to read, or, with `text`, where the text came from (for messages).
+    text : str, optional
+        The deck's XML text (then `path` is not read).
+
+    Attributes
+    ----------
+    root : xml.etree.ElementTree.Element
+        The deck's root <ParameterList>.
+    lines : dict of str to int
+        {key: line} of every list and parameter, when the deck was read from a file.
+
+    Raises
+    ------
+    EpapheError
+        The file cannot be read or is not well-formed XML.
+    """
+
+    def __init__(self, path: Optional[str] = None, text: Optional[str] = None) -> None:
         self.path = path
-        self.lines = {}
+        self.lines: dict[str, int] = {}
+        if path is None and text is None:
+            raise EpapheError("Deck: give a path or a text")
         try:
-            self.root = ET.fromstring(text) if text is not None else ET.parse(path).getroot()
+            self.root = ET.fromstring(text) if text is not None else ET.parse(str(path)).getroot()
         except ET.ParseError as e:
             raise EpapheError(f"{path}: not well-formed XML ({e})") from None
         except OSError as e:
@@ -101,11 +132,11 @@ class Deck:
                     walk(c, key)
             walk(read_xml(path), [])
 
-    def line(self, key):
+    def line(self, key: str) -> Optional[int]:
         """The line of the parameter or list `key` in the file read, or None."""
         return self.lines.get(key)
 
-    def node(self, path):
+    def node(self, path: str) -> Optional[ET.Element]:
         """The <ParameterList> at 'Bodies->Bar' ('' for the root), or None."""
         node = self.root
         for name in [p for p in path.split("->") if p]:
@@ -114,12 +145,12 @@ class Deck:
                 return None
         return node
 
-    def sublists(self, path):
+    def sublists(self, path: str) -> list[str]:
         """The names of the lists in the list `path`: deck.sublists("Bodies") -> ["Bar"]."""
         node = self.node(path)
-        return [] if node is None else [c.get("name") for c in node.findall("./ParameterList")]
+        return [] if node is None else [c.get("name", "") for c in node.findall("./ParameterList")]
 
-    def parameters(self):
+    def parameters(self) -> dict[str, str]:
         """{"Time->Time step": "1e-7", "Surfaces->Wall->Type": "Plane", ...}: every parameter the deck
         gives, as text, in document order."""
         out = {}
@@ -135,13 +166,29 @@ class Deck:
         walk(self.root, [])
         return out
 
-    def has(self, key):
+    def has(self, key: str) -> bool:
+        """True when the deck gives parameter `key` ("Time->Time step")."""
         *lists, name = key.split("->")
         node = self.node("->".join(lists))
         return node is not None and deck_child(node, "Parameter", name) is not None
 
-    def get(self, key, schema=None, default=None):
-        """The text of parameter `key`; when the deck has none, the schema's default (else `default`)."""
+    def get(self, key: str, schema: Optional[Schema] = None, default: Optional[str] = None) -> Optional[str]:
+        """The text of a parameter.
+
+        Parameters
+        ----------
+        key : str
+            The parameter's path, "Time->Time step".
+        schema : Schema, optional
+            Gives the default when the deck has no such parameter.
+        default : str, optional
+            Returned when neither the deck nor the schema has a value.
+
+        Returns
+        -------
+        str or None
+            The value as written in the deck, else the schema's default, else `default`.
+        """
         *lists, name = key.split("->")
         node = self.node("->".join(lists))
         p = None if node is None else deck_child(node, "Parameter", name)
@@ -150,10 +197,21 @@ class Deck:
         found = schema.default(key) if schema is not None else None
         return found if found is not None else default
 
-    def override(self, overrides, schema=None):
-        """A new Deck with {key: value} applied; a value may be (value, type). Missing lists and
-        parameters are created; a parameter's type is the one given, else the schema's, else the
-        deck's, else string."""
+    def override(self, overrides: Mapping[str, Value], schema: Optional[Schema] = None) -> Deck:
+        """A new Deck with overrides applied (this one is unchanged).
+
+        Parameters
+        ----------
+        overrides : mapping of str to value
+            {key: value}; a value may be (value, type). Missing lists and parameters are created.
+        schema : Schema, optional
+            Gives a parameter's type when `overrides` does not: else the deck's, else string.
+
+        Returns
+        -------
+        Deck
+            The new deck.
+        """
         d = Deck.__new__(Deck)
         d.path, d.lines = self.path, dict(self.lines)
         d.root = ET.fromstring(ET.tostring(self.root))
@@ -178,27 +236,57 @@ class Deck:
             p.set("value", str(value))
         return d
 
-    def text(self):
+    def text(self) -> str:
+        """The deck as XML text."""
         return ET.tostring(self.root, encoding="unicode") + "\n"
 
-    def with_overrides(self, overrides, schema=None):
+    def with_overrides(self, overrides: Mapping[str, Value], schema: Optional[Schema] = None) -> str:
         """The deck text with {key: value} applied (see override)."""
         return self.override(overrides, schema).text()
 
-    def write(self, path):
+    def write(self, path: str) -> str:
+        """Writes the deck to `path`; returns `path`."""
         with open(path, "w", encoding="utf-8") as fh:
             fh.write(self.text())
         return path
 
 
-def read_deck(path):
-    """The deck file at `path`, with the line of every list and parameter."""
+def read_deck(path: str) -> Deck:
+    """The deck file at `path`, with the line of every list and parameter.
+
+    Parameters
+    ----------
+    path : str
+        A deck (XML ParameterList) file.
+
+    Returns
+    -------
+    Deck
+        The deck; `Deck.line(key)` gives a key's line.
+    """
     return Deck(path)
 
 
-def deck_value(root, path):
-    """The value of the deck parameter at `path` ("Bodies->Bar->Mesh->Lengths") under an XML root, of
-    a Deck or of a deck file: a list of floats for an array "{...}", else the string."""
+def deck_value(root: Union[str, Deck, ET.Element], path: str) -> Union[str, list[float]]:
+    """The value of a deck parameter.
+
+    Parameters
+    ----------
+    root : str, Deck or xml.etree.ElementTree.Element
+        A deck file, a Deck, or a deck's XML root.
+    path : str
+        The parameter's path, "Bodies->Bar->Mesh->Lengths".
+
+    Returns
+    -------
+    str or list of float
+        A list of floats for an array "{...}", else the text.
+
+    Raises
+    ------
+    UnknownName
+        No such list or parameter, naming the ones there are.
+    """
     if isinstance(root, str):
         root = Deck(root)
     node = root.root if isinstance(root, Deck) else root
@@ -207,17 +295,33 @@ def deck_value(root, path):
         nxt = deck_child(node, "ParameterList", sub_name)
         if nxt is None:
             raise UnknownName(f"deck: no list '{sub_name}' on the way to '{path}' (lists there: "
-                              + (", ".join(c.get("name") for c in node.findall("ParameterList")) or "none") + ")")
+                              + (", ".join(c.get("name", "") for c in node.findall("ParameterList")) or "none") + ")")
         node = nxt
     p = deck_child(node, "Parameter", name)
     if p is None:
         raise UnknownName(f"deck: no parameter '{path}' (parameters there: "
-                          + (", ".join(c.get("name") for c in node.findall("Parameter")) or "none") + ")")
-    v = p.get("value")
+                          + (", ".join(c.get("name", "") for c in node.findall("Parameter")) or "none") + ")")
+    v = p.get("value", "")
     return [float(x) for x in v.strip("{}").split(",")] if v.startswith("{") else v
 
 
-def variant(base_deck, out_path, overrides, schema=None):
-    """Writes a copy of the deck file `base_deck` with overrides {"Time->Time step": "5e-8", ...} to
-    `out_path` (see Deck.override: a value may be (value, type)); returns out_path."""
+def variant(base_deck: str, out_path: str, overrides: Mapping[str, Value], schema: Optional[Schema] = None) -> str:
+    """Writes a copy of a deck file with overrides.
+
+    Parameters
+    ----------
+    base_deck : str
+        The deck file to copy.
+    out_path : str
+        Where to write the new deck.
+    overrides : mapping of str to value
+        {"Time->Time step": "5e-8", ...}; a value may be (value, type) (see Deck.override).
+    schema : Schema, optional
+        Gives the types of parameters the base deck lacks.
+
+    Returns
+    -------
+    str
+        `out_path`.
+    """
     return Deck(base_deck).override(overrides, schema).write(out_path)

@@ -13,9 +13,12 @@ Record arrays hold one row per entry of /time; a file still being written (or st
 fewer rows in some datasets: the missing rows read as NaN. Names not in the file (a body, a node
 set) raise epaphe.errors.UnknownName naming the ones there are.
 """
+from __future__ import annotations
+
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from functools import cached_property
+from typing import Any
 
 import h5py
 import numpy as np
@@ -58,9 +61,20 @@ class Names(Mapping):
 
 
 class Run:
-    """One Epaphe HDF5 output, kept open (use `with epaphe.open(p) as run:` or run.close())."""
+    """One Epaphe HDF5 output, kept open (use `with epaphe.open(p) as run:` or run.close()).
 
-    def __init__(self, path):
+    Parameters
+    ----------
+    path : str
+        The HDF5 file epaphe-run wrote (the deck's Output->File).
+
+    Raises
+    ------
+    EpapheError
+        The file is missing, a directory, not HDF5, or has no /time dataset.
+    """
+
+    def __init__(self, path: str) -> None:
         self.path = path
         if not os.path.exists(path):
             raise EpapheError(f"no such file: {path}")
@@ -76,65 +90,78 @@ class Run:
 
     # ---- the run ----
     @property
-    def status(self):
+    def status(self) -> str:
         """'running', 'complete', or 'stopped: <why>'; only 'complete' is a finished result."""
         return text(self.file.attrs.get("status", "unknown"))
 
     @property
-    def complete(self):
+    def complete(self) -> bool:
+        """True when the status is 'complete'."""
         return self.status == "complete"
 
     @property
-    def name(self):
+    def name(self) -> str:
         """The deck's Run->Name ('' when absent)."""
         return text(self.file.attrs.get("name", "")).strip()
 
     @property
-    def version(self):
+    def version(self) -> str:
+        """The Epaphe version that wrote the file ('' when absent)."""
         return text(self.file.attrs.get("epaphe_version", ""))
 
     @cached_property
-    def time(self):
+    def time(self) -> np.ndarray:
         """(records,) time of each record, s."""
         return np.asarray(self.file["time"][()], dtype=float).reshape(-1)
 
     @property
-    def records(self):
+    def records(self) -> int:
+        """The number of records (entries of /time)."""
         return self.time.size
 
     @cached_property
-    def attrs(self):
+    def attrs(self) -> dict[str, Any]:
         """The /run attributes: time_step, critical_time_step (s), steps, wall_time, setup_time,
         loop_time (s), steps_per_second, threads, mpi_ranks, checkpoints, checkpoint_time (s)..."""
         return {k: v for k, v in self.file["run"].attrs.items()} if "run" in self.file else {}
 
     @cached_property
-    def deck_text(self):
+    def deck_text(self) -> str:
         """The deck text the run was made from (/run/deck), '' when absent."""
         return text(self.file["run/deck"][()]) if "run/deck" in self.file else ""
 
     @cached_property
-    def deck(self):
+    def deck(self) -> Deck:
         """The run's deck (/run/deck) as an epaphe.deck.Deck."""
         if not self.deck_text:
             raise EpapheError(f"{self.path}: no /run/deck (the deck text)")
         return Deck(path=f"{self.path}:/run/deck", text=self.deck_text)
 
     @cached_property
-    def bodies(self):
-        """{name: Body}."""
+    def bodies(self) -> Mapping[str, Body]:
+        """{name: Body}; an unknown name raises epaphe.errors.UnknownName naming the bodies."""
         names = list(self.file["bodies"].keys()) if "bodies" in self.file else []
         return Names({b: Body(self, b) for b in names}, "body", self.path)
 
     @cached_property
-    def energy(self):
+    def energy(self) -> Energy:
         """Energies of the whole system (J, per record) and the relative balance error."""
         return Energy(self)
 
     # ---- datasets ----
-    def records_of(self, path):
-        """The record dataset at `path` as floats, one row per entry of /time (rows missing from an
-        unfinished file are NaN)."""
+    def records_of(self, path: str) -> np.ndarray:
+        """The record dataset at `path` as floats, one row per entry of /time.
+
+        Parameters
+        ----------
+        path : str
+            The dataset's path in the file, without the leading '/' (e.g. "bodies/Bar/contact/gap").
+
+        Returns
+        -------
+        numpy.ndarray
+            (records, ...) floats; rows missing from an unfinished file are NaN.
+        """
         if path not in self.file:
             raise EpapheError(f"{self.path}: no dataset /{path}")
         d = np.asarray(self.file[path][()], dtype=float)
@@ -143,15 +170,27 @@ class Run:
             d = np.concatenate([d, np.full((n - d.shape[0],) + d.shape[1:], np.nan)])
         return d[:n]
 
-    def ids(self, path):
+    def ids(self, path: str) -> np.ndarray:
         """An id dataset (nodes) as a flat array."""
         if path not in self.file:
             raise EpapheError(f"{self.path}: no dataset /{path}")
         return np.asarray(self.file[path][()]).reshape(-1)
 
-    def flat(self, kinds="fi", select=None):
-        """{dataset path: array} of every numeric dataset ('f': float, 'i': integer kinds), read whole;
-        with `select`, only the paths for which select(path) is true are read."""
+    def flat(self, kinds: str = "fi", select: Callable[[str], bool] | None = None) -> dict[str, np.ndarray]:
+        """Every numeric dataset of the file, read whole.
+
+        Parameters
+        ----------
+        kinds : str
+            numpy dtype kinds to read ('f': float, 'i': integer).
+        select : callable, optional
+            Only the paths for which select(path) is true are read.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            {dataset path: array}.
+        """
         out = {}
 
         def visit(name, obj):
@@ -161,13 +200,14 @@ class Run:
         self.file.visititems(visit)
         return out
 
-    def close(self):
+    def close(self) -> None:
+        """Closes the file."""
         self.file.close()
 
-    def __enter__(self):
+    def __enter__(self) -> Run:
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def __repr__(self):
@@ -177,21 +217,21 @@ class Run:
 class Body:
     """A body of a run: node sets, contact, momentum, frequencies and attributes."""
 
-    def __init__(self, run, name):
+    def __init__(self, run: Run, name: str) -> None:
         self.run, self.name, self.prefix = run, name, f"bodies/{name}"
 
     @cached_property
-    def attrs(self):
+    def attrs(self) -> dict[str, Any]:
         """reduction, reduced_dofs, rigid_mass (kg), ..."""
         return {k: v for k, v in self.run.file[self.prefix].attrs.items()}
 
     @property
-    def rigid_mass(self):
+    def rigid_mass(self) -> float:
         """kg (NaN when not stored)."""
         return float(self.attrs.get("rigid_mass", float("nan")))
 
     @cached_property
-    def nodesets(self):
+    def nodesets(self) -> Mapping[str, NodeSet]:
         """{name: NodeSet} of the watched node sets."""
         g = self.run.file.get(self.prefix + "/nodesets")
         names = list(g.keys()) if g is not None else []
@@ -199,23 +239,24 @@ class Body:
                      f"{self.run.path}: body '{self.name}'")
 
     @property
-    def has_contact(self):
+    def has_contact(self) -> bool:
+        """True when the body has contact nodes (a /bodies/<b>/contact group)."""
         return f"{self.prefix}/contact/total_force" in self.run.file
 
     @cached_property
-    def contact(self):
+    def contact(self) -> Contact:
         """The body's contact nodes (Contact); an error when the body has none."""
         if not self.has_contact:
             raise EpapheError(f"{self.run.path}: body '{self.name}' has no contact data")
         return Contact(self)
 
     @cached_property
-    def momentum(self):
+    def momentum(self) -> np.ndarray:
         """(records, 3) linear momentum, kg m/s."""
         return self.run.records_of(self.prefix + "/momentum")
 
     @cached_property
-    def frequencies(self):
+    def frequencies(self) -> dict[str, np.ndarray]:
         """{reduced, full, fixed_interface: array} natural frequencies, Hz (those stored)."""
         g = self.run.file.get(self.prefix + "/frequencies")
         return {} if g is None else {k: np.asarray(g[k][()], float) for k in g}
@@ -248,7 +289,7 @@ class Records:
 class NodeSet:
     """A watched node set of a body."""
 
-    def __init__(self, body, name):
+    def __init__(self, body: Body, name: str) -> None:
         self.body, self.name, self._run, self.prefix = body, name, body.run, f"{body.prefix}/nodesets/{name}"
 
     nodes = Records("nodes", "Node ids of the set.", ids=True)
@@ -259,7 +300,7 @@ class NodeSet:
 class Contact:
     """The contact nodes of a body."""
 
-    def __init__(self, body):
+    def __init__(self, body: Body) -> None:
         self.body, self._run, self.prefix = body, body.run, f"{body.prefix}/contact"
 
     nodes = Records("nodes", "Contact node ids.", ids=True)
@@ -268,12 +309,23 @@ class Contact:
     force = Records("force", "(records, nodes) normal contact force on each node, N.")
 
     @cached_property
-    def total_force(self):
+    def total_force(self) -> np.ndarray:
         """(records,) total normal contact force on the body, N."""
         return self._run.records_of(self.prefix + "/total_force").reshape(self._run.records, -1)[:, 0]
 
-    def columns(self, node_ids):
-        """The columns of `force`/`gap` of the given node ids that are contact nodes."""
+    def columns(self, node_ids: list[int]) -> list[int]:
+        """The columns of `force`/`gap` of the given node ids that are contact nodes.
+
+        Parameters
+        ----------
+        node_ids : list of int
+            Node ids of the body's mesh.
+
+        Returns
+        -------
+        list of int
+            The column of each id that is a contact node, in the order given (others left out).
+        """
         cn = list(self.nodes)
         return [cn.index(n) for n in node_ids if n in cn]
 
@@ -282,7 +334,7 @@ class Energy:
     """Energies of the whole system per record; balance_error = (total + damping - contact work -
     external work - initial) / largest energy."""
 
-    def __init__(self, run):
+    def __init__(self, run: Run) -> None:
         self._run, self.prefix = run, "energy"
 
     kinetic = Records("kinetic", "(records,) kinetic energy, J.")
@@ -294,20 +346,47 @@ class Energy:
     balance_error = Records("balance_error", "(records,) relative energy balance error, -.")
 
 
-def open(path):  # noqa: A001 (epaphe.open, as h5py.File / io.open)
-    """The run in the Epaphe HDF5 file `path` (an error naming the file when it is missing, not
-    HDF5, or not an Epaphe output)."""
+def open(path: str) -> Run:  # noqa: A001 (epaphe.open, as h5py.File / io.open)
+    """The run in an Epaphe HDF5 file.
+
+    Parameters
+    ----------
+    path : str
+        The file epaphe-run wrote.
+
+    Returns
+    -------
+    Run
+        The run, kept open: use it in a `with` block or call close().
+
+    Raises
+    ------
+    EpapheError
+        Naming the file when it is missing, not HDF5, or not an Epaphe output.
+    """
     return Run(path)
 
 
-def history(path, complete=True):
-    """Every numeric dataset of a run as {path: array} (the flat view), plus "attrs" (the /run
-    attributes) and "bodies/<b>/attrs"; with `complete`, a run whose status is not 'complete' is an
-    error."""
+def history(path: str, complete: bool = True) -> dict[str, Any]:
+    """Every numeric dataset of a run, read whole, and its attributes.
+
+    Parameters
+    ----------
+    path : str
+        The file epaphe-run wrote.
+    complete : bool
+        When true, a run whose status is not 'complete' is an error.
+
+    Returns
+    -------
+    dict
+        {dataset path: array} (the flat view), plus "attrs" (the /run attributes) and
+        "bodies/<b>/attrs".
+    """
     with Run(path) as run:
         if complete and not run.complete:
             raise EpapheError(f"{path}: status {run.status}")
-        out = run.flat()
+        out: dict[str, Any] = dict(run.flat())
         out["attrs"] = dict(run.attrs)
         for name, body in run.bodies.items():
             out[f"bodies/{name}/attrs"] = dict(body.attrs)

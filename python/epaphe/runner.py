@@ -10,6 +10,7 @@ import sys
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor, wait
+from typing import Optional
 
 from .errors import EpapheError
 from .results import Run
@@ -44,9 +45,25 @@ def say(msg):
         sys.stdout.flush()
 
 
-def find_run(given=None):
-    """The epaphe-run to use: `given` (checked), else the first of: next to the running command
-    (an install's bin/), $EPAPHE_BUILD_DIR/drivers, the source tree's build/drivers, PATH."""
+def find_run(given: Optional[str] = None) -> str:
+    """The epaphe-run to use.
+
+    Parameters
+    ----------
+    given : str, optional
+        An executable to use (checked).
+
+    Returns
+    -------
+    str
+        `given`, else the first of: next to the running command (an install's bin/),
+        $EPAPHE_BUILD_DIR/drivers, the source tree's build/drivers, PATH.
+
+    Raises
+    ------
+    StudyError
+        `given` is not an executable file, or no epaphe-run is found.
+    """
     if given:
         if not (os.path.isfile(given) and os.access(given, os.X_OK)):
             raise StudyError(f"--run {given}: not an executable file")

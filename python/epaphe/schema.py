@@ -2,12 +2,14 @@
 ParameterList: Parameter attributes name, type, value (the default), docString, validatorId; a list
 named "*" stands for any name, as the bodies and surfaces; a <Validators> block gives the ranges of
 numbers and the values of enumerations). Read with xml.etree: nothing is scraped."""
+from __future__ import annotations
+
 import difflib
 import itertools
 import math
 import subprocess
 import xml.etree.ElementTree as ET
-from typing import NamedTuple, Optional, Tuple
+from typing import ClassVar, Dict, NamedTuple, Optional, Set, Tuple
 
 from .errors import EpapheError
 
@@ -25,29 +27,56 @@ class Param(NamedTuple):
     values: Optional[Tuple[str, ...]] = None    # the valid strings of an enumeration
 
     @property
-    def key(self):
+    def key(self) -> str:
+        """The deck key, "Bodies->*->Initial velocity"."""
         return "->".join(self.path)
 
 
 class Schema:
     """The deck parameters, keyed by their path of list names: ("Time", "Time step"); "*" for any
-    name. `Schema(run)` asks the executable `run` (epaphe-run); `Schema.from_xml(text)` reads the
-    printed XML; `Schema.of(run)` caches one per executable."""
+    name.
 
-    _cache = {}
+    Parameters
+    ----------
+    run : str, optional
+        An epaphe-run executable, asked with `--print-parameters=xml`.
+    xml_text : str, optional
+        The printed XML itself (then `run` is not asked); also `Schema.from_xml(text)`.
 
-    def __init__(self, run=None, xml_text=None):
-        self.params, self.lists = {}, set()
+    Attributes
+    ----------
+    params : dict of tuple of str to Param
+        Every parameter by its path.
+    lists : set of tuple of str
+        The path of every list.
+
+    Raises
+    ------
+    EpapheError
+        `run` cannot be run, fails, or prints no parameter.
+
+    See Also
+    --------
+    Schema.of : one schema per executable, cached.
+    """
+
+    _cache: ClassVar[Dict[str, Schema]] = {}
+
+    def __init__(self, run: Optional[str] = None, xml_text: Optional[str] = None) -> None:
+        self.params: Dict[Tuple[str, ...], Param] = {}
+        self.lists: Set[Tuple[str, ...]] = set()
         if xml_text is None:
             xml_text = self._ask(run)
         self._read(xml_text, run or "the XML")
 
     @classmethod
-    def from_xml(cls, text):
+    def from_xml(cls, text: str) -> Schema:
+        """The schema from the text `epaphe-run --print-parameters=xml` printed."""
         return cls(xml_text=text)
 
     @classmethod
-    def of(cls, run):
+    def of(cls, run: str) -> Schema:
+        """The schema of the executable `run`, asked once per process and kept."""
         if run not in cls._cache:
             cls._cache[run] = cls(run)
         return cls._cache[run]
@@ -91,9 +120,19 @@ class Schema:
         if not self.params:
             raise EpapheError(f"{where} --print-parameters=xml printed no parameter")
 
-    def param(self, key):
-        """The Param of a deck key 'Bodies->Bar->Initial velocity' (names of '*' lists match any
-        name), or None."""
+    def param(self, key: str) -> Optional[Param]:
+        """The parameter of a deck key.
+
+        Parameters
+        ----------
+        key : str
+            A deck key, 'Bodies->Bar->Initial velocity' (names of '*' lists match any name).
+
+        Returns
+        -------
+        Param or None
+            None when the schema has no such key.
+        """
         parts = key.split("->")
         for cand in itertools.product(*[(p, ANY) for p in parts[:-1]]):
             sp = tuple(cand) + (parts[-1],)
@@ -101,16 +140,17 @@ class Schema:
                 return self.params[sp]
         return None
 
-    def lookup(self, key):
+    def lookup(self, key: str) -> Optional[Tuple[Tuple[str, ...], str, str]]:
         """(schema path, type, default) of a deck key, or None."""
         p = self.param(key)
         return None if p is None else (p.path, p.type, p.default)
 
-    def default(self, key):
+    def default(self, key: str) -> Optional[str]:
+        """The default (text) of a deck key, or None when the schema has no such key."""
         p = self.param(key)
         return None if p is None else p.default
 
-    def close(self, key):
+    def close(self, key: str) -> Optional[str]:
         """The nearest valid key, to suggest (the '*' of the schema filled with the key's names)."""
         parts = key.split("->")
         keys = []

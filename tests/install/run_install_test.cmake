@@ -41,7 +41,7 @@ assert s.param("Time->Time step").type == "double", s.param("Time->Time step")
 print("import epaphe:", epaphe.__file__, "-", len(s.params), "deck parameters")
 ]=] "${_site}" "${WORK}/prefix")
 foreach(_driver epaphe-plot epaphe-sweep epaphe-rotor)
-  step("${WORK}/prefix/bin/${_driver}" --help)
+  step(${CMAKE_COMMAND} -E env --unset=PYTHONPATH "${WORK}/prefix/bin/${_driver}" --help)
 endforeach()
 # The installed epaphe-run on the installed bar-on-wall.xml (V1, 2,000 steps), its result read with
 # the installed package: check_installed_run.py says what it asserts (V1's contact times, force and
