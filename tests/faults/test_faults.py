@@ -56,6 +56,7 @@ ap.add_argument("--case", required=True, choices=["restart", "signals", "kill9",
 ap.add_argument("--run", required=True)
 ap.add_argument("--deck", required=True)
 ap.add_argument("--flexible-deck")
+ap.add_argument("--runup-deck", help="restart: a run-up deck, stopped and restarted mid-ramp")
 ap.add_argument("--threads", type=int, default=1, help="threads of every run (default 1)")
 ap.add_argument("--workdir", required=True)
 a = ap.parse_args()
@@ -227,6 +228,14 @@ if a.case == "restart":
             "Time->End time": "1.2e-4", "Output->Every": "7", "Run->Progress interval": ("0", "double"),
             **{f"Bodies->{b}->Reduction->Cache file": (f"flex.{b.split()[0]}.rom.h5", "string")
                for b in ("Cube", "Left ring", "Right ring")}}), [800, 1000]))
+    if a.runup_deck:
+        # a run-up stopped twice mid-ramp (its stiffness refreshed about every 40 steps, the casing's
+        # angle the integral of the speed), soft penalty contact from the start
+        cases.append(("runup", variant(a.runup_deck, os.path.join(W, "runup.xml"), {
+            "Time->End time": "3e-4", "Output->Every": "7", "Run->Progress interval": ("0", "double"),
+            "Bodies->Blade->Rotation->Speed law->Start time": "1e-5",
+            "Bodies->Blade->Rotation->Speed law->End time": "2.9e-4",
+            "Bodies->Blade->Reduction->Cache file": ("runup.rom.h5", "string")}), [1100, 2300]))
     for name, deck, stops in cases:
         t0 = time.time()
         A, B = f"{name}-a.h5", f"{name}-b.h5"

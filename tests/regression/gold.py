@@ -120,6 +120,10 @@ HORIZON = {
     # rotor 37: the blade starts between the lobes, meets the first after a quarter revolution
     "rotor37-casing": {"Time->End revolutions": ("0.5", "double")},
     "rotor37-massless": {"Time->End revolutions": ("3", "double")},
+    # run-up: the ramp (720 to 800 rad/s) cut to 1.8 ms, its stiffness refreshed about every 400 steps
+    "blade-casing-run-up": {"Time->End time": ("2e-3", "double"),
+                            "Bodies->Blade->Rotation->Speed law->Start time": ("1e-4", "double"),
+                            "Bodies->Blade->Rotation->Speed law->End time": ("1.9e-3", "double")},
     # modes only: the deck's own few free steps
     "ring-modes": {},
 }

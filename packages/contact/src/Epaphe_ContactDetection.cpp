@@ -123,7 +123,7 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
     for (double& a : cs.axis) a /= l;
     v.surf(s) = cs.surface->view();
     anyCarried_ = anyCarried_ || cs.moving;
-    v.turn(s, 0) = cs.omega;
+    v.turn(s, 0) = cs.law.ramp ? cs.law.fastest() : cs.omega;   // the skipping's bound of the turn rate
     for (int d = 0; d < 3; ++d) {
       v.turn(s, 1 + d) = cs.axis[d];
       v.turn(s, 4 + d) = cs.center[d];
@@ -143,7 +143,8 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
         r = std::max(r, std::sqrt(rr));
       }
     // a rigid turning surface that is a radial graph about its axis moves by far less (radialTurnRate)
-    if (!cs.moving && (cs.omega != 0.0 || cs.phase != 0.0)) r = std::min(r, radialTurnRate(*cs.surface, cs.axis, cs.center));
+    if (!cs.moving && (cs.omega != 0.0 || cs.law.ramp || cs.phase != 0.0))
+      r = std::min(r, radialTurnRate(*cs.surface, cs.axis, cs.center));
     v.turn(s, 7) = r;
     // patch size: the shortest edge between neighbouring grid nodes
     const BSplineSurface& G = *cs.surface;
@@ -161,7 +162,7 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
           }
         }
       }
-    v.turn(s, 8) = cs.omega != 0.0 || cs.phase != 0.0 ? 1.0 : 0.0;
+    v.turn(s, 8) = cs.omega != 0.0 || cs.law.ramp || cs.phase != 0.0 ? 1.0 : 0.0;
     gridX_.emplace_back();
     gridPos_.emplace_back();
     gridDof_.emplace_back();
@@ -390,6 +391,14 @@ void ContactDetection::rebuildCarried(const DenseVector& q) {
   }
 }
 
+void ContactDetection::setReferencePositions(const std::vector<double>& X) {
+  EPAPHE_REQUIRE(X.size() == 3 * std::size_t(numNodes()),
+                 "contact: " << X.size() / 3 << " reference positions for " << numNodes() << " nodes");
+  fence();
+  for (int k = 0; k < numNodes(); ++k)
+    for (int d = 0; d < 3; ++d) v_.X(k, d) = X[3 * k + d];
+}
+
 void ContactDetection::detect(const DenseVector& q, double t, bool all) {
   fence();
   time_ = t;
@@ -398,7 +407,7 @@ void ContactDetection::detect(const DenseVector& q, double t, bool all) {
   // Turning surfaces: R(omega t + phase) by Rodrigues' formula.
   for (std::size_t s = 0; s < surfaces_.size(); ++s) {
     const ContactSurface& cs = surfaces_[s];
-    const double th = cs.omega * t + cs.phase, c = std::cos(th), sn = std::sin(th);
+    const double th = (cs.law.ramp ? cs.law.angle(t) : cs.omega * t) + cs.phase, c = std::cos(th), sn = std::sin(th);
     const auto& a = cs.axis;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) {

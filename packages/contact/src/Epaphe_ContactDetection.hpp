@@ -35,6 +35,7 @@
 // vibration of the answer instead of a step's travel away (rotor 37: 2.95 -> 2.19 iterations).
 #include "Epaphe_AbradableCoating.hpp"
 #include "Epaphe_BSplineSurface.hpp"
+#include "Epaphe_SpeedLaw.hpp"
 #include "Epaphe_ClosestPoint.hpp"
 #include "Epaphe_Flexibility.hpp"
 #include "Epaphe_Parallel.hpp"
@@ -72,6 +73,8 @@ struct ContactSurface {
   /// back; a carrying body's grid motion is turned by R in D_a (see Epaphe_SurfaceContact.hpp).
   double omega = 0.0;
   double phase = 0.0;  // angle (rad) at t = 0: the surface is turned by omega t + phase
+  /// A run-up (law.ramp): the surface is turned by law.angle(t) + phase instead (Epaphe_SpeedLaw.hpp).
+  SpeedLaw law{};
   std::array<double, 3> axis{0.0, 0.0, 1.0}, center{0.0, 0.0, 0.0};
   /// An abradable coating in front of a rigid surface (Epaphe_AbradableCoating.hpp; elements {0, 0}:
   /// none): the node's gap is measured to the coating's current profile.
@@ -142,6 +145,9 @@ public:
   /// Penetration ramp time.
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
 
+  /// The contact nodes' reference positions X (3 per node), e.g. a rotating body's static position
+  /// as its speed changes; the skipping sees the change as a motion of the nodes.
+  void setReferencePositions(const std::vector<double>& X);
   /// Detects at q and time t. `all`: project every node (no skipping).
   void detect(const DenseVector& q, double t, bool all);
   /// Projects the nodes flagged in views().refine (at the q and t of the last detect()), clears

@@ -137,6 +137,8 @@ public:
   /// The detection's skipping state (ContactDetection::skipState), for checkpoints.
   std::vector<double> detectionState() const { return detection_->skipState(); }
   void setDetectionState(const std::vector<double>& state) { detection_->setSkipState(state); }
+  /// The contact nodes' reference positions (3 per node, in the order of ContactNodes).
+  void setReferencePositions(const std::vector<double>& X) { detection_->setReferencePositions(X); }
   const ContactDetection& detection() const { return *detection_; }
   /// See ContactDetection::setPenetrationOffsets (initial penetrations resolved gently).
   void setPenetrationOffsets(const std::vector<double>& depth, double rampEnd) {

@@ -25,6 +25,16 @@ BodyOperator BodyOperator::dense(const std::vector<double>& a, int n, const std:
   return op;
 }
 
+void BodyOperator::assignDense(const std::vector<double>& a) {
+  const int n = static_cast<int>(dense_.extent(0));
+  EPAPHE_REQUIRE(kind_ == Kind::Dense && a.size() == static_cast<std::size_t>(n) * n,
+                 "BodyOperator::assignDense: " << a.size() << " entries for a dense operator of size " << n);
+  auto h = Kokkos::create_mirror_view(dense_);   // host memory: the view itself, nothing allocated
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) h(j, i) = a[static_cast<std::size_t>(j) * n + i];
+  Kokkos::deep_copy(dense_, h);
+}
+
 DenseMatrix BodyOperator::denseMatrix() const {
   if (kind_ != Kind::Dense) return DenseMatrix();
   const int n = static_cast<int>(dense_.extent(0));
@@ -520,6 +530,7 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     M_ = BodyOperator::dense(model.M, n, "epaphe::dynamics::M");
     D_ = BodyOperator::dense(D, n, "epaphe::dynamics::D");
     P_ = BodyOperator::dense(P, n, "epaphe::dynamics::P");
+    pDense_ = P;
   }
   f_ = DenseVector("epaphe::dynamics::f", n);
   Pf_ = DenseVector("epaphe::dynamics::Pf", n);
@@ -622,6 +633,20 @@ const CentralDifference::Residual& CentralDifference::residual(const double* q) 
   blas.GEMV(Teuchos::NO_TRANS, nb, m, -1.0, phiB_.data(), nb, q + nb, 1, 1.0, s.r.data(), 1);     // r = u_b - Phi_b eta
   blas.GEMV(Teuchos::NO_TRANS, nb, nb, 1.0, ginv_.data(), nb, s.r.data(), 1, 0.0, s.z.data(), 1);   // z = G^{-1} r
   return s;
+}
+
+void CentralDifference::setStiffness(const std::vector<double>& K) {
+  const int n = static_cast<int>(f_.extent(0));
+  EPAPHE_REQUIRE(!pDense_.empty() && K.size() == pDense_.size(),
+                 "CentralDifference::setStiffness: a dense reduced model of size " << n << " only (" << K.size()
+                                                                                   << " entries given)");
+  aDense_.resize(K.size());
+  // A = -P K
+  Teuchos::BLAS<int, double> blas;
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, -1.0, pDense_.data(), n, K.data(), n, 0.0, aDense_.data(),
+            n);
+  A_.assignDense(aDense_);
+  K_.assignDense(K);
 }
 
 double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const {

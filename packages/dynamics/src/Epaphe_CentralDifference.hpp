@@ -75,6 +75,8 @@ public:
   /// dgemm, about the cost of one dgemv: 0.63 against 1.15 us for two on 68 x 68, 23 against 39 us
   /// on 419 x 419, OpenBLAS 0.3.21 on this project's machine).
   void apply2(const DenseMatrix& x, const DenseMatrix& y) const;
+  /// A dense operator's entries replaced by `a` (n x n, column-major) in place, nothing allocated.
+  void assignDense(const std::vector<double>& a);
   /// The dense operator, column-major (a copy: it is stored by rows; empty when not dense).
   DenseMatrix denseMatrix() const;
   /// Bytes one apply() reads of the operator's own storage (values and indices).
@@ -144,6 +146,10 @@ public:
   /// q_n (same buffer, not written in between, as in the explicit loop's step) reads it instead of a
   /// second sparse product.
   void predict(const DenseVector& qn, const DenseVector& qnm1, const DenseVector& qstar) const;
+  /// A rotating body whose speed changes (a run-up, Epaphe_RunUp.hpp): K replaced by `K` (n x n,
+  /// column-major) and A = -P K formed again in place. M, D and P, hence the contact flexibility,
+  /// are kept. Dense reduced models (not a massless boundary, not a full model) only.
+  void setStiffness(const std::vector<double>& K);
   /// A constant external force in reduced coordinates (gravity, a static load).
   void setConstantForce(const std::vector<double>& f);
 
@@ -196,6 +202,7 @@ private:
   mutable std::array<Residual, 3> residuals_;
   mutable long long residualUses_ = 0;
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_;
+  std::vector<double> pDense_, aDense_;   // a dense model's P (column-major) and setStiffness()'s -P K
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;
   mutable DenseVector kqn_;                     // lumped mass: K q_n of the last predict()

@@ -37,7 +37,9 @@ void EnergyMonitor::afterCorrect(ExplicitLoop& loop) {
     s.damping += acc.damping[b];
     s.initial += e0_[b];
   }
-  s.balance = (s.total + s.damping - s.contactWork - s.externalWork - s.initial) / std::max(energyRef_, std::abs(s.total));
+  for (double w : acc.driveWork) s.driveWork += w;
+  s.balance = (s.total + s.damping - s.contactWork - s.externalWork - s.driveWork - s.initial) /
+              std::max(energyRef_, std::abs(s.total));
   last_ = s;
   pending_ = true;
 }

@@ -1,10 +1,11 @@
 #pragma once
 // The energy balance of a run as a loop observer (thesis section 2.2): at every output step the
 // kinetic, strain and half-step total energies of the bodies, and the balance
-//   (E_total + damping - contact work - external work - E_0) / max(E_ref, |E_total|),
-// E_ref the sum of the bodies' initial |E_{1/2}|. The run stops (ExplicitLoop::fail) when the
-// solution is no longer finite, when the balance error exceeds its tolerance, or, with penalty
-// contact on still surfaces, when the bodies hold more energy than they were given.
+//   (E_total + damping - contact work - external work - drive work - E_0) / max(E_ref, |E_total|),
+// E_ref the sum of the bodies' initial |E_{1/2}|, the drive work that of a run-up (Epaphe_RunUp.hpp).
+// The run stops (ExplicitLoop::fail) when the solution is no longer finite, when the balance error
+// exceeds its tolerance, or, with penalty contact on still surfaces, when the bodies hold more energy
+// than they were given.
 #include "Epaphe_ExplicitLoop.hpp"
 
 namespace epaphe {
@@ -14,6 +15,7 @@ struct EnergySnapshot {
   long long step = 0;
   double kinetic = 0, strain = 0, total = 0;  // J: sum over the bodies; total = E_{n+1/2}
   double contactWork = 0, externalWork = 0, damping = 0, initial = 0;  // J
+  double driveWork = 0;                                                // J, a run-up's
   double balance = 0;                                                  // relative
 };
 

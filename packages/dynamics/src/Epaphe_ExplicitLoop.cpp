@@ -13,6 +13,7 @@ std::vector<double> LoopAccumulators::values(double time) const {
     v.push_back(damping[b]);
     v.push_back(externalWork[b]);
   }
+  v.insert(v.end(), driveWork.begin(), driveWork.end());
   return v;
 }
 
@@ -23,12 +24,14 @@ std::vector<std::string> LoopAccumulators::names(const std::vector<LoopBody>& bo
     v.push_back(b.name + "/damping");
     v.push_back(b.name + "/external_work");
   }
+  if (std::any_of(bodies.begin(), bodies.end(), [](const LoopBody& b) { return b.driven; }))
+    for (const auto& b : bodies) v.push_back(b.name + "/drive_work");
   return v;
 }
 
 void LoopAccumulators::restore(const std::vector<double>& v, const std::string& what) {
-  EPAPHE_REQUIRE(v.size() == 7 + 2 * damping.size(),
-                 what << " has " << v.size() << " values, " << 7 + 2 * damping.size() << " expected");
+  const std::size_t expected = 7 + 2 * damping.size() + driveWork.size();
+  EPAPHE_REQUIRE(v.size() == expected, what << " has " << v.size() << " values, " << expected << " expected");
   contactWork = v[1];
   firstContact = v[2];
   lastContact = v[3];
@@ -39,6 +42,7 @@ void LoopAccumulators::restore(const std::vector<double>& v, const std::string& 
     damping[b] = v[7 + 2 * b];
     externalWork[b] = v[8 + 2 * b];
   }
+  for (std::size_t b = 0; b < driveWork.size(); ++b) driveWork[b] = v[7 + 2 * damping.size() + b];
 }
 
 ExplicitLoop::ExplicitLoop(std::vector<LoopBody> bodies, double h, long long numSteps, SurfaceContact* contact,
@@ -60,6 +64,8 @@ ExplicitLoop::ExplicitLoop(std::vector<LoopBody> bodies, double h, long long num
   vReady_.assign(bodies_.size(), false);
   acc_.damping.assign(bodies_.size(), 0.0);
   acc_.externalWork.assign(bodies_.size(), 0.0);
+  if (std::any_of(bodies_.begin(), bodies_.end(), [](const LoopBody& b) { return b.driven; }))
+    acc_.driveWork.assign(bodies_.size(), 0.0);
 }
 
 void ExplicitLoop::setFirstStep(long long first) {

@@ -282,7 +282,8 @@ std::vector<double> SpeedParametricModel::frequenciesAt(double speed, int count)
   return f;
 }
 
-ReducedModel SpeedParametricModel::at(double speed, int modes, const std::string& context) const {
+ReducedModel SpeedParametricModel::at(double speed, int modes, const std::string& context,
+                                      std::vector<double>* basis) const {
   const double slack = 1e-9 * (maxSpeed() - minSpeed());
   EPAPHE_REQUIRE(speed >= minSpeed() - slack && speed <= maxSpeed() + slack,
                  context << ": speed " << speed << " rad/s is outside the model's range [" << minSpeed() << ", "
@@ -342,7 +343,26 @@ ReducedModel SpeedParametricModel::at(double speed, int modes, const std::string
   r.staticDisplacement = staticDisplacementAt(speed);
   for (std::size_t a = 0; a < r.coords.size(); ++a)
     for (int d = 0; d < 3; ++d) r.coords[a][d] += r.staticDisplacement[3 * a + d];
+  if (basis) *basis = std::move(Sm);
   return r;
+}
+
+SpeedParametricModel::FixedBasis SpeedParametricModel::onFixedBasis(double speed, int modes,
+                                                                    const std::string& context) const {
+  FixedBasis f;
+  Dense S;
+  f.model = at(speed, modes, context, &S);
+  const int N = base.size, n = f.model.size;
+  Teuchos::BLAS<int, double> blas;
+  Dense CS(static_cast<std::size_t>(N) * n);
+  for (std::size_t k = 0; k <= stiffness.size(); ++k) {
+    const Dense& C = k == 0 ? base.K : stiffness[k - 1];
+    // R_k = S^T C_k S
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, N, n, N, 1.0, C.data(), N, S.data(), N, 0.0, CS.data(), N);
+    f.stiffness.push_back(transposeTimes(S.data(), N, CS.data(), N, N, n, n));
+    symmetrize(f.stiffness.back(), n);
+  }
+  return f;
 }
 
 }  // namespace epaphe

@@ -50,7 +50,18 @@ struct SpeedParametricModel {
   /// The Craig-Bampton model at `speed` with `modes` fixed-interface modes (see above); its coords are
   /// the static position at that speed. An Error names `context` when the speed is outside
   /// [minSpeed, maxSpeed] (by more than 1e-9 of the range) or `modes` exceeds the interior size.
-  ReducedModel at(double speed, int modes, const std::string& context) const;
+  /// `basis`, when given, receives the N x n basis S of that reduction (column-major).
+  ReducedModel at(double speed, int modes, const std::string& context, std::vector<double>* basis = nullptr) const;
+  /// For a run-up: the model at `speed` as at(), and its stiffness over the whole range on that fixed
+  /// basis S, K_r(xi) = sum_k xi^k R_k with R_k = S^T C_k S (R_0 from C_0, the stiffness at rest): the
+  /// same polynomial in xi as the common-basis model, of the run's size, evaluated without a reduction.
+  struct FixedBasis {
+    ReducedModel model;
+    std::vector<std::vector<double>> stiffness;   // R_0 .. R_(S-1), n x n column-major each
+  };
+  FixedBasis onFixedBasis(double speed, int modes, const std::string& context) const;
+  /// xi = (speed / maxSpeed)^2, the variable of the polynomials.
+  double xiOf(double speed) const { return (speed / maxSpeed()) * (speed / maxSpeed()); }
 };
 
 /// Builds the parametric model of `rest` (built-in elements) from Craig-Bampton reductions at

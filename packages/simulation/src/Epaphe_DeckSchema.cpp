@@ -213,6 +213,17 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
   addBool(rot, "Stress stiffening", true, "Keep the geometric stiffness K_sigma of the centrifugal prestress");
   addBool(rot, "Spin softening", true, "Keep -Omega^2 M_perp, the change of the centrifugal load with the "
                                        "displacement, in the static state and in the stiffness");
+  auto& law = rot.sublist("Speed law", false, "A run-up: the body's speed follows a law in time, its model and "
+                                              "static state taken from the parametric model at each speed, and the "
+                                              "turning surfaces follow the same law (docs/user/rotating-bodies.md)");
+  addEnum(law, "Type", "Constant", {"Constant", "Ramp"}, {0, 1},
+          "Constant: the body turns at 'Speed'; Ramp: from 'Start speed' at 'Start time' to 'End speed' at 'End "
+          "time' linearly, constant before and after (needs 'Speed range' holding both speeds, and 'Speed' = "
+          "'Start speed')");
+  addDouble(law, "Start speed", 0.0, "Ramp: the speed (rad/s) up to 'Start time'");
+  addDouble(law, "End speed", 0.0, "Ramp: the speed (rad/s) from 'End time' on");
+  addDouble(law, "Start time", 0.0, "Ramp: when the speed starts to change (s)", 0.0);
+  addDouble(law, "End time", 0.0, "Ramp: when it reaches 'End speed' (s), after 'Start time'", 0.0);
   addReductionParameters(body);
 }
 

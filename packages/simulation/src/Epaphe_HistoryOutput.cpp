@@ -22,6 +22,8 @@ HistoryOutput::HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_p
       kinetic_(file, "/energy/kinetic", {}), strain_(file, "/energy/strain", {}), total_(file, "/energy/total", {}),
       work_(file, "/energy/contact_work", {}), external_(file, "/energy/external_work", {}),
       damping_(file, "/energy/damping", {}), balance_(file, "/energy/balance_error", {}) {
+  if (std::any_of(bodies_.begin(), bodies_.end(), [](const auto& b) { return b->runUp != nullptr; }))
+    drive_ = std::make_unique<io::Series>(file, "/energy/drive_work", std::vector<std::uint64_t>{});
   for (const auto& bp : bodies_) {
     const SceneBody& b = *bp;
     auto r = std::make_unique<BodySeries>();
@@ -83,6 +85,7 @@ HistoryOutput::~HistoryOutput() = default;
 
 std::vector<io::Series*> HistoryOutput::series() {
   std::vector<io::Series*> s = {&time_, &kinetic_, &strain_, &total_, &work_, &external_, &damping_, &balance_};
+  if (drive_) s.push_back(drive_.get());
   for (const auto& r : perBody_) {
     s.push_back(r->momentum.get());
     for (std::size_t w = 0; w < r->disp.size(); ++w) {
@@ -142,6 +145,7 @@ void HistoryOutput::afterCorrect(ExplicitLoop& loop) {
   external_.append(&e.externalWork);
   damping_.append(&e.damping);
   balance_.append(&e.balance);
+  if (drive_) drive_->append(&e.driveWork);
 }
 
 void HistoryOutput::recover(std::size_t ib) {

@@ -31,8 +31,9 @@ std::string retainedSetOf(const SceneBody& b, const ParameterList& rp) {
   return given.empty() ? b.contactSet : given;
 }
 
-void setRotation(ContactSurface& cs, const ParameterList& s, const std::string& origin) {
+void setRotation(ContactSurface& cs, const ParameterList& s, const SpeedLaw& law, const std::string& origin) {
   cs.omega = s.get<double>("Rotation speed");
+  if (law.ramp && cs.omega != 0.0) cs.law = law.scaled(cs.omega > 0 ? 1.0 : -1.0);   // a run-up: checkScene
   cs.phase = s.get<double>("Initial angle") * M_PI / 180.0;
   cs.axis = deck::getVec3(s, "Rotation axis", origin);
   cs.center = deck::getVec3(s, "Rotation center", origin);
@@ -188,7 +189,22 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
   if (!deck::getDoubles(bp.sublist("Rotation"), "Speed range").empty()) {
     // a rotating body over a speed range: its model at the speed, from the parametric model
     const SpeedParametricModel pm = parametricModel(b, bp, key, cacheFile, useCache, rotation);
-    b->rom = pm.at(std::abs(rotation.speed), reductionOptions(rp).modes, ctx);
+    if (const SpeedLaw law = speedLawOf(bp.sublist("Rotation")); law.ramp) {
+      // a run-up: the model at the start speed, and its stiffness over the range on that basis
+      SpeedParametricModel::FixedBasis f = pm.onFixedBasis(law.start, reductionOptions(rp).modes, ctx);
+      b->rom = std::move(f.model);
+      b->runUp = std::make_unique<RunUpModel>();
+      b->runUp->law = law;
+      b->runUp->maxSpeed = pm.maxSpeed();
+      b->runUp->stiffness = std::move(f.stiffness);
+      b->runUp->growth = pm.growth;
+      for (const auto& c : pm.base.coords) b->runUp->restX.insert(b->runUp->restX.end(), c.begin(), c.end());
+      out << "[" << b->name << "] run-up from " << law.start << " rad/s at " << law.t0 << " s to " << law.end
+          << " rad/s at " << law.t1 << " s: the stiffness and static state follow the speed on the basis at "
+          << law.start << " rad/s (refreshed every " << b->runUp->xiStep << " in (Omega/Omega_max)^2)\n";
+    } else {
+      b->rom = pm.at(std::abs(rotation.speed), reductionOptions(rp).modes, ctx);
+    }
     b->rom.speed = rotation.speed;
     out << "[" << b->name << "] " << b->rom.method() << " at " << rotation.speed << " rad/s from the parametric model ("
         << pm.base.size << " DOFs, samples";
@@ -505,6 +521,16 @@ void Scene::checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, c
     // (h omega <= 2). So each penalty spring counts three times in the estimate.
     const double kAdded = (contact_ && copt.method == ContactMethod::Penalty) ? 3.0 * copt.penaltyStiffness : 0.0;
     b->stable = criticalTimeStep(b->rom, contactDofs, kAdded, damping);
+    if (b->runUp) {  // a run-up: the smallest critical step over the ramp's speeds (9 of them, even in xi)
+      const RunUpModel& r = *b->runUp;
+      ReducedModel at = b->rom;
+      const long long l0 = r.level(0.0), l1 = r.level(r.law.t1);
+      for (int k = 0; k <= 8; ++k) {
+        at.K = r.stiffnessAt(l0 + (l1 - l0) * k / 8);
+        const StableStep s = criticalTimeStep(at, contactDofs, kAdded, damping);
+        if (s.critical < b->stable.critical) b->stable = s;
+      }
+    }
     if (h > b->stable.critical) {
       std::ostringstream os;
       os << origin << ": 'Time->Time step' = " << h << " s exceeds the critical step " << b->stable.critical
@@ -581,7 +607,7 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
                                       << "' is clamped; use a rigid surface");
       surfaces_.push_back(std::make_unique<BSplineSurface>(name, g.nu, g.nv, cs.gridX, so));
       cs.surface = cs.moving = surfaces_.back().get();
-      setRotation(cs, s, origin);
+      setRotation(cs, s, runUpOf(P), origin);
       surfaceCarried_.push_back(true);
       contactSurfaces.push_back(std::move(cs));
       continue;
@@ -590,7 +616,7 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
     if (grid.towardsAxis) so.orientation = -so.orientation;
     surfaces_.push_back(std::make_unique<BSplineSurface>(name, grid.nu, grid.nv, grid.points, so));
     ContactSurface cs{surfaces_.back().get(), nullptr, -1, {}, {}};
-    setRotation(cs, s, origin);
+    setRotation(cs, s, runUpOf(P), origin);
     cs.coating = CoatingMaterial::fromParameters(s.sublist("Coating"), origin + ": " + deck::pathOf(s, "Coating"));
     contactSurfaces.push_back(std::move(cs));
     surfaceCarried_.push_back(false);
@@ -621,11 +647,24 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
         nodes.add(node, static_cast<int>(ib), dof, b.rom.coords[node].data());
       }
     b.contactEnd = static_cast<int>(nodes.labels.size());
+    if (b.runUp) {  // its growth and rest positions at its contact nodes only
+      RunUpModel& r = *b.runUp;
+      auto pick = [&](const std::vector<double>& all) {
+        std::vector<double> v;
+        if (!contactSurfaces.empty())
+          for (int node : b.contactNodes) v.insert(v.end(), all.begin() + 3 * node, all.begin() + 3 * node + 3);
+        return v;
+      };
+      for (auto& g : r.growth) g = pick(g);
+      r.restX = pick(r.restX);
+      r.contactBegin = b.contactBegin;
+    }
   }
   if (nodes.labels.empty()) return carriedDofs;
   // the system flexibility: block diagonal, one block per body (dense, or diagonal for a full body)
   Flexibility flexibility;
   for (const auto& b : bodies_) flexibility.append(b->integrator->flexibility());
+  contactX_ = nodes.X;
   contact_ = std::make_unique<SurfaceContact>(std::move(nodes), std::move(contactSurfaces), blocks, copt, flexibility);
   return carriedDofs;
 }

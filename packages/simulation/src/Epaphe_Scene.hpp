@@ -48,6 +48,8 @@ public:
   int systemSize() const { return systemSize_; }
   /// Null without contact nodes or surfaces.
   SurfaceContact* contact() const { return contact_.get(); }
+  /// The contact nodes' reference positions at the start (3 per node, the contact's order).
+  const std::vector<double>& contactPositions() const { return contactX_; }
   const ContactGuards* guards() const { return guards_.get(); }
   const SetupReport& report() const { return report_; }
 
@@ -78,6 +80,7 @@ private:
   std::vector<bool> surfaceCarried_;
   int systemSize_ = 0;  // all bodies' reduced coordinates, stacked
   std::unique_ptr<SurfaceContact> contact_;
+  std::vector<double> contactX_;
   std::unique_ptr<ContactGuards> guards_;
   SetupReport report_;
 };

@@ -5,6 +5,7 @@
 #include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_ReducedModel.hpp"
+#include "Epaphe_RunUp.hpp"
 
 #include <memory>
 #include <string>
@@ -48,6 +49,9 @@ struct SceneBody {
   std::unique_ptr<CentralDifference> integrator;
   int offset = 0;                        // its block of the system coordinates
   int contactBegin = 0, contactEnd = 0;  // its nodes in the contact order
+  /// A run-up ('Rotation->Speed law' Ramp): its stiffness and static state over the speeds (null: none).
+  /// Until the contact is built, its growth and restX hold every node of rom; then its contact nodes.
+  std::unique_ptr<RunUpModel> runUp;
 };
 
 }  // namespace epaphe

@@ -330,6 +330,65 @@ double fastestRotation(const ParameterList& P) {
   return omega;
 }
 
+SpeedLaw speedLawOf(const ParameterList& rotation) {
+  SpeedLaw law;
+  const ParameterList& l = rotation.sublist("Speed law");
+  law.start = law.end = rotation.get<double>("Speed");
+  if (l.get<std::string>("Type") != "Ramp") return law;
+  law.ramp = true;
+  law.start = l.get<double>("Start speed");
+  law.end = l.get<double>("End speed");
+  law.t0 = l.get<double>("Start time");
+  law.t1 = l.get<double>("End time");
+  return law;
+}
+
+SpeedLaw runUpOf(const ParameterList& P) {
+  const ParameterList& bl = P.sublist("Bodies");
+  for (auto it = bl.begin(); it != bl.end(); ++it)
+    if (const SpeedLaw law = speedLawOf(bl.sublist(bl.name(it)).sublist("Rotation")); law.ramp) return law;
+  return SpeedLaw{};
+}
+
+namespace {
+
+/// A run-up (a 'Speed law' of Type Ramp): on a body with a speed range that holds it, starting at the
+/// body's 'Speed' (> 0), one driven body, and every turning surface at the start speed (it then turns
+/// with the law, its sense kept: the law is the one source of the speed).
+void checkRunUp(const ParameterList& P, const std::string& origin) {
+  const ParameterList& bl = P.sublist("Bodies");
+  int driven = 0;
+  for (auto it = bl.begin(); it != bl.end(); ++it) {
+    const ParameterList& rot = bl.sublist(bl.name(it)).sublist("Rotation");
+    const SpeedLaw law = speedLawOf(rot);
+    if (!law.ramp) continue;
+    const std::string ctx = origin + ": body '" + bl.name(it) + "', Rotation->Speed law (Type Ramp)";
+    const auto range = deck::getDoubles(rot, "Speed range");
+    EPAPHE_REQUIRE(!range.empty(), ctx << ": a run-up needs a rotating body with a 'Speed range' (its model at "
+                                          "each speed comes from the parametric model over the range); give "
+                                          "'Rotation->Speed range' = {min, max} holding the start and end speeds, "
+                                          "and 'Rotation->Speed' = 'Start speed'");
+    EPAPHE_REQUIRE(law.start > 0 && law.start >= range[0] && law.start <= range[1] && law.end >= range[0] &&
+                       law.end <= range[1] && law.t1 > law.t0 && rot.get<double>("Speed") == law.start,
+                   ctx << ": Start speed " << law.start << ", End speed " << law.end << " rad/s, Start time "
+                       << law.t0 << ", End time " << law.t1 << " s, Speed " << rot.get<double>("Speed")
+                       << " rad/s: a ramp needs 0 < Start speed = Speed, both speeds inside 'Speed range' {"
+                       << range[0] << ", " << range[1] << "} and End time > Start time");
+    ++driven;
+    for (const auto& s : P.sublist("Surfaces")) {
+      const double w = P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed");
+      EPAPHE_REQUIRE(w == 0.0 || std::abs(w) == law.start,
+                     origin << ": surface '" << s.first << "' turns at " << w << " rad/s but the run-up of body '"
+                            << bl.name(it) << "' starts at " << law.start << " rad/s; a turning surface follows "
+                            << "the run-up's law, so give it 'Rotation speed' = +/- the 'Start speed'");
+    }
+  }
+  EPAPHE_REQUIRE(driven <= 1, origin << ": " << driven << " bodies have a 'Speed law' of Type Ramp; the turning "
+                                         "surfaces follow one law, so give one body the ramp");
+}
+
+}  // namespace
+
 long long numberOfSteps(const ParameterList& P, const std::string& origin) {
   const ParameterList& tp = P.sublist("Time");
   const double h = tp.get<double>("Time step");
@@ -386,6 +445,7 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
     }
   }
   checkBodyFacesNotOwnContact(P, origin);
+  checkRunUp(P, origin);
   // The files the run creates: the history, and each reduced-model cache.
   if (!restart) io::Hdf5File::checkCreatable(outputPath);
   for (auto it = bl.begin(); it != bl.end(); ++it) {

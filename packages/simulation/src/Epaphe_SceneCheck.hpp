@@ -7,6 +7,7 @@
 // is checked in the setup only: the critical time step (the reduced model's highest frequency),
 // gravity on a held imported model, bodies that start inside a surface, a step longer than a
 // surface patch (tests/badinput/check_bad_decks.py lists them).
+#include "Epaphe_SpeedLaw.hpp"
 #include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_DeckSchema.hpp"
 
@@ -24,6 +25,10 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart);
 
 /// |Rotation speed| of the fastest turning surface of the deck (rad/s), 0 when none turns.
 double fastestRotation(const Teuchos::ParameterList& deck);
+/// A body's 'Rotation->Speed law' (ramp = false: constant at 'Speed'), checked by checkScene.
+SpeedLaw speedLawOf(const Teuchos::ParameterList& rotation);
+/// The run-up of the deck: the speed law of its driven body (ramp = false: none).
+SpeedLaw runUpOf(const Teuchos::ParameterList& deck);
 /// The run's number of steps: 'Time->End time', or 'End revolutions' of the fastest turning surface
 /// (an Error when none turns).
 long long numberOfSteps(const Teuchos::ParameterList& deck, const std::string& origin);

@@ -98,7 +98,12 @@ const RunSummary& Simulation::run() {
   SurfaceContact* contact = scene_->contact();
 
   std::vector<LoopBody> loopBodies;
-  for (const auto& b : bodies) loopBodies.push_back({b->name, b->integrator.get(), b->offset, b->rom.size});
+  std::vector<RunUp::Driven> driven;
+  for (std::size_t ib = 0; ib < bodies.size(); ++ib) {
+    const auto& b = bodies[ib];
+    loopBodies.push_back({b->name, b->integrator.get(), b->offset, b->rom.size, b->runUp != nullptr});
+    if (b->runUp) driven.push_back({ib, b->integrator.get(), b->runUp.get()});
+  }
   ExplicitLoop loop(loopBodies, h, nSteps, contact, scene_->guards(), summary_.cost, rt_.out());
   // q_0 = 0, q_{-1} = q_0 - h v_0 + h^2/2 a_0, a_0 = M^{-1} f (gravity; K q_0 = 0, no contact
   // force yet): a uniform acceleration is then integrated exactly, q_n = h n v_0 + (h n)^2/2 a_0
@@ -112,6 +117,9 @@ const RunSummary& Simulation::run() {
   // Penalty: stable springs only give back what they hold, so the bodies' energy can never exceed
   // what they were given (initial, external work, the springs compressed by initial penetrations).
   // (Not with a turning surface: a moving casing does work on the bodies.)
+  // a run-up puts its bodies at their start before the energy monitor takes E_0
+  std::unique_ptr<RunUp> runUp;
+  if (!driven.empty()) runUp = std::make_unique<RunUp>(driven, contact, scene_->contactPositions());
   const bool penalty = contact && fastestRotation(P) == 0.0 &&
                        deck::getEnum<ContactMethod>(P.sublist("Contact"), "Method") == ContactMethod::Penalty;
   EnergyMonitor monitor(loop, {O.get<int>("Every"), O.get<double>("Energy balance tolerance"),
@@ -135,8 +143,8 @@ const RunSummary& Simulation::run() {
                           coating ? coating->series() : std::vector<io::Series*>{});
   StopControl stop(stopAfterSteps_, "continue with epaphe-run " + deck_.origin + " --restart " + output_);
   ProgressReport progress(P.sublist("Run").get<double>("Progress interval"));
-  for (LoopObserver* o : std::initializer_list<LoopObserver*>{&monitor, &history, coating.get(), fields.get(), &stop,
-                                                               &checkpoints, &progress})
+  for (LoopObserver* o : std::initializer_list<LoopObserver*>{runUp.get(), &monitor, &history, coating.get(),
+                                                               fields.get(), &stop, &checkpoints, &progress})
     if (o != nullptr) loop.addObserver(o);
 
   if (fresh) {
@@ -161,6 +169,7 @@ const RunSummary& Simulation::run() {
     throw;
   }
   summary_.totals = loop.accumulators();
+  if (runUp) rt_.out() << "run-up: " << runUp->refreshes() << " stiffness refreshes\n";
   if (coating) summary_.coating = coating->summary();
   summary_.checkpoints = checkpoints.count();
   summary_.checkpointSeconds = checkpoints.seconds();
