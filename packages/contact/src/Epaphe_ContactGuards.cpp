@@ -109,8 +109,14 @@ std::string ContactGuards::checkStep(const SurfaceContact& contact, const DenseV
      << (b >= 0 && b < static_cast<int>(bodies_.size()) ? bodies_[b] : std::string("?")) << "' moved "
      << std::sqrt(worst) << " m in the step ending at t = " << t + h << " s (" << std::sqrt(worst) / h
      << " m/s), more than the smallest patch of the contact surfaces (" << L << " m, surface '"
-     << surfaceName(contact, contact.detection().smallestPatchSurface())
-     << "'): contact may be missed between two steps (tunnelling). Use a smaller 'Time->Time step' (<= "
+     << surfaceName(contact, contact.detection().smallestPatchSurface()) << "')";
+  if (contact.force()(kw) > 0.0) {  // pressed on a surface: not a node flying past it
+    os << " while pressed on surface '" << surfaceName(contact, contact.surfaceIndex()(kw)) << "' (force "
+       << contact.force()(kw) << " N, " << contact.numActive() <<  " node(s) in contact): the motion diverges in "
+       << "contact, no node flew past a surface";
+    return os.str();
+  }
+  os << ": contact may be missed between two steps (tunnelling). Use a smaller 'Time->Time step' (<= "
      << 0.5 * h * L / std::sqrt(worst) << " s at this speed), or set 'Contact->Allow large motion per step' = true";
   return os.str();
 }

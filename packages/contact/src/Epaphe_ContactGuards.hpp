@@ -72,7 +72,10 @@ public:
   PenetrationReport checkInitialPenetration(SurfaceContact& contact, const DenseVector& q0, double h,
                                             CostSplit& cost) const;
   /// Each step: the largest motion of a contact node from qOld to qNew. Returns a message naming
-  /// the node, its body, its motion and the bound when it exceeds L, "" otherwise.
+  /// the node, its body, its motion and the bound when it exceeds L, "" otherwise. A node in free
+  /// flight gets the tunnelling message (and a smaller step to use); a node pressed on a surface
+  /// (its force of this step's correction > 0) is no tunnelling: the message says so and gives no
+  /// step, the run's diagnosis (Epaphe_Divergence.hpp) tells why the motion diverges.
   std::string checkStep(const SurfaceContact& contact, const DenseVector& qNew, const DenseVector& qOld, double t,
                         double h) const;
 

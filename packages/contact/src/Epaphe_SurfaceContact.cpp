@@ -900,6 +900,27 @@ double SurfaceContact::workIncrement(const DenseVector& qNext, const DenseVector
   return w;
 }
 
+std::array<double, 2> SurfaceContact::workIncrementSplit(const DenseVector& qNext, const DenseVector& qPrev) const {
+  double friction = 0.0;
+  if (numActive_ == 0) return {0.0, 0.0};
+  const auto mu = mu_;
+  const auto tangent = tangent_;
+  const auto force = force_;
+  const RelativeMotion D{entDof_, entW_, entN_, entRot_};
+  const Difference<DenseVector> dq{qNext, qPrev};
+  reduce(
+      "epaphe::contact::friction_work", numNodes(), 10,
+      KOKKOS_LAMBDA(const int k, double& s) {
+        const double l = force(k);
+        if (l == 0.0) return;
+        double r[3];
+        D.apply(k, dq, r);
+        for (int d = 0; d < 3; ++d) s += 0.5 * l * mu(k) * tangent(k, d) * r[d];
+      },
+      Kokkos::Sum<double>(friction));
+  return {workIncrement(qNext, qPrev) - friction, friction};
+}
+
 double SurfaceContact::totalForce() const {
   double s = 0;
   for (int k = 0; k < numNodes(); ++k) s += forceH_(k);

@@ -92,6 +92,26 @@ TEST(ContactGuards, AStepMovingANodeFartherThanAPatchIsReported) {
   const std::string m = g.checkStep(c, q1, q0, 0.0, kH);
   EXPECT_NE(m.find("contact node 12 of body 'Bar' moved"), std::string::npos) << m;
   EXPECT_NE(m.find("tunnelling"), std::string::npos) << m;
+  EXPECT_NE(m.find("Use a smaller 'Time->Time step'"), std::string::npos) << m;
+}
+
+// A node that moves more than a patch while pressed on the surface is not tunnelling: the message
+// says so and advises no step (the run's diagnosis tells why its motion diverges).
+TEST(ContactGuards, AFastNodeInContactIsNotCalledTunnelling) {
+  Scene s({0.5, 0.5, -0.01});  // node 12 inside the floor
+  SurfaceContact c = s.make();
+  const ContactGuards g({}, {"Bar"}, "deck.xml");
+  DenseVector q0("q0", 9), q1("q1", 9);
+  CostSplit cost;
+  c.correct(q0, cost);
+  ASSERT_GT(c.force()(2), 0.0);
+  q1(7) = -0.8 * kL;  // node 12: |(0, 0.8, 0.8)| L > L
+  q1(8) = 0.8 * kL;
+  const std::string m = g.checkStep(c, q1, q0, 0.0, kH);
+  EXPECT_NE(m.find("contact node 12 of body 'Bar' moved"), std::string::npos) << m;
+  EXPECT_NE(m.find("while pressed on surface 'floor'"), std::string::npos) << m;
+  EXPECT_EQ(m.find("tunnelling"), std::string::npos) << m;
+  EXPECT_EQ(m.find("Time step"), std::string::npos) << m;
 }
 
 TEST(ContactGuards, BodiesThatStartInsideASurfaceAreRefusedWithTheDeepestNode) {

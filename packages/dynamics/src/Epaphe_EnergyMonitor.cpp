@@ -41,6 +41,8 @@ void EnergyMonitor::afterCorrect(ExplicitLoop& loop) {
   s.balance = (s.total + s.damping - s.contactWork - s.externalWork - s.driveWork - s.initial) /
               std::max(energyRef_, std::abs(s.total));
   last_ = s;
+  recent_.push_back(s);
+  if (recent_.size() > 32) recent_.pop_front();
   pending_ = true;
 }
 
@@ -76,6 +78,49 @@ void EnergyMonitor::endStep(ExplicitLoop& loop) {
        << " J, contact work " << s.contactWork << " J, damping " << s.damping << " J, initial " << s.initial << " J)";
     loop.fail(os.str());
   }
+}
+
+}  // namespace epaphe
+
+namespace epaphe {
+
+std::string EnergyGrowth::source() const {
+  const double gain = e1 - e0;
+  if (contactWork >= 0.5 * gain) return "contact work";
+  if (externalWork >= 0.5 * gain) return "external work";
+  return "the integrator";
+}
+
+EnergyGrowth EnergyMonitor::growth() const {
+  EnergyGrowth g;
+  if (recent_.empty()) return g;
+  auto energy = [](const EnergySnapshot& s) { return s.kinetic + s.strain; };
+  // the rise: from the kept record of least positive energy to the last, which must be the largest
+  std::size_t first = recent_.size() - 1;
+  bool largest = true;
+  for (std::size_t i = 0; i + 1 < recent_.size(); ++i) {
+    const double e = energy(recent_[i]);
+    largest = largest && !(e > energy(recent_.back()));
+    if (e > 0 && (first == recent_.size() - 1 || e < energy(recent_[first]))) first = i;
+  }
+  const EnergySnapshot &a = recent_[first], &b = recent_.back();
+  g.records = static_cast<int>(recent_.size() - first);
+  g.t0 = a.time;
+  g.t1 = b.time;
+  g.e0 = energy(a);
+  g.e1 = energy(b);
+  g.contactWork = b.contactWork - a.contactWork;
+  g.externalWork = b.externalWork - a.externalWork;
+  g.damping = b.damping - a.damping;
+  g.total = b.total - a.total;
+  g.balance = b.balance;
+  const bool finite = std::isfinite(g.e1) && std::isfinite(b.total);
+  // the current rate: over the last 4 records of the rise (its start may not grow exponentially)
+  const EnergySnapshot& c = recent_[std::max(first, recent_.size() - 4)];
+  if (g.records >= 2 && energy(c) > 0 && finite && g.e1 > energy(c))
+    g.efolding = (g.t1 - c.time) / std::log(g.e1 / energy(c));
+  g.unbounded = !finite || (largest && g.records >= 4 && g.e0 > 0 && g.e1 >= M_E * g.e0);
+  return g;
 }
 
 }  // namespace epaphe

@@ -8,6 +8,9 @@
 // than they were given.
 #include "Epaphe_ExplicitLoop.hpp"
 
+#include <deque>
+#include <string>
+
 namespace epaphe {
 
 struct EnergySnapshot {
@@ -17,6 +20,25 @@ struct EnergySnapshot {
   double contactWork = 0, externalWork = 0, damping = 0, initial = 0;  // J
   double driveWork = 0;                                                // J, a run-up's
   double balance = 0;                                                  // relative
+};
+
+/// How the bodies' energy E = kinetic + strain grew over the last records (EnergyMonitor::growth).
+/// It grows without bound when, over the kept records, the last is the largest and at least e times
+/// the least positive one, at least 4 records before it (the rise), or when it is no longer finite.
+/// `efolding`: dt / ln(E1 / E) over the last 4 records of the rise (the current rate).
+/// The energy came from the work of the contact forces, the external forces, or neither: the
+/// integrator itself (its balance error, or the half-step energy E_{n+1/2} held while kinetic and
+/// strain energies grow, which an unstable step does).
+struct EnergyGrowth {
+  bool unbounded = false;
+  int records = 0;                 // records of the rise
+  double t0 = 0, t1 = 0;           // s
+  double e0 = 0, e1 = 0;           // J, kinetic + strain
+  double efolding = 0;             // s
+  double contactWork = 0, externalWork = 0, damping = 0, total = 0;  // J, changes over the rise
+  double balance = 0;              // relative balance error at the last record
+  /// "contact work", "external work" or "the integrator"
+  std::string source() const;
 };
 
 struct EnergyMonitorOptions {
@@ -37,6 +59,8 @@ public:
   }
   /// The last measurement (valid from afterCorrect of a measured step).
   const EnergySnapshot& last() const { return last_; }
+  /// How the energy grew over the last records this run measured (at most 32 are kept).
+  EnergyGrowth growth() const;
   double reference() const { return energyRef_; }
 
   void afterCorrect(ExplicitLoop& loop) override;
@@ -47,6 +71,7 @@ private:
   std::vector<double> e0_;
   double energyRef_ = 0, springEnergy0_ = 0;
   EnergySnapshot last_;
+  std::deque<EnergySnapshot> recent_;
   bool pending_ = false;
 };
 

@@ -43,6 +43,10 @@ void addRunParameters(Teuchos::ParameterList& pl) {
                             "slower than 1; they pay off where a step has much contact work (the cube between two "
                             "flexible rings: 1.5x)", 0, 1024);
   addDouble(run, "Progress interval", 2.0, "Wall-clock seconds between progress lines (0: none)", 0.0);
+  addBool(run, "Divergence step check", true, "When a run stops with its energy growing without bound, run the deck "
+                                              "again at half the time step up to twice the stop time (one MPI rank, "
+                                              "a scratch output) and say whether the step changes the divergence "
+                                              "(docs/user/divergence.md)");
 }
 
 /// Bodies-><name>->Mesh: the body's finite-element mesh (built-in or imported).

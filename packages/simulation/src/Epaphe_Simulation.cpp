@@ -164,9 +164,12 @@ const RunSummary& Simulation::run() {
   try {
     complete = loop.run();
   } catch (const Error& e) {
-    summary_.status = std::string("stopped: ") + e.what();
+    summary_.stopTime = loop.time();
+    const std::string diagnosis = diagnoseDivergence(loop, monitor.growth(), h);
+    summary_.status = std::string("stopped: ") + e.what() + (diagnosis.empty() ? "" : ". Diagnosis: " + diagnosis);
     history.completeRecords();  // every series as long as /time, as when an observer fails the run
-    throw;
+    if (diagnosis.empty()) throw;
+    throw Error(std::string(e.what()) + ". Diagnosis: " + diagnosis);
   }
   summary_.totals = loop.accumulators();
   if (runUp) rt_.out() << "run-up: " << runUp->refreshes() << " stiffness refreshes\n";

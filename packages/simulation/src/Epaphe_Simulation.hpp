@@ -28,6 +28,7 @@
 #include "Epaphe_ContactGuards.hpp"
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_DeckSchema.hpp"
+#include "Epaphe_EnergyMonitor.hpp"
 #include "Epaphe_ExplicitLoop.hpp"
 #include "Epaphe_Hdf5File.hpp"
 #include "Epaphe_Runtime.hpp"
@@ -57,6 +58,7 @@ struct RunSummary {
   int stopSignal = 0;                // SIGINT or SIGTERM when interrupted
   bool stoppedEarly = false;         // interrupted, or stopped by setStopAfterSteps
   std::vector<std::string> coating;  // per coated surface: wear, dissipation, lobes (complete runs)
+  double stopTime = -1;              // s: the time of the step an error stopped (-1: none)
 };
 
 class Simulation {
@@ -90,6 +92,11 @@ private:
   // The steps of run().
   io::Hdf5File openOutput(double h) const;
   void writeRunFigures(io::Hdf5File& file, const ExplicitLoop& loop, const KernelCounter* kernels);
+  // A run stopped by an error: why its motion diverged (Epaphe_DivergenceCheck.cpp), "" when its
+  // energy did not grow without bound.
+  std::string diagnoseDivergence(const ExplicitLoop& loop, const EnergyGrowth& growth, double h) const;
+  // The deck at h/2 up to tEnd: the time it stopped at, or a negative value when it reached tEnd.
+  double rerunAtHalfStep(double h, double tEnd) const;
   Deck deck_;
   const Runtime& rt_;
   std::string output_;
