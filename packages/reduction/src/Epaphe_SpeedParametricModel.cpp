@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace epaphe {
 
@@ -34,19 +35,25 @@ void symmetrize(Dense& A, int n) {
     }
 }
 
-/// T^T A T (N x N, on every rank) for the basis T over A's rows.
-Dense project(const CrsMatrix& A, const MultiVector& T) {
-  MultiVector X(T.getMap(), T.getNumVectors());
-  A.apply(T, X);
-  const int N = static_cast<int>(T.getNumVectors());
+/// T^T X (columns of T x columns of X, on every rank) for distributed T and X on one map.
+Dense transposeTimesDistributed(const MultiVector& T, const MultiVector& X) {
+  const int N = static_cast<int>(T.getNumVectors()), q = static_cast<int>(X.getNumVectors());
   const int m = static_cast<int>(T.getLocalLength());
   auto t = T.getLocalViewHost(Tpetra::Access::ReadOnly);
   auto x = X.getLocalViewHost(Tpetra::Access::ReadOnly);
   const int ldt = m > 0 ? static_cast<int>(t.stride(1)) : 1, ldx = m > 0 ? static_cast<int>(x.stride(1)) : 1;
-  Dense local = transposeTimes(t.data(), std::max(ldt, 1), x.data(), std::max(ldx, 1), m, N, N), global(local.size());
+  Dense local = transposeTimes(t.data(), std::max(ldt, 1), x.data(), std::max(ldx, 1), m, N, q), global(local.size());
   Teuchos::reduceAll(*T.getMap()->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(),
                      global.data());
-  symmetrize(global, N);
+  return global;
+}
+
+/// T^T A T (N x N, on every rank) for the basis T over A's rows.
+Dense project(const CrsMatrix& A, const MultiVector& T) {
+  MultiVector X(T.getMap(), T.getNumVectors());
+  A.apply(T, X);
+  Dense global = transposeTimesDistributed(T, X);
+  symmetrize(global, static_cast<int>(T.getNumVectors()));
   return global;
 }
 
@@ -109,6 +116,136 @@ std::vector<double> sampleSpeeds(double minSpeed, double maxSpeed, int count) {
   return s;
 }
 
+namespace {
+
+/// The samples of a parametric model: the static state and one reduction at each speed (ascending).
+struct Samples {
+  std::vector<ReducedModel> red;
+  std::vector<Dense> grow;                           // u_s, 3 per node
+  std::vector<Teuchos::RCP<const CrsMatrix>> K;      // K(Omega_s) of the full model
+  StaticState staticState = StaticState::Linear;
+  ReductionReport rep;
+};
+
+using Reduce = std::function<ReducedModel(const FullModel&, ReductionReport*)>;
+
+/// One model at speed (from the source, fastest first) and one reduction (`reduce`) per sample speed.
+Samples reduceAtSamples(SpeedSampleSource& source, std::vector<double>& speeds, const Reduce& reduce) {
+  const FullModel& rest = source.reference();
+  std::sort(speeds.begin(), speeds.end());
+  EPAPHE_REQUIRE(speeds.size() >= 2 && std::adjacent_find(speeds.begin(), speeds.end()) == speeds.end() &&
+                     speeds.front() >= 0,
+                 "body '" << rest.name << "': a parametric model needs 2 or more distinct sample speeds >= 0");
+  const int S = static_cast<int>(speeds.size());
+  const std::size_t rows = rest.eq.size();
+  Samples out;
+  out.red.resize(static_cast<std::size_t>(S));
+  out.grow.resize(static_cast<std::size_t>(S));
+  out.K.resize(static_cast<std::size_t>(S));
+  for (int s = S - 1; s >= 0; --s) {
+    SpeedSample at = source.sample(speeds[s]);
+    EPAPHE_REQUIRE(at.staticDisplacement.size() == rows && at.model.eq == rest.eq,
+                   "body '" << rest.name << "': the model at " << speeds[s] << " rad/s has "
+                            << at.staticDisplacement.size() / 3 << " nodes or another DOF numbering than the model at "
+                            << "the reference speed; every sample speed must number the same DOFs");
+    out.grow[s] = std::move(at.staticDisplacement);
+    ReductionReport r;
+    out.red[s] = reduce(at.model, &r);
+    out.K[s] = at.model.K;
+    out.rep.factorSeconds += r.factorSeconds;
+    out.rep.constraintSeconds += r.constraintSeconds;
+    out.rep.eigenSeconds += r.eigenSeconds + at.seconds;
+    out.rep.retainedDofs = r.retainedDofs;
+    out.rep.condensedDofs = r.condensedDofs;
+  }
+  out.staticState = source.staticState();
+  return out;
+}
+
+/// Y (rows x cols, column-major) overwritten by its left singular vectors (LAPACK dgesvd): an
+/// orthonormal basis of its columns' span. Returns how many to keep: those whose singular value is
+/// above 1e-8 of the largest. An SVD of Y, not the eigenvectors of Y^T Y: the small singular values
+/// carry the boundary-dominated modes and must not be squared into round-off.
+int orthonormalise(Dense& Y, int rows, int cols, const std::string& body) {
+  if (cols == 0) return 0;
+  std::vector<double> sigma(static_cast<std::size_t>(cols));
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  double query = 0, unused = 0;
+  lapack.GESVD('O', 'N', rows, cols, Y.data(), rows, sigma.data(), nullptr, 1, nullptr, 1, &query, -1, nullptr, &info);
+  Dense work(static_cast<std::size_t>(query));
+  lapack.GESVD('O', 'N', rows, cols, Y.data(), rows, sigma.data(), nullptr, 1, nullptr, 1, work.data(),
+               static_cast<int>(work.size()), &unused, &info);
+  EPAPHE_REQUIRE(info == 0, "body '" << body << "': the SVD of the parametric model's basis vectors failed "
+                                     << "(LAPACK dgesvd info " << info << ")");
+  int r = 0;
+  while (r < cols && sigma[r] > 1e-8 * sigma[0]) ++r;  // descending
+  return r;
+}
+
+/// The model on the common basis T = p.base.recovery (rows x N, row-major): T^T M T, and the
+/// coefficients of T^T K(Omega) T and u_s(Omega) as polynomials in xi = (Omega / Omega_max)^2
+/// through the samples.
+void interpolate(SpeedParametricModel& p, const FullModel& rest, const Samples& samples) {
+  const int N = p.base.size, S = static_cast<int>(p.speeds.size());
+  const std::size_t rows = rest.eq.size();
+  const Dense& T = p.base.recovery;
+  const auto map = rest.K->getRowMap();
+  MultiVector Tf(map, static_cast<std::size_t>(N));
+  {
+    auto t = Tf.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (std::size_t i = 0; i < rows; ++i) {
+      const int g = rest.eq[i];
+      if (g < 0 || !map->isNodeGlobalElement(g)) continue;
+      const LO l = map->getLocalElement(g);
+      for (int j = 0; j < N; ++j) t(l, j) = T[i * N + j];
+    }
+  }
+  std::vector<Dense> Ks(static_cast<std::size_t>(S));
+  for (int s = 0; s < S; ++s) Ks[s] = project(*samples.K[s], Tf);
+  p.base.M = project(*rest.M, Tf);
+  std::vector<double> xi;
+  for (double w : p.speeds) xi.push_back((w / p.speeds.back()) * (w / p.speeds.back()));
+  const Dense X = vandermondeInverse(xi);
+  auto coefficient = [&](const std::vector<Dense>& y, int k) {
+    Dense c(y[0].size(), 0.0);
+    for (int s = 0; s < S; ++s) {
+      const double w = X[static_cast<std::size_t>(s) * S + k];
+      for (std::size_t i = 0; i < c.size(); ++i) c[i] += w * y[s][i];
+    }
+    return c;
+  };
+  p.base.K = coefficient(Ks, 0);
+  p.stiffness.clear();
+  p.growth.clear();
+  for (int k = 1; k < S; ++k) p.stiffness.push_back(coefficient(Ks, k));
+  for (int k = 0; k < S; ++k) p.growth.push_back(coefficient(samples.grow, k));
+}
+
+/// A parametric model's fields common to both methods, from the first sample's reduction.
+SpeedParametricModel shell(const FullModel& rest, const Samples& samples, const std::vector<double>& speeds, int nR,
+                           int N) {
+  SpeedParametricModel p;
+  p.speeds = speeds;
+  p.staticState = samples.staticState;
+  p.boundarySize = nR;
+  p.base = samples.red[0];
+  p.base.name = rest.name;
+  p.base.coords = rest.mesh.coords;
+  p.base.size = N;
+  p.base.numModes = N - nR;
+  p.base.modeFrequencies.clear();
+  p.base.fullFrequencies.clear();
+  p.base.staticDisplacement.clear();
+  p.base.boundaryModes.clear();
+  p.base.residualFlexibility.clear();
+  p.base.speed = 0;
+  p.base.recovery.assign(rest.eq.size() * static_cast<std::size_t>(N), 0.0);
+  return p;
+}
+
+}  // namespace
+
 SpeedParametricModel parametricCraigBampton(const FullModel& rest, const std::vector<int>& retained,
                                             const CraigBamptonOptions& options, const RotationOptions& rotation,
                                             std::vector<double> speeds, ReductionReport* report) {
@@ -121,48 +258,23 @@ SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std
                                             ReductionReport* report) {
   Stopwatch total;
   const FullModel& rest = source.reference();
-  std::sort(speeds.begin(), speeds.end());
-  EPAPHE_REQUIRE(speeds.size() >= 2 && std::adjacent_find(speeds.begin(), speeds.end()) == speeds.end() &&
-                     speeds.front() >= 0,
-                 "body '" << rest.name << "': a parametric model needs 2 or more distinct sample speeds >= 0");
+  CraigBamptonOptions co = options;
+  co.checkFrequencies = 0;
+  co.basisOnly = true;
+  Samples samples = reduceAtSamples(source, speeds, [&](const FullModel& at, ReductionReport* r) {
+    return craigBampton(at, retained, co, r);
+  });
+  const std::vector<ReducedModel>& red = samples.red;
   const int S = static_cast<int>(speeds.size());
   const std::size_t rows = rest.eq.size();  // 3 per node
-
-  // One model at speed (from the source, fastest first) and one Craig-Bampton reduction per sample.
-  std::vector<ReducedModel> red(static_cast<std::size_t>(S));
-  std::vector<Dense> grow(static_cast<std::size_t>(S));
-  std::vector<Teuchos::RCP<const CrsMatrix>> K(static_cast<std::size_t>(S));
-  ReductionReport rep;
-  for (int s = S - 1; s >= 0; --s) {
-    SpeedSample at = source.sample(speeds[s]);
-    EPAPHE_REQUIRE(at.staticDisplacement.size() == rows && at.model.eq == rest.eq,
-                   "body '" << rest.name << "': the model at " << speeds[s] << " rad/s has "
-                            << at.staticDisplacement.size() / 3 << " nodes or another DOF numbering than the model at "
-                            << "the reference speed; every sample speed must number the same DOFs");
-    grow[s] = std::move(at.staticDisplacement);
-    ReductionReport r;
-    CraigBamptonOptions co = options;
-    co.checkFrequencies = 0;
-    co.basisOnly = true;
-    red[s] = craigBampton(at.model, retained, co, &r);
-    K[s] = at.model.K;
-    rep.factorSeconds += r.factorSeconds;
-    rep.constraintSeconds += r.constraintSeconds;
-    rep.eigenSeconds += r.eigenSeconds + at.seconds;
-    rep.retainedDofs = r.retainedDofs;
-    rep.condensedDofs = r.condensedDofs;
-  }
   const int nR = red[0].size - red[0].numModes, modes = red[0].numModes;
 
   // Interior vectors (zero on the retained DOFs): the fixed-interface modes scaled to unit length, the
   // constraint-mode changes Psi_s - Psi_1 scaled by the length of Psi_1's column (a change is measured
-  // against the mode it changes), then an orthonormal basis of their span: the left singular vectors
-  // of their matrix Y (LAPACK dgesvd), those whose singular value is below 1e-8 of the largest dropped
-  // (a constraint mode is then in the span to 1e-8 of its length; the frequencies at the samples stay
-  // within 2e-9 of the direct reduction's, test_speed.cpp). An SVD of Y, not the eigenvectors of
-  // Y^T Y: the small singular values carry the boundary-dominated modes and must not be squared into
-  // round-off. The drop keeps the basis, and the projections below, small: on a 10,000-DOF blade
-  // with 82 retained nodes and 4 samples it keeps 424 of 796 vectors.
+  // against the mode it changes), then an orthonormal basis of their span (orthonormalise: a
+  // constraint mode is in the span to 1e-8 of its length; the frequencies at the samples stay within
+  // 2e-9 of the direct reduction's, test_speed.cpp). The drop keeps the basis, and the projections,
+  // small: on a 10,000-DOF blade with 82 retained nodes and 4 samples it keeps 424 of 796 vectors.
   const int m = S * modes + (S - 1) * nR;
   Dense Y(rows * static_cast<std::size_t>(m), 0.0);  // column-major rows x m
   int col = 0;
@@ -190,75 +302,87 @@ SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std
         addColumn([&](std::size_t i) { return red[s].recovery[i * n + j] - red[0].recovery[i * red[0].size + j]; },
                   psiNorm[j]);
   }
-  const int mc = col, rowsI = static_cast<int>(rows);
-  std::vector<double> sigma(static_cast<std::size_t>(std::max(mc, 1)));
-  if (mc > 0) {
-    Teuchos::LAPACK<int, double> lapack;
-    int info = 0;
-    double query = 0, unused = 0;
-    lapack.GESVD('O', 'N', rowsI, mc, Y.data(), rowsI, sigma.data(), nullptr, 1, nullptr, 1, &query, -1, nullptr, &info);
-    Dense work(static_cast<std::size_t>(query));
-    lapack.GESVD('O', 'N', rowsI, mc, Y.data(), rowsI, sigma.data(), nullptr, 1, nullptr, 1, work.data(),
-                 static_cast<int>(work.size()), &unused, &info);
-    EPAPHE_REQUIRE(info == 0, "body '" << rest.name << "': the SVD of the parametric model's interior vectors failed "
-                                       << "(LAPACK dgesvd info " << info << ")");
-  }
-  int r = 0;
-  while (r < mc && sigma[r] > 1e-8 * sigma[0]) ++r;  // descending
+  const int r = orthonormalise(Y, static_cast<int>(rows), col, rest.name);
   const int N = nR + r;
 
-  SpeedParametricModel p;
-  p.speeds = speeds;
-  p.staticState = source.staticState();
-  p.boundarySize = nR;
-  p.base = red[0];
-  p.base.name = rest.name;
-  p.base.coords = rest.mesh.coords;
-  p.base.size = N;
-  p.base.numModes = r;
-  p.base.modeFrequencies.clear();
-  p.base.fullFrequencies.clear();
-  p.base.staticDisplacement.clear();
-  p.base.speed = 0;
+  SpeedParametricModel p = shell(rest, samples, speeds, nR, N);
   // T (rows x N, row-major as a recovery): the first sample's constraint modes, then the kept U of Y.
   Dense& T = p.base.recovery;
-  T.assign(rows * static_cast<std::size_t>(N), 0.0);
   for (std::size_t i = 0; i < rows; ++i)
     for (int j = 0; j < nR; ++j) T[i * N + j] = red[0].recovery[i * red[0].size + j];
   for (std::size_t i = 0; i < rows; ++i)
     for (int c = 0; c < r; ++c) T[i * N + nR + c] = Y[static_cast<std::size_t>(c) * rows + i];
+  interpolate(p, rest, samples);
+  ReductionReport rep = samples.rep;
+  rep.seconds = total.seconds();
+  rep.projectSeconds = rep.seconds - rep.factorSeconds - rep.constraintSeconds - rep.eigenSeconds;
+  if (report) *report = rep;
+  return p;
+}
 
-  // T over the free DOFs as a distributed multivector, then T^T K(Omega_s) T and T^T M T.
-  const auto map = rest.K->getRowMap();
-  MultiVector Tf(map, static_cast<std::size_t>(N));
+SpeedParametricModel parametricMasslessBoundary(const FullModel& rest, const std::vector<int>& retained,
+                                                const CraigBamptonOptions& options, const RotationOptions& rotation,
+                                                std::vector<double> speeds, ReductionReport* report) {
+  BuiltInSpeedSource source(rest, rotation);
+  return parametricMasslessBoundary(source, retained, options, std::move(speeds), report);
+}
+
+SpeedParametricModel parametricMasslessBoundary(SpeedSampleSource& source, const std::vector<int>& retained,
+                                                const CraigBamptonOptions& options, std::vector<double> speeds,
+                                                ReductionReport* report) {
+  Stopwatch total;
+  const FullModel& rest = source.reference();
+  EPAPHE_REQUIRE(std::any_of(rest.eq.begin(), rest.eq.end(), [](int g) { return g < 0; }),
+                 "body '" << rest.name << "': the massless-boundary parametric model is built for a held body "
+                          << "only, and this one has no clamped DOF");
+  EPAPHE_REQUIRE(options.candidates <= options.modes,
+                 "body '" << rest.name << "': the massless-boundary parametric model selects no modes by "
+                          << "participation (" << options.candidates << " candidates asked)");
+  Samples samples = reduceAtSamples(source, speeds, [&](const FullModel& at, ReductionReport* r) {
+    return masslessBoundary(at, retained, options, r);
+  });
+  const std::vector<ReducedModel>& red = samples.red;
+  const int S = static_cast<int>(speeds.size());
+  const std::size_t rows = rest.eq.size();
+  const int nR = red[0].size - red[0].numModes;
+
+  // The span of every sample's recovery columns, span{K(Omega_s)^-1 E_b, Phi_s} (the static responses
+  // to forces on the retained DOFs and the modes), each column scaled to unit length: at a sample the
+  // massless reduction of the projected model then has that sample's modes (Rayleigh-Ritz) and its
+  // static responses (Galerkin, exact when the solution is in the space), to the basis's 1e-8.
+  Dense Y(rows * static_cast<std::size_t>(S) * red[0].size, 0.0);
+  int col = 0;
+  for (int s = 0; s < S; ++s) {
+    const std::size_t n = static_cast<std::size_t>(red[s].size);
+    for (std::size_t j = 0; j < n; ++j) {
+      double norm = 0;
+      for (std::size_t i = 0; i < rows; ++i) norm += red[s].recovery[i * n + j] * red[s].recovery[i * n + j];
+      if (norm == 0) continue;
+      norm = std::sqrt(norm);
+      for (std::size_t i = 0; i < rows; ++i) Y[static_cast<std::size_t>(col) * rows + i] = red[s].recovery[i * n + j] / norm;
+      ++col;
+    }
+  }
+  const int N = orthonormalise(Y, static_cast<int>(rows), col, rest.name);
+  SpeedParametricModel p = shell(rest, samples, speeds, nR, N);
+  for (std::size_t i = 0; i < rows; ++i)
+    for (int c = 0; c < N; ++c) p.base.recovery[i * N + c] = Y[static_cast<std::size_t>(c) * rows + i];
+  interpolate(p, rest, samples);
+  // T^T M e_d: a rigid translation's load on the basis (the kept modes' Phi^T M e_d at a speed)
+  const MultiVector Td = rigidTranslations(rest);
+  MultiVector MT(Td.getMap(), 3), Tf(Td.getMap(), static_cast<std::size_t>(N));
+  rest.M->apply(Td, MT);
   {
+    const auto map = Td.getMap();
     auto t = Tf.getLocalViewHost(Tpetra::Access::OverwriteAll);
     for (std::size_t i = 0; i < rows; ++i) {
       const int g = rest.eq[i];
       if (g < 0 || !map->isNodeGlobalElement(g)) continue;
-      const LO l = map->getLocalElement(g);
-      for (int j = 0; j < N; ++j) t(l, j) = T[i * N + j];
+      for (int j = 0; j < N; ++j) t(map->getLocalElement(g), j) = p.base.recovery[i * N + j];
     }
   }
-  std::vector<Dense> Ks(static_cast<std::size_t>(S));
-  for (int s = 0; s < S; ++s) Ks[s] = project(*K[s], Tf);
-  p.base.M = project(*rest.M, Tf);
-
-  // Interpolation in xi = (Omega / Omega_max)^2.
-  std::vector<double> xi;
-  for (double w : speeds) xi.push_back((w / speeds.back()) * (w / speeds.back()));
-  const Dense X = vandermondeInverse(xi);
-  auto coefficient = [&](const std::vector<Dense>& y, int k) {
-    Dense c(y[0].size(), 0.0);
-    for (int s = 0; s < S; ++s) {
-      const double w = X[static_cast<std::size_t>(s) * S + k];
-      for (std::size_t i = 0; i < c.size(); ++i) c[i] += w * y[s][i];
-    }
-    return c;
-  };
-  p.base.K = coefficient(Ks, 0);
-  for (int k = 1; k < S; ++k) p.stiffness.push_back(coefficient(Ks, k));
-  for (int k = 0; k < S; ++k) p.growth.push_back(coefficient(grow, k));
+  p.base.modalTranslation = transposeTimesDistributed(Tf, MT);
+  ReductionReport rep = samples.rep;
   rep.seconds = total.seconds();
   rep.projectSeconds = rep.seconds - rep.factorSeconds - rep.constraintSeconds - rep.eigenSeconds;
   if (report) *report = rep;
@@ -288,6 +412,7 @@ ReducedModel SpeedParametricModel::at(double speed, int modes, const std::string
   EPAPHE_REQUIRE(speed >= minSpeed() - slack && speed <= maxSpeed() + slack,
                  context << ": speed " << speed << " rad/s is outside the model's range [" << minSpeed() << ", "
                          << maxSpeed() << "] rad/s; widen 'Rotation->Speed range' to include it");
+  if (base.massless()) return masslessAt(speed, modes, context);
   const int N = base.size, nb = boundarySize, ni = N - nb;
   EPAPHE_REQUIRE(modes >= 0 && modes <= ni, context << ": " << modes << " fixed-interface modes asked of a parametric "
                                                     << "model with " << ni << " interior DOFs");
@@ -363,6 +488,97 @@ SpeedParametricModel::FixedBasis SpeedParametricModel::onFixedBasis(double speed
     symmetrize(f.stiffness.back(), n);
   }
   return f;
+}
+
+/// The massless-boundary model at `speed` (Epaphe_ReducedModel.hpp) of the dense model on the common
+/// basis: its lowest `modes` modes Z (K_T z = w^2 M_T z), the boundary rows B of T (B z = phi_b), the
+/// static responses K_T^-1 B^T to forces on the retained DOFs, and from them G, K, M and the recovery
+/// T [Res G^-1, Z - Res G^-1 Phi_b] as masslessBoundary() builds them from the full model.
+ReducedModel SpeedParametricModel::masslessAt(double speed, int modes, const std::string& context) const {
+  const int N = base.size, nb = boundarySize;
+  EPAPHE_REQUIRE(modes >= 1 && modes <= N - nb, context << ": " << modes << " modes asked of a parametric model on "
+                                                        << N << " basis vectors with " << nb << " retained DOFs");
+  const Dense K = stiffnessAt(speed);
+  Dense Z;
+  const Dense lambda = denseEigenpairs(K, base.M, N, &Z);
+  EPAPHE_REQUIRE(lambda[0] > 0, context << ": the parametric model at " << speed << " rad/s has a zero or negative "
+                                        << "eigenvalue (" << lambda[0] << "): the speed is past a critical one");
+  const std::size_t rows = base.recovery.size() / static_cast<std::size_t>(N);
+  Dense B(static_cast<std::size_t>(nb) * N, 0.0);  // nb x N, column-major: T's rows at the retained DOFs
+  std::vector<std::size_t> rowOf(static_cast<std::size_t>(nb), rows);
+  for (std::size_t i = 0; i < rows; ++i)
+    if (const int r = base.nodeDof[i]; r >= 0) {
+      rowOf[r] = i;
+      for (int c = 0; c < N; ++c) B[static_cast<std::size_t>(c) * nb + r] = base.recovery[i * N + c];
+    }
+  // X = K_T^-1 B^T (N x nb)
+  Dense X(static_cast<std::size_t>(N) * nb), chol = K;
+  for (int r = 0; r < nb; ++r)
+    for (int c = 0; c < N; ++c) X[static_cast<std::size_t>(r) * N + c] = B[static_cast<std::size_t>(c) * nb + r];
+  Teuchos::LAPACK<int, double> lapack;
+  Teuchos::BLAS<int, double> blas;
+  int info = 0;
+  lapack.POTRF('L', N, chol.data(), N, &info);
+  EPAPHE_REQUIRE(info == 0, context << ": the massless-boundary parametric model at " << speed << " rad/s is "
+                                    << "singular or indefinite (LAPACK dpotrf info " << info << ")");
+  lapack.POTRS('L', N, nb, chol.data(), N, X.data(), N, &info);
+  ReducedModel r = base;
+  r.kind = ReductionKind::MasslessBoundary;
+  r.numModes = modes;
+  r.size = nb + modes;
+  r.modeFrequencies.clear();
+  Dense w2(static_cast<std::size_t>(modes));
+  for (int k = 0; k < modes; ++k) {
+    w2[k] = lambda[k];
+    r.modeFrequencies.push_back(std::sqrt(lambda[k]) / (2 * M_PI));
+  }
+  // Phi_b = B Z (nb x modes); G = B X - Phi_b w^-2 Phi_b^T; Res = X - Z w^-2 Phi_b^T (N x nb)
+  r.boundaryModes.assign(static_cast<std::size_t>(nb) * modes, 0.0);
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, modes, N, 1.0, B.data(), nb, Z.data(), N, 0.0,
+            r.boundaryModes.data(), nb);
+  Dense ZW(static_cast<std::size_t>(N) * modes), PW(static_cast<std::size_t>(nb) * modes);
+  for (int k = 0; k < modes; ++k)
+    for (int i = 0; i < N; ++i) ZW[static_cast<std::size_t>(k) * N + i] = Z[static_cast<std::size_t>(k) * N + i] / w2[k];
+  for (int k = 0; k < modes; ++k)
+    for (int i = 0; i < nb; ++i)
+      PW[static_cast<std::size_t>(k) * nb + i] = r.boundaryModes[static_cast<std::size_t>(k) * nb + i] / w2[k];
+  Dense G(static_cast<std::size_t>(nb) * nb), Res = X;
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, nb, N, 1.0, B.data(), nb, X.data(), N, 0.0, G.data(), nb);
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::TRANS, nb, nb, modes, -1.0, PW.data(), nb, r.boundaryModes.data(), nb, 1.0,
+            G.data(), nb);
+  symmetrize(G, nb);
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::TRANS, N, nb, modes, -1.0, ZW.data(), N, r.boundaryModes.data(), nb, 1.0,
+            Res.data(), N);
+  r.residualFlexibility = G;
+  const Dense Ginv = spdInverse(G, nb, context + ": the residual flexibility at " + std::to_string(speed) + " rad/s",
+                                "keep fewer modes or use 'Craig-Bampton'");
+  const int n = r.size;
+  r.K = r.residualStiffness();
+  r.M.assign(static_cast<std::size_t>(n) * n, 0.0);
+  for (int k = 0; k < modes; ++k) {
+    r.K[static_cast<std::size_t>(nb + k) * n + nb + k] += w2[k];
+    r.M[static_cast<std::size_t>(nb + k) * n + nb + k] = 1.0;
+  }
+  // recovery on the basis: A = [Res G^-1, Z - Res G^-1 Phi_b] (N x n), then T A, exact on the retained rows
+  Dense A(static_cast<std::size_t>(N) * n);
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, N, nb, nb, 1.0, Res.data(), N, Ginv.data(), nb, 0.0, A.data(), N);
+  std::copy(Z.begin(), Z.begin() + static_cast<std::ptrdiff_t>(N) * modes, A.begin() + static_cast<std::ptrdiff_t>(N) * nb);
+  blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, N, modes, nb, -1.0, A.data(), N, r.boundaryModes.data(), nb, 1.0,
+            A.data() + static_cast<std::size_t>(N) * nb, N);
+  r.recovery.assign(rows * n, 0.0);
+  blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, n, static_cast<int>(rows), N, 1.0, A.data(), N, base.recovery.data(), N,
+            0.0, r.recovery.data(), n);
+  for (int b = 0; b < nb; ++b)
+    for (int c = 0; c < n; ++c) r.recovery[rowOf[b] * n + c] = c == b ? 1.0 : 0.0;
+  // Phi^T M e_d = Z^T (T^T M e_d)
+  r.modalTranslation.assign(static_cast<std::size_t>(modes) * 3, 0.0);
+  blas.GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, modes, 3, N, 1.0, Z.data(), N, base.modalTranslation.data(), N, 0.0,
+            r.modalTranslation.data(), modes);
+  r.speed = speed;
+  r.staticDisplacement = staticDisplacementAt(speed);
+  for (std::size_t a = 0; a < r.coords.size(); ++a)
+    for (int d = 0; d < 3; ++d) r.coords[a][d] += r.staticDisplacement[3 * a + d];
+  return r;
 }
 
 }  // namespace epaphe

@@ -19,6 +19,12 @@
 // reduction at that speed (Rayleigh-Ritz recovers eigenvectors its space contains); between samples
 // it is an interpolation, whose error against direct reductions the tests and epaphe-modes --campbell
 // measure.
+//
+// The massless boundary (Epaphe_ReducedModel.hpp) the same way: T is an orthonormal basis of every
+// sample's static responses K(Omega_s)^-1 E_b to forces on the retained DOFs and its modes Phi_s (the
+// span of its recovery columns), K_T(Omega) and u_s(Omega) interpolated as above, and at() builds the
+// massless-boundary model of the dense model on T: its lowest modes (Rayleigh-Ritz) and the static
+// responses (Galerkin), both exact at a sample, whose basis contains them.
 #include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_ModelAtSpeed.hpp"
 #include "Epaphe_ReducedModel.hpp"
@@ -30,7 +36,9 @@ namespace epaphe {
 
 struct SpeedParametricModel {
   /// The model on the common basis T: K = C_0 (the stiffness at rest), M = T^T M T, recovery = T,
-  /// coords at rest; its size N, numModes = N - retained DOFs.
+  /// coords at rest; its size N, numModes = N - retained DOFs; its kind says the method. A massless
+  /// boundary's T has no identity block: nodeDof names the rows of T at the retained DOFs, and
+  /// modalTranslation holds T^T M e_d (N x 3).
   ReducedModel base;
   std::vector<double> speeds;                        // the samples, ascending (rad/s)
   std::vector<std::vector<double>> stiffness;        // C_1 .. C_(S-1), N x N column-major each
@@ -62,6 +70,9 @@ struct SpeedParametricModel {
   FixedBasis onFixedBasis(double speed, int modes, const std::string& context) const;
   /// xi = (speed / maxSpeed)^2, the variable of the polynomials.
   double xiOf(double speed) const { return (speed / maxSpeed()) * (speed / maxSpeed()); }
+
+private:
+  ReducedModel masslessAt(double speed, int modes, const std::string& context) const;
 };
 
 /// Builds the parametric model of `rest` (built-in elements) from Craig-Bampton reductions at
@@ -77,6 +88,15 @@ SpeedParametricModel parametricCraigBampton(const FullModel& rest, const std::ve
 SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std::vector<int>& retained,
                                             const CraigBamptonOptions& options, std::vector<double> speeds,
                                             ReductionReport* report = nullptr);
+
+/// The same by massless-boundary reductions (masslessBoundary) at the samples, each with `options.modes`
+/// lowest modes; the body must be held (a clamped node set) and keep the lowest modes (no candidates).
+SpeedParametricModel parametricMasslessBoundary(const FullModel& rest, const std::vector<int>& retained,
+                                                const CraigBamptonOptions& options, const RotationOptions& rotation,
+                                                std::vector<double> speeds, ReductionReport* report = nullptr);
+SpeedParametricModel parametricMasslessBoundary(SpeedSampleSource& source, const std::vector<int>& retained,
+                                                const CraigBamptonOptions& options, std::vector<double> speeds,
+                                                ReductionReport* report = nullptr);
 
 /// `count` sample speeds spread over [min, max] at Chebyshev-Lobatto points in Omega^2 (both ends
 /// included): the interpolation in Omega^2 is then well conditioned.

@@ -195,7 +195,8 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
   addDoubleArray(rot, "Axis", {0, 0, 1}, "Direction of the rotation axis (need not be unit)");
   addDoubleArray(rot, "Axis point", {0, 0, 0}, "A point of the rotation axis (m)");
   addDoubleArray(rot, "Speed range", {}, "{minimum, maximum} (rad/s): build one parametric reduced model over "
-                                        "the range from Craig-Bampton reductions at 'Sample speeds' and take the "
+                                        "the range from Craig-Bampton (or massless-boundary) reductions at 'Sample "
+                                        "speeds' and take the "
                                         "model at 'Speed' from it (a speed sweep then reduces nothing per speed); "
                                         "empty: reduce at 'Speed' directly");
   addInt(rot, "Sample speeds", 3, "Speeds of the range reduced directly (Chebyshev-Lobatto points in Omega^2, "

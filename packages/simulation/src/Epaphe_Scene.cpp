@@ -348,13 +348,15 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
   const auto range = deck::getDoubles(rotp, "Speed range");
   const auto speeds =
       imported.empty() ? sampleSpeeds(range[0], range[1], rotp.get<int>("Sample speeds")) : imported.speeds;
+  const bool massless = deck::getEnum<ReductionMethod>(rp, "Method") == ReductionMethod::MasslessBoundary;
   try {
-    pm = parametricCraigBampton(*source, retainedNodes, reductionOptions(rp), speeds, &b->report);
+    pm = massless ? parametricMasslessBoundary(*source, retainedNodes, reductionOptions(rp), speeds, &b->report)
+                  : parametricCraigBampton(*source, retainedNodes, reductionOptions(rp), speeds, &b->report);
   } catch (const Error& e) {
     throw Error(deck_.origin + ": " + e.what());
   }
   out << "[" << b->name << "] parametric model over " << range[0] << " to " << range[1] << " rad/s: " << speeds.size()
-      << " Craig-Bampton reductions and "
+      << (massless ? " massless-boundary" : " Craig-Bampton") << " reductions and "
       << (imported.empty() ? (pm.staticState == StaticState::StressStiffened ? "stress-stiffened" : "linear")
                            : "CalculiX (imported)")
       << " static states, common basis of " << pm.base.size << " DOFs ("

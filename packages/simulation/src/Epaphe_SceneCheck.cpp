@@ -437,11 +437,21 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
                      ctx << "->Speed = " << rotation.speed << " rad/s is outside 'Speed range' {" << range[0] << ", "
                          << range[1] << "}: the parametric model covers only its range; widen the range or change the speed");
       const auto method = deck::getEnum<ReductionMethod>(bp.sublist("Reduction"), "Method");
-      EPAPHE_REQUIRE(method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan,
-                     ctx << "->Speed range: the parametric model over a speed range is built by Craig-Bampton or "
-                         << "Guyan, not by '" << bp.sublist("Reduction").get<std::string>("Method")
+      EPAPHE_REQUIRE(method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan ||
+                         method == ReductionMethod::MasslessBoundary,
+                     ctx << "->Speed range: the parametric model over a speed range is built by Craig-Bampton, "
+                         << "Guyan or the massless boundary, not by '" << bp.sublist("Reduction").get<std::string>("Method")
                          << "'; set 'Reduction->Method' to Craig-Bampton, or remove 'Speed range' (the model is then "
                             "reduced at 'Speed' directly)");
+      if (method == ReductionMethod::MasslessBoundary) {
+        const auto& rp = bp.sublist("Reduction");
+        EPAPHE_REQUIRE(!bp.get<std::string>("Clamped node set").empty(),
+                       ctx << "->Speed range: a massless-boundary model over a speed range needs a held body; name a "
+                           << "'Clamped node set' (a free body has rigid-body modes the parametric model does not keep)");
+        EPAPHE_REQUIRE(rp.get<int>("Candidate modes") <= rp.get<int>("Fixed-interface modes"),
+                       ctx << "->Speed range: a massless-boundary model over a speed range keeps the lowest modes; "
+                           << "remove 'Reduction->Candidate modes' (" << rp.get<int>("Candidate modes") << ")");
+      }
     }
   }
   checkBodyFacesNotOwnContact(P, origin);
