@@ -176,6 +176,8 @@ public:
   /// enforcement pushes the bodies apart over the ramp instead of in one step. Such nodes are never
   /// skipped during the ramp. The gaps written during the ramp are these effective gaps.
   void setPenetrationOffsets(const std::vector<double>& depth, double rampEnd);
+  /// The time the initial penetrations' offsets vanish (0: none were set).
+  double penetrationRampEnd() const { return rampEnd_; }
   /// Nodes projected by the last detect() (with refine()), and their Newton iterations (max).
   int lastProjected() const { return lastProjected_; }
   int lastIterations() const { return lastIterations_; }

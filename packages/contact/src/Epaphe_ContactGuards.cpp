@@ -114,6 +114,12 @@ std::string ContactGuards::checkStep(const SurfaceContact& contact, const DenseV
     os << " while pressed on surface '" << surfaceName(contact, contact.surfaceIndex()(kw)) << "' (force "
        << contact.force()(kw) << " N, " << contact.numActive() <<  " node(s) in contact): the motion diverges in "
        << "contact, no node flew past a surface";
+    const double rampEnd = contact.detection().penetrationRampEnd();
+    if (rampEnd > 0.0 && t + h <= rampEnd + 10.0 * h) {  // the push that resolves initial penetrations
+      os << ". The initial penetrations are pushed apart over 'Contact->Penetration ramp time' (ending at t = "
+         << rampEnd << " s, " << rampEnd / h << " step(s)): the energy given grows as its inverse; lengthen it "
+         << "(the default is 100 time steps)";
+    }
     return os.str();
   }
   os << ": contact may be missed between two steps (tunnelling). Use a smaller 'Time->Time step' (<= "
