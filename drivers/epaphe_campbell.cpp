@@ -50,7 +50,8 @@ double largest(const std::vector<double>& u, const std::vector<int>& nodes) {
   return m;
 }
 
-void writeTable(epaphe::io::Hdf5File& f, const std::string& path, const std::vector<std::vector<double>>& rows, int count) {
+void writeTable(epaphe::io::Hdf5File& f, const std::string& path, const std::vector<std::vector<double>>& rows,
+                int count) {
   std::vector<double> flat;
   for (const auto& r : rows)
     for (int i = 0; i < count; ++i) flat.push_back(i < static_cast<int>(r.size()) ? r[i] : std::nan(""));
@@ -64,15 +65,21 @@ int main(int argc, char** argv) {
   int points = 41, count = -1, threads = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--output" && i + 1 < argc) output = argv[++i];
-    else if (a == "--body" && i + 1 < argc) body = argv[++i];
-    else if (a == "--speeds" && i + 1 < argc) points = std::atoi(argv[++i]);
-    else if (a == "--count" && i + 1 < argc) count = std::atoi(argv[++i]);
-    else if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+    if (a == "--output" && i + 1 < argc)
+      output = argv[++i];
+    else if (a == "--body" && i + 1 < argc)
+      body = argv[++i];
+    else if (a == "--speeds" && i + 1 < argc)
+      points = std::atoi(argv[++i]);
+    else if (a == "--count" && i + 1 < argc)
+      count = std::atoi(argv[++i]);
+    else if (a == "--threads" && i + 1 < argc)
+      threads = std::atoi(argv[++i]);
     else if (a == "--help" || a == "-h") {
       if (rt.rank() == 0) std::cout << usage;
       return 0;
-    } else if (!a.empty() && a[0] != '-' && deckPath.empty()) deckPath = a;
+    } else if (!a.empty() && a[0] != '-' && deckPath.empty())
+      deckPath = a;
     else {
       if (rt.rank() == 0) std::cerr << "epaphe-campbell: unknown argument '" << a << "'\n" << usage;
       return 2;
@@ -88,7 +95,8 @@ int main(int argc, char** argv) {
     const auto& bodies = deck.params->sublist("Bodies");
     EPAPHE_REQUIRE(bodies.numParams() > 0, deckPath << ": 'Epaphe->Bodies' is empty");
     if (body.empty()) body = bodies.name(bodies.begin());
-    EPAPHE_REQUIRE(bodies.isSublist(body), deckPath << ": no body '" << body << "' in 'Epaphe->Bodies'; --body names one of them");
+    EPAPHE_REQUIRE(bodies.isSublist(body),
+                   deckPath << ": no body '" << body << "' in 'Epaphe->Bodies'; --body names one of them");
     const auto& bp = bodies.sublist(body);
     const auto& rp = bp.sublist("Reduction");
     const auto& rotp = bp.sublist("Rotation");
@@ -147,7 +155,8 @@ int main(int argc, char** argv) {
     std::vector<std::vector<double>> fullFreq, directFreq, paramFreq;
     for (std::size_t s = 0; s < samples.size(); ++s)
       for (int half = 0; half < (s + 1 < samples.size() && imported.empty() ? 2 : 1); ++half) {
-        const double w = half == 0 ? samples[s] : std::sqrt(0.5 * (samples[s] * samples[s] + samples[s + 1] * samples[s + 1]));
+        const double w =
+            half == 0 ? samples[s] : std::sqrt(0.5 * (samples[s] * samples[s] + samples[s + 1] * samples[s + 1]));
         epaphe::RotationOptions o = rotation;
         o.speed = w;
         o.staticState = pm.staticState;  // the parametric model's samples' static state
@@ -175,7 +184,8 @@ int main(int argc, char** argv) {
               << 100 * (g / directGrowth.back() - 1) << " %)\n";
         }
       }
-    out << "\n" << std::setw(12) << "speed" << std::setw(6) << "mode" << std::setw(14) << "full (Hz)" << std::setw(14)
+    out << "\n"
+        << std::setw(12) << "speed" << std::setw(6) << "mode" << std::setw(14) << "full (Hz)" << std::setw(14)
         << "reduced (Hz)" << std::setw(12) << "difference\n";
     for (std::size_t s = 0; s < fullSpeeds.size(); ++s) {
       const auto fr = epaphe::reducedFrequencies(pm.at(fullSpeeds[s], co.modes, ctx));

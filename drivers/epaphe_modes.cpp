@@ -28,7 +28,8 @@
 #include <vector>
 
 namespace {
-const char* usage = "usage: epaphe-modes DECK.xml --modes N1,N2,... [--body NAME] [--count K] [--csv FILE] [--threads N]\n";
+const char* usage =
+    "usage: epaphe-modes DECK.xml --modes N1,N2,... [--body NAME] [--count K] [--csv FILE] [--threads N]\n";
 
 std::vector<int> parseList(const std::string& s) {
   std::vector<int> out;
@@ -42,8 +43,10 @@ std::vector<int> parseList(const std::string& s) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != item.size() || v < 0) throw epaphe::Error("--modes '" + s + "': '" + item + "' is not a mode count >= 0; "
-                                                          "write e.g. --modes 0,5,10,20");
+    if (used != item.size() || v < 0)
+      throw epaphe::Error("--modes '" + s + "': '" + item +
+                          "' is not a mode count >= 0; "
+                          "write e.g. --modes 0,5,10,20");
     out.push_back(v);
   }
   if (out.empty()) throw epaphe::Error("--modes is empty; write e.g. --modes 0,5,10,20");
@@ -57,15 +60,21 @@ int main(int argc, char** argv) {
   int count = -1, threads = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--modes" && i + 1 < argc) modesText = argv[++i];
-    else if (a == "--body" && i + 1 < argc) body = argv[++i];
-    else if (a == "--count" && i + 1 < argc) count = std::atoi(argv[++i]);
-    else if (a == "--csv" && i + 1 < argc) csv = argv[++i];
-    else if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+    if (a == "--modes" && i + 1 < argc)
+      modesText = argv[++i];
+    else if (a == "--body" && i + 1 < argc)
+      body = argv[++i];
+    else if (a == "--count" && i + 1 < argc)
+      count = std::atoi(argv[++i]);
+    else if (a == "--csv" && i + 1 < argc)
+      csv = argv[++i];
+    else if (a == "--threads" && i + 1 < argc)
+      threads = std::atoi(argv[++i]);
     else if (a == "--help" || a == "-h") {
       if (rt.rank() == 0) std::cout << usage;
       return 0;
-    } else if (!a.empty() && a[0] != '-' && deckPath.empty()) deckPath = a;
+    } else if (!a.empty() && a[0] != '-' && deckPath.empty())
+      deckPath = a;
     else {
       if (rt.rank() == 0) std::cerr << "epaphe-modes: unknown argument '" << a << "'\n" << usage;
       return 2;
@@ -82,7 +91,8 @@ int main(int argc, char** argv) {
     const auto& bodies = deck.params->sublist("Bodies");
     EPAPHE_REQUIRE(bodies.numParams() > 0, deckPath << ": 'Epaphe->Bodies' is empty");
     if (body.empty()) body = bodies.name(bodies.begin());
-    EPAPHE_REQUIRE(bodies.isSublist(body), deckPath << ": no body '" << body << "' in 'Epaphe->Bodies'; --body names one of them");
+    EPAPHE_REQUIRE(bodies.isSublist(body),
+                   deckPath << ": no body '" << body << "' in 'Epaphe->Bodies'; --body names one of them");
     const auto& bp = bodies.sublist(body);
     const auto& rp = bp.sublist("Reduction");
     std::string retained = rp.get<std::string>("Retained node set");
@@ -100,18 +110,21 @@ int main(int argc, char** argv) {
     const epaphe::RotationOptions rotation =
         epaphe::rotationOptions(bp.sublist("Rotation"), deckPath + ": body '" + body + "', Rotation");
     if (rotation.speed != 0) {
-      EPAPHE_REQUIRE(full.material.has_value(), deckPath << ": body '" << body << "', Rotation->Speed = " << rotation.speed
+      EPAPHE_REQUIRE(full.material.has_value(), deckPath << ": body '" << body
+                                                         << "', Rotation->Speed = " << rotation.speed
                                                          << " rad/s: an imported model cannot be built at speed");
       full = epaphe::modelAtSpeed(full, rotation, nullptr);
       rt.out() << "[" << body << "] at " << rotation.speed << " rad/s\n";
     }
-    const std::vector<int> retainedNodes = full.mesh.nodeSet(retained, deckPath + ": body '" + body + "', retained set");
+    const std::vector<int> retainedNodes =
+        full.mesh.nodeSet(retained, deckPath + ": body '" + body + "', retained set");
     const epaphe::CraigBamptonOptions base = epaphe::reductionOptions(rp);
     const std::string method = rp.get<std::string>("Method");
     const auto kind = epaphe::deck::getEnum<epaphe::ReductionMethod>(rp, "Method");
     EPAPHE_REQUIRE(kind != epaphe::ReductionKind::None && kind != epaphe::ReductionKind::FullLumped,
-                   deckPath << ": body '" << body << "', 'Reduction->Method' = '" << method << "' keeps the full model: "
-                            "it has no modes to vary; its frequency check is in epaphe-run's summary");
+                   deckPath << ": body '" << body << "', 'Reduction->Method' = '" << method
+                            << "' keeps the full model: "
+                               "it has no modes to vary; its frequency check is in epaphe-run's summary");
     std::vector<std::vector<double>> reduced;
     std::vector<double> seconds;
     std::vector<int> sizes;
@@ -137,13 +150,16 @@ int main(int argc, char** argv) {
                                        reduced.back());
       checkSeconds = sw.seconds();
     }
-    rt.out() << "[" << body << "] " << f.size() << " full-model frequencies (" << epaphe::formatDuration(checkSeconds) << ")\n";
+    rt.out() << "[" << body << "] " << f.size() << " full-model frequencies (" << epaphe::formatDuration(checkSeconds)
+             << ")\n";
     for (auto& fr : reduced) fr.resize(std::min(fr.size(), f.size()));
     std::ostream& out = rt.out();
-    out << "\n" << method << " convergence of body '" << body << "' (" << retainedNodes.size() << " retained nodes), relative "
+    out << "\n"
+        << method << " convergence of body '" << body << "' (" << retainedNodes.size() << " retained nodes), relative "
         << "error of the reduced frequencies against the full model's\n\n";
     out << std::setw(6) << "mode" << std::setw(14) << "full (Hz)";
-    for (std::size_t k = 0; k < modes.size(); ++k) out << std::setw(14) << ((method == "Massless boundary" ? "MB " : "C-B ") + std::to_string(modes[k]));
+    for (std::size_t k = 0; k < modes.size(); ++k)
+      out << std::setw(14) << ((method == "Massless boundary" ? "MB " : "C-B ") + std::to_string(modes[k]));
     out << "\n";
     for (std::size_t i = 0; i < f.size(); ++i) {
       out << std::setw(6) << i + 1 << std::setw(14) << std::setprecision(7) << f[i];

@@ -73,8 +73,8 @@ int runSpeeds(epaphe::Runtime& rt, const epaphe::Deck& deck, const std::vector<d
       std::ofstream summary(stem.str() + ".summary.txt");
       sim.printSummary(summary);
       std::ostringstream line;
-      line << "epaphe-run: rank " << me << ": " << speeds[k] << " rad/s, " << s.steps << " steps, "
-           << s.stepsPerSecond << " steps/s -> " << stem.str() << ".h5\n";
+      line << "epaphe-run: rank " << me << ": " << speeds[k] << " rad/s, " << s.steps << " steps, " << s.stepsPerSecond
+           << " steps/s -> " << stem.str() << ".h5\n";
       std::cout << line.str() << std::flush;
     } catch (const std::exception& e) {
       std::cerr << "epaphe-run: error (rank " << me << ", " << speeds[k] << " rad/s): " << e.what() << "\n";
@@ -160,7 +160,9 @@ int main(int argc, char** argv) {
     rt.initializeKokkos(threads >= 0 ? threads : deck.params->sublist("Run").get<int>("Threads"));
     if (!speeds.empty()) {
       if (!restart.empty() || !output.empty() || stopAfter >= 0) {
-        if (rt.rank() == 0) std::cerr << "epaphe-run: --speeds writes speed-<W>.h5 files; drop --output, --restart and --stop-after-steps\n";
+        if (rt.rank() == 0)
+          std::cerr
+              << "epaphe-run: --speeds writes speed-<W>.h5 files; drop --output, --restart and --stop-after-steps\n";
         return 2;
       }
       return runSpeeds(rt, deck, speeds, revolutions);
@@ -176,8 +178,10 @@ int main(int argc, char** argv) {
       epaphe::Simulation::catchSignals();  // from here on, SIGINT/SIGTERM stop with a checkpoint
       const epaphe::RunSummary& s = sim.run();
       sim.printSummary(rt.out());
-      if (s.stopSignal != 0) code = 128 + s.stopSignal;
-      else if (s.stoppedEarly) code = 3;
+      if (s.stopSignal != 0)
+        code = 128 + s.stopSignal;
+      else if (s.stoppedEarly)
+        code = 3;
     }
     return code;
   } catch (const std::exception& e) {

@@ -33,6 +33,7 @@ def __getattr__(name):
     if name not in _EXPORTS:
         raise AttributeError(f"module 'epaphe' has no attribute '{name}'")
     import importlib
+
     module, attr = _EXPORTS[name]
     value = getattr(importlib.import_module(f"{__name__}.{module}"), attr)
     globals()[name] = value

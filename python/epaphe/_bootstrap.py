@@ -19,11 +19,15 @@ def need(prog, script, modules=MODULES):
     missing = [m for m in modules if importlib.util.find_spec(m) is None]
     if not missing:
         return
-    if (os.path.realpath(sys.executable) != os.path.realpath(DEBIAN) and os.access(DEBIAN, os.X_OK)
-            and not os.environ.get(mark)):
+    if (
+        os.path.realpath(sys.executable) != os.path.realpath(DEBIAN)
+        and os.access(DEBIAN, os.X_OK)
+        and not os.environ.get(mark)
+    ):
         os.environ[mark] = "1"
         os.execv(DEBIAN, [DEBIAN, os.path.abspath(script)] + sys.argv[1:])
-    sys.stderr.write(f"{prog}: error: python module {missing[0]} missing from {sys.executable} "
-                     "(needs h5py, numpy, matplotlib: Debian's python3-h5py python3-matplotlib)\n")
+    sys.stderr.write(
+        f"{prog}: error: python module {missing[0]} missing from {sys.executable} "
+        "(needs h5py, numpy, matplotlib: Debian's python3-h5py python3-matplotlib)\n"
+    )
     sys.exit(1)
-

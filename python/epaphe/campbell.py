@@ -40,6 +40,7 @@ def draw(table, orders, title, path, peer=None):
     frequencies, full_speeds, full_frequencies; `peer`: optional (speeds, frequencies, label) drawn as
     crosses (another code's points)."""
     import matplotlib.pyplot as plt
+
     speeds, freq = table["speeds"], table["frequencies"]
     fig, ax = plt.subplots(figsize=(8, 6))
     for i in range(freq.shape[1]):

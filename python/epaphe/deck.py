@@ -125,11 +125,13 @@ class Deck:
         except OSError as e:
             raise EpapheError(f"{path}: cannot be read ({e.strerror})") from None
         if text is None:
+
             def walk(node, prefix):
                 for c in node.children:
                     key = prefix + [c.name or ""]
                     self.lines["->".join(key)] = c.line
                     walk(c, key)
+
             walk(read_xml(path), [])
 
     def line(self, key: str) -> Optional[int]:
@@ -294,13 +296,19 @@ def deck_value(root: Union[str, Deck, ET.Element], path: str) -> Union[str, list
     for sub_name in lists:
         nxt = deck_child(node, "ParameterList", sub_name)
         if nxt is None:
-            raise UnknownName(f"deck: no list '{sub_name}' on the way to '{path}' (lists there: "
-                              + (", ".join(c.get("name", "") for c in node.findall("ParameterList")) or "none") + ")")
+            raise UnknownName(
+                f"deck: no list '{sub_name}' on the way to '{path}' (lists there: "
+                + (", ".join(c.get("name", "") for c in node.findall("ParameterList")) or "none")
+                + ")"
+            )
         node = nxt
     p = deck_child(node, "Parameter", name)
     if p is None:
-        raise UnknownName(f"deck: no parameter '{path}' (parameters there: "
-                          + (", ".join(c.get("name", "") for c in node.findall("Parameter")) or "none") + ")")
+        raise UnknownName(
+            f"deck: no parameter '{path}' (parameters there: "
+            + (", ".join(c.get("name", "") for c in node.findall("Parameter")) or "none")
+            + ")"
+        )
     v = p.get("value", "")
     return [float(x) for x in v.strip("{}").split(",")] if v.startswith("{") else v
 

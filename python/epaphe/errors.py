@@ -9,5 +9,5 @@ class EpapheError(Exception):
 class UnknownName(EpapheError, KeyError):
     """An unknown body, node set, key...: the message names the valid choices."""
 
-    def __str__(self):          # KeyError would quote the message
+    def __str__(self):  # KeyError would quote the message
         return str(self.args[0]) if self.args else ""

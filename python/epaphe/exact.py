@@ -18,13 +18,17 @@ from .schema import Schema
 def scene(deck, name, n_bodies, where):
     """(fail, body names, "Surfaces-><its surface>") of a deck that must hold `n_bodies` bodies and one
     surface for the exact solution `name`; fail(msg) raises why it does not apply."""
+
     def fail(msg):
         raise EpapheError(f"{where}: the exact solution '{name}' does not apply to {deck.path}: {msg}")
+
     bodies = deck.sublists("Bodies")
     surfaces = deck.sublists("Surfaces")
     if len(bodies) != n_bodies or len(surfaces) != 1:
-        fail(f"it needs {('one body', 'two bodies')[n_bodies - 1]} and one surface (deck: {len(bodies)} bodies, "
-             f"{len(surfaces)} surfaces)")
+        fail(
+            f"it needs {('one body', 'two bodies')[n_bodies - 1]} and one surface (deck: {len(bodies)} bodies, "
+            f"{len(surfaces)} surfaces)"
+        )
     return fail, bodies, "Surfaces->" + surfaces[0]
 
 
@@ -57,6 +61,7 @@ class Exact1D:
     meeting, after the gap U0, an obstacle that pushes back with a constant force F from t0 = U0/v0
     to t1. A section at distance s from the contact face moves at piecewise constant speeds
     (`phases`); the measures, curves and exact values of epaphe-sweep follow from these."""
+
     label = ""
     body = None
 
@@ -133,6 +138,7 @@ class BarOnWall(Exact1D):
     """V1: a bar (free far end) hitting the plane x = const at v0 > 0. t0 = U0/v0, t1 = t0 + 2L/c,
     plateau F = rho c S v0; a section at distance s from the contact face moves at v0 until
     t0 + s/c, rests until t0 + (2L - s)/c, then moves back at -v0."""
+
     label = "exact (bar on a rigid wall)"
 
     def __init__(self, deck, schema, where):
@@ -171,6 +177,7 @@ class TwoBars(Exact1D):
     part with the struck bar at rest and the impacting one leaving at -v; the force is rho c S v/2
     throughout. A section of the impacting bar at distance s from its contact face moves at v until
     t0 + s/c, v/2 until t0 + (2L - s)/c, 0 until t0 + 2T + s/c, -v/2 until t0 + (4L - s)/c, then -v."""
+
     label = "exact (two-bar impact, 1-D waves)"
 
     def __init__(self, deck, schema, where):
@@ -194,7 +201,7 @@ class TwoBars(Exact1D):
             fail("the two bars differ in length, section or material (the solution is for identical bars)")
         if deck.get("Time->Damping->Type", schema) != "None":
             fail("the run is damped")
-        U0 = d * (struck.face_x(near) - bar.face_x(far)) + 0.0     # no -0.0
+        U0 = d * (struck.face_x(near) - bar.face_x(far)) + 0.0  # no -0.0
         if U0 < 0:
             fail(f"the bars overlap (gap {U0:g} m)")
         c = math.sqrt(bar.E / bar.rho)
@@ -204,8 +211,10 @@ class TwoBars(Exact1D):
 
     def phases(self, s):
         t0, c, L, v = self.t0, self.c, self.L, self.v0
-        return ([0.0 * s, t0 + s / c, t0 + (2 * L - s) / c, t0 + 2 * L / c + s / c, t0 + (4 * L - s) / c],
-                [v, v / 2, 0.0, -v / 2, -v])
+        return (
+            [0.0 * s, t0 + s / c, t0 + (2 * L - s) / c, t0 + 2 * L / c + s / c, t0 + (4 * L - s) / c],
+            [v, v / 2, 0.0, -v / 2, -v],
+        )
 
 
 EXACT = {"bar-on-wall": BarOnWall, "two-bars": TwoBars}

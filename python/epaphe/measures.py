@@ -111,12 +111,19 @@ def errors(m, ref, scale):
     return e
 
 
-
 def work_precision_series(runs, measures, cost_key):
     """[(measure, [(cost in s, error, run label)])] of the study runs (epaphe.runner.Case) that hold
     errors: one series per measure, for plots.draw_work_precision."""
-    return [(k, [(float(r.hist["attrs"].get(cost_key, float("nan"))), r.errors.get(k, float("nan")), r.label)
-                 for r in runs]) for k in measures]
+    return [
+        (
+            k,
+            [
+                (float(r.hist["attrs"].get(cost_key, float("nan"))), r.errors.get(k, float("nan")), r.label)
+                for r in runs
+            ],
+        )
+        for k in measures
+    ]
 
 
 # ---- rotating blades (thesis section 5.2) --------------------------------------------------------
@@ -169,8 +176,12 @@ def contact_events(source, body="Blade", sets=("tip-le", "tip-te"), skip=3.0, me
                 sel = rev == r
                 fractions.append(float(on[sel].mean()) if sel.any() else 0.0)
             angles = [math.degrees((omega * t[i]) % (2 * math.pi)) for i in merged if rev[i] >= skip]
-            out[s] = dict(per_rev=counts, fraction=fractions, angles=angles,
-                          mean=float(np.mean(counts)) if counts else float("nan"))
+            out[s] = dict(
+                per_rev=counts,
+                fraction=fractions,
+                angles=angles,
+                mean=float(np.mean(counts)) if counts else float("nan"),
+            )
     finally:
         if own:
             run.close()
@@ -240,14 +251,20 @@ def engine_order_lines(eo, amp, revolutions, low=0.5, top=40):
         lines[o] = float(amp[on].max()) if on.any() else 0.0
     even = np.abs(bins - 2 * np.round(eo / 2) * revolutions) <= 1.01
     off = amp[~even]
-    return dict(peak=float(eo[k]), order=order, off=abs(eo[k] - order) * revolutions, lines=lines,
-                even_fraction=float((amp[even] ** 2).sum() / (amp ** 2).sum()),
-                off_line_ratio=float(amp[k] / off.max()) if off.size else float("inf"))
+    return dict(
+        peak=float(eo[k]),
+        order=order,
+        off=abs(eo[k] - order) * revolutions,
+        lines=lines,
+        even_fraction=float((amp[even] ** 2).sum() / (amp**2).sum()),
+        off_line_ratio=float(amp[k] / off.max()) if off.size else float("inf"),
+    )
 
 
 # ---- abradable coating: wear lobes ----------------------------------------------------------------
-WearLobes = namedtuple("WearLobes", "profile dominant_order harmonic_angles lobe_count lobe_angles max_wear "
-                                    "contrast")
+WearLobes = namedtuple(
+    "WearLobes", "profile dominant_order harmonic_angles lobe_count lobe_angles max_wear " "contrast"
+)
 WearLobes.__doc__ = """The lobes worn in a coating (wear_lobes): profile (n_u,) m, dominant_order (0 when the
 profile has no harmonic), harmonic_angles (rad, sorted), lobe_count, lobe_angles (rad, sorted),
 max_wear (m), contrast (the dominant harmonic's amplitude over the mean wear, 2 |W_n| / W_0; 0
@@ -282,17 +299,21 @@ def wear_lobes(angle, wear_2d, where="the wear map"):
     wear = np.asarray(wear_2d, dtype=float)
     n_u = angle.size
     if wear.ndim != 2 or wear.shape[0] != n_u or n_u < 1 or wear.shape[1] < 1:
-        raise EpapheError(f"{where}: wear of shape {wear.shape} for {n_u} column angles; expected "
-                          f"({n_u}, n_v) (element columns around the casing x rows along its axis)")
+        raise EpapheError(
+            f"{where}: wear of shape {wear.shape} for {n_u} column angles; expected "
+            f"({n_u}, n_v) (element columns around the casing x rows along its axis)"
+        )
     if not np.all(np.isfinite(wear)) or not np.all(np.isfinite(angle)):
         raise EpapheError(f"{where}: non-finite wear or angles (a record not written yet?)")
     if n_u > 1:
         # the definition numbers the columns around the circle: the steps must all be 2 pi / n_u
         step = np.mod(np.diff(angle), 2 * math.pi)
         if np.max(np.abs(step - 2 * math.pi / n_u)) > 1e-6 * 2 * math.pi / n_u:
-            raise EpapheError(f"{where}: the {n_u} column angles are not uniformly spaced by 360/{n_u} deg "
-                              f"in increasing order (steps {np.degrees(step.min()):.6g} to "
-                              f"{np.degrees(step.max()):.6g} deg)")
+            raise EpapheError(
+                f"{where}: the {n_u} column angles are not uniformly spaced by 360/{n_u} deg "
+                f"in increasing order (steps {np.degrees(step.min()):.6g} to "
+                f"{np.degrees(step.max()):.6g} deg)"
+            )
     w = wear.max(axis=1)
     top = float(w.max())
 
@@ -300,13 +321,12 @@ def wear_lobes(angle, wear_2d, where="the wear map"):
     order, harmonic, contrast = 0, np.empty(0), 0.0
     if n_u >= 2:
         spec = np.fft.fft(w)
-        mag = np.abs(spec[1:n_u // 2 + 1])
+        mag = np.abs(spec[1 : n_u // 2 + 1])
         big = float(mag.max())
         if big > 1e-12 * n_u * abs(top):
             order = int(np.flatnonzero(mag >= big * (1 - 1e-9))[0]) + 1
             phase = float(np.angle(spec[order]))
-            harmonic = np.sort(np.mod(angle[0] - phase / order + 2 * math.pi * np.arange(order) / order,
-                                      2 * math.pi))
+            harmonic = np.sort(np.mod(angle[0] - phase / order + 2 * math.pi * np.arange(order) / order, 2 * math.pi))
             contrast = 2 * float(np.abs(spec[order])) / float(np.abs(spec[0]))
 
     # lobes: circular runs of columns above half the largest wear
@@ -316,7 +336,7 @@ def wear_lobes(angle, wear_2d, where="the wear map"):
         if above.all():
             lobes.append(int(np.argmax(w)))
         else:
-            first = int(np.argmin(above))               # a column below: no run crosses its start
+            first = int(np.argmin(above))  # a column below: no run crosses its start
             i = 0
             while i < n_u:
                 if not above[(first + i) % n_u]:
@@ -328,5 +348,12 @@ def wear_lobes(angle, wear_2d, where="the wear map"):
                     i += 1
                 lobes.append(run[int(np.argmax(w[run]))])
     lobe_angles = np.sort(np.mod(angle[lobes], 2 * math.pi)) if lobes else np.empty(0)
-    return WearLobes(profile=w, dominant_order=order, harmonic_angles=harmonic, lobe_count=len(lobes),
-                     lobe_angles=lobe_angles, max_wear=top, contrast=contrast)
+    return WearLobes(
+        profile=w,
+        dominant_order=order,
+        harmonic_angles=harmonic,
+        lobe_count=len(lobes),
+        lobe_angles=lobe_angles,
+        max_wear=top,
+        contrast=contrast,
+    )

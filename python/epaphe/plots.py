@@ -18,7 +18,7 @@ from .study import CURVES
 ENERGIES = (("kinetic", "kinetic"), ("strain", "strain"), ("total", "total"), ("contact_work", "contact work"))
 LINESTYLES = ("-", "--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 3)), (0, (8, 3)))
 PREFIXES = {-12: "p", -9: "n", -6: "\u00b5", -3: "m", 0: "", 3: "k", 6: "M", 9: "G", 12: "T"}
-ROUND_OFF = 1e-12   # errors below are round-off: not drawn on the work-precision diagram
+ROUND_OFF = 1e-12  # errors below are round-off: not drawn on the work-precision diagram
 
 
 # ---- units ------------------------------------------------------------------------------------
@@ -71,7 +71,7 @@ class History:
         sel = np.ones(t.size, dtype=bool)
         steps = np.diff(t)
         steps = steps[steps > 0]
-        tol = 1e-6 * steps.min() if steps.size else 0.0   # --tmin 2e-5 keeps the record at 2e-5
+        tol = 1e-6 * steps.min() if steps.size else 0.0  # --tmin 2e-5 keeps the record at 2e-5
         if tmin is not None:
             sel &= t >= tmin - tol
         if tmax is not None:
@@ -113,8 +113,7 @@ class Figure:
 
     def add_rows(self, h, t, cols):
         for i in range(t.size):
-            self.rows.append([h.label, os.path.basename(h.path), repr(float(t[i]))] +
-                             [repr(float(c[i])) for c in cols])
+            self.rows.append([h.label, os.path.basename(h.path), repr(float(t[i]))] + [repr(float(c[i])) for c in cols])
 
 
 def incomplete_note(fig, hs):
@@ -161,8 +160,10 @@ def plot_gap(hs, body, node, tunit, tfac, out, written, want_csv):
         gk = None
         if node is not None:
             if node >= g.shape[1]:
-                raise EpapheError(f"{h.path}: --node {node} out of range: body '{body}' has "
-                                f"{g.shape[1]} contact nodes (0..{g.shape[1] - 1})")
+                raise EpapheError(
+                    f"{h.path}: --node {node} out of range: body '{body}' has "
+                    f"{g.shape[1]} contact nodes (0..{g.shape[1] - 1})"
+                )
             gk = (g[:, node], int(ids[node]))
         data.append((h, gmin, gk, g.shape[1]))
     unit, fac = si_scale([d[1] for d in data] + [d[2][0] for d in data if d[2]], "m")
@@ -207,8 +208,10 @@ def plot_field(hs, body, nset, what, node, tunit, tfac, out, written, want_csv):
         n = d.shape[1]
         if node is not None:
             if node >= n:
-                raise EpapheError(f"{h.path}: --node {node} out of range: node set '{nset}' of body '{body}' "
-                                f"has {n} nodes (0..{n - 1})")
+                raise EpapheError(
+                    f"{h.path}: --node {node} out of range: node set '{nset}' of body '{body}' "
+                    f"has {n} nodes (0..{n - 1})"
+                )
             v = d[:, node, :]
             which = f"node {node} (id {int(ids[node])})"
         else:
@@ -247,8 +250,14 @@ def plot_energy(hs, tunit, tfac, out, written, want_csv):
         ls = LINESTYLES[i % len(LINESTYLES)]
         for (k, name), c in zip(ENERGIES, qcol):
             ax.plot(h.t * tfac, e[k] * fac, color=c, ls=ls, lw=1.2, label=name if i == 0 else None)
-        ax2.plot(h.t * tfac, e["balance_error"], color="0.45", ls=ls, lw=0.9,
-                 label="balance error (right)" if i == 0 else None)
+        ax2.plot(
+            h.t * tfac,
+            e["balance_error"],
+            color="0.45",
+            ls=ls,
+            lw=0.9,
+            label="balance error (right)" if i == 0 else None,
+        )
         fd.add_rows(h, h.t, [e[k] for k, _ in ENERGIES] + [e["balance_error"]])
     ax.set_ylabel(f"energy ({unit})")
     ax2.set_ylabel("relative balance error (-)", color="0.35")
@@ -257,14 +266,23 @@ def plot_energy(hs, tunit, tfac, out, written, want_csv):
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
     # legends under the axes, where they hide no curve: quantities (colours), files (line styles)
-    leg = ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13),
-                    ncol=5, frameon=False)
+    leg = ax.legend(
+        h1 + h2, l1 + l2, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=5, frameon=False
+    )
     if many:
         ax.add_artist(leg)
         from matplotlib.lines import Line2D
+
         fh = [Line2D([], [], color="k", ls=LINESTYLES[i % len(LINESTYLES)]) for i in range(len(hs))]
-        ax.legend(fh, [h.label for h in hs], fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2),
-                  ncol=min(len(hs), 4), frameon=False)
+        ax.legend(
+            fh,
+            [h.label for h in hs],
+            fontsize=8,
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.2),
+            ncol=min(len(hs), 4),
+            frameon=False,
+        )
     title = "energies"
     names = {h.name for h in hs}
     if len(names) == 1 and next(iter(names)):
@@ -309,8 +327,13 @@ def plot_curves(study, runs, ref, w, plot_comps, out, stem, window, written):
             if ref is not None and ref[0] == "exact":
                 ex, ids = ref[1], done[0].hist["ids"]
                 tt = np.union1d(np.linspace(0, tmax, 4001), ex.breaks)
-                y = ex.force(tt) if kind == "force" else ex.gap(tt) if kind == "gap" else \
-                    (ex.watched(tt, ids, comp, w.node) if ids is not None else None)
+                y = (
+                    ex.force(tt)
+                    if kind == "force"
+                    else ex.gap(tt)
+                    if kind == "gap"
+                    else (ex.watched(tt, ids, comp, w.node) if ids is not None else None)
+                )
                 if y is not None:
                     series.append((ex.label, tt, y, dict(color="k", ls="--", lw=1.0)))
             elif ref is not None and ref[1].alone:
@@ -321,8 +344,13 @@ def plot_curves(study, runs, ref, w, plot_comps, out, stem, window, written):
             panels.append((comp, series))
         if not panels:
             continue
-        fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
-                                 figsize=(8, 4.8 if len(panels) == 1 else 2.2 + 2.4 * len(panels)))
+        fig, axes = plt.subplots(
+            len(panels),
+            1,
+            sharex=True,
+            squeeze=False,
+            figsize=(8, 4.8 if len(panels) == 1 else 2.2 + 2.4 * len(panels)),
+        )
         axes = axes[:, 0]
         for ax, (comp, series) in zip(axes, panels):
             unit, fac = si_scale([y[sel(t)] for _, t, y, _ in series], "N" if kind == "force" else "m")
@@ -379,8 +407,13 @@ def plot_work_precision(study, runs, cost_key, out, stem, written):
         ref = next((r for r in runs if r.is_reference), None)
         against = f"the run {ref.label}" if ref is not None else "the reference"
     path = os.path.join(out, f"{stem}-work-precision.png")
-    fig = draw_work_precision(series, f"{cost_key.replace('_', ' ')} (s)", f"error against {against} (-)",
-                              f"{study_title(study, stem)}: work-precision", path)
+    fig = draw_work_precision(
+        series,
+        f"{cost_key.replace('_', ' ')} (s)",
+        f"error against {against} (-)",
+        f"{study_title(study, stem)}: work-precision",
+        path,
+    )
     if fig is None:
         return None
     written.append(path)
@@ -421,8 +454,6 @@ def draw_work_precision(series, xlabel, ylabel, title, path):
     return fig
 
 
-
-
 # ---- rotating blades (epaphe-rotor) -----------------------------------------------------------
 def draw_interaction_map(eo_grid, speeds, amplitude, path, deck, nodeset, component="x", dominant=None):
     """The interaction map of a speed sweep (thesis figures 5.12-5.15): the spectrum amplitude of the
@@ -431,15 +462,30 @@ def draw_interaction_map(eo_grid, speeds, amplitude, path, deck, nodeset, compon
     name; `dominant` (the largest line above EO 0.5 at each speed) drawn as circles, in the legend.
     The Figure (written to `path` and closed)."""
     import matplotlib.colors as mcolors
+
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     a = np.asarray(amplitude, dtype=float)
     top = float(np.nanmax(a)) if a.size and np.nanmax(a) > 0 else 1.0
-    mesh = ax.pcolormesh(eo_grid, np.array(speeds, dtype=float), np.maximum(a, top * 1e-6), shading="nearest",
-                         norm=mcolors.LogNorm(vmin=top * 1e-6, vmax=top))
+    mesh = ax.pcolormesh(
+        eo_grid,
+        np.array(speeds, dtype=float),
+        np.maximum(a, top * 1e-6),
+        shading="nearest",
+        norm=mcolors.LogNorm(vmin=top * 1e-6, vmax=top),
+    )
     fig.colorbar(mesh, ax=ax, label=f"amplitude of the mean u$_{component}$ (m)")
     if dominant is not None:
-        ax.plot(dominant, speeds, "o", mfc="none", mec="w", mew=1.2, ms=7, ls="none",
-                label="dominant engine order (largest line above EO 0.5)")
+        ax.plot(
+            dominant,
+            speeds,
+            "o",
+            mfc="none",
+            mec="w",
+            mew=1.2,
+            ms=7,
+            ls="none",
+            label="dominant engine order (largest line above EO 0.5)",
+        )
         ax.legend(fontsize=7, loc="upper right")
     ax.set_xlabel("engine order (-)")
     ax.set_ylabel("rotation speed (rad/s)")
@@ -458,8 +504,9 @@ def draw_wear_speed_map(angle, speeds, profile, dominant, path, deck, surface):
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     speeds = np.array(speeds, dtype=float)
     order = np.argsort(speeds)
-    mesh = ax.pcolormesh(np.degrees(angle), np.arange(len(speeds)), np.asarray(profile)[order] * 1e6,
-                         shading="nearest", cmap="viridis")
+    mesh = ax.pcolormesh(
+        np.degrees(angle), np.arange(len(speeds)), np.asarray(profile)[order] * 1e6, shading="nearest", cmap="viridis"
+    )
     fig.colorbar(mesh, ax=ax, label="wear depth (um)", pad=0.12)
     ax.set_yticks(np.arange(len(speeds)))
     ax.set_yticklabels([f"{w:g}" for w in speeds[order]])

@@ -46,8 +46,9 @@ class Names(Mapping):
 
     def __getitem__(self, name):
         if name not in self._items:
-            raise UnknownName(f"{self._where}: unknown {self._what} '{name}' (available: "
-                              f"{', '.join(self._items) or 'none'})")
+            raise UnknownName(
+                f"{self._where}: unknown {self._what} '{name}' (available: " f"{', '.join(self._items) or 'none'})"
+            )
         return self._items[name]
 
     def __iter__(self):
@@ -235,8 +236,7 @@ class Body:
         """{name: NodeSet} of the watched node sets."""
         g = self.run.file.get(self.prefix + "/nodesets")
         names = list(g.keys()) if g is not None else []
-        return Names({s: NodeSet(self, s) for s in names}, "node set",
-                     f"{self.run.path}: body '{self.name}'")
+        return Names({s: NodeSet(self, s) for s in names}, "node set", f"{self.run.path}: body '{self.name}'")
 
     @property
     def has_contact(self) -> bool:
@@ -262,8 +262,9 @@ class Body:
         return {} if g is None else {k: np.asarray(g[k][()], float) for k in g}
 
     def __repr__(self):
-        return f"<body {self.name}: node sets {', '.join(self.nodesets) or 'none'}" + \
-            (", contact>" if self.has_contact else ">")
+        return f"<body {self.name}: node sets {', '.join(self.nodesets) or 'none'}" + (
+            ", contact>" if self.has_contact else ">"
+        )
 
 
 class Records:
@@ -304,8 +305,10 @@ class Contact:
         self.body, self._run, self.prefix = body, body.run, f"{body.prefix}/contact"
 
     nodes = Records("nodes", "Contact node ids.", ids=True)
-    gap = Records("gap", "(records, nodes) normal gap to the nearest surface, m (negative: penetration; "
-                  "1e300 beyond every surface).")
+    gap = Records(
+        "gap",
+        "(records, nodes) normal gap to the nearest surface, m (negative: penetration; " "1e300 beyond every surface).",
+    )
     force = Records("force", "(records, nodes) normal contact force on each node, N.")
 
     @cached_property

@@ -32,6 +32,7 @@ def seconds_left(line):
         return 60.0 * int(m_) + int(ms)
     return float(x) * {"s": 1.0, "ms": 1e-3, "us": 1e-6}[unit]
 
+
 SOURCE_BUILD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "build", "drivers")
 
 
@@ -79,8 +80,10 @@ def find_run(given: Optional[str] = None) -> str:
     w = shutil.which("epaphe-run")
     if w:
         return w
-    raise StudyError("epaphe-run not found next to this script, in $EPAPHE_BUILD_DIR/drivers or build/drivers, "
-                     "nor on PATH: give it with --run")
+    raise StudyError(
+        "epaphe-run not found next to this script, in $EPAPHE_BUILD_DIR/drivers or build/drivers, "
+        "nor on PATH: give it with --run"
+    )
 
 
 class Case:
@@ -96,7 +99,7 @@ class Case:
         self.hist = None
         self.measures, self.errors, self.ref = {}, {}, None
         self.is_reference = False
-        self.alone = False          # a reference run that is not one of the study's variants
+        self.alone = False  # a reference run that is not one of the study's variants
 
     def cached_ok(self):
         if not os.path.isfile(self.h5):
@@ -114,7 +117,7 @@ def default_jobs(threads):
     run, at least 1; threads 0 (each run takes every core) gives 1."""
     try:
         cores = len(os.sched_getaffinity(0))
-    except AttributeError:          # not Linux
+    except AttributeError:  # not Linux
         cores = os.cpu_count() or 1
     return max(1, cores // threads) if threads > 0 else 1
 
@@ -122,7 +125,7 @@ def default_jobs(threads):
 def check_decks(runs, run_exe, study_where, jobs=1):
     """epaphe-run --check on every variant deck before anything runs, `jobs` at a time; the first
     refused deck in study order is the error."""
-    todo = [r for r in runs if not r.cached_ok()]     # the others: this very deck text ran to completion
+    todo = [r for r in runs if not r.cached_ok()]  # the others: this very deck text ran to completion
     for r in todo:
         with open(r.xml, "w") as fh:
             fh.write(r.deck_text)
@@ -160,9 +163,9 @@ class Progress:
     def __init__(self, total, jobs, to_run):
         self.total, self.jobs = total, jobs
         self.done = 0
-        self.waiting = to_run           # cases to run (not cached) not started yet
-        self.running = {}               # case name -> start time (time.monotonic)
-        self.said_left = {}             # case name -> (time.monotonic, s left) from its progress line
+        self.waiting = to_run  # cases to run (not cached) not started yet
+        self.running = {}  # case name -> start time (time.monotonic)
+        self.said_left = {}  # case name -> (time.monotonic, s left) from its progress line
         self.complete_secs, self.other_secs = [], []
         self.stopping = False
         self.lock = threading.Lock()
@@ -186,7 +189,7 @@ class Progress:
                 self.said_left.pop(r.name, None)
                 if r.status == "complete":
                     self.complete_secs.append(secs)
-                elif not r.status.startswith("stopped"):      # a stopped run's time says nothing
+                elif not r.status.startswith("stopped"):  # a stopped run's time says nothing
                     self.other_secs.append(secs)
             say(f"{line}; {self.summary()}")
 
@@ -227,7 +230,7 @@ class CaseRunner:
     def __init__(self, run_exe, threads, jobs, force):
         self.run_exe, self.threads, self.jobs, self.force = run_exe, threads, max(1, jobs), force
         self.lock = threading.Lock()
-        self.procs = {}                 # case name -> running epaphe-run (Popen)
+        self.procs = {}  # case name -> running epaphe-run (Popen)
         self.stopping = False
         self.env = dict(os.environ)
         if self.jobs > 1:
@@ -244,7 +247,7 @@ class CaseRunner:
             try:
                 for i, (r, f) in enumerate(zip(cases, fresh), 1):
                     futures.append(pool.submit(self.case, r, i, total, not f))
-                while wait(futures, timeout=0.5).not_done:     # a timeout: Ctrl-C is seen here
+                while wait(futures, timeout=0.5).not_done:  # a timeout: Ctrl-C is seen here
                     pass
             except KeyboardInterrupt:
                 self.stop(signal.SIGINT)
@@ -254,13 +257,15 @@ class CaseRunner:
                     self.stop(signal.SIGKILL)
                     wait(futures)
                 stopped = [r.name for r in cases if r.status.startswith("stopped: interrupted by")]
-                say(f"interrupted: {self.progress.done} of {total} case(s) done"
-                    + (f"; stopped {', '.join(stopped)} (each history ends with a checkpoint)" if stopped else ""))
+                say(
+                    f"interrupted: {self.progress.done} of {total} case(s) done"
+                    + (f"; stopped {', '.join(stopped)} (each history ends with a checkpoint)" if stopped else "")
+                )
                 raise
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
         for f in futures:
-            f.result()                  # an error of this script (not of a run) in a worker
+            f.result()  # an error of this script (not of a run) in a worker
 
     def stop(self, sig):
         self.progress.stopping = True
@@ -292,17 +297,24 @@ class CaseRunner:
             with self.lock:
                 if not self.stopping:
                     try:
-                        proc = subprocess.Popen(cmd, cwd=os.path.dirname(r.xml), stdin=subprocess.DEVNULL,
-                                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                                env=self.env, start_new_session=True)
+                        proc = subprocess.Popen(
+                            cmd,
+                            cwd=os.path.dirname(r.xml),
+                            stdin=subprocess.DEVNULL,
+                            stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE,
+                            text=True,
+                            env=self.env,
+                            start_new_session=True,
+                        )
                         self.procs[r.name] = proc
-                    except OSError as e:    # the executable went away (a rebuild), no memory, ...
+                    except OSError as e:  # the executable went away (a rebuild), no memory, ...
                         err = f"cannot start {self.run_exe}: {e.strerror or e}"
                         log.write(err + "\n")
             if proc is not None:
                 for line in proc.stdout:
                     log.write(line)
-                    if line.startswith("  t = "):          # epaphe-run's progress line
+                    if line.startswith("  t = "):  # epaphe-run's progress line
                         say(tag + line.strip())
                         left = seconds_left(line)
                         if left is not None:
@@ -329,9 +341,13 @@ class CaseRunner:
             r.status = "refused: unstable time step" + (f" (critical {float(m.group(1)):.3g} s)" if m else "")
         elif status and status.startswith("stopped"):
             r.status = status
-        elif self.stopping and not err:     # a signal before the time loop: nothing to keep
+        elif self.stopping and not err:  # a signal before the time loop: nothing to keep
             r.status = "stopped: interrupted " + ("before it started" if proc is None else "during its setup")
         else:
             r.status = "failed: " + first
-        self.progress.finish(r, secs, f"{head}: {r.status} in {secs:.1f} s"
-                             + ("" if r.status == "complete" else f" (log: {os.path.relpath(r.log)})"))
+        self.progress.finish(
+            r,
+            secs,
+            f"{head}: {r.status} in {secs:.1f} s"
+            + ("" if r.status == "complete" else f" (log: {os.path.relpath(r.log)})"),
+        )

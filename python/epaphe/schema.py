@@ -18,13 +18,14 @@ ANY = "*"
 
 class Param(NamedTuple):
     """One deck parameter of the schema."""
-    path: Tuple[str, ...]       # ("Bodies", "*", "Initial velocity")
-    type: str                   # string, int, double, bool, Array(double), ...
-    default: str                # the value epaphe-run takes when the deck does not give one (text)
-    doc: str                    # its docString
-    minimum: Optional[float] = None     # range of a number (EnhancedNumberValidator), None: unbounded
+
+    path: Tuple[str, ...]  # ("Bodies", "*", "Initial velocity")
+    type: str  # string, int, double, bool, Array(double), ...
+    default: str  # the value epaphe-run takes when the deck does not give one (text)
+    doc: str  # its docString
+    minimum: Optional[float] = None  # range of a number (EnhancedNumberValidator), None: unbounded
     maximum: Optional[float] = None
-    values: Optional[Tuple[str, ...]] = None    # the valid strings of an enumeration
+    values: Optional[Tuple[str, ...]] = None  # the valid strings of an enumeration
 
     @property
     def key(self) -> str:
@@ -98,7 +99,7 @@ class Schema:
             raise EpapheError(f"{where} --print-parameters=xml: not well-formed XML ({e})") from None
         validators = {}
         block = root.find("Validators")
-        for v in (block if block is not None else []):
+        for v in block if block is not None else []:
             kind = v.get("type", "")
             if kind.startswith("EnhancedNumberValidator"):
                 validators[v.get("validatorId")] = dict(minimum=_number(v.get("min")), maximum=_number(v.get("max")))
@@ -113,8 +114,13 @@ class Schema:
                     walk(c, sub)
                 elif c.tag == "Parameter":
                     sp = path + (c.get("name"),)
-                    self.params[sp] = Param(sp, c.get("type", "string"), c.get("value", ""), c.get("docString", ""),
-                                            **validators.get(c.get("validatorId"), {}))
+                    self.params[sp] = Param(
+                        sp,
+                        c.get("type", "string"),
+                        c.get("value", ""),
+                        c.get("docString", ""),
+                        **validators.get(c.get("validatorId"), {}),
+                    )
 
         walk(root, ())
         if not self.params:

@@ -17,9 +17,15 @@ from .measures import MEASURES
 from .results import Run
 
 CURVES = ("force", "gap", "displacement")
-KEEP = "-"          # a varied value that keeps the base deck's
-COSTS = (("wall_time", "wall_time_s"), ("setup_time", "setup_time_s"), ("loop_time", "loop_time_s"),
-         ("steps", "steps"), ("steps_per_second", "steps_per_second"), ("threads", "threads"))
+KEEP = "-"  # a varied value that keeps the base deck's
+COSTS = (
+    ("wall_time", "wall_time_s"),
+    ("setup_time", "setup_time_s"),
+    ("loop_time", "loop_time_s"),
+    ("steps", "steps"),
+    ("steps_per_second", "steps_per_second"),
+    ("threads", "threads"),
+)
 
 
 class StudyError(EpapheError):
@@ -36,7 +42,6 @@ def slug(text):
     return s or "run"
 
 
-
 # ---- the study ----------------------------------------------------------------------------------
 class Entry:
     """A deck override named in the study: key, values (with legend labels), where it was."""
@@ -48,19 +53,30 @@ class Entry:
 class Study:
     TOP_PARAMS = {"Name": "string", "Deck": "string", "Combine": "string"}
     TOP_LISTS = ("Set", "Vary", "Reference", "Measures", "Plots")
-    MEASURE_PARAMS = {"Compute": "Array(string)", "Body": "string", "Node set": "string", "Node": "int",
-                      "Component": "string", "Contact threshold": "double"}
-    PLOT_PARAMS = {"Curves": "Array(string)", "Components": "Array(string)", "Work-precision": "bool",
-                   "Cost": "string", "Time window": "Array(double)"}
+    MEASURE_PARAMS = {
+        "Compute": "Array(string)",
+        "Body": "string",
+        "Node set": "string",
+        "Node": "int",
+        "Component": "string",
+        "Contact threshold": "double",
+    }
+    PLOT_PARAMS = {
+        "Curves": "Array(string)",
+        "Components": "Array(string)",
+        "Work-precision": "bool",
+        "Cost": "string",
+        "Time window": "Array(double)",
+    }
 
     def __init__(self):
         self.path = None
         self.name = ""
         self.deck_path = None
         self.combine = "Zip"
-        self.set = {}                   # key -> Entry (one value)
-        self.vary = []                  # [Entry]
-        self.reference = None           # None | ("exact", name, where) | ("run", {key: value}, where)
+        self.set = {}  # key -> Entry (one value)
+        self.vary = []  # [Entry]
+        self.reference = None  # None | ("exact", name, where) | ("run", {key: value}, where)
         self.measures = {}
         self.plots = {}
 
@@ -70,26 +86,28 @@ class Study:
         s = cls()
         s.path = path
         if root.tag != "ParameterList" or root.name != "Study":
-            raise StudyError(f"{path}:{root.line}: a study is <ParameterList name=\"Study\">, not "
-                             f"<{root.tag} name=\"{root.name}\"> (see inputs/studies/)")
+            raise StudyError(
+                f'{path}:{root.line}: a study is <ParameterList name="Study">, not '
+                f'<{root.tag} name="{root.name}"> (see inputs/studies/)'
+            )
         params, lists = s._members(root, "Study", cls.TOP_PARAMS, cls.TOP_LISTS)
         if "Name" in params:
             s.name = params["Name"].attrs["value"]
         if "Deck" not in params:
-            raise StudyError(f"{path}:{root.line}: 'Study' has no 'Deck' parameter (the base deck, "
-                             "relative to the study file)")
+            raise StudyError(
+                f"{path}:{root.line}: 'Study' has no 'Deck' parameter (the base deck, " "relative to the study file)"
+            )
         d = params["Deck"]
         s.deck_path = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(path)), d.attrs["value"]))
         if not os.path.isfile(s.deck_path):
-            raise StudyError(f"{path}:{d.line}: 'Deck' = '{d.attrs['value']}': no such file "
-                             f"({s.deck_path})")
+            raise StudyError(f"{path}:{d.line}: 'Deck' = '{d.attrs['value']}': no such file " f"({s.deck_path})")
         if "Combine" in params:
             c = params["Combine"]
             s.combine = s._choice(c, "Study->Combine", ("Zip", "Product"))
-        for n in (lists["Set"].children if "Set" in lists else []):
+        for n in lists["Set"].children if "Set" in lists else []:
             s._need_param(n, "Set")
             s.set[n.name] = Entry(n.name, [n.attrs["value"]], [None], f"{path}:{n.line}")
-        for n in (lists["Vary"].children if "Vary" in lists else []):
+        for n in lists["Vary"].children if "Vary" in lists else []:
             s.vary.append(s._vary_entry(n))
         if "Reference" in lists:
             s.reference = s._reference(lists["Reference"])
@@ -106,28 +124,36 @@ class Study:
                 self._need_param(n, where)
                 if n.name not in params:
                     if n.name in lists:
-                        raise StudyError(f"{self.path}:{n.line}: '{where}->{n.name}' must be a "
-                                         f"<ParameterList name=\"{n.name}\">, not a parameter")
-                    raise StudyError(f"{self.path}:{n.line}: unknown parameter '{n.name}' in '{where}'"
-                                     + suggest(n.name, list(params) + list(lists)))
+                        raise StudyError(
+                            f"{self.path}:{n.line}: '{where}->{n.name}' must be a "
+                            f'<ParameterList name="{n.name}">, not a parameter'
+                        )
+                    raise StudyError(
+                        f"{self.path}:{n.line}: unknown parameter '{n.name}' in '{where}'"
+                        + suggest(n.name, list(params) + list(lists))
+                    )
                 ps[n.name] = n
             elif n.tag == "ParameterList":
                 if n.name not in lists:
                     if n.name in params:
-                        raise StudyError(f"{self.path}:{n.line}: '{where}->{n.name}' is a parameter, "
-                                         "not a list")
-                    raise StudyError(f"{self.path}:{n.line}: unknown list '{n.name}' in '{where}'"
-                                     + suggest(str(n.name), list(lists) + list(params)))
+                        raise StudyError(f"{self.path}:{n.line}: '{where}->{n.name}' is a parameter, " "not a list")
+                    raise StudyError(
+                        f"{self.path}:{n.line}: unknown list '{n.name}' in '{where}'"
+                        + suggest(str(n.name), list(lists) + list(params))
+                    )
                 ls[n.name] = n
             else:
-                raise StudyError(f"{self.path}:{n.line}: unexpected <{n.tag}> in '{where}' "
-                                 "(only <Parameter> and <ParameterList>)")
+                raise StudyError(
+                    f"{self.path}:{n.line}: unexpected <{n.tag}> in '{where}' " "(only <Parameter> and <ParameterList>)"
+                )
         return ps, ls
 
     def _need_param(self, n, where):
         if n.tag != "Parameter":
-            raise StudyError(f"{self.path}:{n.line}: '{where}' holds <Parameter name=... type=... value=...> "
-                             f"entries, not <{n.tag} name=\"{n.name}\">")
+            raise StudyError(
+                f"{self.path}:{n.line}: '{where}' holds <Parameter name=... type=... value=...> "
+                f'entries, not <{n.tag} name="{n.name}">'
+            )
         for a in ("name", "type", "value"):
             if a not in n.attrs:
                 raise StudyError(f"{self.path}:{n.line}: <Parameter> in '{where}' without a '{a}' attribute")
@@ -135,8 +161,9 @@ class Study:
     def _choice(self, n, key, choices):
         v = n.attrs["value"]
         if v not in choices:
-            raise StudyError(f"{self.path}:{n.line}: '{key}' = '{v}' is not one of "
-                             + ", ".join(f"'{c}'" for c in choices))
+            raise StudyError(
+                f"{self.path}:{n.line}: '{key}' = '{v}' is not one of " + ", ".join(f"'{c}'" for c in choices)
+            )
         return v
 
     def _typed(self, node, where, spec):
@@ -145,8 +172,9 @@ class Study:
         for name, n in ps.items():
             want, v = spec[name], n.attrs["value"]
             if n.attrs["type"] != want:
-                raise StudyError(f"{self.path}:{n.line}: '{where}->{name}' has type {n.attrs['type']}, "
-                                 f"expected {want}")
+                raise StudyError(
+                    f"{self.path}:{n.line}: '{where}->{name}' has type {n.attrs['type']}, " f"expected {want}"
+                )
             try:
                 if want == "int":
                     out[name] = int(v)
@@ -197,8 +225,10 @@ class Study:
     def _reference(self, node):
         ps, ls = self._members(node, "Reference", {"Exact": "string"}, ("Run",))
         if ("Exact" in ps) == ("Run" in ls):
-            raise StudyError(f"{self.path}:{node.line}: 'Reference' holds either <Parameter name=\"Exact\"> "
-                             "or <ParameterList name=\"Run\"> (the overrides naming the reference run), one of them")
+            raise StudyError(
+                f"{self.path}:{node.line}: 'Reference' holds either <Parameter name=\"Exact\"> "
+                'or <ParameterList name="Run"> (the overrides naming the reference run), one of them'
+            )
         if "Exact" in ps:
             n = ps["Exact"]
             return ("exact", self._choice(n, "Reference->Exact", EXACT), f"{self.path}:{n.line}")
@@ -218,7 +248,9 @@ class Study:
             values = split_top(val)
             if not values:
                 raise StudyError(f"--vary '{text}': no value")
-            self.vary = [e for e in self.vary if e.key != key] + [Entry(key, values, [None] * len(values), f"--vary '{text}'")]
+            self.vary = [e for e in self.vary if e.key != key] + [
+                Entry(key, values, [None] * len(values), f"--vary '{text}'")
+            ]
         if a.product:
             self.combine = "Product"
         if a.zip:
@@ -247,9 +279,12 @@ class Study:
         if self.combine == "Zip":
             lengths = {e.key: len(e.values) for e in self.vary}
             if len(set(lengths.values())) > 1:
-                raise StudyError(f"{self.path or 'command line'}: 'Combine' is Zip but the varied lists differ in "
-                                 "length (" + ", ".join(f"'{k}': {n}" for k, n in lengths.items())
-                                 + "); give lists of one length, or set Combine to Product")
+                raise StudyError(
+                    f"{self.path or 'command line'}: 'Combine' is Zip but the varied lists differ in "
+                    "length ("
+                    + ", ".join(f"'{k}': {n}" for k, n in lengths.items())
+                    + "); give lists of one length, or set Combine to Product"
+                )
         keys = [e.key for e in self.vary]
         dup = {k for k in keys if keys.count(k) > 1}
         if dup:
@@ -267,10 +302,15 @@ class Study:
         found = schema.lookup(e.key)
         if found is None:
             near = schema.close(e.key)
-            raise StudyError(f"{e.where}: unknown deck parameter '{e.key}'"
-                             + (f"; did you mean '{near}'?" if near else
-                                " (a path of lists ending with a parameter, as in 'Time->Time step'; "
-                                "see epaphe-run --print-parameters)"))
+            raise StudyError(
+                f"{e.where}: unknown deck parameter '{e.key}'"
+                + (
+                    f"; did you mean '{near}'?"
+                    if near
+                    else " (a path of lists ending with a parameter, as in 'Time->Time step'; "
+                    "see epaphe-run --print-parameters)"
+                )
+            )
         sp, ptype, _ = found
         parts = e.key.split("->")
         for i, s in enumerate(sp[:-1]):
@@ -278,8 +318,10 @@ class Study:
                 where_list = "->".join(parts[:i])
                 names = deck.sublists(where_list)
                 if parts[i] not in names:
-                    raise StudyError(f"{e.where}: '{e.key}': the deck {deck.path} has no '{parts[i]}' in "
-                                     f"'{where_list}' (it has: {', '.join(names) or 'none'})")
+                    raise StudyError(
+                        f"{e.where}: '{e.key}': the deck {deck.path} has no '{parts[i]}' in "
+                        f"'{where_list}' (it has: {', '.join(names) or 'none'})"
+                    )
         for v in e.values:
             if v == KEEP:
                 continue
@@ -321,7 +363,7 @@ class Study:
                 if v != KEEP:
                     over[e.key] = v
                 parts.append(f"{leaf}={'base' if v == KEEP else v}")
-            if all(e.labels[i] is not None for e, i in combo):     # labelled values name the run
+            if all(e.labels[i] is not None for e, i in combo):  # labelled values name the run
                 name = slug(re.sub(r"\s*=\s*", "=", "_".join(labels)))[:120]
             else:
                 name = slug("_".join(parts))[:120]
@@ -338,7 +380,6 @@ def cli_pair(text, opt):
         raise StudyError(f"{opt} '{text}': expected KEY=VALUE, as in \"Time->Time step=4e-7,2e-7\"")
     key, val = text.split("=", 1)
     return key.strip(), val.strip()
-
 
 
 # ---- the watched quantities of a run ------------------------------------------------------------
@@ -367,8 +408,9 @@ def read_history(path, w):
             d = ns.displacement
             h["ids"] = ns.nodes
             if w.node >= d.shape[1]:
-                raise StudyError(f"{path}: 'Measures->Node' {w.node} out of range: node set '{w.nodeset}' has "
-                                 f"{d.shape[1]} nodes")
+                raise StudyError(
+                    f"{path}: 'Measures->Node' {w.node} out of range: node set '{w.nodeset}' has " f"{d.shape[1]} nodes"
+                )
             h["u"] = d[:, w.node, :] if w.node >= 0 else d.mean(axis=1)
         else:
             h["u"], h["ids"] = None, None
@@ -376,11 +418,16 @@ def read_history(path, w):
         h["mass"] = body.rigid_mass if body is not None else float("nan")
         h["balance"] = run.energy.balance_error if "energy/balance_error" in run.file else None
         coating = run.file.get("coating")
-        h["wear"] = (max(float(np.max(g["wear"][-1])) for g in coating.values() if "wear" in g and len(g["wear"]))
-                     if coating is not None and len(coating) else None)
-        h["plastic"] = (float(run.file["energy/plastic_dissipation"][-1])
-                        if "energy/plastic_dissipation" in run.file and len(run.file["energy/plastic_dissipation"])
-                        else None)
+        h["wear"] = (
+            max(float(np.max(g["wear"][-1])) for g in coating.values() if "wear" in g and len(g["wear"]))
+            if coating is not None and len(coating)
+            else None
+        )
+        h["plastic"] = (
+            float(run.file["energy/plastic_dissipation"][-1])
+            if "energy/plastic_dissipation" in run.file and len(run.file["energy/plastic_dissipation"])
+            else None
+        )
         h["attrs"] = dict(run.attrs)
     return h
 
@@ -426,4 +473,3 @@ def write_csv(path, study, runs, exact_row, wanted):
 
 def unit_tag(unit):
     return {"s": "s", "N s": "Ns", "N": "N", "m": "m", "m/s": "m_per_s", "-": "rel", "J": "J"}[unit]
-

@@ -29,9 +29,12 @@ def short_bar_run(where, end_time="4e-5", name="bar-on-wall"):
     """Runs inputs/bar-on-wall.xml to `end_time` s (contact starts at 2e-5 s) in `where` on one
     thread; returns the output's path (where/<name>.h5)."""
     schema = epaphe.Schema.of(RUN)
-    deck = epaphe.variant(BAR, os.path.join(where, name + ".xml"),
-                          {"Time->End time": end_time, "Output->File": name + ".h5", "Run->Progress interval": "0"},
-                          schema)
+    deck = epaphe.variant(
+        BAR,
+        os.path.join(where, name + ".xml"),
+        {"Time->End time": end_time, "Output->File": name + ".h5", "Run->Progress interval": "0"},
+        schema,
+    )
     out = os.path.join(where, name + ".h5")
     if os.path.exists(out):
         os.remove(out)

@@ -36,12 +36,12 @@ class BarOnWall(unittest.TestCase):
         self.assertEqual(ex.body, "Bar")
         for got, want in ((ex.t0, T0), (ex.t1, T1), (ex.F, F), (ex.c, C), (ex.m, RHO * L * S), (ex.U0, U0)):
             self.assertAlmostEqual(got, want, delta=1e-12 * abs(want))
-        self.assertAlmostEqual(T0, 2e-5, delta=1e-18)        # the numbers docs/verification.md V1 states
+        self.assertAlmostEqual(T0, 2e-5, delta=1e-18)  # the numbers docs/verification.md V1 states
         self.assertAlmostEqual(T1, 1e-4, delta=1e-18)
         self.assertAlmostEqual(F, 1.6e6, delta=1e-6)
 
     def test_curves(self):
-        t = (np.arange(2000) + 0.5) * 1e-7     # off the breaks (U0 = 0.202 - 0.2 is 2e-3 + 2e-18)
+        t = (np.arange(2000) + 0.5) * 1e-7  # off the breaks (U0 = 0.202 - 0.2 is 2e-3 + 2e-18)
         np.testing.assert_allclose(self.ex.force(t), np.where((t >= T0) & (t < T1), F, 0.0))
         for s in (0.0, 0.05, L / 2, L):
             np.testing.assert_allclose(self.ex.displacement([s], t)[:, 0], closed_form_u(s, t), rtol=0, atol=1e-15)
@@ -49,14 +49,17 @@ class BarOnWall(unittest.TestCase):
         np.testing.assert_allclose(self.ex.face(t), face, atol=1e-15)
         np.testing.assert_allclose(self.ex.gap(t), np.where((t >= T0) & (t < T1), 0.0, U0 - face), atol=1e-15)
         # momentum m v0 until t0, falling at F to -m v0 at t1: the rebound at -v0
-        np.testing.assert_allclose(self.ex.momentum(np.array([0.0, T0, (T0 + T1) / 2, T1, 2e-4])),
-                                   RHO * L * S * V0 * np.array([1, 1, 0, -1, -1]), atol=1e-12)
+        np.testing.assert_allclose(
+            self.ex.momentum(np.array([0.0, T0, (T0 + T1) / 2, T1, 2e-4])),
+            RHO * L * S * V0 * np.array([1, 1, 0, -1, -1]),
+            atol=1e-12,
+        )
 
     def test_measures(self):
         m = self.ex.measures(2e-4, np.array([0]), 0, -1)
         self.assertAlmostEqual(m["contact start"], T0)
         self.assertAlmostEqual(m["contact end"], T1)
-        self.assertAlmostEqual(m["impulse"], F * (T1 - T0), delta=1e-9)     # 128 N s
+        self.assertAlmostEqual(m["impulse"], F * (T1 - T0), delta=1e-9)  # 128 N s
         self.assertAlmostEqual(m["rebound velocity"], -V0)
         # the Box mesh's node ids: x of node i is i L / nx; the contact face is x+ (s = L - x)
         ids = np.array([0, 100, 50])

@@ -10,22 +10,31 @@ import numpy as np
 
 import support
 from epaphe.errors import EpapheError
-from epaphe.measures import (contact_events, engine_order_lines, errors, raw_measures, rms_difference,
-                             sine_spectrum, spectrum)
+from epaphe.measures import (
+    contact_events,
+    engine_order_lines,
+    errors,
+    raw_measures,
+    rms_difference,
+    sine_spectrum,
+    spectrum,
+)
 from epaphe.study import Watch
 
-OMEGA = 1000.0                    # rad/s
-PERIOD = 2 * math.pi / OMEGA      # s, one revolution
-N = 400                           # samples a revolution
+OMEGA = 1000.0  # rad/s
+PERIOD = 2 * math.pi / OMEGA  # s, one revolution
+N = 400  # samples a revolution
 
 
 def rotor_file(path, force, u):
     """An Epaphe-shaped file: a blade whose deck turns the casing at OMEGA, one record per sample,
     contact nodes 7 and 9 (tip-le holds 7, tip-te holds 9), the tip-le displacement along x."""
     t = np.arange(force.shape[0]) * PERIOD / N
-    deck = ('<ParameterList name="Epaphe"><ParameterList name="Surfaces"><ParameterList name="Casing">'
-            f'<Parameter name="Rotation speed" type="double" value="{-OMEGA}"/></ParameterList></ParameterList>'
-            '</ParameterList>')
+    deck = (
+        '<ParameterList name="Epaphe"><ParameterList name="Surfaces"><ParameterList name="Casing">'
+        f'<Parameter name="Rotation speed" type="double" value="{-OMEGA}"/></ParameterList></ParameterList>'
+        "</ParameterList>"
+    )
     with h5py.File(path, "w") as f:
         f.attrs["status"] = "complete"
         f["time"] = t
@@ -56,12 +65,12 @@ class Spectra(unittest.TestCase):
         self.assertAlmostEqual(eo[k], 6.0, places=9)
         self.assertAlmostEqual(freq[k], 6 * OMEGA / (2 * math.pi), delta=1e-9 * freq[k])
         self.assertAlmostEqual(amp[k], 2e-4, delta=1e-3 * 2e-4)
-        self.assertLess(amp[0], 1e-6 * 2e-4)      # the offset is removed
+        self.assertLess(amp[0], 1e-6 * 2e-4)  # the offset is removed
         lines = engine_order_lines(eo, amp, 5)
         self.assertEqual(lines["order"], 6)
         self.assertAlmostEqual(lines["off"], 0.0, places=9)
         self.assertAlmostEqual(lines["lines"][6], amp[k])
-        self.assertGreater(lines["even_fraction"], 0.99)       # all of it on an even order
+        self.assertGreater(lines["even_fraction"], 0.99)  # all of it on an even order
 
     def test_too_short(self):
         t = np.arange(N) * PERIOD / N
@@ -77,7 +86,7 @@ class ContactEvents(unittest.TestCase):
         revolutions 2, 3, 4 counted, 2 events each, in contact 20 % of the time less the bounces."""
         path = os.path.join(support.workdir("measures"), "rotor.h5")
         n = 6 * N
-        phase = (np.arange(n) % N) / N                      # fraction of the revolution
+        phase = (np.arange(n) % N) / N  # fraction of the revolution
         on = ((phase >= 0.125) & (phase < 0.225)) | ((phase >= 0.625) & (phase < 0.725))
         bounce = ((phase >= 0.15) & (phase < 0.16)) | ((phase >= 0.65) & (phase < 0.66))
         force = np.zeros((n, 2))
@@ -86,13 +95,13 @@ class ContactEvents(unittest.TestCase):
         ev = contact_events(path, "Blade", ["tip-le"], skip=2)["tip-le"]
         self.assertEqual(ev["per_rev"], [2, 2, 2])
         self.assertEqual(ev["mean"], 2.0)
-        np.testing.assert_allclose(ev["fraction"], 0.2 - 0.02, atol=1e-12)   # the bounces are off
-        np.testing.assert_allclose(ev["angles"], [45, 225] * 4, atol=1e-9)   # the events of the 6th revolution too
+        np.testing.assert_allclose(ev["fraction"], 0.2 - 0.02, atol=1e-12)  # the bounces are off
+        np.testing.assert_allclose(ev["angles"], [45, 225] * 4, atol=1e-9)  # the events of the 6th revolution too
         with self.assertRaisesRegex(EpapheError, "'hub' has no contact node"):
             contact_events(path, "Blade", ["hub"], skip=2)
         with self.assertRaisesRegex(EpapheError, "unknown node set 'tip-mid' \\(available: hub, tip-le, tip-te\\)"):
             contact_events(path, "Blade", ["tip-mid"])
-        eo, _, amp = spectrum(path, "Blade", "tip-le", "x", skip=2)     # engine order 2 of the displacement
+        eo, _, amp = spectrum(path, "Blade", "tip-le", "x", skip=2)  # engine order 2 of the displacement
         self.assertAlmostEqual(eo[int(np.argmax(amp))], 2.0)
         self.assertAlmostEqual(t[1] - t[0], PERIOD / N)
 
@@ -104,8 +113,15 @@ class StudyMeasures(unittest.TestCase):
         h = 1e-7
         t = np.arange(2000) * h
         f = np.where((t >= 2e-5 - h / 2) & (t < 1e-4 - h / 2), 1.6e6, 0.0)
-        run = dict(t=t, force=f, gap=np.where(f > 0, -1e-9, 1e-3)[:, None], momentum=np.tile([-64.0, 0, 0], (t.size, 1)),
-                   mass=0.64, balance=np.full(t.size, 1e-13), u=None)
+        run = dict(
+            t=t,
+            force=f,
+            gap=np.where(f > 0, -1e-9, 1e-3)[:, None],
+            momentum=np.tile([-64.0, 0, 0], (t.size, 1)),
+            mass=0.64,
+            balance=np.full(t.size, 1e-13),
+            u=None,
+        )
         m = raw_measures(run, Watch("Bar", "x-", -1, 0, 1e-6), None)
         self.assertAlmostEqual(m["contact start"], 2e-5, delta=1e-12)
         self.assertAlmostEqual(m["contact end"], 1e-4, delta=1e-12)
@@ -115,8 +131,8 @@ class StudyMeasures(unittest.TestCase):
         self.assertAlmostEqual(m["rebound velocity"], -100.0)
         ref = dict(m, **{"impulse": 128.0 * 1.01, "duration": 8e-5, "contact start": 2e-5 + 4e-7})
         e = errors(m, ref, scale=1e-3)
-        self.assertAlmostEqual(e["impulse"], 0.01 / 1.01)                 # relative
-        self.assertAlmostEqual(e["contact start"], 4e-7 / 8e-5)           # over the contact duration
+        self.assertAlmostEqual(e["impulse"], 0.01 / 1.01)  # relative
+        self.assertAlmostEqual(e["contact start"], 4e-7 / 8e-5)  # over the contact duration
         self.assertAlmostEqual(e["max penetration"], 0.0)
         self.assertEqual(e["energy balance"], 1e-13)
 

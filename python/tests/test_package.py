@@ -49,19 +49,24 @@ class Package(unittest.TestCase):
     def setUpClass(cls):
         cls.where = support.workdir("package")
         cls.venv = os.path.join(cls.where, "venv")
-        src = os.path.join(cls.where, "src")          # a copy: pip builds in the tree it is given
+        src = os.path.join(cls.where, "src")  # a copy: pip builds in the tree it is given
         for d in (cls.venv, src):
             shutil.rmtree(d, ignore_errors=True)
-        shutil.copytree(PYTHON_DIR, src,
-                        ignore=shutil.ignore_patterns("tests", "build", "*.egg-info", "__pycache__"))
-        cls.env = {k: v for k, v in os.environ.items()
-                   if k not in ("PYTHONPATH", "PYTHONHOME") and not k.startswith("PIP_")}
-        cls.env.update(PATH=os.path.join(cls.venv, "bin") + os.pathsep + os.environ.get("PATH", ""),
-                       MPLBACKEND="Agg", PIP_DISABLE_PIP_VERSION_CHECK="1", PIP_NO_CACHE_DIR="1")
+        shutil.copytree(PYTHON_DIR, src, ignore=shutil.ignore_patterns("tests", "build", "*.egg-info", "__pycache__"))
+        cls.env = {
+            k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME") and not k.startswith("PIP_")
+        }
+        cls.env.update(
+            PATH=os.path.join(cls.venv, "bin") + os.pathsep + os.environ.get("PATH", ""),
+            MPLBACKEND="Agg",
+            PIP_DISABLE_PIP_VERSION_CHECK="1",
+            PIP_NO_CACHE_DIR="1",
+        )
         cls.run_ok([sys.executable, "-m", "venv", "--system-site-packages", cls.venv])
         cls.python = os.path.join(cls.venv, "bin", "python")
-        cls.pip = cls.run_ok([cls.python, "-m", "pip", "install", "--no-build-isolation", "--no-index", "--no-deps",
-                              src])
+        cls.pip = cls.run_ok(
+            [cls.python, "-m", "pip", "install", "--no-build-isolation", "--no-index", "--no-deps", src]
+        )
 
     @classmethod
     def run_ok(cls, cmd, **kw):
@@ -80,13 +85,20 @@ class Package(unittest.TestCase):
             self.assertEqual(path, os.path.join(self.venv, "bin", cmd))
             with open(path, encoding="utf-8") as fh:
                 script = fh.read()
-            self.assertIn(f"from epaphe.cli.{cmd.split('-')[1]} import main", script)   # pip's entry point
+            self.assertIn(f"from epaphe.cli.{cmd.split('-')[1]} import main", script)  # pip's entry point
             proc = self.run_ok([cmd, "--help"], cwd=self.where)
             self.assertTrue(proc.stdout.startswith(f"usage: {cmd}"), proc.stdout[:200])
 
     def test_import_from_venv(self):
-        proc = self.run_ok([self.python, "-c", "import epaphe, importlib.metadata as m; import numpy, h5py, "
-                            "matplotlib; print(epaphe.__file__); print(m.version('epaphe'))"], cwd=self.where)
+        proc = self.run_ok(
+            [
+                self.python,
+                "-c",
+                "import epaphe, importlib.metadata as m; import numpy, h5py, "
+                "matplotlib; print(epaphe.__file__); print(m.version('epaphe'))",
+            ],
+            cwd=self.where,
+        )
         where, version = proc.stdout.split()
         self.assertTrue(os.path.realpath(where).startswith(os.path.realpath(self.venv)), where)
         self.assertEqual(version, header_version())
@@ -104,7 +116,7 @@ class Package(unittest.TestCase):
         with h5py.File(h5, "r") as f:
             peak = float(f["bodies/Bar/contact/total_force"][()].max())
         self.assertGreater(peak, 0.0)
-        self.assertAlmostEqual(float(m.group(1)), peak, delta=1e-3 * peak)   # printed with 4 digits
+        self.assertAlmostEqual(float(m.group(1)), peak, delta=1e-3 * peak)  # printed with 4 digits
         out = os.path.join(self.where, "plots")
         shutil.rmtree(out, ignore_errors=True)
         self.run_ok(["epaphe-plot", h5, "--out", out, "--what", "force"], cwd=self.where)

@@ -13,15 +13,15 @@ import h5py
 
 import support
 
-DEFAULT_OUTPUT = "build/run/bar-on-wall.h5"      # where ./epaphe run writes (cd build/run; the deck's File)
+DEFAULT_OUTPUT = "build/run/bar-on-wall.h5"  # where ./epaphe run writes (cd build/run; the deck's File)
 
 
 def quick_start():
     with open(os.path.join(support.SOURCE, "README.md"), encoding="utf-8") as fh:
         text = fh.read()
-    section = text[text.index("\n## Python\n"):]
-    section = section[:section.index("\n## ", 1)]
-    after = section[section.index("Quick start"):]
+    section = text[text.index("\n## Python\n") :]
+    section = section[: section.index("\n## ", 1)]
+    after = section[section.index("Quick start") :]
     m = re.search(r"```python\n(.*?)```", after, re.S)
     return m.group(1)
 
@@ -37,8 +37,9 @@ class QuickStart(unittest.TestCase):
         if os.path.exists(png):
             os.remove(png)
         env = dict(os.environ, PYTHONPATH=os.path.join(support.SOURCE, "python"), MPLBACKEND="Agg")
-        proc = subprocess.run([sys.executable, "-c", code.replace(DEFAULT_OUTPUT, h5)], cwd=where, env=env,
-                              capture_output=True, text=True)
+        proc = subprocess.run(
+            [sys.executable, "-c", code.replace(DEFAULT_OUTPUT, h5)], cwd=where, env=env, capture_output=True, text=True
+        )
         self.assertEqual(proc.returncode, 0, proc.stderr)
         self.assertTrue(os.path.isfile(png), f"no {png}")
         with open(png, "rb") as fh:
@@ -50,7 +51,7 @@ class QuickStart(unittest.TestCase):
         with h5py.File(h5, "r") as f:
             peak = float(f["bodies/Bar/contact/total_force"][()].max())
         self.assertGreater(float(m.group(1)), 0.0)
-        self.assertAlmostEqual(float(m.group(1)), peak, delta=1e-3 * peak)   # printed with 4 digits
+        self.assertAlmostEqual(float(m.group(1)), peak, delta=1e-3 * peak)  # printed with 4 digits
 
 
 if __name__ == "__main__":

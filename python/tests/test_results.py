@@ -12,9 +12,9 @@ import support
 import epaphe
 from epaphe.errors import EpapheError, UnknownName
 
-V, GAP, H = 100.0, 2e-3, 1e-7                    # m/s, m, s: the deck's speed, gap, time step
-T0, F = GAP / V, 8000 * 5000 * 0.02 * 0.02 * V     # contact start (s), plateau force (N)
-MASS = 8000 * 0.2 * 0.02 * 0.02                  # kg
+V, GAP, H = 100.0, 2e-3, 1e-7  # m/s, m, s: the deck's speed, gap, time step
+T0, F = GAP / V, 8000 * 5000 * 0.02 * 0.02 * V  # contact start (s), plateau force (N)
+MASS = 8000 * 0.2 * 0.02 * 0.02  # kg
 
 
 class ShortBarRun(unittest.TestCase):
@@ -52,9 +52,13 @@ class ShortBarRun(unittest.TestCase):
         # (After t0 the far face moves too, by up to 5e-6 m: the discrete model's fast high
         # wavenumbers arrive before the 1-D wave, at t0 + L/c = 6e-5 s.)
         free = self.out.time < T0 - 1.5 * H
-        np.testing.assert_allclose(d[free, :, 0], V * self.out.time[free, None] * np.ones(d.shape[1]), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(
+            d[free, :, 0], V * self.out.time[free, None] * np.ones(d.shape[1]), rtol=0, atol=1e-12
+        )
         np.testing.assert_allclose(d[free, :, 1:], 0.0, atol=1e-12)
-        np.testing.assert_allclose(bar.nodesets["x-"].velocity[free, :, 0], V, rtol=1e-9)   # round-off of the modal recovery: 2e-12 seen
+        np.testing.assert_allclose(
+            bar.nodesets["x-"].velocity[free, :, 0], V, rtol=1e-9
+        )  # round-off of the modal recovery: 2e-12 seen
         # the contact face stops at the wall (Lagrange: no penetration, up to round-off)
         u = bar.nodesets["x+"].displacement.mean(axis=1)[:, 0]
         np.testing.assert_allclose(u, np.minimum(V * self.out.time, GAP), rtol=0, atol=1e-12)
@@ -66,7 +70,7 @@ class ShortBarRun(unittest.TestCase):
         c = self.out.bodies["Bar"].contact
         t = self.out.time
         self.assertEqual(c.gap.shape, (400, c.nodes.size))
-        np.testing.assert_allclose(c.gap[0], GAP, rtol=1e-12)            # 2 mm at t = 0
+        np.testing.assert_allclose(c.gap[0], GAP, rtol=1e-12)  # 2 mm at t = 0
         np.testing.assert_allclose(c.force.sum(axis=1), c.total_force, rtol=1e-12, atol=1e-6)
         # no force before the step that closes the gap (the Lagrange force of step n acts over
         # [t_n, t_n+1]: the first is on the record before t0)
@@ -78,7 +82,7 @@ class ShortBarRun(unittest.TestCase):
 
     def test_energy(self):
         e = self.out.energy
-        self.assertAlmostEqual(e.kinetic[0], 0.5 * MASS * V ** 2, delta=1e-9 * 0.5 * MASS * V ** 2)   # 3200 J
+        self.assertAlmostEqual(e.kinetic[0], 0.5 * MASS * V**2, delta=1e-9 * 0.5 * MASS * V**2)  # 3200 J
         self.assertEqual(e.strain[0], 0.0)
         for name in ("kinetic", "strain", "total", "contact_work", "external_work", "damping", "balance_error"):
             self.assertEqual(getattr(e, name).shape, (400,), name)
@@ -88,11 +92,12 @@ class ShortBarRun(unittest.TestCase):
     def test_flat_view(self):
         h = epaphe.history(self.path)
         self.assertIn("time", h)
-        np.testing.assert_array_equal(h["bodies/Bar/contact/total_force"].reshape(-1),
-                                      self.out.bodies["Bar"].contact.total_force)
+        np.testing.assert_array_equal(
+            h["bodies/Bar/contact/total_force"].reshape(-1), self.out.bodies["Bar"].contact.total_force
+        )
         self.assertEqual(int(h["attrs"]["steps"]), 400)
         self.assertIn("rigid_mass", h["bodies/Bar/attrs"])
-        self.assertNotIn("run/deck", h)                  # numbers only
+        self.assertNotIn("run/deck", h)  # numbers only
 
     def test_unknown_names(self):
         with self.assertRaises(UnknownName) as cm:
@@ -103,7 +108,7 @@ class ShortBarRun(unittest.TestCase):
             self.out.bodies["Bar"].nodesets["y+"]
         self.assertIn("'y+'", str(cm.exception))
         self.assertIn("x+, x-", str(cm.exception))
-        self.assertIsInstance(cm.exception, KeyError)     # `in`, .get() work as on a dict
+        self.assertIsInstance(cm.exception, KeyError)  # `in`, .get() work as on a dict
         self.assertIsNone(self.out.bodies.get("Wheel"))
 
     def test_wrong_files(self):

@@ -30,11 +30,11 @@ class FromEpapheRun(unittest.TestCase):
         self.assertEqual(p.default, "Box")
 
     def test_range(self):
-        p = self.schema.param("Bodies->Ball->Mesh->Pole grading")      # [0.02, 1] in its docString
+        p = self.schema.param("Bodies->Ball->Mesh->Pole grading")  # [0.02, 1] in its docString
         self.assertEqual((p.minimum, p.maximum), (0.02, 1.0))
         p = self.schema.param("Run->Threads")
         self.assertEqual((p.minimum, p.maximum), (0, 1024))
-        self.assertIsNone(self.schema.param("Bodies->Ball->Mesh->Stagger").maximum)   # unbounded: inf
+        self.assertIsNone(self.schema.param("Bodies->Ball->Mesh->Stagger").maximum)  # unbounded: inf
 
     def test_any_name(self):
         p = self.schema.param("Bodies->Anything at all->Initial velocity")
@@ -55,11 +55,11 @@ class FromEpapheRun(unittest.TestCase):
         for line in text.splitlines():
             m = re.match(r"^( *)\[(.+?)\]", line)
             if m:
-                path = path[:len(m.group(1)) // 2] + ["*" if m.group(2) == "<any name>" else m.group(2)]
+                path = path[: len(m.group(1)) // 2] + ["*" if m.group(2) == "<any name>" else m.group(2)]
                 continue
             m = re.match(r"^( *)(\S.*?) \((string|int|double|bool|Array\((?:string|int|double)\)), default", line)
             if m and len(m.group(1)) // 2 <= len(path):
-                sp = tuple(path[:len(m.group(1)) // 2]) + (m.group(2),)
+                sp = tuple(path[: len(m.group(1)) // 2]) + (m.group(2),)
                 self.assertIn(sp, self.schema.params, sp)
                 self.assertEqual(self.schema.params[sp].type, m.group(3), sp)
                 seen += 1

@@ -57,24 +57,51 @@ RUN_TIME_ONLY = {
 # An imported model's files are read when the run builds the model (--check checks that they exist, and the
 # CalculiX *INCLUDE chain): the faults of their content, and of what the deck asks of such a model (its DOFs,
 # node sets and boundary conditions), show at run time.
-RUN_TIME_ONLY.update({name: "the content of an imported model's files" for name in [
-    "import-aster-all-constrained.xml", "import-aster-clamped-not-id.xml", "import-aster-clamped-not-in-mesh.xml",
-    "import-aster-lagrange-node-not-in-mesh.xml", "import-body-face.xml", "import-ccx-boundary-line-unparsable.xml",
-    "import-ccx-element-line-unparsable.xml", "import-ccx-element-node-not-a-number.xml",
-    "import-ccx-element-too-many-nodes.xml", "import-ccx-element-without-type.xml",
-    "import-ccx-generate-line-unparsable.xml", "import-ccx-no-node.xml", "import-ccx-node-defined-twice.xml",
-    "import-ccx-node-line-unparsable.xml", "import-ccx-nset-unknown-item.xml", "import-ccx-nset-without-name.xml",
-    "import-contact-node-clamped.xml", "import-gravity-unreduced.xml", "import-massless-too-many-candidates.xml",
-    "import-mm-field-complex.xml", "import-mm-header-only.xml", "import-mm-massless-collinear.xml",
-    "import-mm-no-node.xml", "import-mm-node-set-not-id.xml", "import-mm-node-set-undefined-node.xml",
-    "import-mm-node-twice.xml", "import-mm-size-line.xml", "import-mm-size-not-dofs.xml",
-    "import-mm-symmetry-skew.xml", "import-too-many-modes.xml"]})
+RUN_TIME_ONLY.update(
+    {
+        name: "the content of an imported model's files"
+        for name in [
+            "import-aster-all-constrained.xml",
+            "import-aster-clamped-not-id.xml",
+            "import-aster-clamped-not-in-mesh.xml",
+            "import-aster-lagrange-node-not-in-mesh.xml",
+            "import-body-face.xml",
+            "import-ccx-boundary-line-unparsable.xml",
+            "import-ccx-element-line-unparsable.xml",
+            "import-ccx-element-node-not-a-number.xml",
+            "import-ccx-element-too-many-nodes.xml",
+            "import-ccx-element-without-type.xml",
+            "import-ccx-generate-line-unparsable.xml",
+            "import-ccx-no-node.xml",
+            "import-ccx-node-defined-twice.xml",
+            "import-ccx-node-line-unparsable.xml",
+            "import-ccx-nset-unknown-item.xml",
+            "import-ccx-nset-without-name.xml",
+            "import-contact-node-clamped.xml",
+            "import-gravity-unreduced.xml",
+            "import-massless-too-many-candidates.xml",
+            "import-mm-field-complex.xml",
+            "import-mm-header-only.xml",
+            "import-mm-massless-collinear.xml",
+            "import-mm-no-node.xml",
+            "import-mm-node-set-not-id.xml",
+            "import-mm-node-set-undefined-node.xml",
+            "import-mm-node-twice.xml",
+            "import-mm-size-line.xml",
+            "import-mm-size-not-dofs.xml",
+            "import-mm-symmetry-skew.xml",
+            "import-too-many-modes.xml",
+        ]
+    }
+)
 
 
 # Decks that cannot be case files, made in the work directory: name, what is made, the message expected.
-MADE_CASES = [("missing.xml", None, r"deck '.*missing.xml' cannot be opened: check the path and its permissions"),
-              ("directory.xml", "directory", r"deck '.*directory.xml' is a directory; give an XML file"),
-              ("empty.xml", "empty file", r"deck '.*empty.xml' is empty; a deck is <ParameterList name=\"Epaphe\">")]
+MADE_CASES = [
+    ("missing.xml", None, r"deck '.*missing.xml' cannot be opened: check the path and its permissions"),
+    ("directory.xml", "directory", r"deck '.*directory.xml' is a directory; give an XML file"),
+    ("empty.xml", "empty file", r"deck '.*empty.xml' is empty; a deck is <ParameterList name=\"Epaphe\">"),
+]
 
 TIMEOUT = 300  # s for one run of a case: the slowest reduces a model before its refusal, in seconds
 
@@ -95,11 +122,15 @@ def one_case(run, workdir, path, regex):
     chk = subprocess.run([run, "--check", path], cwd=work, capture_output=True, text=True, timeout=TIMEOUT)
     if name in RUN_TIME_ONLY:
         if chk.returncode != 0:
-            lines.append(f"FAIL {name}: listed as seen only at run time ({RUN_TIME_ONLY[name]}), but --check refuses "
-                         f"it now: {chk.stderr.strip()}; remove it from RUN_TIME_ONLY")
+            lines.append(
+                f"FAIL {name}: listed as seen only at run time ({RUN_TIME_ONLY[name]}), but --check refuses "
+                f"it now: {chk.stderr.strip()}; remove it from RUN_TIME_ONLY"
+            )
     elif chk.returncode == 0 or chk.stderr.strip() != err:
-        lines.append(f"FAIL {name}: --check exit {chk.returncode}, message\n       {chk.stderr.strip()}\n     the "
-                     f"run's\n       {err}")
+        lines.append(
+            f"FAIL {name}: --check exit {chk.returncode}, message\n       {chk.stderr.strip()}\n     the "
+            f"run's\n       {err}"
+        )
     return lines
 
 

@@ -68,7 +68,7 @@ def scan_cpp(text):
         elif c == '"' and text[max(0, i - 1)] == "R":
             m = re.compile(r'"([^(\s]*)\(').match(text, i)
             end = text.index(")" + m.group(1) + '"', m.end())
-            lits.append((i, end + len(m.group(1)) + 2, text[m.end():end]))
+            lits.append((i, end + len(m.group(1)) + 2, text[m.end() : end]))
             i = end + len(m.group(1)) + 2
         elif c == '"':
             j, val = i + 1, []
@@ -170,8 +170,12 @@ def noreturn_helpers(path):
     names = set()
     for p in {path, os.path.splitext(path)[0] + ".hpp", os.path.splitext(path)[0] + ".cpp"}:
         if os.path.exists(p):
-            names.update(re.findall(r"\[\[noreturn\]\]\s+(?:static\s+)?void\s+(?:\w+::)?(\w+)\s*\(",
-                                    scan_cpp(open(p, encoding="utf-8").read())[0]))
+            names.update(
+                re.findall(
+                    r"\[\[noreturn\]\]\s+(?:static\s+)?void\s+(?:\w+::)?(\w+)\s*\(",
+                    scan_cpp(open(p, encoding="utf-8").read())[0],
+                )
+            )
     return names
 
 
@@ -182,7 +186,7 @@ def sites_in(path):
     line = lambda i: text.count("\n", 0, i) + 1  # noqa: E731
     found = []
     for m in re.finditer(r"\bEPAPHE_REQUIRE\s*\(", clean):
-        if re.search(r"#\s*define\s+$", clean[:m.start()]):
+        if re.search(r"#\s*define\s+$", clean[: m.start()]):
             continue
         end = skip_to_close(clean, lits, m.end() - 1)
         comma = first_top_comma(clean, lits, m.end(), end)
@@ -190,24 +194,28 @@ def sites_in(path):
     for m in re.finditer(r"\bthrow\s+(?:(?:::)?epaphe::)?Error\s*\(", clean):
         end = skip_to_close(clean, lits, m.end() - 1)
         frags = message_fragments(clean, lits, m.end(), end)
-        stream = re.match(r"\s*(\w+)\.str\(\)", clean[m.end():end])
+        stream = re.match(r"\s*(\w+)\.str\(\)", clean[m.end() : end])
         if stream:  # std::ostringstream os; os << ...; throw Error(os.str() ...)
             decl = clean.rfind("std::ostringstream " + stream.group(1), 0, m.start())
             if decl >= 0:
-                frags = [f for s in re.finditer(r"\b%s\s*<<" % stream.group(1), clean[decl:m.start()])
-                         for f in message_fragments(clean, lits, decl + s.start(),
-                                                    statement_end(clean, lits, decl + s.end()))] + frags
+                frags = [
+                    f
+                    for s in re.finditer(r"\b%s\s*<<" % stream.group(1), clean[decl : m.start()])
+                    for f in message_fragments(
+                        clean, lits, decl + s.start(), statement_end(clean, lits, decl + s.end())
+                    )
+                ] + frags
         found.append((line(m.start()), frags))
     for m in re.finditer(r"\bErrorBuilder\s+(\w+)\s*;", clean):
         raise_at = clean.index(m.group(1) + ".raise()", m.end())
         frags = []
-        for s in re.finditer(r"\b%s\s*<<" % m.group(1), clean[m.end():raise_at]):
+        for s in re.finditer(r"\b%s\s*<<" % m.group(1), clean[m.end() : raise_at]):
             start = m.end() + s.start()
             frags += message_fragments(clean, lits, start, statement_end(clean, lits, start))
         found.append((line(m.start()), frags))
     for name in noreturn_helpers(path):  # fail(file, "message"): every literal passed is its text
         for m in re.finditer(r"(?<![\w.>:])%s\s*\(" % name, clean):
-            if re.search(r"\bvoid\s+(?:\w+::)?$", clean[:m.start()]):
+            if re.search(r"\bvoid\s+(?:\w+::)?$", clean[: m.start()]):
                 continue  # its declaration
             end = skip_to_close(clean, lits, m.end() - 1)
             found.append((line(m.start()), message_fragments(clean, lits, m.end(), end)))
@@ -239,6 +247,7 @@ def case_texts():
             out.append(("case " + os.path.basename(path), unescape(m.group(1)), True))
     sys.path.insert(0, HERE)
     from check_bad_decks import MADE_CASES  # the decks made in its work directory: missing, a directory, empty
+
     out += [("case " + name + " (made)", unescape(regex), True) for name, _, regex in MADE_CASES]
     return out
 
@@ -255,11 +264,18 @@ def python_strings(text):
     for n in ast.walk(tree):
         if isinstance(n, ast.Compare) and any(isinstance(op, (ast.In, ast.NotIn)) for op in n.ops):
             asserted.add(id(n.left))
-        elif (isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.args
-              and n.func.attr in ("search", "match", "fullmatch")):
+        elif (
+            isinstance(n, ast.Call)
+            and isinstance(n.func, ast.Attribute)
+            and n.args
+            and n.func.attr in ("search", "match", "fullmatch")
+        ):
             asserted.add(id(n.args[0]))
-    return [(n.value, id(n) in asserted) for n in ast.walk(tree)
-            if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in docs]
+    return [
+        (n.value, id(n) in asserted)
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in docs
+    ]
 
 
 def cpp_strings(text):
@@ -272,9 +288,18 @@ def test_texts():
     """[(where, string, asserted)] of the other tests: their sources' string literals, and the lines of
     the expect.txt files of package test fixtures (each a part of the message a fixture raises)."""
     own = {os.path.abspath(__file__), ALLOW}
-    paths = [p for pattern in ("tests/**/*.py", "tests/**/*.cpp", "tests/**/*.hpp",
-                               "packages/*/test/**/*.cpp", "packages/*/test/**/*.hpp")
-             for p in glob.glob(os.path.join(ROOT, pattern), recursive=True) if os.path.abspath(p) not in own]
+    paths = [
+        p
+        for pattern in (
+            "tests/**/*.py",
+            "tests/**/*.cpp",
+            "tests/**/*.hpp",
+            "packages/*/test/**/*.cpp",
+            "packages/*/test/**/*.hpp",
+        )
+        for p in glob.glob(os.path.join(ROOT, pattern), recursive=True)
+        if os.path.abspath(p) not in own
+    ]
     out = []
     for path in sorted(set(paths)):
         text = open(path, encoding="utf-8", errors="replace").read()
@@ -282,8 +307,11 @@ def test_texts():
         out += [(os.path.relpath(path, ROOT), unescape(v), a) for v, a in strings if len(v) >= 8]
     for path in sorted(glob.glob(os.path.join(ROOT, "packages", "*", "test", "**", "expect.txt"), recursive=True)):
         where = os.path.relpath(os.path.dirname(path), ROOT)
-        out += [(where, line.strip(), True) for line in open(path, encoding="utf-8")
-                if line.strip() and not re.match(r"(format|missing): ", line)]
+        out += [
+            (where, line.strip(), True)
+            for line in open(path, encoding="utf-8")
+            if line.strip() and not re.match(r"(format|missing): ", line)
+        ]
     return out
 
 
@@ -308,7 +336,7 @@ def windows(text, min_words):
     out = set()
     for i in range(len(toks)):
         for j in range(i + 1, min(i + MAX_TOKENS, len(toks))):
-            w = text[toks[i].start():toks[j].end()]
+            w = text[toks[i].start() : toks[j].end()]
             if len(WORD.findall(w)) >= min_words:
                 out.add(w)
     return out
@@ -333,8 +361,9 @@ def classify(sites, unreachable):
     for s in sites:
         s["twins"] = [t for t in sites if t is not s and t["key"] == s["key"]]
         s["telling"] = {w for w in s["windows"] if all(sites[o]["key"] == s["key"] for o in owners[w])}
-        s["telling_deck"] = {w for w in s["windows"]
-                             if all(sites[o]["key"] == s["key"] for o in owners[w] if o not in unreachable)}
+        s["telling_deck"] = {
+            w for w in s["windows"] if all(sites[o]["key"] == s["key"] for o in owners[w] if o not in unreachable)
+        }
         s["own"] = {w for w in s["windows"] if owners[w] == {s["id"]}}
 
 
@@ -354,8 +383,10 @@ def read_allow_list(sites, failures):
         else:
             by = None
         if not (len(parts) == 3 or kind != "out") or not all(parts):
-            failures.append(f"{os.path.basename(ALLOW)}:{n}: write FILE | FRAGMENT | REASON, "
-                            f"FILE | FRAGMENT | by WHERE | REASON or FILE | FRAGMENT | gap | REASON; got: {text}")
+            failures.append(
+                f"{os.path.basename(ALLOW)}:{n}: write FILE | FRAGMENT | REASON, "
+                f"FILE | FRAGMENT | by WHERE | REASON or FILE | FRAGMENT | gap | REASON; got: {text}"
+            )
             continue
         path, fragment, reason = parts[0], parts[1], parts[-1]
         regex = len(fragment) > 2 and fragment.startswith("/") and fragment.endswith("/")
@@ -366,9 +397,11 @@ def read_allow_list(sites, failures):
             named = [s for s in sites if s["file"] == path and any(fragment in f for f in s["frags"])]
             ok = len({s["key"] for s in named}) == 1
         if not ok:
-            failures.append(f"{os.path.basename(ALLOW)}:{n}: '{fragment}' names {len(named)} refusal sites of {path} "
-                            f"({', '.join(str(s['line']) for s in named) or 'none'}); a fragment must name one site "
-                            f"(or its twins of the same message), a /regex/ at least one")
+            failures.append(
+                f"{os.path.basename(ALLOW)}:{n}: '{fragment}' names {len(named)} refusal sites of {path} "
+                f"({', '.join(str(s['line']) for s in named) or 'none'}); a fragment must name one site "
+                f"(or its twins of the same message), a /regex/ at least one"
+            )
             continue
         entries.append(dict(line=n, sites=named, reason=reason, by=by, kind=kind, regex=regex))
         for s in named:
@@ -428,8 +461,10 @@ def main():
                     s["entries"].remove(e)
             e["sites"] = kept
             if not kept:
-                failures.append(f"{os.path.basename(ALLOW)}:{e['line']}: every site its /regex/ matches is exercised: "
-                                f"remove the entry")
+                failures.append(
+                    f"{os.path.basename(ALLOW)}:{e['line']}: every site its /regex/ matches is exercised: "
+                    f"remove the entry"
+                )
     unreachable = assess()
     where_texts = {}
     for where, t, _ in texts:
@@ -437,42 +472,57 @@ def main():
     name = os.path.basename(ALLOW)
     for s in sites:
         if len(s.get("entries", [])) > 1:
-            failures.append(f"{shown(s)} is named by {len(s['entries'])} entries of {name} "
-                            f"(lines {', '.join(str(x['line']) for x in s['entries'])}); keep one")
+            failures.append(
+                f"{shown(s)} is named by {len(s['entries'])} entries of {name} "
+                f"(lines {', '.join(str(x['line']) for x in s['entries'])}); keep one"
+            )
     for s in sites:
         listed = s.get("entries", [])
         e = listed[0] if listed else None
         if e and e["kind"] == "out":
             if s["by_own"]:
-                failures.append(f"{shown(s)} is listed in {name} (line {e['line']}) as out of a deck's reach, but "
-                                f"{', '.join(sorted(s['by_own']))} exercises it: remove the entry")
+                failures.append(
+                    f"{shown(s)} is listed in {name} (line {e['line']}) as out of a deck's reach, but "
+                    f"{', '.join(sorted(s['by_own']))} exercises it: remove the entry"
+                )
         elif e and s["by"]:
-            failures.append(f"{shown(s)}: {name} (line {e['line']}) lists it ({e['kind']}), but "
-                            f"{', '.join(sorted(s['by']))} tells it by its text: remove the entry")
+            failures.append(
+                f"{shown(s)}: {name} (line {e['line']}) lists it ({e['kind']}), but "
+                f"{', '.join(sorted(s['by']))} tells it by its text: remove the entry"
+            )
         elif e and e["kind"] == "by":
             texts_of = where_texts.get(e["by"])
             own = words_of(" ".join(s["frags"]))
             if texts_of is None:
-                failures.append(f"{shown(s)}: {name} (line {e['line']}) says {e['by']} exercises it: no such case "
-                                f"or test")
+                failures.append(
+                    f"{shown(s)}: {name} (line {e['line']}) says {e['by']} exercises it: no such case " f"or test"
+                )
             elif len(own) >= 3 and not words_of(" ".join(texts_of)) & own:  # a light check of the name
-                failures.append(f"{shown(s)}: {name} (line {e['line']}) says {e['by']} exercises it, but no text of "
-                                f"{e['by']} shares a word with its message")
+                failures.append(
+                    f"{shown(s)}: {name} (line {e['line']}) says {e['by']} exercises it, but no text of "
+                    f"{e['by']} shares a word with its message"
+                )
             else:
                 s["by"] = {e["by"] + " (listed)"}
         elif not e and not s["by"]:
-            why = ("no test exercises it" if s["telling_deck"] else
-                   "no run of its message's words is its own, so no test can be seen to exercise it")
-            failures.append(f"{shown(s)}: {why}: \"{skeleton(s)}\"\n"
-                            f"     add a tests/badinput/cases deck expecting its message; if no deck can reach it, add "
-                            f"'FILE | FRAGMENT | REASON' to tests/badinput/{name}; if a test exercises it whose text "
-                            f"does not tell it, 'FILE | FRAGMENT | by WHERE | REASON'; a deck reaches it but no case "
-                            f"can yet, 'FILE | FRAGMENT | gap | REASON'")
+            why = (
+                "no test exercises it"
+                if s["telling_deck"]
+                else "no run of its message's words is its own, so no test can be seen to exercise it"
+            )
+            failures.append(
+                f'{shown(s)}: {why}: "{skeleton(s)}"\n'
+                f"     add a tests/badinput/cases deck expecting its message; if no deck can reach it, add "
+                f"'FILE | FRAGMENT | REASON' to tests/badinput/{name}; if a test exercises it whose text "
+                f"does not tell it, 'FILE | FRAGMENT | by WHERE | REASON'; a deck reaches it but no case "
+                f"can yet, 'FILE | FRAGMENT | gap | REASON'"
+            )
     if a.report:
         for s in sites:
             listed = [e for e in s.get("entries", []) if e["kind"] != "by"]
-            what = ", ".join(sorted(s["by"])) or (f"{listed[0]['kind']}: {listed[0]['reason']}" if listed else
-                                                  "NOTHING")
+            what = ", ".join(sorted(s["by"])) or (
+                f"{listed[0]['kind']}: {listed[0]['reason']}" if listed else "NOTHING"
+            )
             print(f"{shown(s)}: {what}\n    {skeleton(s)}")
     counts = dict(case=0, test=0, listed=0, out=0, gap=0)
     for s in sites:
@@ -488,11 +538,13 @@ def main():
             counts["gap"] += 1
     for f in failures:
         print("FAIL " + f)
-    print(f"{len(sites)} refusal sites in packages/: {counts['case']} exercised by a badinput case, "
-          f"{counts['test']} by another test, {counts['listed']} by a case or test named in {name}; "
-          f"{counts['out']} out of a deck's reach "
-          f"({sum(1 for e in entries if e['kind'] == 'out')} entries of {name}); {counts['gap']} known gaps (a deck "
-          f"reaches them, no case yet); {len(failures)} failure(s)")
+    print(
+        f"{len(sites)} refusal sites in packages/: {counts['case']} exercised by a badinput case, "
+        f"{counts['test']} by another test, {counts['listed']} by a case or test named in {name}; "
+        f"{counts['out']} out of a deck's reach "
+        f"({sum(1 for e in entries if e['kind'] == 'out')} entries of {name}); {counts['gap']} known gaps (a deck "
+        f"reaches them, no case yet); {len(failures)} failure(s)"
+    )
     for e in entries:
         if e["kind"] == "gap":
             print(f"gap: {', '.join(shown(s) for s in e['sites'])}: {e['reason']}")

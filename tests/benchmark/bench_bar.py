@@ -18,18 +18,28 @@ def main():
     rate = {}
     for threads in (1, 2):
         name = f"threads{threads}"
-        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
-            "Output->File": name + ".h5", "Output->Every": ("1000", "int"), "Time->End time": ("2e-3", "double"),
-            "Bodies->Bar->Reduction->Cache": ("false", "bool"), "Run->Progress interval": ("0", "double")})
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, name + ".xml"),
+            {
+                "Output->File": name + ".h5",
+                "Output->Every": ("1000", "int"),
+                "Time->End time": ("2e-3", "double"),
+                "Bodies->Bar->Reduction->Cache": ("false", "bool"),
+                "Run->Progress interval": ("0", "double"),
+            },
+        )
         log = run([a.run, deck, "--threads", str(threads)], a.workdir).stdout
         with h5py.File(os.path.join(a.workdir, name + ".h5"), "r") as f:
             r = f["/run"].attrs
             cost = {k: v for k, v in f["/run/cost"].attrs.items()}
             steps = r["steps"]
             rate[threads] = r["steps_per_second"]
-            print(f"{threads} thread(s): {steps} steps, {rate[threads]:.0f} steps/s, loop {r['loop_time']:.3f} s, "
-                  f"setup {r['setup_time']:.3f} s; per step: " +
-                  ", ".join(f"{k} {1e6 * v / steps:.2f} us" for k, v in sorted(cost.items())))
+            print(
+                f"{threads} thread(s): {steps} steps, {rate[threads]:.0f} steps/s, loop {r['loop_time']:.3f} s, "
+                f"setup {r['setup_time']:.3f} s; per step: "
+                + ", ".join(f"{k} {1e6 * v / steps:.2f} us" for k, v in sorted(cost.items()))
+            )
         print("  " + "\n  ".join(l for l in log.splitlines() if l.startswith("[Bar] Craig")))
     print(f"speedup 2 threads / 1 thread: {rate[2] / rate[1]:.2f}")
     return 0

@@ -40,9 +40,14 @@ from epaphe_testing import parse_args, run, variant, verdict  # noqa: E402
 FULL = {"Bodies->Cube->Reduction->Method": "Full, lumped mass"}
 FINE = {"Bodies->Cube->Mesh->Elements": ("{12, 12, 12}", "Array(int)")}
 CONTACT_TOL = 0.02  # contact start/end (of ref's duration) and impulse: verification.v6-full-lumped's
-RMS_TOL = 0.002     # watched node's RMS difference, of ref's largest displacement (docstring)
-CONFIGS = {"cb": {}, "full": FULL, "ref": {"Bodies->Cube->Reduction->Method": "None"}, "cb12": FINE,
-           "full12": {**FULL, **FINE}}
+RMS_TOL = 0.002  # watched node's RMS difference, of ref's largest displacement (docstring)
+CONFIGS = {
+    "cb": {},
+    "full": FULL,
+    "ref": {"Bodies->Cube->Reduction->Method": "None"},
+    "cb12": FINE,
+    "full12": {**FULL, **FINE},
+}
 
 
 def text(value):
@@ -57,6 +62,7 @@ def watched_node(elements):
 
 def main():
     import argparse
+
     extra = argparse.ArgumentParser(add_help=False)
     extra.add_argument("--end", default="1e-3")
     extra.add_argument("--no-fine", action="store_true")
@@ -75,20 +81,33 @@ def main():
             names.append(name)
         for purpose, every in (("timing", 1000), ("accuracy", 10)):
             tag = f"cube-{name}-{purpose}"
-            deck = variant(a.deck, os.path.join(a.workdir, tag + ".xml"), {
-                **CONFIGS[name], "Output->File": tag + ".h5", "Output->Every": (str(every), "int"),
-                "Time->End time": (opts.end, "double"), "Run->Progress interval": ("0", "double"),
-                "Bodies->Cube->Reduction->Cache file": f"cube-{name.replace('-big', '')}.rom.h5"})
+            deck = variant(
+                a.deck,
+                os.path.join(a.workdir, tag + ".xml"),
+                {
+                    **CONFIGS[name],
+                    "Output->File": tag + ".h5",
+                    "Output->Every": (str(every), "int"),
+                    "Time->End time": (opts.end, "double"),
+                    "Run->Progress interval": ("0", "double"),
+                    "Bodies->Cube->Reduction->Cache file": f"cube-{name.replace('-big', '')}.rom.h5",
+                },
+            )
             run([a.run, deck, "--threads", "1"], a.workdir)
             with h5py.File(os.path.join(a.workdir, tag + ".h5"), "r") as f:
                 if purpose == "timing":
                     r = f["/run"].attrs
                     steps = r["steps"]
                     figures[name] = dict(
-                        dofs=int(f["/bodies/Cube"].attrs["reduced_dofs"]), method=text(f["/bodies/Cube"].attrs["reduction"]),
-                        critical=r["critical_time_step"], h=r["time_step"], rate=r["steps_per_second"],
-                        setup=r["setup_time"], loop=r["loop_time"],
-                        cost={k: 1e6 * v / steps for k, v in f["/run/cost"].attrs.items()})
+                        dofs=int(f["/bodies/Cube"].attrs["reduced_dofs"]),
+                        method=text(f["/bodies/Cube"].attrs["reduction"]),
+                        critical=r["critical_time_step"],
+                        h=r["time_step"],
+                        rate=r["steps_per_second"],
+                        setup=r["setup_time"],
+                        loop=r["loop_time"],
+                        cost={k: 1e6 * v / steps for k, v in f["/run/cost"].attrs.items()},
+                    )
                     continue
                 elements = 12 if name.endswith("12") else 6
                 nodes = list(f["/bodies/Cube/nodesets/all/nodes"][()])
@@ -96,14 +115,21 @@ def main():
                 t = f["/time"][()]
                 force = f["/bodies/Cube/contact/total_force"][()]
                 on = np.nonzero(force > 1e-6 * force.max())[0]
-                curves[name] = dict(t=t, u=f["/bodies/Cube/nodesets/all/displacement"][:, k, :],
-                                    start=t[on[0]], end=t[on[-1]], impulse=force.sum() * (t[1] - t[0]))
+                curves[name] = dict(
+                    t=t,
+                    u=f["/bodies/Cube/nodesets/all/displacement"][:, k, :],
+                    start=t[on[0]],
+                    end=t[on[-1]],
+                    impulse=force.sum() * (t[1] - t[0]),
+                )
     print(f"cube between two rigid rings at 50 m/s, end {opts.end} s, 1 thread")
     for name in names:
         g, c = figures[name], curves[name]
         split = ", ".join(f"{k} {v:.1f} us" for k, v in sorted(g["cost"].items()))
-        print(f"{name:8s} {g['method']:17s} {g['dofs']:5d} DOFs, h = {g['h']:.3e} s: critical step {g['critical']:.3e} s, "
-              f"setup {g['setup']:.2f} s, {g['rate']:.0f} steps/s, loop {g['loop']:.2f} s; per step: {split}")
+        print(
+            f"{name:8s} {g['method']:17s} {g['dofs']:5d} DOFs, h = {g['h']:.3e} s: critical step {g['critical']:.3e} s, "
+            f"setup {g['setup']:.2f} s, {g['rate']:.0f} steps/s, loop {g['loop']:.2f} s; per step: {split}"
+        )
         print(f"      contact {c['start']:.4e} .. {c['end']:.4e} s, impulse {c['impulse']:.5e} N s")
     ref = curves["ref"]
     scale = np.abs(ref["u"]).max()
@@ -119,39 +145,53 @@ def main():
         pairs += [("full12", "cb12")] + [(x, y) for y in ("cb12", "full12") for x in ("cb", "full", "ref")]
     for x, y in pairs:
         d = rms(curves[x], curves[y])
-        print(f"watched node displacement, RMS {x} - {y}: {d:.3e} m ({d / scale:.2%} of the reference's largest "
-              f"{scale:.3e} m)")
+        print(
+            f"watched node displacement, RMS {x} - {y}: {d:.3e} m ({d / scale:.2%} of the reference's largest "
+            f"{scale:.3e} m)"
+        )
     for x, y in (("full", "cb"), ("full12", "cb12"), ("full-big", "cb-big")):
         if x in figures:
-            print(f"{x} against {y}: {figures[x]['rate'] / figures[y]['rate']:.2f} x the steps/s, "
-                  f"{figures[y]['loop'] / figures[x]['loop']:.2f} x faster over {opts.end} s")
+            print(
+                f"{x} against {y}: {figures[x]['rate'] / figures[y]['rate']:.2f} x the steps/s, "
+                f"{figures[y]['loop'] / figures[x]['loop']:.2f} x faster over {opts.end} s"
+            )
 
     failures = []
     checked = [(x, "ref") for x in ("cb", "full", "cb-big", "full-big")]
     checked += [("full12", "cb12")] if "full12" in names else []
-    print(f"accuracy asserted: contact start and end within {CONTACT_TOL:.2%} of the reference's duration + the "
-          f"record interval, impulse within {CONTACT_TOL:.2%}, RMS within {RMS_TOL:.2%} of {scale:.3e} m")
+    print(
+        f"accuracy asserted: contact start and end within {CONTACT_TOL:.2%} of the reference's duration + the "
+        f"record interval, impulse within {CONTACT_TOL:.2%}, RMS within {RMS_TOL:.2%} of {scale:.3e} m"
+    )
     for x, y in checked:
         cx, cy = curves[x], curves[y]
         duration = cy["end"] - cy["start"]
         interval = max(cx["t"][1] - cx["t"][0], cy["t"][1] - cy["t"][0])
         for key in ("start", "end"):
             d = abs(cx[key] - cy[key])
-            print(f"  {x} - {y}: contact {key} differs by {d:.3e} s ({d / duration:.2%} of {duration:.3e} s; "
-                  f"record interval {interval:.1e} s)")
+            print(
+                f"  {x} - {y}: contact {key} differs by {d:.3e} s ({d / duration:.2%} of {duration:.3e} s; "
+                f"record interval {interval:.1e} s)"
+            )
             if not d <= CONTACT_TOL * duration + interval:
-                failures.append(f"{x} against {y}: contact {key} {cx[key]:.4e} s against {cy[key]:.4e} s, off by "
-                                f"{d / duration:.2%} of the duration, more than {CONTACT_TOL:.2%} + one record "
-                                f"interval ({interval:.1e} s)")
+                failures.append(
+                    f"{x} against {y}: contact {key} {cx[key]:.4e} s against {cy[key]:.4e} s, off by "
+                    f"{d / duration:.2%} of the duration, more than {CONTACT_TOL:.2%} + one record "
+                    f"interval ({interval:.1e} s)"
+                )
         d = abs(cx["impulse"] - cy["impulse"]) / cy["impulse"]
         print(f"  {x} - {y}: impulse differs by {d:.3%}")
         if not d <= CONTACT_TOL:
-            failures.append(f"{x} against {y}: impulse {cx['impulse']:.5e} N s against {cy['impulse']:.5e} N s, "
-                            f"{d:.2%} apart, more than {CONTACT_TOL:.2%}")
+            failures.append(
+                f"{x} against {y}: impulse {cx['impulse']:.5e} N s against {cy['impulse']:.5e} N s, "
+                f"{d:.2%} apart, more than {CONTACT_TOL:.2%}"
+            )
         d = rms(cx, cy) / scale
         if not d <= RMS_TOL:
-            failures.append(f"{x} against {y}: the watched node's RMS difference is {d:.3%} of the largest "
-                            f"displacement, more than {RMS_TOL:.2%}")
+            failures.append(
+                f"{x} against {y}: the watched node's RMS difference is {d:.3%} of the largest "
+                f"displacement, more than {RMS_TOL:.2%}"
+            )
     return verdict(failures)
 
 

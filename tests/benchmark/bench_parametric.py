@@ -36,16 +36,22 @@ def main():
     ok = True
     for label, deck in (("deck's mesh", a.deck), ("mesh {%s}" % a.elements, fineDeck)):
         out = os.path.join(a.workdir, re.sub(r"\W+", "-", label) + ".h5")
-        p = subprocess.run([a.campbell, deck, "--output", out, "--speeds", "2", "--count", "3"], env=env,
-                           capture_output=True, text=True)
+        p = subprocess.run(
+            [a.campbell, deck, "--output", out, "--speeds", "2", "--count", "3"],
+            env=env,
+            capture_output=True,
+            text=True,
+        )
         if p.returncode != 0:
             print(p.stdout, p.stderr)
             sys.exit("bench_parametric: epaphe-campbell failed on the %s" % label)
         lines = [l for l in p.stdout.splitlines() if "parametric model:" in l or "between samples" in l]
         with h5py.File(out, "r") as f:
             tp, tr = f.attrs["parametric_seconds"], f.attrs["rest_reduction_seconds"]
-        print("%s: parametric model %.3f s, one Craig-Bampton reduction at rest %.3f s, ratio %.2f"
-              % (label, tp, tr, tp / tr))
+        print(
+            "%s: parametric model %.3f s, one Craig-Bampton reduction at rest %.3f s, ratio %.2f"
+            % (label, tp, tr, tp / tr)
+        )
         for l in lines:
             print("   " + l)
         ok = ok and len(lines) >= 2 and tp > 0 and tr > 0

@@ -40,7 +40,8 @@ int main(int argc, char** argv) {
     getrusage(RUSAGE_SELF, &ru);
     const double mb = ru.ru_maxrss / 1024.0;
     // CPU time of this rank (user + system): a figure less sensitive than wall time to a loaded machine.
-    const double cpu = ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
+    const double cpu =
+        ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
     double cpuMax = 0;
     Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, cpu, Teuchos::outArg(cpuMax));
     double maxMb = 0, sumMb = 0;
@@ -48,14 +49,15 @@ int main(int argc, char** argv) {
     Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, mb, Teuchos::outArg(sumMb));
     std::ostringstream js;
     js.precision(17);
-    js << "{\"ranks\": " << comm->getSize() << ", \"solver\": \"" << epaphe::solverName(o.solver) << "\", \"free_dofs\": " << full.numFree
-       << ", \"nnz_K\": " << full.K->getGlobalNumEntries() << ", \"retained_dofs\": " << rep.retainedDofs
-       << ", \"modes\": " << o.modes << ", \"import_s\": " << importSeconds << ", \"factor_s\": " << rep.factorSeconds
+    js << "{\"ranks\": " << comm->getSize() << ", \"solver\": \"" << epaphe::solverName(o.solver)
+       << "\", \"free_dofs\": " << full.numFree << ", \"nnz_K\": " << full.K->getGlobalNumEntries()
+       << ", \"retained_dofs\": " << rep.retainedDofs << ", \"modes\": " << o.modes
+       << ", \"import_s\": " << importSeconds << ", \"factor_s\": " << rep.factorSeconds
        << ", \"constraint_s\": " << rep.constraintSeconds << ", \"eigen_s\": " << rep.eigenSeconds
        << ", \"project_s\": " << rep.projectSeconds << ", \"reduction_s\": " << rep.seconds
-       << ", \"total_s\": " << totalSeconds << ", \"cpu_s_max\": " << cpuMax << ", \"iterations\": " << rep.solverIterations
-       << ", \"eigen_iterations\": " << rep.eigenIterations << ", \"eigen_solves\": " << rep.eigenSolves
-       << ", \"eigen_operator_s\": " << rep.eigenSolveSeconds
+       << ", \"total_s\": " << totalSeconds << ", \"cpu_s_max\": " << cpuMax
+       << ", \"iterations\": " << rep.solverIterations << ", \"eigen_iterations\": " << rep.eigenIterations
+       << ", \"eigen_solves\": " << rep.eigenSolves << ", \"eigen_operator_s\": " << rep.eigenSolveSeconds
        << ", \"maxrss_mb_max\": " << maxMb << ", \"maxrss_mb_sum\": " << sumMb << ", \"f_hz\": [";
     for (std::size_t i = 0; i < fr.size() && i < 10; ++i) js << (i ? ", " : "") << fr[i];
     js << "]}";

@@ -41,9 +41,9 @@ import h5py
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
-CCX_TOL = 1e-6    # relative, full-model frequencies against ccx's: reasoning in main()
+CCX_TOL = 1e-6  # relative, full-model frequencies against ccx's: reasoning in main()
 RANKS_TOL = 1e-8  # relative, 2 ranks against 1 rank: reasoning in main()
-CHECK = 10        # Reduction->Frequency check
+CHECK = 10  # Reduction->Frequency check
 
 MODELS = [  # name, blade_model.py arguments
     ("C3D20-SI", ["--cells", "100", "30", "1", "--element", "C3D20", "--units", "m"]),
@@ -56,14 +56,23 @@ def measure(argv):
     """Runs argv (one MPI rank's epaphe-run) as a child; writes its exit code, wall time and peak
     resident set (getrusage of the waited-for child, KiB on Linux) to OUT.<rank>.json."""
     out, cmd = argv[0], argv[1:]
-    rank = next((os.environ[v] for v in ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK") if v in os.environ),
-                f"pid{os.getpid()}")
+    rank = next(
+        (os.environ[v] for v in ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK") if v in os.environ),
+        f"pid{os.getpid()}",
+    )
     t0 = time.time()
     code = subprocess.call(cmd)
     wall = time.time() - t0
     with open(f"{out}.{rank}.json", "w") as f:
-        json.dump({"rank": rank, "exit": code, "wall_s": wall,
-                   "maxrss_mb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0}, f)
+        json.dump(
+            {
+                "rank": rank,
+                "exit": code,
+                "wall_s": wall,
+                "maxrss_mb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0,
+            },
+            f,
+        )
     return code
 
 
@@ -85,11 +94,19 @@ def seconds(text):
 def parse(stdout, method):
     """Reduction, check and setup times from epaphe-run's output (None where a line is missing)."""
     r = {}
-    m = re.search(r"^\[Blade\] " + re.escape(method) + r": .* in (.+?) on \d+ rank\(s\) \(factor (.+?), "
-                  r"constraint modes (.+?), eigenmodes (.+?)\)$", stdout, re.M)
+    m = re.search(
+        r"^\[Blade\] " + re.escape(method) + r": .* in (.+?) on \d+ rank\(s\) \(factor (.+?), "
+        r"constraint modes (.+?), eigenmodes (.+?)\)$",
+        stdout,
+        re.M,
+    )
     if m:
-        r.update(reduction_s=seconds(m.group(1)), factor_s=seconds(m.group(2)), constraint_s=seconds(m.group(3)),
-                 eigen_s=seconds(m.group(4)))
+        r.update(
+            reduction_s=seconds(m.group(1)),
+            factor_s=seconds(m.group(2)),
+            constraint_s=seconds(m.group(3)),
+            eigen_s=seconds(m.group(4)),
+        )
     m = re.search(r"^\[Blade\] frequency check: (.*)$", stdout, re.M)
     if m:
         t = re.search(r" in (.+)$", m.group(1))
@@ -112,7 +129,7 @@ def ccx_frequencies(model):
     with open(os.path.join(model, "freq.eig"), "rb") as f:
         b = f.read()
     nev = struct.unpack("4i", b[:16])[3]
-    return [math.sqrt(lam) / (2 * math.pi) for lam in struct.unpack(f"{nev}d", b[16:16 + 8 * nev])]
+    return [math.sqrt(lam) / (2 * math.pi) for lam in struct.unpack(f"{nev}d", b[16 : 16 + 8 * nev])]
 
 
 DECK = """<ParameterList name="Epaphe">
@@ -154,30 +171,59 @@ def main():
     p.add_argument("--methods", nargs="+", default=METHODS, choices=METHODS)
     p.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     p.add_argument("--modes", type=int, default=50)
-    p.add_argument("--cells", type=int, nargs=3, action="append", default=None,
-                   help="cells per model, in --models order (default: those of the docstring); for quick trials")
-    p.add_argument("--timeout", type=float, default=900,
-                   help="seconds after which a run is stopped (and the test fails)")
+    p.add_argument(
+        "--cells",
+        type=int,
+        nargs=3,
+        action="append",
+        default=None,
+        help="cells per model, in --models order (default: those of the docstring); for quick trials",
+    )
+    p.add_argument(
+        "--timeout", type=float, default=900, help="seconds after which a run is stopped (and the test fails)"
+    )
     a = p.parse_args()
     workdir = os.path.abspath(a.workdir)
     os.makedirs(workdir, exist_ok=True)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1", OMP_NUM_THREADS="1", OMP_PROC_BIND="false")
+    env = dict(
+        os.environ,
+        OMPI_ALLOW_RUN_AS_ROOT="1",
+        OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+        OMPI_MCA_rmaps_base_oversubscribe="1",
+        OMP_NUM_THREADS="1",
+        OMP_PROC_BIND="false",
+    )
     t_start = time.time()
     results, failures = [], []
     for n, name in enumerate(a.models):
         args = dict(MODELS)[name]
         if a.cells:
             if len(a.cells) != len(a.models):
-                print(f"--cells given {len(a.cells)} times for {len(a.models)} model(s) ({' '.join(a.models)}): "
-                      "give one --cells NX NY NZ per model, in --models order")
+                print(
+                    f"--cells given {len(a.cells)} times for {len(a.models)} model(s) ({' '.join(a.models)}): "
+                    "give one --cells NX NY NZ per model, in --models order"
+                )
                 return 2
             args = args[:]
             args[1:4] = map(str, a.cells[n])
         model = os.path.join(workdir, name)
         t0 = time.time()
-        subprocess.run([sys.executable, os.path.join(HERE, "blade_model.py"), model, *args, "--modes", str(CHECK),
-                        "--run", a.ccx, "--freq", "--storage"], check=True, env=env)
+        subprocess.run(
+            [
+                sys.executable,
+                os.path.join(HERE, "blade_model.py"),
+                model,
+                *args,
+                "--modes",
+                str(CHECK),
+                "--run",
+                a.ccx,
+                "--freq",
+                "--storage",
+            ],
+            check=True,
+            env=env,
+        )
         print(f"[bench] {name}: model generated, ccx matrices and eigenvalues in {time.time() - t0:.1f} s")
         ccx = ccx_frequencies(model)
         mine = []
@@ -191,13 +237,29 @@ def main():
                 for old in os.listdir(workdir):
                     if old.startswith(tag + ".mem."):
                         os.remove(os.path.join(workdir, old))
-                cmd = [a.mpiexec, "-n", str(np_), sys.executable, os.path.abspath(__file__), "--measure", mem,
-                       a.run, deck]
+                cmd = [
+                    a.mpiexec,
+                    "-n",
+                    str(np_),
+                    sys.executable,
+                    os.path.abspath(__file__),
+                    "--measure",
+                    mem,
+                    a.run,
+                    deck,
+                ]
                 res = {"model": name, "method": method, "ranks": np_}
                 t0 = time.time()
                 # Its own session: on --timeout the whole group (mpiexec, wrappers, ranks) is stopped.
-                proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                        cwd=workdir, start_new_session=True)
+                proc = subprocess.Popen(
+                    cmd,
+                    env=env,
+                    stdout=subprocess.PIPE,
+                    stderr=subprocess.PIPE,
+                    text=True,
+                    cwd=workdir,
+                    start_new_session=True,
+                )
                 try:
                     stdout, stderr = proc.communicate(timeout=a.timeout)
                     r = subprocess.CompletedProcess(cmd, proc.returncode, stdout, stderr)
@@ -214,8 +276,11 @@ def main():
                 res.update(parse(r.stdout, method))
                 missing = [k for k in ("reduction_s", "check_s", "setup_s") if k not in res]
                 if r.returncode != 0 or missing or "status: complete" not in r.stdout:
-                    why = f"exit {r.returncode}" + (f", no {', '.join(missing)} in its output" if missing else "") + \
-                          ("" if "status: complete" in r.stdout else ", no 'status: complete'")
+                    why = (
+                        f"exit {r.returncode}"
+                        + (f", no {', '.join(missing)} in its output" if missing else "")
+                        + ("" if "status: complete" in r.stdout else ", no 'status: complete'")
+                    )
                     failures.append(f"{tag}: {why}: {(r.stderr or r.stdout).strip()[-400:]}")
                     results.append(dict(res, error=(r.stderr or r.stdout)[-2000:]))
                     print(f"[bench] {tag} failed ({why}):\n{r.stdout}\n{r.stderr}")
@@ -246,21 +311,27 @@ def main():
                 # a lost mode, a wrong unit conversion or a solve stopped early.
                 n_cmp = min(len(res["full_hz"]), len(ccx))
                 if len(res["full_hz"]) != CHECK or len(ccx) != CHECK:
-                    failures.append(f"{tag}: {len(res['full_hz'])} full-model frequencies in the output, "
-                                    f"{len(ccx)} from ccx, expected {CHECK} of each")
+                    failures.append(
+                        f"{tag}: {len(res['full_hz'])} full-model frequencies in the output, "
+                        f"{len(ccx)} from ccx, expected {CHECK} of each"
+                    )
                 res["vs_ccx"] = max(abs(x - y) / y for x, y in zip(res["full_hz"][:n_cmp], ccx[:n_cmp]))
                 if not res["vs_ccx"] <= CCX_TOL:
-                    failures.append(f"{tag}: full-model frequencies differ from ccx's by {res['vs_ccx']:.2e} "
-                                    f"(relative) > {CCX_TOL:g}")
+                    failures.append(
+                        f"{tag}: full-model frequencies differ from ccx's by {res['vs_ccx']:.2e} "
+                        f"(relative) > {CCX_TOL:g}"
+                    )
                 results.append(res)
                 mine.append(res)
-                print(f"[bench] {tag}: {res.get('free_dofs')} free DOFs: import {res['import_s']:.2f} s, reduction "
-                      f"{res['reduction_s']:.2f} s (factor {res['factor_s']:.2f}, constraint modes "
-                      f"{res['constraint_s']:.2f}, eigenmodes {res['eigen_s']:.2f}), check {res['check_s']:.2f} s, "
-                      f"setup {res['setup_s']:.2f} s; (setup - import) / reduction "
-                      f"{res['after_import_over_reduction']:.2f}, setup / reduction {res['setup_over_reduction']:.2f}; "
-                      f"peak memory per rank {', '.join(f'{x:.0f}' for x in res['maxrss_mb'])} MB; full frequencies vs "
-                      f"ccx {res['vs_ccx']:.1e}; f1 {res['full_hz'][0]:.6g} Hz")
+                print(
+                    f"[bench] {tag}: {res.get('free_dofs')} free DOFs: import {res['import_s']:.2f} s, reduction "
+                    f"{res['reduction_s']:.2f} s (factor {res['factor_s']:.2f}, constraint modes "
+                    f"{res['constraint_s']:.2f}, eigenmodes {res['eigen_s']:.2f}), check {res['check_s']:.2f} s, "
+                    f"setup {res['setup_s']:.2f} s; (setup - import) / reduction "
+                    f"{res['after_import_over_reduction']:.2f}, setup / reduction {res['setup_over_reduction']:.2f}; "
+                    f"peak memory per rank {', '.join(f'{x:.0f}' for x in res['maxrss_mb'])} MB; full frequencies vs "
+                    f"ccx {res['vs_ccx']:.1e}; f1 {res['full_hz'][0]:.6g} Hz"
+                )
         # 2 ranks against 1 (same model and method), RANKS_TOL = 1e-8 relative on the full and the
         # reduced frequencies. The same matrices, solved by MUMPS on a different distribution:
         # direct solves agree to rounding (1e-13), and the eigen solves (Anasazi, residual
@@ -282,24 +353,33 @@ def main():
                         continue
                     d = max(abs(u - v) / v for u, v in zip(x, y))
                     r[key + "_vs_np1"] = d
-                    print(f"[bench] {name} {method} np={np_}: {key} against np=1: largest relative difference "
-                          f"{d:.1e} (tolerance {RANKS_TOL:g})")
+                    print(
+                        f"[bench] {name} {method} np={np_}: {key} against np=1: largest relative difference "
+                        f"{d:.1e} (tolerance {RANKS_TOL:g})"
+                    )
                     if not d <= RANKS_TOL:
-                        failures.append(f"{name} {method} np={np_}: {key} differ from 1 rank's by {d:.2e} > {RANKS_TOL:g}")
-    print("\n model     reduction          ranks  import  reduction  check   setup  (setup-import)/red  setup/red"
-          "  peak memory per rank (MB)")
+                        failures.append(
+                            f"{name} {method} np={np_}: {key} differ from 1 rank's by {d:.2e} > {RANKS_TOL:g}"
+                        )
+    print(
+        "\n model     reduction          ranks  import  reduction  check   setup  (setup-import)/red  setup/red"
+        "  peak memory per rank (MB)"
+    )
     for r in results:
         if "error" in r:
             print(f" {r['model']:9s} {r['method']:18s} {r['ranks']:5d}  failed")
             continue
-        print(f" {r['model']:9s} {r['method']:18s} {r['ranks']:5d} {r['import_s']:7.2f} {r['reduction_s']:10.2f} "
-              f"{r['check_s']:6.2f} {r['setup_s']:7.2f} {r['after_import_over_reduction']:19.2f} "
-              f"{r['setup_over_reduction']:10.2f}  {' / '.join(f'{x:.0f}' for x in r['maxrss_mb'])}")
+        print(
+            f" {r['model']:9s} {r['method']:18s} {r['ranks']:5d} {r['import_s']:7.2f} {r['reduction_s']:10.2f} "
+            f"{r['check_s']:6.2f} {r['setup_s']:7.2f} {r['after_import_over_reduction']:19.2f} "
+            f"{r['setup_over_reduction']:10.2f}  {' / '.join(f'{x:.0f}' for x in r['maxrss_mb'])}"
+        )
     total = time.time() - t_start
     print(f"[bench] total {total:.0f} s")
     with open(os.path.join(workdir, "bench_setup.json"), "w") as f:
-        json.dump({"runs": results, "total_s": total, "ccx_tolerance": CCX_TOL, "ranks_tolerance": RANKS_TOL}, f,
-                  indent=1)
+        json.dump(
+            {"runs": results, "total_s": total, "ccx_tolerance": CCX_TOL, "ranks_tolerance": RANKS_TOL}, f, indent=1
+        )
     print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED (no assertion on time)")
     return 1 if failures else 0
 

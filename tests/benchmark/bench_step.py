@@ -71,12 +71,22 @@ from epaphe_testing import variant, verdict  # noqa: E402
 SCENES = {
     "rotor37-massless": ("rotor37-massless.xml", {}),
     "rotor37-massless-nofriction": ("rotor37-massless.xml", {"Contact->Friction coefficient": ("0", "double")}),
-    "blade-98dof": ("rotor37-massless.xml", {"Bodies->Blade->Reduction->Fixed-interface modes": ("50", "int"),
-                                             "Bodies->Blade->Mesh->Elements": ("{40, 7, 1}", "Array(int)")}),
+    "blade-98dof": (
+        "rotor37-massless.xml",
+        {
+            "Bodies->Blade->Reduction->Fixed-interface modes": ("50", "int"),
+            "Bodies->Blade->Mesh->Elements": ("{40, 7, 1}", "Array(int)"),
+        },
+    ),
     "cube-rings": ("cube-rings.xml", {}),
-    "cube-flexible-rings": ("cube-flexible-rings.xml", {
-        "Young's modulus": "2.1e9",  # every body's
-        "Time->Time step": ("1e-6", "double"), "Time->End time": ("20e-3", "double")}),
+    "cube-flexible-rings": (
+        "cube-flexible-rings.xml",
+        {
+            "Young's modulus": "2.1e9",  # every body's
+            "Time->Time step": ("1e-6", "double"),
+            "Time->End time": ("20e-3", "double"),
+        },
+    ),
     "bar-on-wall": ("bar-on-wall.xml", {}),
 }
 # The longest scene (cube-flexible-rings, 20,000 steps) loops in 3-7 s here; a run 100x longer hangs.
@@ -127,16 +137,21 @@ def machine_class():
                     info.setdefault(k, v)
     except OSError:
         pass
-    return (f"{info.get('vendor_id', 'unknown vendor')} family {info.get('cpu family', '?')} model "
-            f"{info.get('model', '?')} ({info.get('model name', 'unknown')}), {len(os.sched_getaffinity(0))} CPUs")
+    return (
+        f"{info.get('vendor_id', 'unknown vendor')} family {info.get('cpu family', '?')} model "
+        f"{info.get('model', '?')} ({info.get('model name', 'unknown')}), {len(os.sched_getaffinity(0))} CPUs"
+    )
 
 
 def run_scene(exe, deck, workdir, tag, threads, count, repeat=1):
     """The fastest of `repeat` runs (its own figures: split, counts, projections), with
     loop_full_core: the least of the runs' loop x share (see run_once)."""
     runs = [run_once(exe, deck, workdir, tag, threads, count) for _ in range(max(1, repeat))]
-    return dict(min(runs, key=lambda r: r["loop"]), loop_full_core=min(r["loop"] * r["share"] for r in runs),
-                shares=[r["share"] for r in runs])
+    return dict(
+        min(runs, key=lambda r: r["loop"]),
+        loop_full_core=min(r["loop"] * r["share"] for r in runs),
+        shares=[r["share"] for r in runs],
+    )
 
 
 def run_once(exe, deck, workdir, tag, threads, count):
@@ -144,8 +159,14 @@ def run_once(exe, deck, workdir, tag, threads, count):
     if count:
         env["EPAPHE_COUNT_KERNELS"] = "1"
     out = os.path.join(workdir, tag + ".h5")
-    proc, share = timed([exe, deck, "--threads", str(threads), "--output", out], cwd=workdir, env=env,
-                        capture_output=True, text=True, timeout=RUN_TIMEOUT)
+    proc, share = timed(
+        [exe, deck, "--threads", str(threads), "--output", out],
+        cwd=workdir,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=RUN_TIMEOUT,
+    )
     if proc.returncode != 0:
         sys.stderr.write(proc.stdout[-3000:] + proc.stderr[-3000:])
         raise SystemExit(f"{tag}: epaphe-run failed ({proc.returncode})")
@@ -153,13 +174,17 @@ def run_once(exe, deck, workdir, tag, threads, count):
         r = dict(f["/run"].attrs)
         cost = dict(f["/run/cost"].attrs)
     steps = int(r["steps"])
-    return {"loop": float(r["loop_time"]), "share": share if threads == 1 else 1.0,
-            "steps": steps, "steps_per_second": float(r["steps_per_second"]),
-            "split_us": {k: 1e6 * float(v) / steps for k, v in sorted(cost.items())},
-            "launches_per_step": float(r["kernel_launches"]) / steps if "kernel_launches" in r else None,
-            "allocations": int(r["kernel_allocations"]) if "kernel_allocations" in r else None,
-            "projections_per_step": float(r["projections"]) / steps if "projections" in r else None,
-            "matrix_bytes": int(r["step_matrix_bytes"]) if "step_matrix_bytes" in r else None}
+    return {
+        "loop": float(r["loop_time"]),
+        "share": share if threads == 1 else 1.0,
+        "steps": steps,
+        "steps_per_second": float(r["steps_per_second"]),
+        "split_us": {k: 1e6 * float(v) / steps for k, v in sorted(cost.items())},
+        "launches_per_step": float(r["kernel_launches"]) / steps if "kernel_launches" in r else None,
+        "allocations": int(r["kernel_allocations"]) if "kernel_allocations" in r else None,
+        "projections_per_step": float(r["projections"]) / steps if "projections" in r else None,
+        "matrix_bytes": int(r["step_matrix_bytes"]) if "step_matrix_bytes" in r else None,
+    }
 
 
 def guard(results, ref, machine, where):
@@ -168,24 +193,32 @@ def guard(results, ref, machine, where):
     failures = []
     ceilings, factor = ref["measured_over_bound_ceiling"], float(ref["loop_factor"])
     record = ref.get("machines", {}).get(machine)
-    print(f"guard ({where}): measured/bound against its ceiling; loop / reference kernel against "
-          f"{factor:g}x the record of machine class '{machine}'")
+    print(
+        f"guard ({where}): measured/bound against its ceiling; loop / reference kernel against "
+        f"{factor:g}x the record of machine class '{machine}'"
+    )
     if record is None:
-        print(f"  no loop figures recorded for this machine class in {where} (classes recorded: "
-              f"{', '.join(ref.get('machines', {})) or 'none'}): the loop-time check is skipped; record them with "
-              f"three runs with --record {where}, alone on the machine")
+        print(
+            f"  no loop figures recorded for this machine class in {where} (classes recorded: "
+            f"{', '.join(ref.get('machines', {})) or 'none'}): the loop-time check is skipped; record them with "
+            f"three runs with --record {where}, alone on the machine"
+        )
     for name, s in results["scenes"].items():
         ratio, ceiling = s["measured_over_bound"], ceilings.get(name)
         line = f"  {name}: measured/bound {ratio:.2f}"
         if ceiling is None:
-            failures.append(f"{name}: {where} states no measured/bound ceiling for it; add one to "
-                            f"'measured_over_bound_ceiling' (its reason in 'ceiling_reason')")
+            failures.append(
+                f"{name}: {where} states no measured/bound ceiling for it; add one to "
+                f"'measured_over_bound_ceiling' (its reason in 'ceiling_reason')"
+            )
         elif not ratio <= ceiling:  # NaN (no bound) fails too
             line += f" > ceiling {ceiling:g}  FAIL"
-            failures.append(f"{name}: measured/bound {ratio:.2f} on 1 thread is above its ceiling {ceiling:g} "
-                            f"({where}): the step costs more than its bound allows (loop {s['now-1']['loop_full_core']:.3f} s "
-                            f"at a full core, bound {1e6 * s['bound_s']:.2f} us/step); bench_step.py --baseline-run with "
-                            f"the previous build shows which phase grew")
+            failures.append(
+                f"{name}: measured/bound {ratio:.2f} on 1 thread is above its ceiling {ceiling:g} "
+                f"({where}): the step costs more than its bound allows (loop {s['now-1']['loop_full_core']:.3f} s "
+                f"at a full core, bound {1e6 * s['bound_s']:.2f} us/step); bench_step.py --baseline-run with "
+                f"the previous build shows which phase grew"
+            )
         else:
             line += f" <= ceiling {ceiling:g}"
         norm = s["loop_over_reference"]
@@ -195,10 +228,12 @@ def guard(results, ref, machine, where):
             line += f" ({norm / recorded:.2f}x the recorded {recorded:.2f}"
             if not norm <= factor * recorded:
                 line += f", limit {factor:g}x)  FAIL"
-                failures.append(f"{name}: the 1-thread loop is {norm / recorded:.2f}x the figure recorded for "
-                                f"'{machine}' in {where} ({norm:.2f} against {recorded:.2f} reference kernels; "
-                                f"limit {factor:g}x): the step got slower. If that is intended, record the figures "
-                                f"again: three runs with --record {where}, alone on the machine")
+                failures.append(
+                    f"{name}: the 1-thread loop is {norm / recorded:.2f}x the figure recorded for "
+                    f"'{machine}' in {where} ({norm:.2f} against {recorded:.2f} reference kernels; "
+                    f"limit {factor:g}x): the step got slower. If that is intended, record the figures "
+                    f"again: three runs with --record {where}, alone on the machine"
+                )
             else:
                 line += f", limit {factor:g}x)"
                 if norm < recorded / factor:
@@ -221,20 +256,27 @@ def record_figures(path, results, machine, repeat):
             ref = json.load(f)
     scenes = results["scenes"]
     old = ref.setdefault("machines", {}).get(machine, {})
-    run = {"repeat": repeat, "reference_ms": round(min(s["reference_ms"] for s in scenes.values()), 3),
-           "probe": {"bandwidth_GBps": round(results["bandwidth_GBps"], 2),
-                     "projection_ns": round(results["projection_ns"], 1)},
-           "loop_over_reference": {n: round(s["loop_over_reference"], 3) for n, s in scenes.items()},
-           "loop_full_core_s": {n: round(s["now-1"]["loop_full_core"], 4) for n, s in scenes.items()},
-           "measured_over_bound": {n: round(s["measured_over_bound"], 3) for n, s in scenes.items()}}
+    run = {
+        "repeat": repeat,
+        "reference_ms": round(min(s["reference_ms"] for s in scenes.values()), 3),
+        "probe": {
+            "bandwidth_GBps": round(results["bandwidth_GBps"], 2),
+            "projection_ns": round(results["projection_ns"], 1),
+        },
+        "loop_over_reference": {n: round(s["loop_over_reference"], 3) for n, s in scenes.items()},
+        "loop_full_core_s": {n: round(s["now-1"]["loop_full_core"], 4) for n, s in scenes.items()},
+        "measured_over_bound": {n: round(s["measured_over_bound"], 3) for n, s in scenes.items()},
+    }
     runs = (old.get("recordings", []) + [run])[-RECORDINGS:]
     names = sorted({n for r in runs for n in r["loop_over_reference"]})
     ref["machines"][machine] = {
         "measured": f"bench_step.py --record, {len(runs)} recording(s); in each, a loop is the fastest of --repeat runs "
-                    "on 1 thread, at a full core (loop x the run's share of a core), the reference kernel the faster of "
-                    "its runs right before and right after them; the record is each scene's median over the recordings",
-        "loop_over_reference": {n: round(statistics.median(r["loop_over_reference"][n] for r in runs
-                                                           if n in r["loop_over_reference"]), 3) for n in names},
+        "on 1 thread, at a full core (loop x the run's share of a core), the reference kernel the faster of "
+        "its runs right before and right after them; the record is each scene's median over the recordings",
+        "loop_over_reference": {
+            n: round(statistics.median(r["loop_over_reference"][n] for r in runs if n in r["loop_over_reference"]), 3)
+            for n in names
+        },
         "recordings": runs,
     }
     with open(path, "w") as f:
@@ -253,8 +295,12 @@ def main():
     ap.add_argument("--scenes", nargs="+", default=list(SCENES), choices=list(SCENES))
     ap.add_argument("--repeat", type=int, default=3, help="runs per scene, build and thread count; the fastest is kept")
     ap.add_argument("--reference-kernel", help="bench_step_reference: the loop in units of its fixed work")
-    ap.add_argument("--assert", dest="check", metavar="REFERENCE_JSON",
-                    help="fail on measured/bound above its ceiling or a loop slower than the record (see above)")
+    ap.add_argument(
+        "--assert",
+        dest="check",
+        metavar="REFERENCE_JSON",
+        help="fail on measured/bound above its ceiling or a loop slower than the record (see above)",
+    )
     ap.add_argument("--record", metavar="REFERENCE_JSON", help="write this machine class's loop figures there")
     a = ap.parse_args()
     if (a.check or a.record) and not a.reference_kernel:
@@ -267,19 +313,24 @@ def main():
     if a.baseline_run:
         a.baseline_run = os.path.abspath(a.baseline_run)
     os.makedirs(a.workdir, exist_ok=True)
-    probes = [probe(a.probe) for _ in range(max(1, a.repeat))]   # the machine at its best, as the runs
+    probes = [probe(a.probe) for _ in range(max(1, a.repeat))]  # the machine at its best, as the runs
     bw, proj_ns = max(p[0] for p in probes), min(p[1] for p in probes)
     machine = machine_class()
-    print(f"machine: {machine}; triad bandwidth {bw:.2f} GB/s (1 thread), one warm-started projection "
-          f"{proj_ns:.0f} ns; each figure the fastest of {a.repeat} runs")
+    print(
+        f"machine: {machine}; triad bandwidth {bw:.2f} GB/s (1 thread), one warm-started projection "
+        f"{proj_ns:.0f} ns; each figure the fastest of {a.repeat} runs"
+    )
     results = {"machine": machine, "bandwidth_GBps": bw, "projection_ns": proj_ns, "scenes": {}}
     builds = [("now", a.run)] + ([("baseline", a.baseline_run)] if a.baseline_run else [])
     for name in a.scenes:
         base, over = SCENES[name]
         over = dict(over)
         young = over.pop("Young's modulus", None)
-        deck = variant(os.path.join(a.inputs, base), os.path.join(a.workdir, name + ".xml"),
-                       dict(over, **{"Run->Progress interval": ("0", "double")}))
+        deck = variant(
+            os.path.join(a.inputs, base),
+            os.path.join(a.workdir, name + ".xml"),
+            dict(over, **{"Run->Progress interval": ("0", "double")}),
+        )
         if young:  # (a quote in the key: not a variant() path)
             tree = ET.parse(deck)
             for p in tree.getroot().iter("Parameter"):
@@ -292,15 +343,17 @@ def main():
                 timed_ref = a.reference_kernel and (which, threads) == ("now", 1)
                 if timed_ref:
                     refs.append(reference_ms(a.reference_kernel))
-                res[f"{which}-{threads}"] = run_scene(exe, deck, a.workdir, f"{name}-{which}-{threads}", threads,
-                                                      count=False, repeat=a.repeat)
+                res[f"{which}-{threads}"] = run_scene(
+                    exe, deck, a.workdir, f"{name}-{which}-{threads}", threads, count=False, repeat=a.repeat
+                )
                 if timed_ref:
                     refs.append(reference_ms(a.reference_kernel))
         # the parallel regions and allocations from a run of their own: the Kokkos Tools callbacks
         # that count them cost time in every region (cube-rings on 2 threads: 0.40 -> 0.57 s)
         counted = run_once(a.run, deck, a.workdir, f"{name}-counted", 2, True)
-        now1, now2 = res["now-1"], dict(res["now-2"], launches_per_step=counted["launches_per_step"],
-                                         allocations=counted["allocations"])
+        now1, now2 = res["now-1"], dict(
+            res["now-2"], launches_per_step=counted["launches_per_step"], allocations=counted["allocations"]
+        )
         per_step = now1["loop"] / now1["steps"]
         bound = (now1["matrix_bytes"] or 0) / (bw * 1e9) + (now1["projections_per_step"] or 0) * proj_ns * 1e-9
         # measured/bound and loop/reference of the loop at a full core (run_once): the probe and the
@@ -308,24 +361,33 @@ def main():
         full = now1["loop_full_core"]
         over_bound = full / now1["steps"] / bound if bound > 0 else float("nan")
         split = ", ".join(f"{k} {v:.2f}" for k, v in now1["split_us"].items())
-        line = (f"{name}: 1 thread {now1['loop']:.3f} s ({now1['steps_per_second']:.0f} steps/s, {1e6 * per_step:.2f} us/step; "
-                f"{split} us), 2 threads {now2['loop']:.3f} s ({now2['steps_per_second'] / now1['steps_per_second']:.2f}x); "
-                f"{now2['launches_per_step']:.2f} parallel regions/step on 2 threads, {now2['allocations']} allocations in the loop; "
-                f"projections/step {now1['projections_per_step'] or 0:.1f}; bound {1e6 * bound:.2f} us/step, "
-                f"measured/bound {over_bound:.2f}")
+        line = (
+            f"{name}: 1 thread {now1['loop']:.3f} s ({now1['steps_per_second']:.0f} steps/s, {1e6 * per_step:.2f} us/step; "
+            f"{split} us), 2 threads {now2['loop']:.3f} s ({now2['steps_per_second'] / now1['steps_per_second']:.2f}x); "
+            f"{now2['launches_per_step']:.2f} parallel regions/step on 2 threads, {now2['allocations']} allocations in the loop; "
+            f"projections/step {now1['projections_per_step'] or 0:.1f}; bound {1e6 * bound:.2f} us/step, "
+            f"measured/bound {over_bound:.2f}"
+        )
         if min(now1["shares"]) < 0.97:
-            line += (f" (of the loop at a full core, {full:.3f} s: the 1-thread runs had "
-                     f"{', '.join(f'{100 * x:.0f}' for x in now1['shares'])} % of one)")
+            line += (
+                f" (of the loop at a full core, {full:.3f} s: the 1-thread runs had "
+                f"{', '.join(f'{100 * x:.0f}' for x in now1['shares'])} % of one)"
+            )
         results["scenes"][name] = dict(res, bound_s=bound, measured_over_bound=over_bound)
         if refs:
-            results["scenes"][name].update(reference_ms=min(refs), reference_ms_runs=refs,
-                                           loop_over_reference=full / (1e-3 * min(refs)))
-            line += (f"; reference kernel {min(refs):.2f} ms (before/after {refs[0]:.2f}/{refs[1]:.2f}), "
-                     f"loop/reference {full / (1e-3 * min(refs)):.2f}")
+            results["scenes"][name].update(
+                reference_ms=min(refs), reference_ms_runs=refs, loop_over_reference=full / (1e-3 * min(refs))
+            )
+            line += (
+                f"; reference kernel {min(refs):.2f} ms (before/after {refs[0]:.2f}/{refs[1]:.2f}), "
+                f"loop/reference {full / (1e-3 * min(refs)):.2f}"
+            )
         if a.baseline_run:
             b1, b2 = res["baseline-1"], res["baseline-2"]
-            line += (f"; baseline 1 thread {b1['loop']:.3f} s, 2 threads {b2['loop']:.3f} s: speedup "
-                     f"{b1['loop'] / now1['loop']:.2f}x (1 thread), {b2['loop'] / now2['loop']:.2f}x (2 threads)")
+            line += (
+                f"; baseline 1 thread {b1['loop']:.3f} s, 2 threads {b2['loop']:.3f} s: speedup "
+                f"{b1['loop'] / now1['loop']:.2f}x (1 thread), {b2['loop'] / now2['loop']:.2f}x (2 threads)"
+            )
         print(line, flush=True)
     with open(os.path.join(a.workdir, "bench_step.json"), "w") as f:
         json.dump(results, f, indent=1)

@@ -20,9 +20,17 @@ def main():
     name = os.path.splitext(os.path.basename(a.deck))[0]
     for threads in (1, 2):
         tag = f"{name}-threads{threads}"
-        deck = variant(a.deck, os.path.join(a.workdir, tag + ".xml"), {
-            "Output->File": tag + ".h5", "Output->Every": ("1000", "int"), "Time->End time": (a.end, "double"),
-            "Time->End revolutions": ("0", "double"), "Run->Progress interval": ("0", "double")})
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, tag + ".xml"),
+            {
+                "Output->File": tag + ".h5",
+                "Output->Every": ("1000", "int"),
+                "Time->End time": (a.end, "double"),
+                "Time->End revolutions": ("0", "double"),
+                "Run->Progress interval": ("0", "double"),
+            },
+        )
         run([a.run, deck, "--threads", str(threads)], a.workdir)
         with h5py.File(os.path.join(a.workdir, tag + ".h5"), "r") as f:
             r = f["/run"].attrs

@@ -41,9 +41,28 @@ import sys
 import time
 
 # C3D20 nodes in (i, j, k) half-cell offsets, CalculiX/Abaqus order.
-C3D20 = [(0, 0, 0), (2, 0, 0), (2, 2, 0), (0, 2, 0), (0, 0, 2), (2, 0, 2), (2, 2, 2), (0, 2, 2),
-         (1, 0, 0), (2, 1, 0), (1, 2, 0), (0, 1, 0), (1, 0, 2), (2, 1, 2), (1, 2, 2), (0, 1, 2),
-         (0, 0, 1), (2, 0, 1), (2, 2, 1), (0, 2, 1)]
+C3D20 = [
+    (0, 0, 0),
+    (2, 0, 0),
+    (2, 2, 0),
+    (0, 2, 0),
+    (0, 0, 2),
+    (2, 0, 2),
+    (2, 2, 2),
+    (0, 2, 2),
+    (1, 0, 0),
+    (2, 1, 0),
+    (1, 2, 0),
+    (0, 1, 0),
+    (1, 0, 2),
+    (2, 1, 2),
+    (1, 2, 2),
+    (0, 1, 2),
+    (0, 0, 1),
+    (2, 0, 1),
+    (2, 2, 1),
+    (0, 2, 1),
+]
 
 # The two C3D15 wedges of a cell: triangles in (i, j) half-cell offsets, counter-clockwise seen from
 # +z, extruded through the thickness (k offsets 0, 2); the diagonal (0, 0)-(2, 2) is shared.
@@ -52,11 +71,15 @@ WEDGE_TRIANGLES = [((0, 0), (2, 0), (2, 2)), ((0, 0), (2, 2), (0, 2))]
 
 def c3d15(tri):
     """The 15 nodes of a wedge over triangle `tri` in (i, j, k) half-cell offsets, CalculiX order."""
-    corners = [(a, b, k) for k in (0, 2) for a, b in tri]                                  # 1-3, 4-6
-    mids = [((tri[n][0] + tri[(n + 1) % 3][0]) // 2, (tri[n][1] + tri[(n + 1) % 3][1]) // 2, k)
-            for k in (0, 2) for n in range(3)]                                              # 7-9, 10-12
-    vertical = [(a, b, 1) for a, b in tri]                                                  # 13-15
+    corners = [(a, b, k) for k in (0, 2) for a, b in tri]  # 1-3, 4-6
+    mids = [
+        ((tri[n][0] + tri[(n + 1) % 3][0]) // 2, (tri[n][1] + tri[(n + 1) % 3][1]) // 2, k)
+        for k in (0, 2)
+        for n in range(3)
+    ]  # 7-9, 10-12
+    vertical = [(a, b, 1) for a, b in tri]  # 13-15
     return corners + mids + vertical
+
 
 # Material and default lengths per unit system (lengths, E, density): SI, and mm-tonne-s.
 UNITS = {"m": ([0.1, 0.03, 0.003], "2.1e11", "7800."), "mm": ([100.0, 30.0, 3.0], "2.1e5", "7.8e-9")}
@@ -83,14 +106,18 @@ def write_model(d, cells, lengths, twist_deg, modes, storage=False, element="C3D
     os.makedirs(d, exist_ok=True)
     with open(os.path.join(d, "mesh.inp"), "w") as f:
         # ccx reads a number from at most 20 characters: 13 significant digits fit with sign and exponent.
-        f.write(f"** twisted plate of {element}{' in mm-tonne-s units' if units == 'mm' else ''} written by blade_model.py\n"
-                "*NODE, NSET=NALL\n")
+        f.write(
+            f"** twisted plate of {element}{' in mm-tonne-s units' if units == 'mm' else ''} written by blade_model.py\n"
+            "*NODE, NSET=NALL\n"
+        )
         for (i, j, k), n in sorted(ids.items(), key=lambda kv: kv[1]):
             x = L * i / (2 * nx)
             y = c * (j / (2 * ny) - 0.5)
             z = t * (k / (2 * nz) - 0.5)
             a = math.radians(twist_deg) * x / L
-            f.write(f"{n}, {x:.13g}, {y * math.cos(a) - z * math.sin(a):.13g}, {y * math.sin(a) + z * math.cos(a):.13g}\n")
+            f.write(
+                f"{n}, {x:.13g}, {y * math.cos(a) - z * math.sin(a):.13g}, {y * math.sin(a) + z * math.cos(a):.13g}\n"
+            )
         f.write(f"*ELEMENT, TYPE={element}, ELSET=EALL\n")
         first = 15 if element == "C3D20" else 10  # a data line holds at most 16 entries; a trailing comma continues
         for e, nodes in enumerate(elements, 1):
@@ -99,17 +126,21 @@ def write_model(d, cells, lengths, twist_deg, modes, storage=False, element="C3D
         def nset(name, members):
             f.write(f"*NSET, NSET={name}\n")
             for s in range(0, len(members), 12):
-                f.write(", ".join(map(str, members[s:s + 12])) + ",\n")
+                f.write(", ".join(map(str, members[s : s + 12])) + ",\n")
 
         nset("ROOT", sorted(n for (i, j, k), n in ids.items() if i == 0))
         nset("TIP", sorted(n for (i, j, k), n in ids.items() if i == 2 * nx))
         # 16 retained nodes: corner nodes of the tip's upper edge, evenly spread along the chord.
         corners = list(range(0, 2 * ny + 1, 2))
-        pick = sorted({corners[round(q * (len(corners) - 1) / 15)] for q in range(16)}) if len(corners) >= 16 else corners
+        pick = (
+            sorted({corners[round(q * (len(corners) - 1) / 15)] for q in range(16)}) if len(corners) >= 16 else corners
+        )
         nset("TIP16", [ids[(2 * nx, j, 2 * nz)] for j in pick])
     _, young, density = UNITS[units]
-    common = (f"*INCLUDE, INPUT=mesh.inp\n*MATERIAL, NAME=STEEL\n*ELASTIC\n{young}, 0.3\n*DENSITY\n{density}\n"
-              "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*BOUNDARY\nROOT, 1, 3\n*STEP\n")
+    common = (
+        f"*INCLUDE, INPUT=mesh.inp\n*MATERIAL, NAME=STEEL\n*ELASTIC\n{young}, 0.3\n*DENSITY\n{density}\n"
+        "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*BOUNDARY\nROOT, 1, 3\n*STEP\n"
+    )
     with open(os.path.join(d, "mat.inp"), "w") as f:
         f.write(common + "*FREQUENCY, SOLVER=MATRIXSTORAGE\n*END STEP\n")
     with open(os.path.join(d, "freq.inp"), "w") as f:
@@ -128,13 +159,23 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("dir")
     p.add_argument("--cells", type=int, nargs=3, default=[100, 30, 1])
-    p.add_argument("--lengths", type=float, nargs=3, default=None,
-                   help="span, chord, thickness in --units (default 0.1 0.03 0.003 m = 100 30 3 mm)")
+    p.add_argument(
+        "--lengths",
+        type=float,
+        nargs=3,
+        default=None,
+        help="span, chord, thickness in --units (default 0.1 0.03 0.003 m = 100 30 3 mm)",
+    )
     p.add_argument("--twist", type=float, default=30.0)
-    p.add_argument("--element", choices=["C3D20", "C3D15"], default="C3D20",
-                   help="C3D20: a hexahedron per cell; C3D15: two wedges per cell")
-    p.add_argument("--units", choices=sorted(UNITS), default="m",
-                   help="m: SI (m, Pa, kg/m^3); mm: mm-tonne-s (mm, MPa, t/mm^3)")
+    p.add_argument(
+        "--element",
+        choices=["C3D20", "C3D15"],
+        default="C3D20",
+        help="C3D20: a hexahedron per cell; C3D15: two wedges per cell",
+    )
+    p.add_argument(
+        "--units", choices=sorted(UNITS), default="m", help="m: SI (m, Pa, kg/m^3); mm: mm-tonne-s (mm, MPa, t/mm^3)"
+    )
     p.add_argument("--modes", type=int, default=10)
     p.add_argument("--run", default="", help="ccx binary: run mat.inp (matrices) and, with --freq, freq.inp")
     p.add_argument("--freq", action="store_true", help="also run freq.inp (ccx's eigenvalues)")
@@ -142,8 +183,10 @@ def main():
     a = p.parse_args()
     lengths = a.lengths if a.lengths is not None else UNITS[a.units][0]
     nodes, elements = write_model(a.dir, a.cells, lengths, a.twist, a.modes, a.storage, a.element, a.units)
-    print(f"[blade] {elements} {a.element}, {nodes} nodes, {3 * nodes} DOFs (before the root is clamped) in {a.dir} "
-          f"(units {a.units})")
+    print(
+        f"[blade] {elements} {a.element}, {nodes} nodes, {3 * nodes} DOFs (before the root is clamped) in {a.dir} "
+        f"(units {a.units})"
+    )
     if a.run:
         for job in ["mat"] + (["freq"] if a.freq else []):
             t0 = time.time()

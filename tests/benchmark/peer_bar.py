@@ -104,24 +104,41 @@ EPAPHE = [
     ("ml200_h4e-7", "Massless boundary", 200, 4e-7),
     ("full_h4e-7", "Full, lumped mass", 0, 4e-7),
 ]
-MODEL = {"Craig-Bampton": "Epaphe Craig-Bampton", "Massless boundary": "Epaphe massless boundary",
-         "Full, lumped mass": "Epaphe full, lumped mass"}
+MODEL = {
+    "Craig-Bampton": "Epaphe Craig-Bampton",
+    "Massless boundary": "Epaphe massless boundary",
+    "Full, lumped mass": "Epaphe full, lumped mass",
+}
 TIE = 1e-9  # errors are of order 1e-3; two codes landing on the same step differ only by round-off
-FORCE_FINDING = (0.0025, 0.0002)   # Epaphe's best row's mean force error and its band (docstring)
-TIME_RATIO = 0.1                   # Epaphe's best row's process time over the best Siconos row's
-TIME_REPEATS = 5                   # processes timed for that ratio, the best of each taken
-SUBPROCESS_TIMEOUT = 600           # s, for one Siconos process (the slowest, V3's 200 elements, takes 35-50 s)
+FORCE_FINDING = (0.0025, 0.0002)  # Epaphe's best row's mean force error and its band (docstring)
+TIME_RATIO = 0.1  # Epaphe's best row's process time over the best Siconos row's
+TIME_REPEATS = 5  # processes timed for that ratio, the best of each taken
+SUBPROCESS_TIMEOUT = 600  # s, for one Siconos process (the slowest, V3's 200 elements, takes 35-50 s)
 
 
 def epaphe_row(a, name, method, modes, h):
     reduced = method != "Full, lumped mass"
-    deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), dict({
-        "Output->File": name + ".h5", "Run->Progress interval": ("0", "double"),
-        "Bodies->Bar->Reduction->Method": method,
-        "Bodies->Bar->Reduction->Frequency check": ("0", "int"),
-        "Time->Time step": (f"{h:g}", "double")}, **({
-            "Bodies->Bar->Reduction->Fixed-interface modes": (str(modes), "int"),
-            "Bodies->Bar->Reduction->Cache file": (name + ".rom.h5", "string")} if reduced else {})))
+    deck = variant(
+        a.deck,
+        os.path.join(a.workdir, name + ".xml"),
+        dict(
+            {
+                "Output->File": name + ".h5",
+                "Run->Progress interval": ("0", "double"),
+                "Bodies->Bar->Reduction->Method": method,
+                "Bodies->Bar->Reduction->Frequency check": ("0", "int"),
+                "Time->Time step": (f"{h:g}", "double"),
+            },
+            **(
+                {
+                    "Bodies->Bar->Reduction->Fixed-interface modes": (str(modes), "int"),
+                    "Bodies->Bar->Reduction->Cache file": (name + ".rom.h5", "string"),
+                }
+                if reduced
+                else {}
+            ),
+        ),
+    )
     cache = os.path.join(a.workdir, name + ".rom.h5")
     if os.path.exists(cache):
         os.remove(cache)
@@ -134,26 +151,44 @@ def epaphe_row(a, name, method, modes, h):
             return float(r["loop_time"]), float(r["setup_time"])
 
     t = time.perf_counter()
-    run([a.run, deck, "--threads", "1"], a.workdir)   # exits on a failed run; reduces and writes the cache
+    run([a.run, deck, "--threads", "1"], a.workdir)  # exits on a failed run; reduces and writes the cache
     wall = time.perf_counter() - t
     command = [a.run, deck, "--threads", "1"]
-    loop, setup = times()                              # this run's, reduction included
+    loop, setup = times()  # this run's, reduction included
     t = time.perf_counter()
-    run([a.run, deck, "--threads", "1"], a.workdir)   # the same run, its reduced model read from the cache
+    run([a.run, deck, "--threads", "1"], a.workdir)  # the same run, its reduced model read from the cache
     cached = time.perf_counter() - t
-    m = measure(path)                                  # refuses a run whose status is not 'complete'
+    m = measure(path)  # refuses a run whose status is not 'complete'
     with h5py.File(path, "r") as f:
         lag = float(f["energy/total"][-1] - f["energy/total"][0])
-    return dict(model=MODEL[method], size=f"{modes} modes" if reduced else "1212 DOFs", h=h, errs=m["errs"], wall=wall, loop=loop,
-                setup=setup, inproc=setup + loop, lag=lag, cached=cached, command=command, cache=cache, cwd=a.workdir)
+    return dict(
+        model=MODEL[method],
+        size=f"{modes} modes" if reduced else "1212 DOFs",
+        h=h,
+        errs=m["errs"],
+        wall=wall,
+        loop=loop,
+        setup=setup,
+        inproc=setup + loop,
+        lag=lag,
+        cached=cached,
+        command=command,
+        cache=cache,
+        cwd=a.workdir,
+    )
 
 
 def siconos_process(script, *args):
     """A Siconos script of this folder run in a fresh python3 process, timed as a whole: its last
     line's JSON and the process's wall time (the peer benchmarks' "process" column)."""
     t = time.perf_counter()
-    out = subprocess.run([sys.executable, os.path.join(_here, script), *map(str, args)],
-                         check=True, capture_output=True, text=True, timeout=SUBPROCESS_TIMEOUT).stdout
+    out = subprocess.run(
+        [sys.executable, os.path.join(_here, script), *map(str, args)],
+        check=True,
+        capture_output=True,
+        text=True,
+        timeout=SUBPROCESS_TIMEOUT,
+    ).stdout
     wall = time.perf_counter() - t
     return json.loads(out.strip().splitlines()[-1]), wall
 
@@ -164,17 +199,30 @@ def require_siconos():
     try:
         import siconos.kernel  # noqa: F401
     except ImportError as e:
-        raise SystemExit(f"FAILED: the peer benchmark needs Siconos, which {sys.executable} cannot import ({e}); "
-                         "install it (Debian: apt-get install python3-siconos) or configure EPAPHE_PYTHON "
-                         "to a python3 that has it")
+        raise SystemExit(
+            f"FAILED: the peer benchmark needs Siconos, which {sys.executable} cannot import ({e}); "
+            "install it (Debian: apt-get install python3-siconos) or configure EPAPHE_PYTHON "
+            "to a python3 that has it"
+        )
 
 
 def siconos_row(elements, h):
     """The row in a fresh python3 process (peer_siconos_bar.py ELEMENTS H), timed as a whole."""
     r, wall = siconos_process("peer_siconos_bar.py", elements, repr(h))
-    return dict(model="Siconos Moreau-Jean 0.5", size=f"{elements} elements", h=h, errs=r["errs"], wall=wall,
-                loop=r["loop_seconds"], setup=r["setup_seconds"], inproc=r["setup_seconds"] + r["loop_seconds"],
-                lag=None, cached=None, script="peer_siconos_bar.py", args=(elements, repr(h)))
+    return dict(
+        model="Siconos Moreau-Jean 0.5",
+        size=f"{elements} elements",
+        h=h,
+        errs=r["errs"],
+        wall=wall,
+        loop=r["loop_seconds"],
+        setup=r["setup_seconds"],
+        inproc=r["setup_seconds"] + r["loop_seconds"],
+        lag=None,
+        cached=None,
+        script="peer_siconos_bar.py",
+        args=(elements, repr(h)),
+    )
 
 
 def best_process(row, repeats):
@@ -205,15 +253,21 @@ def compare(best_epaphe, best_siconos, keys, findings, ratio, limit, tie=TIE, fm
         if k in findings:
             value, band = findings[k]
             if e <= s + tie:
-                failures.append(f"{k}: Epaphe's {fmt.format(e)} is now at or below Siconos' {fmt.format(s)}: the "
-                                f"finding is gone; assert {k} with the other errors (drop it from the findings)")
+                failures.append(
+                    f"{k}: Epaphe's {fmt.format(e)} is now at or below Siconos' {fmt.format(s)}: the "
+                    f"finding is gone; assert {k} with the other errors (drop it from the findings)"
+                )
             elif not abs(e - value) <= band:
-                failures.append(f"{k}: Epaphe's {fmt.format(e)}, the recorded finding {fmt.format(value)} +- "
-                                f"{fmt.format(band)}: {'better' if e < value else 'worse'} (a regression if worse; if "
-                                f"better, update the recorded value and its docstring)")
+                failures.append(
+                    f"{k}: Epaphe's {fmt.format(e)}, the recorded finding {fmt.format(value)} +- "
+                    f"{fmt.format(band)}: {'better' if e < value else 'worse'} (a regression if worse; if "
+                    f"better, update the recorded value and its docstring)"
+                )
             else:
-                print(f"  KNOWN FINDING: {k} {fmt.format(e)} above Siconos' {fmt.format(s)}, as recorded "
-                      f"({fmt.format(value)} +- {fmt.format(band)})")
+                print(
+                    f"  KNOWN FINDING: {k} {fmt.format(e)} above Siconos' {fmt.format(s)}, as recorded "
+                    f"({fmt.format(value)} +- {fmt.format(band)})"
+                )
         elif not e <= s + tie:
             failures.append(f"{k}: Epaphe's best row {fmt.format(e)}, above Siconos' best {fmt.format(s)}")
     if not ratio <= limit:
@@ -232,40 +286,54 @@ def main():
         numbers += [] if row["lag"] is None else [row["lag"]]
         assert all(math.isfinite(x) for x in numbers), f"{row['model']} {row['size']}: not finite: {numbers}"
 
-    print("V1 bar on a rigid wall, Siconos 4.4 and Epaphe, 1 thread each; errors relative to exact "
-          "(start 2.0e-5 s, end 1.0e-4 s, mean force 1.6e6 N, rebound 100 m/s),\nrecords at step end, "
-          "force = impulse / measured duration")
-    head = (f"{'code / model':<26} {'size':>12} {'h s':>6} | {'start':>6} {'end':>6} {'force':>6} {'rebound':>7} | "
-            f"{'process s':>9} {'cached':>6} {'in-process s':>12} {'loop s':>6} | {'dE J':>7}")
+    print(
+        "V1 bar on a rigid wall, Siconos 4.4 and Epaphe, 1 thread each; errors relative to exact "
+        "(start 2.0e-5 s, end 1.0e-4 s, mean force 1.6e6 N, rebound 100 m/s),\nrecords at step end, "
+        "force = impulse / measured duration"
+    )
+    head = (
+        f"{'code / model':<26} {'size':>12} {'h s':>6} | {'start':>6} {'end':>6} {'force':>6} {'rebound':>7} | "
+        f"{'process s':>9} {'cached':>6} {'in-process s':>12} {'loop s':>6} | {'dE J':>7}"
+    )
     print(head)
     print("-" * len(head))
     for row in siconos + epaphe:
         e = row["errs"]
         lag = "-" if row["lag"] is None else f"{row['lag']:.2f}"
         cached = "-" if row["cached"] is None else f"{row['cached']:.3f}"
-        print(f"{row['model']:<26} {row['size']:>12} {row['h']:6.0e} | {e['start']:6.2%} {e['end']:6.2%} "
-              f"{e['force']:6.2%} {e['rebound']:7.2%} | {row['wall']:9.3f} {cached:>6} {row['inproc']:12.3f} "
-              f"{row['loop']:6.3f} | {lag:>7}")
+        print(
+            f"{row['model']:<26} {row['size']:>12} {row['h']:6.0e} | {e['start']:6.2%} {e['end']:6.2%} "
+            f"{e['force']:6.2%} {e['rebound']:7.2%} | {row['wall']:9.3f} {cached:>6} {row['inproc']:12.3f} "
+            f"{row['loop']:6.3f} | {lag:>7}"
+        )
 
     best = min(siconos, key=lambda r: sum(r["errs"].values()))
-    print(f"\nagainst the best Siconos row ({best['size']}, h = {best['h']:.0e}, process {best['wall']:.3f} s, "
-          f"in-process {best['inproc']:.3f} s):")
+    print(
+        f"\nagainst the best Siconos row ({best['size']}, h = {best['h']:.0e}, process {best['wall']:.3f} s, "
+        f"in-process {best['inproc']:.3f} s):"
+    )
     for row in epaphe:
         verdicts = ", ".join(
             f"{k} {'at/below' if row['errs'][k] <= best['errs'][k] + TIE else 'ABOVE'} "
-            f"({row['errs'][k]:.2%} vs {best['errs'][k]:.2%})" for k in KEYS)
-        print(f"  {row['model']} {row['size']}, h = {row['h']:.0e}: {verdicts}; "
-              f"process {row['wall'] / best['wall']:.2f} x Siconos' ({row['cached'] / best['wall']:.2f} x with the reduction "
-              f"cached), in-process {row['inproc'] / best['inproc']:.2f} x")
+            f"({row['errs'][k]:.2%} vs {best['errs'][k]:.2%})"
+            for k in KEYS
+        )
+        print(
+            f"  {row['model']} {row['size']}, h = {row['h']:.0e}: {verdicts}; "
+            f"process {row['wall'] / best['wall']:.2f} x Siconos' ({row['cached'] / best['wall']:.2f} x with the reduction "
+            f"cached), in-process {row['inproc'] / best['inproc']:.2f} x"
+        )
     figure(siconos + epaphe, os.path.join(a.workdir, "peer-bar-work-precision.png"))
 
     mine = min(epaphe, key=lambda r: sum(r["errs"].values()))
     t_mine, all_mine = best_process(mine, TIME_REPEATS)
     t_best, all_best = best_process(best, TIME_REPEATS)
     ratio = t_mine / t_best
-    print(f"\nEpaphe's best row ({mine['model']} {mine['size']}, h = {mine['h']:.0e}) against the best Siconos row, "
-          f"process times, best of {TIME_REPEATS}: {t_mine:.3f} s ({', '.join(f'{x:.3f}' for x in all_mine)}) "
-          f"against {t_best:.3f} s ({', '.join(f'{x:.3f}' for x in all_best)}): {ratio:.3f} (at most {TIME_RATIO})")
+    print(
+        f"\nEpaphe's best row ({mine['model']} {mine['size']}, h = {mine['h']:.0e}) against the best Siconos row, "
+        f"process times, best of {TIME_REPEATS}: {t_mine:.3f} s ({', '.join(f'{x:.3f}' for x in all_mine)}) "
+        f"against {t_best:.3f} s ({', '.join(f'{x:.3f}' for x in all_best)}): {ratio:.3f} (at most {TIME_RATIO})"
+    )
     failures = compare(mine, best, KEYS, {"force": FORCE_FINDING}, ratio, TIME_RATIO)
     print(f"script time {time.perf_counter() - t_script:.1f} s")
     return verdict(failures)
@@ -274,19 +342,35 @@ def main():
 def figure(rows, path):
     """Work-precision: each of the four errors against the wall time, one marker per code and model."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), sharex=True)
-    style = {"Siconos Moreau-Jean 0.5": ("s", "tab:gray"), "Epaphe Craig-Bampton": ("o", "tab:blue"),
-             "Epaphe massless boundary": ("^", "tab:red"), "Epaphe full, lumped mass": ("D", "tab:green")}
+    style = {
+        "Siconos Moreau-Jean 0.5": ("s", "tab:gray"),
+        "Epaphe Craig-Bampton": ("o", "tab:blue"),
+        "Epaphe massless boundary": ("^", "tab:red"),
+        "Epaphe full, lumped mass": ("D", "tab:green"),
+    }
     for ax, key in zip(axes.flat, KEYS):
         for model, (marker, color) in style.items():
             pts = [r for r in rows if r["model"] == model]
-            ax.scatter([r["wall"] for r in pts], [max(100 * r["errs"][key], 1e-3) for r in pts], marker=marker,
-                       color=color, label=model)
+            ax.scatter(
+                [r["wall"] for r in pts],
+                [max(100 * r["errs"][key], 1e-3) for r in pts],
+                marker=marker,
+                color=color,
+                label=model,
+            )
             for r in pts:
-                ax.annotate(f"{r['size'].split()[0]}, {r['h']:.0e}", (r["wall"], max(100 * r["errs"][key], 1e-3)),
-                            fontsize=6, xytext=(3, 3), textcoords="offset points")
+                ax.annotate(
+                    f"{r['size'].split()[0]}, {r['h']:.0e}",
+                    (r["wall"], max(100 * r["errs"][key], 1e-3)),
+                    fontsize=6,
+                    xytext=(3, 3),
+                    textcoords="offset points",
+                )
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_title(f"{key} error (%; 0 drawn at 1e-3)")

@@ -57,6 +57,7 @@ _here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(_here, "..", "verification"))
 from epaphe_testing import history, parse_args, run, variant  # noqa: E402
 from v3_bouncing_bar import intervals  # noqa: E402
+
 sys.path.insert(0, _here)
 from peer_bar import compare, require_siconos, siconos_process  # noqa: E402
 from epaphe_testing import verdict  # noqa: E402
@@ -65,8 +66,8 @@ L, A, RHO, C, G, H0 = 10.0, 1.0, 1.0, 30.0, 10.0, 5.0
 PERIODS = 10
 V = math.sqrt(2 * G * H0)
 T_C = 2 * L / C
-E_REF = RHO * A * L * G * H0            # m g h0 = 500 J
-F_SCALE = RHO * A * C * V               # the force of an impact at V
+E_REF = RHO * A * L * G * H0  # m g h0 = 500 J
+F_SCALE = RHO * A * C * V  # the force of an impact at V
 SICONOS = [(100, 0.5 * (L / 100) / C), (200, 0.5 * (L / 200) / C)]
 # (name, method, elements, modes, h)
 EPAPHE = [
@@ -77,71 +78,117 @@ EPAPHE = [
     ("cb100", "Craig-Bampton", 500, 100, 2e-4),
 ]
 KEYS = ("contacts", "T_c", "drift", "end")
-TIME_RATIO = 0.75   # Epaphe's best row's process time over the best Siconos row's (docstring)
-MODEL = {"Full, lumped mass": "Epaphe full, lumped mass", "Massless boundary": "Epaphe massless boundary",
-         "Craig-Bampton": "Epaphe Craig-Bampton"}
+TIME_RATIO = 0.75  # Epaphe's best row's process time over the best Siconos row's (docstring)
+MODEL = {
+    "Full, lumped mass": "Epaphe full, lumped mass",
+    "Massless boundary": "Epaphe massless boundary",
+    "Craig-Bampton": "Epaphe Craig-Bampton",
+}
 
 
 def measures(t, force, energy, h):
     starts, ends, chatter = intervals(t, force > 1e-6 * F_SCALE, h, T_C / 10)
-    durations = (ends - starts)[:2]            # the first period's two contacts
+    durations = (ends - starts)[:2]  # the first period's two contacts
     drift = energy - energy[0]
-    m = dict(contacts=int(starts.size), chatter=int(sum(chatter)),
-             worst_tc=float(np.abs(durations - T_C).max() / T_C),
-             drift=float(np.abs(drift).max() / E_REF), end=float(drift[-1] / E_REF))
-    m["errs"] = {"contacts": abs(m["contacts"] - 2 * PERIODS) / (2 * PERIODS), "T_c": m["worst_tc"],
-                 "drift": m["drift"], "end": abs(m["end"])}
+    m = dict(
+        contacts=int(starts.size),
+        chatter=int(sum(chatter)),
+        worst_tc=float(np.abs(durations - T_C).max() / T_C),
+        drift=float(np.abs(drift).max() / E_REF),
+        end=float(drift[-1] / E_REF),
+    )
+    m["errs"] = {
+        "contacts": abs(m["contacts"] - 2 * PERIODS) / (2 * PERIODS),
+        "T_c": m["worst_tc"],
+        "drift": m["drift"],
+        "end": abs(m["end"]),
+    }
     return m
 
 
 def siconos_row(elements, h):
     r, wall = siconos_process("peer_siconos_bouncing_bar.py", elements, repr(h), PERIODS)
     m = measures(np.array(r["time"]), np.array(r["force"]), np.array(r["energy"]), h)
-    return dict(model="Siconos Moreau-Jean 0.5", size=f"{elements} elements", h=h, wall=wall,
-                inproc=r["setup_seconds"] + r["loop_seconds"], loop=r["loop_seconds"], **m)
+    return dict(
+        model="Siconos Moreau-Jean 0.5",
+        size=f"{elements} elements",
+        h=h,
+        wall=wall,
+        inproc=r["setup_seconds"] + r["loop_seconds"],
+        loop=r["loop_seconds"],
+        **m,
+    )
 
 
 def epaphe_row(a, name, method, elements, modes, h):
     reduced = method != "Full, lumped mass"
-    changes = {"Output->File": name + ".h5", "Run->Progress interval": ("0", "double"),
-               "Bodies->Bar->Reduction->Method": method,
-               "Bodies->Bar->Mesh->Elements": (f"{{{elements}, 1, 1}}", "Array(int)"),
-               "Time->Time step": (f"{h:g}", "double")}
+    changes = {
+        "Output->File": name + ".h5",
+        "Run->Progress interval": ("0", "double"),
+        "Bodies->Bar->Reduction->Method": method,
+        "Bodies->Bar->Mesh->Elements": (f"{{{elements}, 1, 1}}", "Array(int)"),
+        "Time->Time step": (f"{h:g}", "double"),
+    }
     if reduced:
         changes["Bodies->Bar->Reduction->Fixed-interface modes"] = (str(modes), "int")
     deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), changes)
-    cache = os.path.join(a.workdir, name + ".Bar.rom.h5")   # the default cache: each run reduces
+    cache = os.path.join(a.workdir, name + ".Bar.rom.h5")  # the default cache: each run reduces
     if os.path.exists(cache):
         os.remove(cache)
     t = time.perf_counter()
-    run([a.run, deck, "--threads", "1"], a.workdir)   # exits on a failed run
+    run([a.run, deck, "--threads", "1"], a.workdir)  # exits on a failed run
     wall = time.perf_counter() - t
-    hist = history(os.path.join(a.workdir, name + ".h5"))   # refuses a run whose status is not 'complete'
+    hist = history(os.path.join(a.workdir, name + ".h5"))  # refuses a run whose status is not 'complete'
     r = hist["attrs"]
     assert int(r["threads"]) == 1, f"{name}: ran on {r['threads']} threads"
     energy = hist["energy/total"] - hist["energy/external_work"]
     m = measures(hist["time"], hist["bodies/Bar/contact/total_force"], energy, h)
     size = f"{modes} modes" if reduced else f"{elements} elements"
-    return dict(model=MODEL[method], size=size, h=h, wall=wall, inproc=float(r["setup_time"]) + float(r["loop_time"]),
-                loop=float(r["loop_time"]), **m)
+    return dict(
+        model=MODEL[method],
+        size=size,
+        h=h,
+        wall=wall,
+        inproc=float(r["setup_time"]) + float(r["loop_time"]),
+        loop=float(r["loop_time"]),
+        **m,
+    )
 
 
 def figure(rows, path):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
-    style = {"Siconos Moreau-Jean 0.5": ("s", "tab:gray"), "Epaphe Craig-Bampton": ("o", "tab:blue"),
-             "Epaphe massless boundary": ("^", "tab:red"), "Epaphe full, lumped mass": ("D", "tab:green")}
-    for ax, key, title in ((axes[0], "drift", "largest |energy drift| over 10 periods (% of m g h0)"),
-                           (axes[1], "worst_tc", "contact duration error, first period (%)")):
+    style = {
+        "Siconos Moreau-Jean 0.5": ("s", "tab:gray"),
+        "Epaphe Craig-Bampton": ("o", "tab:blue"),
+        "Epaphe massless boundary": ("^", "tab:red"),
+        "Epaphe full, lumped mass": ("D", "tab:green"),
+    }
+    for ax, key, title in (
+        (axes[0], "drift", "largest |energy drift| over 10 periods (% of m g h0)"),
+        (axes[1], "worst_tc", "contact duration error, first period (%)"),
+    ):
         for model, (marker, color) in style.items():
             pts = [r for r in rows if r["model"] == model]
-            ax.scatter([r["wall"] for r in pts], [max(100 * r[key], 1e-4) for r in pts], marker=marker, color=color,
-                       label=model)
+            ax.scatter(
+                [r["wall"] for r in pts],
+                [max(100 * r[key], 1e-4) for r in pts],
+                marker=marker,
+                color=color,
+                label=model,
+            )
             for r in pts:
-                ax.annotate(f"{r['size'].split()[0]}, {r['h']:.1e}, {r['contacts']} contacts",
-                            (r["wall"], max(100 * r[key], 1e-4)), fontsize=6, xytext=(3, 3), textcoords="offset points")
+                ax.annotate(
+                    f"{r['size'].split()[0]}, {r['h']:.1e}, {r['contacts']} contacts",
+                    (r["wall"], max(100 * r[key], 1e-4)),
+                    fontsize=6,
+                    xytext=(3, 3),
+                    textcoords="offset points",
+                )
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_title(title, fontsize=9)
@@ -162,26 +209,34 @@ def main():
     for row in rows:
         numbers = [row[k] for k in ("worst_tc", "drift", "end", "wall", "inproc", "loop")]
         assert all(math.isfinite(x) for x in numbers), f"{row['model']} {row['size']}: not finite: {numbers}"
-    print(f"V3 bouncing bar over {PERIODS} periods, Siconos 4.4 and Epaphe, 1 thread each: exact {2 * PERIODS} "
-          f"contacts of T_c = {T_C:.4f} s, energy conserved; drift and end over m g h0 = {E_REF:g} J")
-    head = (f"{'code / model':<26} {'size':>12} {'h s':>8} | {'contacts':>8} {'chatter':>7} {'T_c error':>9} | "
-            f"{'drift':>7} {'end':>8} | {'process s':>9} {'in-process s':>12} {'loop s':>7}")
+    print(
+        f"V3 bouncing bar over {PERIODS} periods, Siconos 4.4 and Epaphe, 1 thread each: exact {2 * PERIODS} "
+        f"contacts of T_c = {T_C:.4f} s, energy conserved; drift and end over m g h0 = {E_REF:g} J"
+    )
+    head = (
+        f"{'code / model':<26} {'size':>12} {'h s':>8} | {'contacts':>8} {'chatter':>7} {'T_c error':>9} | "
+        f"{'drift':>7} {'end':>8} | {'process s':>9} {'in-process s':>12} {'loop s':>7}"
+    )
     print(head)
     print("-" * len(head))
     for r in rows:
-        print(f"{r['model']:<26} {r['size']:>12} {r['h']:8.2e} | {r['contacts']:8d} {r['chatter']:7d} "
-              f"{r['worst_tc']:9.2%} | {r['drift']:7.3%} {r['end']:+8.3%} | {r['wall']:9.3f} {r['inproc']:12.3f} "
-              f"{r['loop']:7.3f}")
+        print(
+            f"{r['model']:<26} {r['size']:>12} {r['h']:8.2e} | {r['contacts']:8d} {r['chatter']:7d} "
+            f"{r['worst_tc']:9.2%} | {r['drift']:7.3%} {r['end']:+8.3%} | {r['wall']:9.3f} {r['inproc']:12.3f} "
+            f"{r['loop']:7.3f}"
+        )
     figure(rows, os.path.join(a.workdir, "peer-bouncing-bar-work-precision.png"))
     siconos = [r for r in rows if r["model"].startswith("Siconos")]
     best = min(siconos, key=lambda r: sum(r["errs"].values()))
     mine = min((r for r in rows if r not in siconos), key=lambda r: sum(r["errs"].values()))
     ratio = mine["wall"] / best["wall"]
-    print(f"\nEpaphe's best row ({mine['model']} {mine['size']}, h = {mine['h']:.2e}: {mine['contacts']} contacts, "
-          f"T_c {mine['worst_tc']:.2%}, drift {mine['drift']:.3%}, end {mine['end']:+.3%}) against the best "
-          f"Siconos row ({best['size']}, h = {best['h']:.2e}: {best['contacts']} contacts, {best['worst_tc']:.2%}, "
-          f"{best['drift']:.3%}, {best['end']:+.3%}); process {mine['wall']:.2f} s against {best['wall']:.2f} s: "
-          f"{ratio:.3f} (at most {TIME_RATIO})")
+    print(
+        f"\nEpaphe's best row ({mine['model']} {mine['size']}, h = {mine['h']:.2e}: {mine['contacts']} contacts, "
+        f"T_c {mine['worst_tc']:.2%}, drift {mine['drift']:.3%}, end {mine['end']:+.3%}) against the best "
+        f"Siconos row ({best['size']}, h = {best['h']:.2e}: {best['contacts']} contacts, {best['worst_tc']:.2%}, "
+        f"{best['drift']:.3%}, {best['end']:+.3%}); process {mine['wall']:.2f} s against {best['wall']:.2f} s: "
+        f"{ratio:.3f} (at most {TIME_RATIO})"
+    )
     failures = compare(mine, best, KEYS, {}, ratio, TIME_RATIO, tie=0.0)
     print(f"script time {time.perf_counter() - t_script:.1f} s")
     return verdict(failures)

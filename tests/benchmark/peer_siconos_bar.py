@@ -65,22 +65,23 @@ def bar_matrices(elements, mass, length=L, area=S, young=E, rho=RHO):
     K = np.zeros((elements + 1, elements + 1))
     M = np.zeros_like(K)
     for i in range(elements):
-        K[i:i + 2, i:i + 2] += ke
-        M[i:i + 2, i:i + 2] += me
+        K[i : i + 2, i : i + 2] += ke
+        M[i : i + 2, i : i + 2] += me
     return K, M
 
 
 def siconos_bar(elements, h, theta=0.5, mass="consistent"):
     """Runs V1 in Siconos; returns the measured start, end, plateau, rebound, their relative errors
     (errs: start, end, force, rebound) and the setup and loop wall times in seconds."""
-    import siconos.kernel as sk                       # once per process; outside the timed setup
+    import siconos.kernel as sk  # once per process; outside the timed setup
+
     t = time.perf_counter()
     K, M = bar_matrices(elements, mass)
     n = elements + 1
     bar = sk.LagrangianLinearTIDS(np.zeros(n), np.full(n, V0), M)
     bar.setKPtr(K)
     H = np.zeros((1, n))
-    H[0, -1] = -1.0                                   # y = H q + b = U0 - u_N
+    H[0, -1] = -1.0  # y = H q + b = U0 - u_N
     wall = sk.Interaction(sk.NewtonImpactNSL(RESTITUTION), sk.LagrangianLinearTIR(H, np.array([U0])))
     nsds = sk.NonSmoothDynamicalSystem(0.0, T_END)
     nsds.insertDynamicalSystem(bar)
@@ -89,13 +90,13 @@ def siconos_bar(elements, h, theta=0.5, mass="consistent"):
     sim.initialize()
     setup = time.perf_counter() - t
 
-    row_mass = M.sum(axis=0)                          # 1^T M: momentum = row_mass . v
+    row_mass = M.sum(axis=0)  # 1^T M: momentum = row_mass . v
     times, impulse, momentum = [], [], []
     t = time.perf_counter()
     while sim.hasNextEvent():
         sim.computeOneStep()
-        times.append(sim.nextTime())                  # the record is the state at the step's end
-        impulse.append(wall.lambda_(1)[0])            # the contact impulse over the step, N s
+        times.append(sim.nextTime())  # the record is the state at the step's end
+        impulse.append(wall.lambda_(1)[0])  # the contact impulse over the step, N s
         momentum.append(row_mass @ bar.velocity())
         sim.nextStep()
     loop = time.perf_counter() - t
@@ -105,7 +106,7 @@ def siconos_bar(elements, h, theta=0.5, mass="consistent"):
     if on.size == 0:
         raise RuntimeError(f"no contact with {elements} elements, h = {h:g}")
     start = times[on[0]]
-    end = times[on[-1]] + h                           # first record without force
+    end = times[on[-1]] + h  # first record without force
     plateau = impulse.sum() / (end - start)
     rebound = -momentum[times > end + 5e-6].mean() / (RHO * S * L)
     errs = {
@@ -114,8 +115,9 @@ def siconos_bar(elements, h, theta=0.5, mass="consistent"):
         "force": abs(plateau - F) / F,
         "rebound": abs(rebound - V0) / V0,
     }
-    return dict(start=start, end=end, plateau=plateau, rebound=rebound, errs=errs,
-                setup_seconds=setup, loop_seconds=loop)
+    return dict(
+        start=start, end=end, plateau=plateau, rebound=rebound, errs=errs, setup_seconds=setup, loop_seconds=loop
+    )
 
 
 # (elements, h, theta, mass): the model at three resolutions (Courant number c h / le = 0.5),
@@ -134,19 +136,26 @@ ROWS = [
 def main():
     if len(sys.argv) == 3:  # one row in this fresh process, as JSON (peer_bar.py times the whole process)
         import json
+
         r = siconos_bar(int(sys.argv[1]), float(sys.argv[2]))
         print(json.dumps(dict(errs=r["errs"], setup_seconds=r["setup_seconds"], loop_seconds=r["loop_seconds"])))
         return 0
-    print("V1 bar on a rigid wall, Siconos 4.4 (Moreau-Jean, LCP Lemke, e = 0): exact start 2.0e-5 s, "
-          "end 1.0e-4 s, plateau 1.6e6 N, rebound 100 m/s")
-    print(f"{'elements':>8} {'h':>6} {'theta':>5} {'mass':>10} | {'start':>6} {'end':>6} {'force':>6} "
-          f"{'rebound':>7} | {'setup s':>7} {'loop s':>7}")
+    print(
+        "V1 bar on a rigid wall, Siconos 4.4 (Moreau-Jean, LCP Lemke, e = 0): exact start 2.0e-5 s, "
+        "end 1.0e-4 s, plateau 1.6e6 N, rebound 100 m/s"
+    )
+    print(
+        f"{'elements':>8} {'h':>6} {'theta':>5} {'mass':>10} | {'start':>6} {'end':>6} {'force':>6} "
+        f"{'rebound':>7} | {'setup s':>7} {'loop s':>7}"
+    )
     for elements, h, theta, mass in ROWS:
         r = siconos_bar(elements, h, theta=theta, mass=mass)
         e = r["errs"]
-        print(f"{elements:8d} {h:6.0e} {theta:5.1f} {mass:>10} | {e['start']:6.2%} {e['end']:6.2%} "
-              f"{e['force']:6.2%} {e['rebound']:7.2%} | {r['setup_seconds']:7.3f} {r['loop_seconds']:7.3f}",
-              flush=True)
+        print(
+            f"{elements:8d} {h:6.0e} {theta:5.1f} {mass:>10} | {e['start']:6.2%} {e['end']:6.2%} "
+            f"{e['force']:6.2%} {e['rebound']:7.2%} | {r['setup_seconds']:7.3f} {r['loop_seconds']:7.3f}",
+            flush=True,
+        )
     return 0
 
 

@@ -27,7 +27,7 @@ import time
 
 import numpy as np
 
-from peer_siconos_bar import bar_matrices   # numpy only: Siconos is imported when a run starts
+from peer_siconos_bar import bar_matrices  # numpy only: Siconos is imported when a run starts
 
 L, A, E, RHO, G, H0 = 10.0, 1.0, 900.0, 1.0, 10.0, 5.0
 C = np.sqrt(E / RHO)
@@ -37,16 +37,17 @@ PERIOD = 16.0 / 3.0
 def siconos_bouncing_bar(elements, h, periods=10, theta=0.5, mass="consistent"):
     """Runs V3 in Siconos; returns times, the contact force (impulse / h) and the energy per step,
     with the setup and loop wall times in seconds."""
-    import siconos.kernel as sk                        # once per process; outside the timed setup
+    import siconos.kernel as sk  # once per process; outside the timed setup
+
     t = time.perf_counter()
     K, M = bar_matrices(elements, mass, length=L, area=A, young=E, rho=RHO)
     n = elements + 1
     bar = sk.LagrangianLinearTIDS(np.zeros(n), np.zeros(n), M)
     bar.setKPtr(K)
-    f = -G * M.sum(axis=1)                             # gravity: -g M 1
+    f = -G * M.sum(axis=1)  # gravity: -g M 1
     bar.setFExtPtr(f)
     H = np.zeros((1, n))
-    H[0, 0] = 1.0                                      # y = u_0 + h0
+    H[0, 0] = 1.0  # y = u_0 + h0
     ground = sk.Interaction(sk.NewtonImpactNSL(0.0), sk.LagrangianLinearTIR(H, np.array([H0])))
     nsds = sk.NonSmoothDynamicalSystem(0.0, periods * PERIOD)
     nsds.insertDynamicalSystem(bar)
@@ -65,15 +66,29 @@ def siconos_bouncing_bar(elements, h, periods=10, theta=0.5, mass="consistent"):
         energy.append(0.5 * v @ (M @ v) + 0.5 * q @ (K @ q) - f @ q)
         sim.nextStep()
     loop = time.perf_counter() - t
-    return dict(time=np.array(times), force=np.array(impulse) / h, energy=np.array(energy),
-                setup_seconds=setup, loop_seconds=loop)
+    return dict(
+        time=np.array(times),
+        force=np.array(impulse) / h,
+        energy=np.array(energy),
+        setup_seconds=setup,
+        loop_seconds=loop,
+    )
 
 
 def main():
     elements, h, periods = int(sys.argv[1]), float(sys.argv[2]), float(sys.argv[3])
     r = siconos_bouncing_bar(elements, h, periods)
-    print(json.dumps(dict(time=r["time"].tolist(), force=r["force"].tolist(), energy=r["energy"].tolist(),
-                          setup_seconds=r["setup_seconds"], loop_seconds=r["loop_seconds"])))
+    print(
+        json.dumps(
+            dict(
+                time=r["time"].tolist(),
+                force=r["force"].tolist(),
+                energy=r["energy"].tolist(),
+                setup_seconds=r["setup_seconds"],
+                loop_seconds=r["loop_seconds"],
+            )
+        )
+    )
     return 0
 
 

@@ -61,8 +61,9 @@ def param(name, value):
 
 def write_deck(path, mesh, output, solver="MUMPS", extra=""):
     with open(path, "w") as f:
-        f.write(DECK.format(mesh="\n".join(param(k, v) for k, v in mesh.items()), extra=extra, output=output,
-                            solver=solver))
+        f.write(
+            DECK.format(mesh="\n".join(param(k, v) for k, v in mesh.items()), extra=extra, output=output, solver=solver)
+        )
     return path
 
 
@@ -91,8 +92,24 @@ def main():
     os.makedirs(w)
     failures = []
     model = os.path.join(w, "model")
-    subprocess.run([sys.executable, BLADE, model, "--cells", "6", "15", "1", "--modes", "10", "--run", a.ccx, "--freq",
-                    "--storage"], check=True)
+    subprocess.run(
+        [
+            sys.executable,
+            BLADE,
+            model,
+            "--cells",
+            "6",
+            "15",
+            "1",
+            "--modes",
+            "10",
+            "--run",
+            a.ccx,
+            "--freq",
+            "--storage",
+        ],
+        check=True,
+    )
 
     # 1. a CalculiX deck runs; the second run reuses the reduced model.
     ccx = {"Type": "CalculiX", "Input file": "model/mat.inp"}
@@ -107,7 +124,7 @@ def main():
     with open(os.path.join(model, "freq.eig"), "rb") as f:
         b = f.read()
     nev = struct.unpack("4i", b[:16])[3]
-    lam_eig = struct.unpack(f"{nev}d", b[16:16 + 8 * nev])
+    lam_eig = struct.unpack(f"{nev}d", b[16 : 16 + 8 * nev])
     lam_dat = []
     with open(os.path.join(model, "freq.dat")) as f:
         txt = f.read()
@@ -127,10 +144,13 @@ def main():
     rows = read_csv(table)
     full = [float(r["full_hz"]) for r in rows if r["modes"] == "0"]
     import math
+
     lam = [(2 * math.pi * f) ** 2 for f in full]
     worst = max(abs(x - y) / y for x, y in zip(lam, lam_eig))
-    print(f"full-model eigenvalues of the import against ccx's (freq.eig, double precision), {len(lam)} modes: "
-          f"largest relative difference {worst:.2e} (.dat rounding: {dat_vs_eig:.1e})")
+    print(
+        f"full-model eigenvalues of the import against ccx's (freq.eig, double precision), {len(lam)} modes: "
+        f"largest relative difference {worst:.2e} (.dat rounding: {dat_vs_eig:.1e})"
+    )
     if worst > 1e-6:
         failures.append(f"imported eigenvalues differ from ccx's by {worst:.2e} > 1e-6")
 
@@ -142,8 +162,10 @@ def main():
         if min(err) < -1e-9:
             failures.append(f"{n} modes: a reduced frequency is below the full one ({min(err):.2e})")
         worst_by.append(max(err[:5]))
-    print("largest error of the first 5 frequencies by mode count: "
-          + ", ".join(f"{n}: {e:.2e}" for n, e in zip(counts, worst_by)))
+    print(
+        "largest error of the first 5 frequencies by mode count: "
+        + ", ".join(f"{n}: {e:.2e}" for n, e in zip(counts, worst_by))
+    )
     if not all(worst_by[i + 1] < worst_by[i] for i in range(len(worst_by) - 1)):
         failures.append(f"the error does not fall with the mode count: {worst_by}")
 
@@ -181,10 +203,14 @@ def main():
     with open(os.path.join(w, "sets.txt"), "w") as f:
         f.write("TIP16 " + " ".join(map(str, sets["TIP16"])) + "\n")
     files = {"Mass file": "mas", "Stiffness file": "sti"}
-    mm = dict({"Type": "Matrix Market", "DOF file": "dofs.mm", "Node file": "nodes.txt", "Node set file": "sets.txt"},
-              **{k: v + ".mtx" for k, v in files.items()})
-    aster = dict({"Type": "code_aster", "DOF file": "dofs.aster", "Node file": "nodes.txt", "Node set file": "sets.txt"},
-                 **{k: v + ".aster" for k, v in files.items()})
+    mm = dict(
+        {"Type": "Matrix Market", "DOF file": "dofs.mm", "Node file": "nodes.txt", "Node set file": "sets.txt"},
+        **{k: v + ".mtx" for k, v in files.items()},
+    )
+    aster = dict(
+        {"Type": "code_aster", "DOF file": "dofs.aster", "Node file": "nodes.txt", "Node set file": "sets.txt"},
+        **{k: v + ".aster" for k, v in files.items()},
+    )
     ref = [float(r["reduced_hz"]) for r in rows if r["modes"] == "10"]
     for label, mesh, solver in (("Matrix Market", mm, "MUMPS"), ("code_aster", aster, "MUMPS")):
         tag = re.sub(r"\W+", "-", label)
@@ -194,8 +220,10 @@ def main():
         got = [float(r["reduced_hz"]) for r in read_csv(t)]
         diff = max(abs(x - y) / y for x, y in zip(got, ref))
         tol = 1e-8  # the fixed-interface modes converge to Anasazi's 1e-10 residual, not to round-off
-        print(f"{label}: reduced frequencies (10 modes) against the CalculiX deck with MUMPS: largest relative "
-              f"difference {diff:.2e} (tolerance {tol:g})")
+        print(
+            f"{label}: reduced frequencies (10 modes) against the CalculiX deck with MUMPS: largest relative "
+            f"difference {diff:.2e} (tolerance {tol:g})"
+        )
         if diff > tol or len(got) != len(ref):
             failures.append(f"{label}: reduced frequencies differ from the CalculiX deck's by {diff:.2e}")
 
@@ -217,8 +245,10 @@ def main():
         print(run([a.modes, d, "--modes", "10", "--count", "10", "--csv", t], w))
         got[solver] = [(float(r["full_hz"]), float(r["reduced_hz"])) for r in read_csv(t)]
     diff = max(max(abs(x[0] - y[0]) / y[0], abs(x[1] - y[1]) / y[1]) for x, y in zip(got["Belos CG"], got["MUMPS"]))
-    print(f"Belos CG against MUMPS (clamped bar, 10 modes): largest relative difference of the full and reduced "
-          f"frequencies {diff:.2e} (tolerance 1e-8)")
+    print(
+        f"Belos CG against MUMPS (clamped bar, 10 modes): largest relative difference of the full and reduced "
+        f"frequencies {diff:.2e} (tolerance 1e-8)"
+    )
     if diff > 1e-8 or len(got["Belos CG"]) != 10:
         failures.append(f"Belos CG and MUMPS differ by {diff:.2e}")
 
@@ -233,6 +263,7 @@ def main():
     if "reused from" in out3:
         failures.append("a changed mat.mas did not recompute the reduced model")
     import h5py
+
     with h5py.File(os.path.join(w, "ccx.h5"), "r") as f:
         f1 = f["/bodies/Blade/frequencies/full"][0]
     if abs(f1 / full[0] - 0.5) > 1e-9:
@@ -242,9 +273,16 @@ def main():
 
     # 7. errors name the key, the value and the file.
     bad = [
-        ({"Type": "CalculiX", "Input file": "model/missing.inp"}, "", ["Input file", "missing.inp", "relative to the deck"]),
-        (ccx, '      <Parameter name="Clamped node set" type="string" value="ROOT"/>',
-         ["Clamped node set", "ROOT", "carries its own boundary conditions"]),
+        (
+            {"Type": "CalculiX", "Input file": "model/missing.inp"},
+            "",
+            ["Input file", "missing.inp", "relative to the deck"],
+        ),
+        (
+            ccx,
+            '      <Parameter name="Clamped node set" type="string" value="ROOT"/>',
+            ["Clamped node set", "ROOT", "carries its own boundary conditions"],
+        ),
         (dict(ccx, **{"Node file": "nodes.txt"}), "", ["Node file", "nodes.txt", "not read by Mesh Type CalculiX"]),
         ({"Type": "Matrix Market", "Stiffness file": "sti.mtx"}, "", ["Mass file", "is empty", "Matrix Market"]),
         ({"Type": "CalculiX", "Input file": "model/freq.inp"}, "", ["Matrix job", "freq.sti", "MATRIXSTORAGE"]),

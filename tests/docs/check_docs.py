@@ -33,7 +33,7 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "verification"))
 from epaphe_testing import verdict  # noqa: E402
 
-RUN_TIMEOUT = 120   # --print-parameters and --check take well under a second
+RUN_TIMEOUT = 120  # --print-parameters and --check take well under a second
 FENCE = re.compile(r"^\s*(```|~~~)")
 LINK = re.compile(r"!?\[(?:[^\[\]]|\[[^\]]*\])*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
 CODE_SPAN = re.compile(r"`+[^`]*`+")
@@ -44,8 +44,9 @@ NO_HISTORY = ("README.md", "docs/user", "docs/theory", "docs/developer")
 
 
 def pages(source):
-    return [os.path.join(source, "README.md")] + sorted(glob.glob(os.path.join(source, "docs", "**", "*.md"),
-                                                                   recursive=True))
+    return [os.path.join(source, "README.md")] + sorted(
+        glob.glob(os.path.join(source, "docs", "**", "*.md"), recursive=True)
+    )
 
 
 def prose_lines(text):
@@ -61,7 +62,7 @@ def prose_lines(text):
 
 def slug(heading):
     """GitHub's anchor of a heading's text."""
-    text = re.sub(r"!?\[([^\]]*)\]\([^)]*\)", r"\1", heading)      # a link's text only
+    text = re.sub(r"!?\[([^\]]*)\]\([^)]*\)", r"\1", heading)  # a link's text only
     text = text.replace("`", "").strip().lower()
     text = re.sub(r"[^\w\- ]", "", text)
     return text.replace(" ", "-")
@@ -92,7 +93,7 @@ def check_links(source, failures):
         for n, line in prose_lines(text):
             for m in LINK.finditer(CODE_SPAN.sub("", line)):
                 target = m.group(1)
-                if re.match(r"^[a-z][a-z0-9+.-]*:", target, re.I):   # http:, https:, mailto:
+                if re.match(r"^[a-z][a-z0-9+.-]*:", target, re.I):  # http:, https:, mailto:
                     continue
                 count += 1
                 path, _, anchor = target.partition("#")
@@ -102,8 +103,10 @@ def check_links(source, failures):
                     failures.append(f"{where}: no {os.path.relpath(dest, source)}; fix the path (relative to the page)")
                     continue
                 if anchor and dest.endswith(".md") and anchor not in anchors(dest):
-                    failures.append(f"{where}: {os.path.relpath(dest, source)} has no heading with anchor #{anchor} "
-                                    f"(its anchors: {', '.join(sorted(anchors(dest)))})")
+                    failures.append(
+                        f"{where}: {os.path.relpath(dest, source)} has no heading with anchor #{anchor} "
+                        f"(its anchors: {', '.join(sorted(anchors(dest)))})"
+                    )
     print(f"links: {count} relative links in {len(pages(source))} pages checked")
     return count
 
@@ -125,7 +128,7 @@ def printed_keys(run):
         indent = len(line) - len(line.lstrip(" "))
         if indent % 2:
             raise SystemExit(f"--print-parameters line {i}: indentation {indent} is not a multiple of 2: {line!r}")
-        del stack[indent // 2:]
+        del stack[indent // 2 :]
         body = line.strip()
         m = re.match(r"^\[(.+?)\](?:\s{2}.*)?$", body)
         if m:
@@ -135,7 +138,7 @@ def printed_keys(run):
         if not m:
             raise SystemExit(f"--print-parameters line {i}: neither a list nor a key: {line!r}")
         keys.append(("->".join(stack), m.group(1)))
-        i += 1                                             # its documentation line
+        i += 1  # its documentation line
     return keys
 
 
@@ -172,20 +175,28 @@ def check_keys(run, source, failures):
     sections = parameter_sections(page)
     missing_lists = sorted({lst for lst, _ in keys if lst not in sections})
     for lst in missing_lists:
-        failures.append(f"docs/user/parameters.md: no section for the list `{lst}` (a heading with `{lst}` in "
-                        f"backticks) though --print-parameters prints its keys")
+        failures.append(
+            f"docs/user/parameters.md: no section for the list `{lst}` (a heading with `{lst}` in "
+            f"backticks) though --print-parameters prints its keys"
+        )
     for lst, key in keys:
         if lst in sections and key not in sections[lst][0]:
-            failures.append(f"docs/user/parameters.md, section `{lst}`: the deck key `{key}` (printed by "
-                            f"--print-parameters) is not documented; add a row with `{key}` in backticks")
+            failures.append(
+                f"docs/user/parameters.md, section `{lst}`: the deck key `{key}` (printed by "
+                f"--print-parameters) is not documented; add a row with `{key}` in backticks"
+            )
     printed = set(keys)
     for lst, (_, rows) in sections.items():
         for n, key in rows:
             if (lst, key) not in printed:
-                failures.append(f"docs/user/parameters.md:{n}: `{key}` in section `{lst}` is no deck key "
-                                f"(--print-parameters has none of that name in that list); remove or fix the row")
-    print(f"deck keys: {len(keys)} keys in {len({lst for lst, _ in keys})} lists checked against "
-          f"docs/user/parameters.md")
+                failures.append(
+                    f"docs/user/parameters.md:{n}: `{key}` in section `{lst}` is no deck key "
+                    f"(--print-parameters has none of that name in that list); remove or fix the row"
+                )
+    print(
+        f"deck keys: {len(keys)} keys in {len({lst for lst, _ in keys})} lists checked against "
+        f"docs/user/parameters.md"
+    )
     return len(keys)
 
 
@@ -194,31 +205,36 @@ def check_readme_deck(run, source, workdir, failures):
         blocks = re.findall(r"```xml\n(.*?)```", fh.read(), re.S)
     decks = [b for b in blocks if b.lstrip().startswith('<ParameterList name="Epaphe">')]
     if not decks:
-        failures.append("README.md: no ```xml block holding a whole deck (<ParameterList name=\"Epaphe\">)")
+        failures.append('README.md: no ```xml block holding a whole deck (<ParameterList name="Epaphe">)')
     for k, deck in enumerate(decks):
         path = os.path.join(workdir, f"readme-deck-{k}.xml")
         with open(path, "w", encoding="utf-8") as fh:
             fh.write(deck)
-        proc = subprocess.run([run, path, "--check"], cwd=workdir, capture_output=True, text=True,
-                              timeout=RUN_TIMEOUT)
+        proc = subprocess.run([run, path, "--check"], cwd=workdir, capture_output=True, text=True, timeout=RUN_TIMEOUT)
         print(f"README deck {k}: epaphe-run --check exit {proc.returncode}")
         if proc.returncode != 0:
-            failures.append(f"README.md: its deck (xml block {k}) fails epaphe-run --check: "
-                            f"{(proc.stderr or proc.stdout).strip()[-500:]}")
+            failures.append(
+                f"README.md: its deck (xml block {k}) fails epaphe-run --check: "
+                f"{(proc.stderr or proc.stdout).strip()[-500:]}"
+            )
 
 
 def check_no_history(source, failures):
-    files = [p for p in pages(source)
-             if any(os.path.relpath(p, source) == d or os.path.relpath(p, source).startswith(d + os.sep)
-                    for d in NO_HISTORY)]
+    files = [
+        p
+        for p in pages(source)
+        if any(os.path.relpath(p, source) == d or os.path.relpath(p, source).startswith(d + os.sep) for d in NO_HISTORY)
+    ]
     for path in files:
         with open(path, encoding="utf-8") as fh:
             for n, line in enumerate(fh, 1):
                 for pattern, what in ((DATE, "a date"), (HASH, "a commit hash")):
                     for m in pattern.finditer(line):
-                        failures.append(f"{os.path.relpath(path, source)}:{n}: {what} '{m.group(0)}': the user, "
-                                        f"theory and developer guides and the README hold no history "
-                                        f"(it belongs in CHANGELOG.md)")
+                        failures.append(
+                            f"{os.path.relpath(path, source)}:{n}: {what} '{m.group(0)}': the user, "
+                            f"theory and developer guides and the README hold no history "
+                            f"(it belongs in CHANGELOG.md)"
+                        )
     print(f"history: {len(files)} pages checked for dates and commit hashes")
 
 
@@ -240,11 +256,14 @@ def check_floors(source, failures):
         if name in seen:
             raise ValueError(f"a cycle in USES: {' -> '.join(seen + (name,))}")
         return max((1 + floor(u, seen + (name,)) for u in uses.get(name, [])), default=0)
+
     for name, n in said.items():
         want = floor(name)
         if n != want:
-            failures.append(f"packages/{name}/CMakeLists.txt: says Floor {n}, but its longest path of USES from "
-                            f"core is {want}: write Floor {want}")
+            failures.append(
+                f"packages/{name}/CMakeLists.txt: says Floor {n}, but its longest path of USES from "
+                f"core is {want}: write Floor {want}"
+            )
     print(f"floors: {len(said)} packages checked against their USES")
     return len(said)
 

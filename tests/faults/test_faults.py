@@ -143,9 +143,11 @@ def status(path):
 def datasets(path, skip_checkpoint=True):
     out = {}
     with h5py.File(path, "r") as f:
+
         def visit(name, obj):
             if isinstance(obj, h5py.Dataset) and not (skip_checkpoint and name.startswith("checkpoint")):
                 out[name] = obj[()]
+
         f.visititems(visit)
     return out
 
@@ -178,10 +180,14 @@ def same_bits(name, A, B, what, sums_within=False):
                 differ += [] if rel <= SUM_TOL else [f"{k} ({rel:.2g} of its largest value > {SUM_TOL:g})"]
             else:
                 differ.append(k)
-    check(not differ, f"{name}: {what}: every dataset " + ("but the energies and momenta " if sums_within else "")
-                      + f"equal bit for bit ({len(da['time'])} records)"
-                      + (f", those to {sums:.2g} of their largest value" if sums_within else "")
-                      + (f"; differ: {differ}" if differ else ""))
+    check(
+        not differ,
+        f"{name}: {what}: every dataset "
+        + ("but the energies and momenta " if sums_within else "")
+        + f"equal bit for bit ({len(da['time'])} records)"
+        + (f", those to {sums:.2g} of their largest value" if sums_within else "")
+        + (f"; differ: {differ}" if differ else ""),
+    )
 
 
 def last_checkpoint(f):
@@ -209,33 +215,87 @@ bar_overrides = {
 }
 
 if a.case == "restart":
-    cases = [("bar", variant(a.deck, os.path.join(W, "bar.xml"), bar_overrides), [500, 900]),
-             # the massless boundary's step reads the force of two steps back from q_{n-1} (its residual)
-             ("massless", variant(a.deck, os.path.join(W, "massless.xml"), dict(bar_overrides, **{
-                 "Bodies->Bar->Reduction->Method": "Massless boundary",
-                 "Bodies->Bar->Reduction->Cache file": ("massless.rom.h5", "string")})), [500, 900]),
-             # an abradable coating on the wall: its wear, dissipation and wear series (own cadence)
-             ("coated", variant(a.deck, os.path.join(W, "coated.xml"), dict(bar_overrides, **{
-                 "Surfaces->Wall->Origin": ("{0.204, -0.04, -0.04}", "Array(double)"),
-                 "Surfaces->Wall->Coating->Thickness": ("2e-3", "double"),
-                 "Surfaces->Wall->Coating->Young's modulus": ("1e10", "double"),
-                 "Surfaces->Wall->Coating->Yield stress": ("1e8", "double"),
-                 "Surfaces->Wall->Coating->Hardening modulus": ("1e9", "double"),
-                 "Surfaces->Wall->Coating->Elements": ("{10, 10}", "Array(int)"),
-                 "Output->Wear every": ("30", "int")})), [500, 900])]
+    cases = [
+        ("bar", variant(a.deck, os.path.join(W, "bar.xml"), bar_overrides), [500, 900]),
+        # the massless boundary's step reads the force of two steps back from q_{n-1} (its residual)
+        (
+            "massless",
+            variant(
+                a.deck,
+                os.path.join(W, "massless.xml"),
+                dict(
+                    bar_overrides,
+                    **{
+                        "Bodies->Bar->Reduction->Method": "Massless boundary",
+                        "Bodies->Bar->Reduction->Cache file": ("massless.rom.h5", "string"),
+                    },
+                ),
+            ),
+            [500, 900],
+        ),
+        # an abradable coating on the wall: its wear, dissipation and wear series (own cadence)
+        (
+            "coated",
+            variant(
+                a.deck,
+                os.path.join(W, "coated.xml"),
+                dict(
+                    bar_overrides,
+                    **{
+                        "Surfaces->Wall->Origin": ("{0.204, -0.04, -0.04}", "Array(double)"),
+                        "Surfaces->Wall->Coating->Thickness": ("2e-3", "double"),
+                        "Surfaces->Wall->Coating->Young's modulus": ("1e10", "double"),
+                        "Surfaces->Wall->Coating->Yield stress": ("1e8", "double"),
+                        "Surfaces->Wall->Coating->Hardening modulus": ("1e9", "double"),
+                        "Surfaces->Wall->Coating->Elements": ("{10, 10}", "Array(int)"),
+                        "Output->Wear every": ("30", "int"),
+                    },
+                ),
+            ),
+            [500, 900],
+        ),
+    ]
     if a.flexible_deck:
-        cases.append(("flex", variant(a.flexible_deck, os.path.join(W, "flex.xml"), {
-            "Time->End time": "1.2e-4", "Output->Every": "7", "Run->Progress interval": ("0", "double"),
-            **{f"Bodies->{b}->Reduction->Cache file": (f"flex.{b.split()[0]}.rom.h5", "string")
-               for b in ("Cube", "Left ring", "Right ring")}}), [800, 1000]))
+        cases.append(
+            (
+                "flex",
+                variant(
+                    a.flexible_deck,
+                    os.path.join(W, "flex.xml"),
+                    {
+                        "Time->End time": "1.2e-4",
+                        "Output->Every": "7",
+                        "Run->Progress interval": ("0", "double"),
+                        **{
+                            f"Bodies->{b}->Reduction->Cache file": (f"flex.{b.split()[0]}.rom.h5", "string")
+                            for b in ("Cube", "Left ring", "Right ring")
+                        },
+                    },
+                ),
+                [800, 1000],
+            )
+        )
     if a.runup_deck:
         # a run-up stopped twice mid-ramp (its stiffness refreshed about every 40 steps, the casing's
         # angle the integral of the speed), soft penalty contact from the start
-        cases.append(("runup", variant(a.runup_deck, os.path.join(W, "runup.xml"), {
-            "Time->End time": "3e-4", "Output->Every": "7", "Run->Progress interval": ("0", "double"),
-            "Bodies->Blade->Rotation->Speed law->Start time": "1e-5",
-            "Bodies->Blade->Rotation->Speed law->End time": "2.9e-4",
-            "Bodies->Blade->Reduction->Cache file": ("runup.rom.h5", "string")}), [1100, 2300]))
+        cases.append(
+            (
+                "runup",
+                variant(
+                    a.runup_deck,
+                    os.path.join(W, "runup.xml"),
+                    {
+                        "Time->End time": "3e-4",
+                        "Output->Every": "7",
+                        "Run->Progress interval": ("0", "double"),
+                        "Bodies->Blade->Rotation->Speed law->Start time": "1e-5",
+                        "Bodies->Blade->Rotation->Speed law->End time": "2.9e-4",
+                        "Bodies->Blade->Reduction->Cache file": ("runup.rom.h5", "string"),
+                    },
+                ),
+                [1100, 2300],
+            )
+        )
     for name, deck, stops in cases:
         t0 = time.time()
         A, B = f"{name}-a.h5", f"{name}-b.h5"
@@ -243,7 +303,9 @@ if a.case == "restart":
         check(status(os.path.join(W, A)) == "complete", f"{name}: uninterrupted run complete")
         p = run([deck, "--output", B, "--stop-after-steps", str(stops[0])], 3)
         st = status(os.path.join(W, B))
-        check(st.startswith(f"stopped: stopped after {stops[0]} steps"), f"{name}: stopped at step {stops[0]}: {st[:60]}")
+        check(
+            st.startswith(f"stopped: stopped after {stops[0]} steps"), f"{name}: stopped at step {stops[0]}: {st[:60]}"
+        )
         with h5py.File(os.path.join(W, B), "r") as f:
             check(last_checkpoint(f)["counters"][0] == stops[0], f"{name}: checkpoint at step {stops[0]}")
         run([deck, "--restart", B, "--stop-after-steps", str(stops[1])], 3)
@@ -261,27 +323,51 @@ if a.case == "restart":
             same_bits(name, A, C, "the same run on 1 thread", sums_within=True)
         with h5py.File(os.path.join(W, A), "r") as f:
             n, t = f["run"].attrs["checkpoints"], f["run"].attrs["checkpoint_time"]
-            print(f"{name}: {n} checkpoints in the uninterrupted run, {1e3 * t / n:.3f} ms each; file "
-                  f"{os.path.getsize(os.path.join(W, A))} B (restarted {os.path.getsize(os.path.join(W, B))} B); "
-                  f"{time.time() - t0:.1f} s")
+            print(
+                f"{name}: {n} checkpoints in the uninterrupted run, {1e3 * t / n:.3f} ms each; file "
+                f"{os.path.getsize(os.path.join(W, A))} B (restarted {os.path.getsize(os.path.join(W, B))} B); "
+                f"{time.time() - t0:.1f} s"
+            )
 
 elif a.case in ("signals", "kill9"):
-    long = variant(a.deck, os.path.join(W, "long.xml"), dict(bar_overrides, **{
-        "Time->End time": "1.0", "Output->Fields every": ("0", "int"), "Run->Progress interval": ("0.2", "double")}))
-    sigs = [("SIGINT", signal.SIGINT, 130), ("SIGTERM", signal.SIGTERM, 143)] if a.case == "signals" else \
-        [("SIGKILL", signal.SIGKILL, -9)]
+    long = variant(
+        a.deck,
+        os.path.join(W, "long.xml"),
+        dict(
+            bar_overrides,
+            **{
+                "Time->End time": "1.0",
+                "Output->Fields every": ("0", "int"),
+                "Run->Progress interval": ("0.2", "double"),
+            },
+        ),
+    )
+    sigs = (
+        [("SIGINT", signal.SIGINT, 130), ("SIGTERM", signal.SIGTERM, 143)]
+        if a.case == "signals"
+        else [("SIGKILL", signal.SIGKILL, -9)]
+    )
     for name, sig, code in sigs:
         out = f"long-{name}.h5"
         path = os.path.join(W, out)
         with open(os.path.join(W, f"long-{name}.stderr"), "w") as err:
-            proc = subprocess.Popen([a.run, long, "--output", out, "--threads", THREADS], cwd=W, env=ENV,
-                                    stdout=subprocess.PIPE, stderr=err, text=True)
+            proc = subprocess.Popen(
+                [a.run, long, "--output", out, "--threads", THREADS],
+                cwd=W,
+                env=ENV,
+                stdout=subprocess.PIPE,
+                stderr=err,
+                text=True,
+            )
         lines = Lines(proc)
         # wait for two progress lines: the loop runs, checkpoints were taken
         progress = lines.wait_for(lambda line: "steps/s" in line, 2, LINE_TIMEOUT)
         if progress < 2:
-            stop(proc, f"{name}: {progress} of 2 progress lines within {LINE_TIMEOUT} s; output so far:\n"
-                       + "".join(lines.seen[-20:]))
+            stop(
+                proc,
+                f"{name}: {progress} of 2 progress lines within {LINE_TIMEOUT} s; output so far:\n"
+                + "".join(lines.seen[-20:]),
+            )
         check(progress == 2, f"{name}: the run reports progress")
         proc.send_signal(sig)
         try:
@@ -302,10 +388,12 @@ elif a.case in ("signals", "kill9"):
             for p, n in lengths.items():
                 d = f[p][()]
                 complete = d.shape[0] >= n if killed else d.shape[0] == n
-                check(complete and np.all(np.isfinite(d[:n])), f"{name}: {p} readable, {n} records") \
-                    if p in ("/time", "/bodies/Bar/contact/force") else None
+                check(complete and np.all(np.isfinite(d[:n])), f"{name}: {p} readable, {n} records") if p in (
+                    "/time",
+                    "/bodies/Bar/contact/force",
+                ) else None
                 assert complete, (p, d.shape, n)
-            t = f["time"][:lengths["/time"]]
+            t = f["time"][: lengths["/time"]]
             check(np.array_equal(t, np.arange(len(t)) * h), f"{name}: /time = k h, {len(t)} records")
         if sig == signal.SIGKILL:
             check(st == "running", f"{name}: status still 'running' (not complete)")
@@ -320,27 +408,48 @@ elif a.case in ("signals", "kill9"):
 
 elif a.case == "kill9-storm":
     import random
+
     rng = random.Random(20261121)
-    storm = variant(a.deck, os.path.join(W, "storm.xml"), dict(bar_overrides, **{
-        "Time->End time": "1.0", "Output->Every": ("1", "int"), "Output->Fields every": ("20", "int"),
-        "Output->Checkpoint every": ("100", "int"), "Run->Progress interval": ("0.05", "double")}))
+    storm = variant(
+        a.deck,
+        os.path.join(W, "storm.xml"),
+        dict(
+            bar_overrides,
+            **{
+                "Time->End time": "1.0",
+                "Output->Every": ("1", "int"),
+                "Output->Fields every": ("20", "int"),
+                "Output->Checkpoint every": ("100", "int"),
+                "Run->Progress interval": ("0.05", "double"),
+            },
+        ),
+    )
     run([storm, "--output", "warm.h5", "--stop-after-steps", "10"], 3)  # the reduction, cached for all
     intact, kills = 0, 12
     for k in range(kills):
         out = f"storm-{k}.h5"
         path = os.path.join(W, out)
-        proc = subprocess.Popen([a.run, storm, "--output", out, "--threads", THREADS], cwd=W, env=ENV,
-                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        proc = subprocess.Popen(
+            [a.run, storm, "--output", out, "--threads", THREADS],
+            cwd=W,
+            env=ENV,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+            text=True,
+        )
         # the kill must land in the loop, not in the setup or the file's creation, however loaded the
         # machine: wait for the first progress line (printed from the loop, after the checkpoint of
         # step 0), then a random delay
         lines = Lines(proc)
         if not lines.wait_for(lambda line: line.startswith("  t = "), 1, LINE_TIMEOUT):
-            stop(proc, f"kill {k}: no progress line within {LINE_TIMEOUT} s; output so far:\n"
-                       + "".join(lines.seen[-20:]))
+            stop(
+                proc,
+                f"kill {k}: no progress line within {LINE_TIMEOUT} s; output so far:\n" + "".join(lines.seen[-20:]),
+            )
         time.sleep(0.2 + 1.2 * rng.random())
         proc.kill()
         proc.wait(timeout=60)
+
         def readable():
             with h5py.File(path, "r") as f:
                 lengths = checkpoint_lengths(f)
@@ -350,7 +459,7 @@ elif a.case == "kill9-storm":
                 for p, n in lengths.items():
                     d = f[p][()]
                     ok = ok and d.shape[0] >= n and bool(np.all(np.isfinite(d[:n])))
-                t = f["time"][:lengths["/time"]]
+                t = f["time"][: lengths["/time"]]
                 return step, ok and np.array_equal(t, np.arange(len(t)) * h)
 
         # HDF5 is not crash-consistent between flushes: a kill inside a checkpoint's flush can leave a
@@ -378,10 +487,14 @@ elif a.case == "kill9-storm":
             print(f"kill {k}: {type(e).__name__}: {e}")
             ok = False
         intact += bool(ok)
-        print(f"kill {k}: checkpoint at step {step if ok else '?'}: "
-              f"{('repaired by the restart' if repaired else 'intact') if ok else 'DAMAGED'}")
-    check(intact == kills, f"kill9-storm: {intact} of {kills} files intact (or repaired by the restart) and "
-                           "restartable after SIGKILL")
+        print(
+            f"kill {k}: checkpoint at step {step if ok else '?'}: "
+            f"{('repaired by the restart' if repaired else 'intact') if ok else 'DAMAGED'}"
+        )
+    check(
+        intact == kills,
+        f"kill9-storm: {intact} of {kills} files intact (or repaired by the restart) and " "restartable after SIGKILL",
+    )
 
 elif a.case == "errors":
     deck = variant(a.deck, os.path.join(W, "e.xml"), dict(bar_overrides, **{"Time->End time": "2e-5"}))

@@ -19,5 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   return 0;
 }
 #else
-int main(int argc, char** argv) { return epaphe::fuzz::runDriver("deck", argc, argv, target); }
+int main(int argc, char** argv) {
+  return epaphe::fuzz::runDriver("deck", argc, argv, target);
+}
 #endif

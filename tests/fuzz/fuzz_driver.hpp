@@ -2,9 +2,9 @@
 // A deterministic, dependency-free fuzzing loop for Epaphe's input readers (GCC has no libFuzzer).
 //
 // A target is a function `void target(const std::string& input, const std::string& seedPath)` (the
-// seed file the input was mutated from) that must either return or throw epaphe::Error. The driver mutates seed files (bit flips, byte changes, deletions, insertions,
-// duplications, truncations, numbers replaced by extreme values, splices of two seeds) with a
-// seeded xorshift generator, so a run is reproducible from its seed and iteration number:
+// seed file the input was mutated from) that must either return or throw epaphe::Error. The driver mutates seed files
+// (bit flips, byte changes, deletions, insertions, duplications, truncations, numbers replaced by extreme values,
+// splices of two seeds) with a seeded xorshift generator, so a run is reproducible from its seed and iteration number:
 //
 //   fuzz_x [--seconds S] [--iterations N] [--seed K] [--crash-dir DIR] [--replay FILE] SEED_FILES...
 //
@@ -59,9 +59,11 @@ inline std::string readFile(const std::string& path) {
 
 /// One to four mutations of `s` (`other`: a second seed for splicing).
 inline std::string mutate(std::string s, const std::string& other, Rng& rng) {
-  static const char* numbers[] = {"0", "-0", "-1", "1e308", "-1e308", "1e-320", "nan", "-nan", "inf", "-inf",
-                                  "2147483647", "2147483648", "-2147483649", "99999999999999999999", "1.5",
-                                  "0x10", "1e", "--1", "", " ", "1,2", "4"};
+  static const char* numbers[] = {
+      "0",    "-0",   "-1",   "1e308",      "-1e308",     "1e-320",      "nan",
+      "-nan", "inf",  "-inf", "2147483647", "2147483648", "-2147483649", "99999999999999999999",
+      "1.5",  "0x10", "1e",   "--1",        "",           " ",           "1,2",
+      "4"};
   static const char bytes[] = "0123456789-+.eE ,{}<>\"/=\n\t\\xyzNaI%*#";
   const int count = 1 + static_cast<int>(rng.below(4));
   for (int m = 0; m < count; ++m) {
@@ -101,8 +103,8 @@ inline std::string mutate(std::string s, const std::string& other, Rng& rng) {
         while (at < n && !(std::isdigit(static_cast<unsigned char>(s[at])) || s[at] == '-')) ++at;
         if (at >= n) break;
         std::size_t end = at + 1;
-        while (end < n && (std::isalnum(static_cast<unsigned char>(s[end])) || s[end] == '.' || s[end] == '-' ||
-                           s[end] == '+'))
+        while (end < n &&
+               (std::isalnum(static_cast<unsigned char>(s[end])) || s[end] == '.' || s[end] == '-' || s[end] == '+'))
           ++end;
         s.replace(at, end - at, numbers[rng.below(sizeof numbers / sizeof *numbers)]);
         break;
@@ -118,8 +120,14 @@ inline std::string mutate(std::string s, const std::string& other, Rng& rng) {
 }
 
 namespace detail {
-inline std::string& current() { static std::string s; return s; }
-inline std::string& crashPath() { static std::string s; return s; }
+inline std::string& current() {
+  static std::string s;
+  return s;
+}
+inline std::string& crashPath() {
+  static std::string s;
+  return s;
+}
 inline void writeCurrent() {
   if (FILE* f = std::fopen(crashPath().c_str(), "wb")) {
     std::fwrite(current().data(), 1, current().size(), f);
@@ -128,7 +136,8 @@ inline void writeCurrent() {
 }
 extern "C" inline void onSignal(int sig) {
   writeCurrent();
-  const char* msg = sig == SIGALRM ? "fuzz: an input ran longer than 10 s (hang), written to " : "fuzz: crash, input written to ";
+  const char* msg =
+      sig == SIGALRM ? "fuzz: an input ran longer than 10 s (hang), written to " : "fuzz: crash, input written to ";
   (void)!write(2, msg, std::strlen(msg));
   (void)!write(2, crashPath().data(), crashPath().size());
   (void)!write(2, "\n", 1);
@@ -147,12 +156,18 @@ inline int runDriver(const std::string& name, int argc, char** argv,
   std::vector<std::string> seeds;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--seconds" && i + 1 < argc) seconds = std::atof(argv[++i]);
-    else if (a == "--iterations" && i + 1 < argc) iterations = std::atoll(argv[++i]);
-    else if (a == "--seed" && i + 1 < argc) seed = std::strtoull(argv[++i], nullptr, 10);
-    else if (a == "--crash-dir" && i + 1 < argc) crashDir = argv[++i];
-    else if (a == "--replay" && i + 1 < argc) replay = argv[++i];
-    else seeds.push_back(a);
+    if (a == "--seconds" && i + 1 < argc)
+      seconds = std::atof(argv[++i]);
+    else if (a == "--iterations" && i + 1 < argc)
+      iterations = std::atoll(argv[++i]);
+    else if (a == "--seed" && i + 1 < argc)
+      seed = std::strtoull(argv[++i], nullptr, 10);
+    else if (a == "--crash-dir" && i + 1 < argc)
+      crashDir = argv[++i];
+    else if (a == "--replay" && i + 1 < argc)
+      replay = argv[++i];
+    else
+      seeds.push_back(a);
   }
   for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGALRM}) std::signal(sig, detail::onSignal);
   auto runOne = [&](const std::string& input, const std::string& from, long long it) -> bool {
@@ -171,8 +186,8 @@ inline int runDriver(const std::string& name, int argc, char** argv,
     } catch (...) {
       alarm(0);
       detail::writeCurrent();
-      std::cerr << "fuzz " << name << ": iteration " << it << " threw a non-std exception\n  input: "
-                << detail::crashPath() << "\n";
+      std::cerr << "fuzz " << name << ": iteration " << it
+                << " threw a non-std exception\n  input: " << detail::crashPath() << "\n";
       return false;
     }
     alarm(0);
@@ -198,7 +213,8 @@ inline int runDriver(const std::string& name, int argc, char** argv,
     if (!runOne(corpus[it], seeds[it], it)) return 1;
   for (;; ++it) {
     if (iterations >= 0 && it >= iterations) break;
-    if (iterations < 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds) break;
+    if (iterations < 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds)
+      break;
     const std::size_t ia = rng.below(corpus.size());
     const std::string& b = corpus[rng.below(corpus.size())];
     if (!runOne(mutate(corpus[ia], b, rng), seeds[ia], it)) return 1;

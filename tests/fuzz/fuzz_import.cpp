@@ -52,11 +52,13 @@ void target(const std::string& input, const std::string& seedPath) {
   } restore{file, seed};
   auto comm = Teuchos::DefaultComm<int>::getComm();
   if (format == "base-mm") {
-    epaphe::importMatrixMarket({dir + "/K.mtx", dir + "/M.mtx", dir + "/dofs.txt", dir + "/nodes.txt", ""}, "fuzz", comm);
+    epaphe::importMatrixMarket({dir + "/K.mtx", dir + "/M.mtx", dir + "/dofs.txt", dir + "/nodes.txt", ""}, "fuzz",
+                               comm);
   } else if (format == "base-calculix") {
     epaphe::importCalculix({dir + "/model.inp", dir + "/model"}, "fuzz", comm);
   } else if (format == "base-aster") {
-    epaphe::importCodeAster({dir + "/K.txt", dir + "/M.txt", dir + "/dofs.txt", dir + "/nodes.txt", "", ""}, "fuzz", comm);
+    epaphe::importCodeAster({dir + "/K.txt", dir + "/M.txt", dir + "/dofs.txt", dir + "/nodes.txt", "", ""}, "fuzz",
+                            comm);
   } else {
     throw std::logic_error("fuzz_import: seed '" + seedPath + "' is not in base-mm, base-calculix or base-aster");
   }
@@ -71,7 +73,10 @@ int main(int argc, char** argv) {
     if (std::string(argv[i]) == "--work") workRoot = argv[i + 1];
   std::vector<char*> args;
   for (int i = 0; i < argc; ++i) {
-    if (std::string(argv[i]) == "--work") { ++i; continue; }
+    if (std::string(argv[i]) == "--work") {
+      ++i;
+      continue;
+    }
     args.push_back(argv[i]);
   }
   return epaphe::fuzz::runDriver("import", static_cast<int>(args.size()), args.data(), target);

@@ -34,6 +34,7 @@ def main():
     import numpy as np
     import epaphe
     from epaphe.results import ENERGIES
+
     failures = []
     where = os.path.realpath(epaphe.__file__)
     if not where.startswith(site + os.sep):
@@ -44,45 +45,60 @@ def main():
         end = float(run.deck.get("Time->End time"))
         steps = int(run.attrs["steps"])
         t = run.time
-        print(f"{result}: status '{run.status}', deck '{run.name}', {run.records} records from {t[0]:g} to "
-              f"{t[-1]:g} s, {steps} steps of {h:g} s")
+        print(
+            f"{result}: status '{run.status}', deck '{run.name}', {run.records} records from {t[0]:g} to "
+            f"{t[-1]:g} s, {steps} steps of {h:g} s"
+        )
         if not run.complete:
             failures.append(f"status '{run.status}', expected 'complete'")
         if run.name != "bar on a rigid wall (V1)":
-            failures.append(f"the run's deck is named '{run.name}', not the installed bar-on-wall.xml's "
-                            "'bar on a rigid wall (V1)'")
+            failures.append(
+                f"the run's deck is named '{run.name}', not the installed bar-on-wall.xml's "
+                "'bar on a rigid wall (V1)'"
+            )
         if steps != round(end / h):
             failures.append(f"{steps} steps, expected End time / Time step = {end:g} / {h:g} = {round(end / h)}")
         if run.records != steps:
             failures.append(f"{run.records} records, expected one per step: {steps} (Output->Every 1)")
         if not (t[0] == 0 and abs(t[-1] - (end - h)) <= 0.5 * h and np.allclose(np.diff(t), h, rtol=1e-6)):
-            failures.append(f"record times from {t[0]:g} to {t[-1]:g} s, spaced {np.diff(t).min():g} to "
-                            f"{np.diff(t).max():g} s: expected 0 to {end - h:g} s every {h:g} s")
+            failures.append(
+                f"record times from {t[0]:g} to {t[-1]:g} s, spaced {np.diff(t).min():g} to "
+                f"{np.diff(t).max():g} s: expected 0 to {end - h:g} s every {h:g} s"
+            )
         for name in ENERGIES:
             e = getattr(run.energy, name)
             if e.shape != t.shape or not np.all(np.isfinite(e)):
-                failures.append(f"energy {name}: shape {e.shape} (expected {t.shape}), "
-                                f"{np.count_nonzero(~np.isfinite(e))} non-finite values")
-        kinetic0, exact0 = float(run.energy.kinetic[0]), 0.5 * MASS * V0 ** 2
+                failures.append(
+                    f"energy {name}: shape {e.shape} (expected {t.shape}), "
+                    f"{np.count_nonzero(~np.isfinite(e))} non-finite values"
+                )
+        kinetic0, exact0 = float(run.energy.kinetic[0]), 0.5 * MASS * V0**2
         if not abs(kinetic0 - exact0) <= TOL_KINETIC * exact0:
-            failures.append(f"kinetic energy {kinetic0!r} J at t = 0, expected 1/2 m v0^2 = {exact0:g} J "
-                            f"within {TOL_KINETIC:g}")
+            failures.append(
+                f"kinetic energy {kinetic0!r} J at t = 0, expected 1/2 m v0^2 = {exact0:g} J " f"within {TOL_KINETIC:g}"
+            )
         balance = float(np.abs(run.energy.balance_error).max())
-        print(f"energy: total {run.energy.total[0]:.1f} J at the start, {run.energy.total[-1]:.1f} J at the end, "
-              f"largest balance error {balance:.2e}")
+        print(
+            f"energy: total {run.energy.total[0]:.1f} J at the start, {run.energy.total[-1]:.1f} J at the end, "
+            f"largest balance error {balance:.2e}"
+        )
         if not balance <= TOL_BALANCE:
             failures.append(f"energy balance error up to {balance:.3e}, more than {TOL_BALANCE:g}")
         bar = run.bodies["Bar"]
         f = bar.contact.total_force
         on = np.nonzero(f > 1e-6 * F)[0]  # V1's threshold: round-off gives 1e-4 N one step early
         if on.size == 0:
-            return fail(failures + [f"no contact force at all (largest {f.max():g} N); the bar reaches the wall "
-                                    f"at {T0:g} s"])
+            return fail(
+                failures
+                + [f"no contact force at all (largest {f.max():g} N); the bar reaches the wall " f"at {T0:g} s"]
+            )
         start, stop = t[on[0]], t[on[-1]] + h
         plateau = f.sum() * h / (stop - start)
         rebound = float(-bar.momentum[t > stop + 5e-6, 0].mean() / bar.rigid_mass)
-        print(f"contact from {start:.4e} to {stop:.4e} s (exact {T0:g}, {T1:g}), mean force {plateau:.4e} N "
-              f"(exact {F:g}), rebound {rebound:.3f} m/s (exact {V0:g})")
+        print(
+            f"contact from {start:.4e} to {stop:.4e} s (exact {T0:g}, {T1:g}), mean force {plateau:.4e} N "
+            f"(exact {F:g}), rebound {rebound:.3f} m/s (exact {V0:g})"
+        )
         if not abs(start - T0) <= TOL_TIME * T0:
             failures.append(f"contact starts at {start:.4e} s, not within {TOL_TIME:.0%} of {T0:g} s")
         if not abs(stop - T1) <= TOL_TIME * T1:

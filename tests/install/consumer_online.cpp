@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
     epaphe::ExplicitLoop loop({{"oscillator", &cd, 0, 3}}, h, steps, nullptr, nullptr, cost, std::cout);
     auto init = Kokkos::create_mirror_view(loop.current());
     init(0) = x0;
-    Kokkos::deep_copy(loop.current(), init);          // q_0
+    Kokkos::deep_copy(loop.current(), init);           // q_0
     init(0) = x0 * (1 - 0.5 * h * h * omega * omega);  // q_{-1} = q_0 + h^2/2 a_0 (v_0 = 0)
     Kokkos::deep_copy(loop.previous(), init);
     EnergyDrift drift;
@@ -83,8 +83,8 @@ int main(int argc, char** argv) {
       if (loop.stepsDone() == steps / 2) half = displacement(loop) / x0;
     const double back = displacement(loop) / x0;
     std::cout << "u/u0 after half a period " << half << ", after one period " << back << "; energy drift "
-              << drift.drift() << " over " << drift.calls() << " steps; monitor balance "
-              << monitor.last().balance << "\n";
+              << drift.drift() << " over " << drift.calls() << " steps; monitor balance " << monitor.last().balance
+              << "\n";
     ok = std::abs(half + 1) < 1e-4 && std::abs(back - 1) < 1e-4 && drift.drift() < 1e-12 && drift.calls() == steps &&
          std::abs(monitor.last().balance) < 1e-12 && loop.stepsDone() == steps;
   }

@@ -63,9 +63,9 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from epaphe_testing import variant  # noqa: E402
 import epaphe  # noqa: E402  (epaphe_testing put python/ on the path)
 
-MAX_RECORDS = 200   # records kept per dataset (windows of the run) at most ...
-BUDGET = 10000      # ... and fewer on a deck with many datasets: about this many values in all (< 100 kB)
-NODES_KEPT = 3      # nodes of a node set kept individually (first, middle, last)
+MAX_RECORDS = 200  # records kept per dataset (windows of the run) at most ...
+BUDGET = 10000  # ... and fewer on a deck with many datasets: about this many values in all (< 100 kB)
+NODES_KEPT = 3  # nodes of a node set kept individually (first, middle, last)
 
 # ---- tolerances ------------------------------------------------------------------------------------
 # The run is deterministic on 1 thread: the same binary gives the same bits (faults.restart checks it;
@@ -80,23 +80,33 @@ NODES_KEPT = 3      # nodes of a node set kept individually (first, middle, last
 # energy by 1.4e5 x its bound; a time step +1 % changes the number of records, which fails at once.
 # kind: (ATOL as a fraction of the dataset's scale, RTOL of the value)
 TOLERANCES = {
-    "time": (1e-12, 1e-12),          # t_k = k h; measured 0
-    "energy": (3e-8, 3e-8),          # J; measured 2.9e-10 (rotor37-casing)
-    "balance": (1e-8, 0.0),          # balance_error (already relative, compared absolutely): 9.6e-11 (cube-rings)
-    "momentum": (3e-7, 3e-7),        # kg m/s; measured 3.0e-9 (two-bars, the free bar)
-    "displacement": (3e-8, 3e-8),    # m; measured 2.3e-10 (blade-casing, leading edge)
-    "velocity": (3e-7, 3e-7),        # m/s; measured 3.0e-9 (two-bars)
-    "gap": (3e-8, 3e-8),             # m; measured 2.4e-10 (two-bars; see FLOORS)
-    "force": (1e-6, 1e-6),           # N; jumps with the active set; measured 1.3e-8 (blade-casing, one node)
-    "frequency": (1e-8, 1e-8),       # Hz; measured 5.9e-11 (two-bars), rigid-body modes set to 0 (below)
-    "summary": (1e-6, 1e-6),         # printed with 7 digits (5e-7 of rounding); measured 0
+    "time": (1e-12, 1e-12),  # t_k = k h; measured 0
+    "energy": (3e-8, 3e-8),  # J; measured 2.9e-10 (rotor37-casing)
+    "balance": (1e-8, 0.0),  # balance_error (already relative, compared absolutely): 9.6e-11 (cube-rings)
+    "momentum": (3e-7, 3e-7),  # kg m/s; measured 3.0e-9 (two-bars, the free bar)
+    "displacement": (3e-8, 3e-8),  # m; measured 2.3e-10 (blade-casing, leading edge)
+    "velocity": (3e-7, 3e-7),  # m/s; measured 3.0e-9 (two-bars)
+    "gap": (3e-8, 3e-8),  # m; measured 2.4e-10 (two-bars; see FLOORS)
+    "force": (1e-6, 1e-6),  # N; jumps with the active set; measured 1.3e-8 (blade-casing, one node)
+    "frequency": (1e-8, 1e-8),  # Hz; measured 5.9e-11 (two-bars), rigid-body modes set to 0 (below)
+    "summary": (1e-6, 1e-6),  # printed with 7 digits (5e-7 of rounding); measured 0
 }
 # the smallest scale of a dataset: a dataset whose values all stay below it is compared in absolute
 # terms, atol x floor. Gap: nodes in contact throughout (two-bars) have gaps of the Lagrange solve's
 # round-off, 1e-16 m, differing by 2e-16 m between thread counts: a micron is the floor (3e-14 m of
 # tolerance there, far below the 1e-12 m penetrations docs/user/rotation.md quotes as physics).
-FLOORS = {"time": 1e-12, "energy": 1e-12, "balance": 1.0, "momentum": 1e-12, "displacement": 1e-12,
-          "velocity": 1e-9, "gap": 1e-6, "force": 1e-6, "frequency": 1e-6, "summary": 1e-12}
+FLOORS = {
+    "time": 1e-12,
+    "energy": 1e-12,
+    "balance": 1.0,
+    "momentum": 1e-12,
+    "displacement": 1e-12,
+    "velocity": 1e-9,
+    "gap": 1e-6,
+    "force": 1e-6,
+    "frequency": 1e-6,
+    "summary": 1e-12,
+}
 
 # ---- horizons: each deck cut to what holds its first contacts, so that the whole test takes about
 # a minute on 1 thread. A deck not listed keeps its own end, capped at DEFAULT_MAX_STEPS steps; a
@@ -121,9 +131,11 @@ HORIZON = {
     "rotor37-casing": {"Time->End revolutions": ("0.5", "double")},
     "rotor37-massless": {"Time->End revolutions": ("3", "double")},
     # run-up: the ramp (720 to 800 rad/s) cut to 1.8 ms, its stiffness refreshed about every 400 steps
-    "blade-casing-run-up": {"Time->End time": ("2e-3", "double"),
-                            "Bodies->Blade->Rotation->Speed law->Start time": ("1e-4", "double"),
-                            "Bodies->Blade->Rotation->Speed law->End time": ("1.9e-3", "double")},
+    "blade-casing-run-up": {
+        "Time->End time": ("2e-3", "double"),
+        "Bodies->Blade->Rotation->Speed law->Start time": ("1e-4", "double"),
+        "Bodies->Blade->Rotation->Speed law->End time": ("1.9e-3", "double"),
+    },
     # modes only: the deck's own few free steps
     "ring-modes": {},
 }
@@ -196,17 +208,18 @@ def reduce_history(h5path, stdout, selection=None, records=None):
                 out[name] = np.where(a < 1e-4 * (a.max() if a.size else 0.0), 0.0, a)
             elif a.ndim >= 1 and a.shape[0] != n:
                 raise RuntimeError(f"{h5path}: {name} has {a.shape[0]} records, /time {n}")
-            elif "/nodesets/" in name:                       # records x nodes x 3
+            elif "/nodesets/" in name:  # records x nodes x 3
                 cols = selection.get(name) if selection else None
                 if cols is None:
                     cols = sorted(set(np.linspace(0, a.shape[1] - 1, NODES_KEPT).round().astype(int).tolist()))
                 chosen[name] = np.asarray(cols)
                 out[name + ":nodes"] = a[idx][:, chosen[name], :]
                 out[name + ":norm"] = np.sqrt(np.sum(a[idx] ** 2, axis=(1, 2)))
-            elif name.endswith("/contact/gap") or name.endswith("/contact/force"):   # records x nodes
+            elif name.endswith("/contact/gap") or name.endswith("/contact/force"):  # records x nodes
                 out[name + (":window_min" if name.endswith("gap") else ":window_max")] = np.array(
-                    [a[w].min() if name.endswith("gap") else a[w].max() for w in wins])
-            else:                                                # records (x 3)
+                    [a[w].min() if name.endswith("gap") else a[w].max() for w in wins]
+                )
+            else:  # records (x 3)
                 out[name] = a[idx]
                 if name.endswith("total_force"):
                     out[name + ":window_max"] = np.array([a[w].max() for w in wins])
@@ -230,10 +243,16 @@ def reduce_history(h5path, stdout, selection=None, records=None):
 
 def git_commit(source):
     try:
-        head = subprocess.run(["git", "-C", source, "rev-parse", "HEAD"], capture_output=True, text=True,
-                              check=True, timeout=60).stdout.strip()
-        dirty = subprocess.run(["git", "-C", source, "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True, check=True, timeout=60).stdout.strip()
+        head = subprocess.run(
+            ["git", "-C", source, "rev-parse", "HEAD"], capture_output=True, text=True, check=True, timeout=60
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "-C", source, "status", "--porcelain", "--untracked-files=no"],
+            capture_output=True,
+            text=True,
+            check=True,
+            timeout=60,
+        ).stdout.strip()
         return head, bool(dirty)
     except (OSError, subprocess.CalledProcessError, subprocess.TimeoutExpired):
         return "unknown", True
@@ -274,11 +293,19 @@ def run_deck(run, deck, name, workdir, threads):
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), OMP_PROC_BIND="false", OPENBLAS_NUM_THREADS="1")
     t0, c0 = time.monotonic(), resource.getrusage(resource.RUSAGE_CHILDREN)
     try:
-        proc = subprocess.run([run, path, "--threads", str(threads)], cwd=workdir, capture_output=True, text=True,
-                              env=env, timeout=RUN_TIMEOUT)
+        proc = subprocess.run(
+            [run, path, "--threads", str(threads)],
+            cwd=workdir,
+            capture_output=True,
+            text=True,
+            env=env,
+            timeout=RUN_TIMEOUT,
+        )
     except subprocess.TimeoutExpired:
-        raise RuntimeError(f"epaphe-run on {path} did not end within {RUN_TIMEOUT} s (killed): a hang, or a "
-                           f"deck far slower than its horizon allows (see HORIZON)")
+        raise RuntimeError(
+            f"epaphe-run on {path} did not end within {RUN_TIMEOUT} s (killed): a hang, or a "
+            f"deck far slower than its horizon allows (see HORIZON)"
+        )
     except OSError as e:
         raise RuntimeError(f"cannot start {run} ({e}): build it first (cmake --build build)")
     c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -319,12 +346,19 @@ def write_gold(gold_path, deck, name, data, chosen, n, idx, over, stdout, source
         index, offset = [], 0
         for k, v in data.items():
             kind = kind_of(k)
-            index.append({"name": k, "kind": kind, "shape": list(v.shape), "offset": offset,
-                          "scale": scale_of(kind, v)})
+            index.append(
+                {"name": k, "kind": kind, "shape": list(v.shape), "offset": offset, "scale": scale_of(kind, v)}
+            )
             offset += v.size
         values = np.concatenate([np.ravel(v).astype(np.float64) for v in data.values()])
-        g.create_dataset("values", data=values, compression="gzip", compression_opts=9, shuffle=True,
-                         chunks=(min(values.size, 1 << 16),))
+        g.create_dataset(
+            "values",
+            data=values,
+            compression="gzip",
+            compression_opts=9,
+            shuffle=True,
+            chunks=(min(values.size, 1 << 16),),
+        )
         g.attrs["index"] = json.dumps(index)
         g.attrs["record_indices"] = json.dumps([int(i) for i in idx])
         g.attrs["selection"] = json.dumps({k: [int(c) for c in v] for k, v in chosen.items()})
@@ -335,8 +369,10 @@ def read_gold(gold_path):
     with h5py.File(gold_path, "r") as g:
         attrs = dict(g.attrs)
         values = g["values"][()]
-    data = {e["name"]: values[e["offset"]: e["offset"] + int(np.prod(e["shape"]))].reshape(e["shape"])
-            for e in json.loads(attrs["index"])}
+    data = {
+        e["name"]: values[e["offset"] : e["offset"] + int(np.prod(e["shape"]))].reshape(e["shape"])
+        for e in json.loads(attrs["index"])
+    }
     sel = {k: np.asarray(v) for k, v in json.loads(attrs["selection"]).items()}
     return attrs, data, sel, np.asarray(json.loads(attrs["record_indices"]))
 
@@ -376,11 +412,14 @@ def compare(name, gold, new, times):
                 where = f"frequency {rec + 1}"
             else:
                 where = f"record {rec} of {len(times)} (t = {times[rec]:.6e} s)" + (
-                    f", entry {tuple(int(j) for j in i[1:])}" if len(i) > 1 else "")
+                    f", entry {tuple(int(j) for j in i[1:])}" if len(i) > 1 else ""
+                )
             nbad = int(np.sum(share > 1.0))
-            failures.append(f"{name}: {k} [{kind}]: {where}: {x[i]:.9e} against gold {g[i]:.9e}, "
-                            f"|diff| {err[i]:.3e} > bound {bound[i]:.3e} (atol {atol:g} x scale {scale:.3e} + "
-                            f"rtol {rtol:g} x |gold|), {share[i]:.3g} x the bound; {nbad} of {share.size} entries out")
+            failures.append(
+                f"{name}: {k} [{kind}]: {where}: {x[i]:.9e} against gold {g[i]:.9e}, "
+                f"|diff| {err[i]:.3e} > bound {bound[i]:.3e} (atol {atol:g} x scale {scale:.3e} + "
+                f"rtol {rtol:g} x |gold|), {share[i]:.3g} x the bound; {nbad} of {share.size} entries out"
+            )
     return failures, worst
 
 
@@ -412,8 +451,10 @@ def main():
         return 1
     if regenerate:
         bar = "!" * 100
-        print(f"{bar}\n!!! REGENERATING the gold files of {len(decks)} deck(s) in {a.gold}: NOTHING IS COMPARED.\n"
-              f"!!! Do this only for a change of results you meant; check the new files in with a reason.\n{bar}")
+        print(
+            f"{bar}\n!!! REGENERATING the gold files of {len(decks)} deck(s) in {a.gold}: NOTHING IS COMPARED.\n"
+            f"!!! Do this only for a change of results you meant; check the new files in with a reason.\n{bar}"
+        )
         if a.threads != 1:
             print("FAILED: gold files are made on 1 thread (--threads 1)")
             return 1
@@ -421,10 +462,12 @@ def main():
     for deck, name in zip(decks, names):
         gold_path = os.path.join(a.gold, f"{name}.h5")
         if not regenerate and not os.path.exists(gold_path):
-            failures.append(f"{name}: no gold file {gold_path}. If inputs/{name}.xml is a new deck, check its "
-                            f"horizon (HORIZON in {os.path.abspath(__file__)}) and create it with: "
-                            f"{sys.executable} {os.path.abspath(__file__)} --run {a.run} --inputs {a.inputs} "
-                            f"--gold {a.gold} --workdir {a.workdir} --deck {name} --regenerate")
+            failures.append(
+                f"{name}: no gold file {gold_path}. If inputs/{name}.xml is a new deck, check its "
+                f"horizon (HORIZON in {os.path.abspath(__file__)}) and create it with: "
+                f"{sys.executable} {os.path.abspath(__file__)} --run {a.run} --inputs {a.inputs} "
+                f"--gold {a.gold} --workdir {a.workdir} --deck {name} --regenerate"
+            )
             print(f"{name}: no gold file: FAIL")
             continue
         try:
@@ -439,35 +482,48 @@ def main():
             print(f"{name}: FAIL (the run)")
             continue
         if has_surfaces(deck) and not SUMMARY.search(stdout):
-            failures.append(f"{name}: no contact within the horizon {over}: lengthen it in HORIZON "
-                            f"({os.path.abspath(__file__)}) so that the regression covers the scene's contacts")
+            failures.append(
+                f"{name}: no contact within the horizon {over}: lengthen it in HORIZON "
+                f"({os.path.abspath(__file__)}) so that the regression covers the scene's contacts"
+            )
         if regenerate:
             write_gold(gold_path, deck, name, data, chosen, n, idx, over, stdout, source)
-            print(f"{name}: REGENERATED {gold_path} ({os.path.getsize(gold_path) / 1024:.1f} kB, {n} records -> "
-                  f"{len(idx)}, {len(data)} datasets; run {seconds[0]:.1f} s, CPU {seconds[1]:.1f} s)")
+            print(
+                f"{name}: REGENERATED {gold_path} ({os.path.getsize(gold_path) / 1024:.1f} kB, {n} records -> "
+                f"{len(idx)}, {len(data)} datasets; run {seconds[0]:.1f} s, CPU {seconds[1]:.1f} s)"
+            )
             continue
         with epaphe.open(out) as run:
             times = run.time[idx]
         fails, worst = [], {}
         if n != gattrs["records"] or not np.array_equal(idx, gidx):
-            fails.append(f"{name}: the run wrote {n} records, the gold run {gattrs['records']} (the deck's time step, "
-                         f"end or output interval changed?)")
+            fails.append(
+                f"{name}: the run wrote {n} records, the gold run {gattrs['records']} (the deck's time step, "
+                f"end or output interval changed?)"
+            )
         else:
             fails, worst = compare(name, gold, data, times)
         if fails and gattrs.get("deck_sha256") != sha256(deck):
-            fails.append(f"{name}: note: inputs/{name}.xml changed since its gold file was made "
-                         f"(commit {gattrs.get('epaphe_commit')}); if its results were meant to change, regenerate")
-        if fails and json.loads(gattrs["overrides"]) != json.loads(json.dumps(
-                {k: (v if isinstance(v, str) else list(v)) for k, v in over.items()})):
-            fails.append(f"{name}: note: the horizon changed since the gold file was made: "
-                         f"gold {gattrs['overrides']}, now {over}")
-        if len(fails) > 12:   # the first datasets out, the notes, and how many more
+            fails.append(
+                f"{name}: note: inputs/{name}.xml changed since its gold file was made "
+                f"(commit {gattrs.get('epaphe_commit')}); if its results were meant to change, regenerate"
+            )
+        if fails and json.loads(gattrs["overrides"]) != json.loads(
+            json.dumps({k: (v if isinstance(v, str) else list(v)) for k, v in over.items()})
+        ):
+            fails.append(
+                f"{name}: note: the horizon changed since the gold file was made: "
+                f"gold {gattrs['overrides']}, now {over}"
+            )
+        if len(fails) > 12:  # the first datasets out, the notes, and how many more
             notes = [f for f in fails if ": note: " in f]
             rest = [f for f in fails if ": note: " not in f]
             fails = rest[:10] + [f"{name}: ... and {len(rest) - 10} more datasets out of tolerance"] + notes
         failures += fails
         report = ", ".join(f"{k} {w[0]:.1e} ({w[1]:.2g} of bound)" for k, w in sorted(worst.items()))
-        print(f"{name}: {'FAIL' if fails else 'ok'} in {seconds[0]:.1f} s (CPU {seconds[1]:.1f} s); largest |diff|/scale per kind: {report}")
+        print(
+            f"{name}: {'FAIL' if fails else 'ok'} in {seconds[0]:.1f} s (CPU {seconds[1]:.1f} s); largest |diff|/scale per kind: {report}"
+        )
     print(f"total {time.monotonic() - total0:.1f} s")
     if regenerate:
         print("REGENERATED (nothing compared)" if not failures else "FAILED:\n  " + "\n  ".join(failures))

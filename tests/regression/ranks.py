@@ -72,7 +72,7 @@ MODEL_TOL = 1e-7
 # scale; gold.py's atol): displacement 4.9e-10 (3e-8), velocity 1.6e-8 (3e-7), momentum 2.1e-9 (3e-7),
 # gap 9.7e-10 (3e-8), force 1.5e-8 (1e-6), energy 1.4e-9 (3e-8), balance 1.2e-10 (1e-8), frequency
 # 1.2e-10 (1e-8), time and the summary's contact line 0.
-RUN_TIMEOUT = 240   # s per run; the slowest (cube-flexible-rings on 2 ranks) takes 10-20 s on a loaded machine
+RUN_TIMEOUT = 240  # s per run; the slowest (cube-flexible-rings on 2 ranks) takes 10-20 s on a loaded machine
 
 
 def run(cmd, cwd, env):
@@ -81,8 +81,9 @@ def run(cmd, cwd, env):
     except subprocess.TimeoutExpired:
         raise RuntimeError(f"no exit within {RUN_TIMEOUT} s (killed): {' '.join(cmd)} (in {cwd})")
     if p.returncode != 0:
-        raise RuntimeError(f"exit code {p.returncode}: {' '.join(cmd)} (in {cwd})\n"
-                           f"{p.stdout[-3000:]}{p.stderr[-3000:]}")
+        raise RuntimeError(
+            f"exit code {p.returncode}: {' '.join(cmd)} (in {cwd})\n" f"{p.stdout[-3000:]}{p.stderr[-3000:]}"
+        )
     return p
 
 
@@ -110,8 +111,20 @@ def run_deck(a, deck, name, ranks):
 
 def read_model(path):
     with h5py.File(path, "r") as f:
-        m = {k: f[k][()] for k in ("K", "M", "recovery", "boundaryModes", "residualFlexibility", "modalTranslation",
-                                   "modeFrequencies", "staticDisplacement") if k in f}
+        m = {
+            k: f[k][()]
+            for k in (
+                "K",
+                "M",
+                "recovery",
+                "boundaryModes",
+                "residualFlexibility",
+                "modalTranslation",
+                "modeFrequencies",
+                "staticDisplacement",
+            )
+            if k in f
+        }
         m["size"], m["modes"] = int(f.attrs["size"]), int(f.attrs["modes"])
     return m
 
@@ -138,9 +151,17 @@ def model_difference(m1, m2):
     if len(m1["modeFrequencies"]) != nm:
         # not a basis of eigenvectors (a parametric model's, made of several reductions): MODEL_TOL's
         # reasoning does not hold, and only what is basis-free is compared here (its history below)
-        return {k: (float(np.max(np.abs(m2[k] - m1[k])) / max(float(np.max(np.abs(m1[k]))), 1e-300))
-                    if m2.get(k, np.empty(0)).shape == m1[k].shape else np.inf) if m1[k].size else 0.0
-                for k in ("modeFrequencies", "staticDisplacement") if k in m1}
+        return {
+            k: (
+                float(np.max(np.abs(m2[k] - m1[k])) / max(float(np.max(np.abs(m1[k]))), 1e-300))
+                if m2.get(k, np.empty(0)).shape == m1[k].shape
+                else np.inf
+            )
+            if m1[k].size
+            else 0.0
+            for k in ("modeFrequencies", "staticDisplacement")
+            if k in m1
+        }
     groups = clusters(m1["modeFrequencies"])
     Q = np.eye(nm)
     for c in filter(None, groups):
@@ -150,23 +171,37 @@ def model_difference(m1, m2):
     T[nb:, nb:] = Q
     keep_modes = [j for c in groups[:-1] for j in c]
     keep = list(range(nb)) + [nb + j for j in keep_modes]
-    K2, M2 = m2["K"].reshape(n, n), m2["M"].reshape(n, n)   # symmetric: the storage order does not matter
-    aligned = {"K": (T.T @ K2 @ T)[np.ix_(keep, keep)], "M": (T.T @ M2 @ T)[np.ix_(keep, keep)],
-               "recovery": (r2 @ T)[:, keep]}
-    ref = {"K": m1["K"].reshape(n, n)[np.ix_(keep, keep)], "M": m1["M"].reshape(n, n)[np.ix_(keep, keep)],
-           "recovery": r1[:, keep]}
-    if m1.get("boundaryModes", np.empty(0)).size:   # Phi_b (nb x nm) and Phi^T M e_d (nm x 3), column-major
+    K2, M2 = m2["K"].reshape(n, n), m2["M"].reshape(n, n)  # symmetric: the storage order does not matter
+    aligned = {
+        "K": (T.T @ K2 @ T)[np.ix_(keep, keep)],
+        "M": (T.T @ M2 @ T)[np.ix_(keep, keep)],
+        "recovery": (r2 @ T)[:, keep],
+    }
+    ref = {
+        "K": m1["K"].reshape(n, n)[np.ix_(keep, keep)],
+        "M": m1["M"].reshape(n, n)[np.ix_(keep, keep)],
+        "recovery": r1[:, keep],
+    }
+    if m1.get("boundaryModes", np.empty(0)).size:  # Phi_b (nb x nm) and Phi^T M e_d (nm x 3), column-major
         aligned["boundaryModes"] = (Q.T @ m2["boundaryModes"].reshape(nm, nb))[keep_modes]
         ref["boundaryModes"] = m1["boundaryModes"].reshape(nm, nb)[keep_modes]
         aligned["modalTranslation"] = (m2["modalTranslation"].reshape(3, nm) @ Q)[:, keep_modes]
         ref["modalTranslation"] = m1["modalTranslation"].reshape(3, nm)[:, keep_modes]
         aligned["residualFlexibility"] = m2["residualFlexibility"]
         ref["residualFlexibility"] = m1["residualFlexibility"]
-    for k in ("modeFrequencies", "staticDisplacement"):   # basis-free
+    for k in ("modeFrequencies", "staticDisplacement"):  # basis-free
         if k in m1:
             aligned[k], ref[k] = m2.get(k, np.full(1, np.inf)), m1[k]
-    return {k: (float(np.max(np.abs(aligned[k] - x1)) / max(float(np.max(np.abs(x1))), 1e-300))
-                if aligned[k].shape == x1.shape else np.inf) if x1.size else 0.0 for k, x1 in ref.items()}
+    return {
+        k: (
+            float(np.max(np.abs(aligned[k] - x1)) / max(float(np.max(np.abs(x1))), 1e-300))
+            if aligned[k].shape == x1.shape
+            else np.inf
+        )
+        if x1.size
+        else 0.0
+        for k, x1 in ref.items()
+    }
 
 
 def results(path, stdout):
@@ -179,9 +214,14 @@ def results(path, stdout):
             raise RuntimeError(f"{path}: status '{status}', not complete")
 
         def visit(name, obj):
-            if isinstance(obj, h5py.Dataset) and obj.dtype.kind == "f" and not gold.IGNORE.search(name) \
-                    and gold.kind_of(name) is not None:
+            if (
+                isinstance(obj, h5py.Dataset)
+                and obj.dtype.kind == "f"
+                and not gold.IGNORE.search(name)
+                and gold.kind_of(name) is not None
+            ):
                 out[name] = obj[()]
+
         f.visititems(visit)
     for i, fields in enumerate(gold.SUMMARY.findall(stdout)):
         for k, v in zip(("first_contact", "last_contact", "max_force", "impulse"), fields):
@@ -193,19 +233,23 @@ def compare_histories(name, h1, h2, ranks, worst):
     """Failure lines; `worst` {kind: [largest |diff| / scale, its share of the bound, dataset]} updated."""
     failures = []
     if sorted(h1) != sorted(h2):
-        failures.append(f"{name}: datasets differ: only on 1 rank {sorted(set(h1) - set(h2))}, only on {ranks} "
-                        f"ranks {sorted(set(h2) - set(h1))}")
+        failures.append(
+            f"{name}: datasets differ: only on 1 rank {sorted(set(h1) - set(h2))}, only on {ranks} "
+            f"ranks {sorted(set(h2) - set(h1))}"
+        )
     times = np.asarray(h1.get("time", []))
     for k in sorted(set(h1) & set(h2)):
         x1, x2 = np.asarray(h1[k], float), np.asarray(h2[k], float)
         if x1.shape != x2.shape:
-            failures.append(f"{name}: {k}: shape {x2.shape} on {ranks} ranks, {x1.shape} on 1 (records: "
-                            f"{len(h2.get('time', []))} and {len(times)})")
+            failures.append(
+                f"{name}: {k}: shape {x2.shape} on {ranks} ranks, {x1.shape} on 1 (records: "
+                f"{len(h2.get('time', []))} and {len(times)})"
+            )
             continue
         if not x1.size:
             continue
         kind = gold.kind_of(k)
-        if kind == "frequency":   # rigid-body modes: zero up to round-off (gold.py's criterion)
+        if kind == "frequency":  # rigid-body modes: zero up to round-off (gold.py's criterion)
             x1 = np.where(x1 < 1e-4 * x1.max(), 0.0, x1)
             x2 = np.where(x2 < 1e-4 * x2.max(), 0.0, x2)
         atol, rtol = gold.TOLERANCES[kind]
@@ -220,13 +264,18 @@ def compare_histories(name, h1, h2, ranks, worst):
         if share[i] > w[1]:
             w[1], w[2] = float(share[i]), f"{name}: {k}"
         if share[i] > 1.0:
-            at = f"record {i[0]} (t = {times[i[0]]:.6e} s)" if kind not in ("summary", "frequency") and \
-                len(times) == x1.shape[0] else f"entry {i[0]}"
+            at = (
+                f"record {i[0]} (t = {times[i[0]]:.6e} s)"
+                if kind not in ("summary", "frequency") and len(times) == x1.shape[0]
+                else f"entry {i[0]}"
+            )
             entry = f", entry {tuple(int(j) for j in i[1:])}" if len(i) > 1 else ""
-            failures.append(f"{name}: {k} [{kind}]: {at}{entry}: "
-                            f"{x2[i]:.9e} on {ranks} ranks against {x1[i]:.9e} on 1, |diff| {err[i]:.3e} > bound "
-                            f"{bound[i]:.3e} (atol {atol:g} x scale {scale:.3e} + rtol {rtol:g} x |x_1|), "
-                            f"{share[i]:.3g} x the bound; {int(np.sum(share > 1.0))} of {share.size} entries out")
+            failures.append(
+                f"{name}: {k} [{kind}]: {at}{entry}: "
+                f"{x2[i]:.9e} on {ranks} ranks against {x1[i]:.9e} on 1, |diff| {err[i]:.3e} > bound "
+                f"{bound[i]:.3e} (atol {atol:g} x scale {scale:.3e} + rtol {rtol:g} x |x_1|), "
+                f"{share[i]:.3g} x the bound; {int(np.sum(share > 1.0))} of {share.size} entries out"
+            )
     return failures
 
 
@@ -264,15 +313,19 @@ def main():
                 continue  # nothing reduced (full model, lumped mass): no cache written
             d = model_difference(read_model(c1[b]), read_model(c2[b]))
             k = max(d, key=d.get)
-            print(f"{name}: body '{b}': reduced model, {a.ranks} ranks against 1, max |diff| / max |x|: "
-                  + ", ".join(f"{m} {v:.1e}" for m, v in d.items())
-                  + ("" if "K" in d else " (its basis is not one of eigenvectors: K, M and R not compared)"))
+            print(
+                f"{name}: body '{b}': reduced model, {a.ranks} ranks against 1, max |diff| / max |x|: "
+                + ", ".join(f"{m} {v:.1e}" for m, v in d.items())
+                + ("" if "K" in d else " (its basis is not one of eigenvectors: K, M and R not compared)")
+            )
             if d[k] > worst_model[0]:
                 worst_model[:] = [d[k], f"{name}: '{b}' {k}"]
             if not d[k] <= MODEL_TOL:
-                fails.append(f"{name}: body '{b}': the reduced model on {a.ranks} ranks differs from the 1-rank one by "
-                             f"{d[k]:.3g} of its largest entry in {k} (> MODEL_TOL {MODEL_TOL:g}; modes aligned per "
-                             f"cluster of frequencies within {CLUSTER:g})")
+                fails.append(
+                    f"{name}: body '{b}': the reduced model on {a.ranks} ranks differs from the 1-rank one by "
+                    f"{d[k]:.3g} of its largest entry in {k} (> MODEL_TOL {MODEL_TOL:g}; modes aligned per "
+                    f"cluster of frequencies within {CLUSTER:g})"
+                )
         deck_worst = {}
         fails += compare_histories(name, h1, h2, a.ranks, deck_worst)
         for kind, w in deck_worst.items():
@@ -282,11 +335,15 @@ def main():
                 g[1], g[2] = w[1], w[2]
         failures += fails
         report = ", ".join(f"{k} {w[0]:.1e} ({w[1]:.2g} of bound)" for k, w in sorted(deck_worst.items()))
-        print(f"{name}: {'FAIL' if fails else 'ok'}: 1 rank {t1:.1f} s, {a.ranks} ranks {t2:.1f} s, "
-              f"{len(h1.get('time', []))} records; largest |diff|/scale per kind: {report}")
-    print(f"largest reduced-model difference {worst_model[0]:.2e} ({worst_model[1]}); per kind, largest |diff|/scale "
-          f"and largest share of the bound: "
-          + ", ".join(f"{k} {w[0]:.1e}, {w[1]:.2g} ({w[2]})" for k, w in sorted(worst.items())))
+        print(
+            f"{name}: {'FAIL' if fails else 'ok'}: 1 rank {t1:.1f} s, {a.ranks} ranks {t2:.1f} s, "
+            f"{len(h1.get('time', []))} records; largest |diff|/scale per kind: {report}"
+        )
+    print(
+        f"largest reduced-model difference {worst_model[0]:.2e} ({worst_model[1]}); per kind, largest |diff|/scale "
+        f"and largest share of the bound: "
+        + ", ".join(f"{k} {w[0]:.1e}, {w[1]:.2g} ({w[2]})" for k, w in sorted(worst.items()))
+    )
     print(f"total {time.monotonic() - total0:.1f} s")
     print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
     return 1 if failures else 0

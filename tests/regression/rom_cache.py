@@ -18,11 +18,16 @@ def main():
     a = parse_args()
     for f in os.listdir(a.workdir):
         os.remove(os.path.join(a.workdir, f))
-    common = {"Time->End time": ("3e-5", "double"), "Bodies->Bar->Reduction->Fixed-interface modes": ("20", "int"),
-              "Bodies->Bar->Reduction->Cache file": "bar.rom.h5"}
+    common = {
+        "Time->End time": ("3e-5", "double"),
+        "Bodies->Bar->Reduction->Fixed-interface modes": ("20", "int"),
+        "Bodies->Bar->Reduction->Cache file": "bar.rom.h5",
+    }
     logs, files = [], []
     for i, extra in enumerate([{}, {}, {"Bodies->Bar->Reduction->Fixed-interface modes": ("21", "int")}]):
-        deck = variant(a.deck, os.path.join(a.workdir, f"run{i}.xml"), dict(common, **extra, **{"Output->File": f"run{i}.h5"}))
+        deck = variant(
+            a.deck, os.path.join(a.workdir, f"run{i}.xml"), dict(common, **extra, **{"Output->File": f"run{i}.h5"})
+        )
         logs.append(run([a.run, deck, "--threads", "1"], a.workdir).stdout)
         files.append(os.path.join(a.workdir, f"run{i}.h5"))
     failures = []

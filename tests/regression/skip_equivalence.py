@@ -22,7 +22,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from epaphe_testing import run, variant  # noqa: E402
 import epaphe  # noqa: E402  (epaphe_testing put python/ on the path)
 
-RTOL = 1e-7   # of each dataset's largest magnitude (the balance error: absolute, it is already relative)
+RTOL = 1e-7  # of each dataset's largest magnitude (the balance error: absolute, it is already relative)
 # horizons: long decks are cut to what holds their first contacts
 HORIZON = {
     "blade-casing": {"Time->End revolutions": ("1", "double")},
@@ -91,8 +91,10 @@ def main():
         share = f"{100.0 * skipped / total:.1f} %" if total else "n/a"
         verdict = "ok" if worst <= RTOL else "FAIL"
         failures += verdict != "ok"
-        print(f"{name}: {len(on)} datasets, largest difference {worst:.2e} of its scale ({where or '-'}); "
-              f"projections skipped: {share}: {verdict}")
+        print(
+            f"{name}: {len(on)} datasets, largest difference {worst:.2e} of its scale ({where or '-'}); "
+            f"projections skipped: {share}: {verdict}"
+        )
     print(f"{len(decks) - failures} passed, {failures} failed")
     return 1 if failures else 0
 

@@ -51,9 +51,11 @@ def common(data, balance_bound, penetration_bound, name):
             inside = g[g < BEYOND]
             if inside.size:
                 pen = max(pen, float(-inside.min()))
-    print(f"measured: {name}: max |energy balance error| = {bal:.3e} (bound {balance_bound:.3e}, "
-          f"{bal / balance_bound:.2g} of it), max penetration = {pen:.3e} m (bound {penetration_bound:.3e} m, "
-          f"{pen / penetration_bound if penetration_bound > 0 else 0:.2g} of it)")
+    print(
+        f"measured: {name}: max |energy balance error| = {bal:.3e} (bound {balance_bound:.3e}, "
+        f"{bal / balance_bound:.2g} of it), max penetration = {pen:.3e} m (bound {penetration_bound:.3e} m, "
+        f"{pen / penetration_bound if penetration_bound > 0 else 0:.2g} of it)"
+    )
     assert bal <= balance_bound, f"{name}: energy balance error {bal:.3e} > {balance_bound:.3e}"
     assert pen <= penetration_bound, f"{name}: penetration {pen:.3e} m > {penetration_bound:.3e} m"
     return bal, pen
@@ -70,11 +72,15 @@ def check_grazing(data):
     u = data["bodies/Block/nodesets/y-/displacement"]
     f = data["bodies/Block/contact/force"]
     lift = float(np.max(np.abs(u[:, :, 1])))
-    print(f"measured: grazing: largest normal displacement of the sliding face {lift:.3e} m, "
-          f"largest contact force {f.max():.3e} N")
+    print(
+        f"measured: grazing: largest normal displacement of the sliding face {lift:.3e} m, "
+        f"largest contact force {f.max():.3e} N"
+    )
     # it rests on the plane: the corrections keep it there to the penetration bound (lagrange), and
     # nothing pushes it off
-    assert lift <= BOUNDS["penetration"], f"grazing: the face left the plane by {lift:.3e} m (bound {BOUNDS['penetration']:.3e})"
+    assert (
+        lift <= BOUNDS["penetration"]
+    ), f"grazing: the face left the plane by {lift:.3e} m (bound {BOUNDS['penetration']:.3e})"
     ux = u[-1, :, 0]
     t = data["time"][-1]
     assert np.allclose(ux, 5.0 * t, rtol=1e-3), f"grazing: slid {ux} m, expected {5 * t} m"
@@ -85,14 +91,16 @@ def check_stick(data):
     u = data["bodies/Block/nodesets/y-/displacement"]
     assert np.array_equal(data["bodies/Block/contact/nodes"], data["bodies/Block/nodesets/y-/nodes"])
     t = data["time"]
-    both = (f[:-1] > 0) & (f[1:] > 0)       # node in contact at two successive records
+    both = (f[:-1] > 0) & (f[1:] > 0)  # node in contact at two successive records
     assert both.any(), "stick: no contact"
     step = np.linalg.norm(u[1:, :, [0, 2]] - u[:-1, :, [0, 2]], axis=2)
     slip = float(step[both].max())
     free = 0.5 * float(np.max(np.diff(t)))  # what the tangential velocity would slide in one record
     stuck = float(np.mean(step[both] < 1e-12))
-    print(f"measured: stick: {int(both.sum())} node-records in contact, {stuck * 100:.0f} % without slip (< 1e-12 m), "
-          f"largest slip between two records {slip:.3e} m (free sliding {free:.3e} m)")
+    print(
+        f"measured: stick: {int(both.sum())} node-records in contact, {stuck * 100:.0f} % without slip (< 1e-12 m), "
+        f"largest slip between two records {slip:.3e} m (free sliding {free:.3e} m)"
+    )
     assert stuck >= 0.75, f"stick: only {stuck * 100:.0f} % of the node-records in contact stuck"
     assert slip <= 0.1 * free, f"stick: the nodes slid {slip:.3e} m while in contact"
 
@@ -104,13 +112,17 @@ def check_seam(data):
     g = data["bodies/Block/contact/gap"]
     # records with contact while the face straddles the seam or lies past it
     crossed = [k for k in range(len(f)) if f[k].max() > 0 and x[k, :, 1].max() > 1e-4]
-    print(f"measured: seam: {len(crossed)} records in contact past the seam (y > 0), final y of the face "
-          f"{x[-1, :, 1].min():.4f}..{x[-1, :, 1].max():.4f} m, radius {np.hypot(x[-1, :, 0], x[-1, :, 1]).max():.6f} m")
+    print(
+        f"measured: seam: {len(crossed)} records in contact past the seam (y > 0), final y of the face "
+        f"{x[-1, :, 1].min():.4f}..{x[-1, :, 1].max():.4f} m, radius {np.hypot(x[-1, :, 0], x[-1, :, 1]).max():.6f} m"
+    )
     r = np.hypot(x[:, :, 0], x[:, :, 1])
-    dev = float(np.max(np.abs(g - (0.1 - r))))   # gap = distance to the wall, across the seam too
+    dev = float(np.max(np.abs(g - (0.1 - r))))  # gap = distance to the wall, across the seam too
     seam = np.abs(np.degrees(np.arctan2(x[:, :, 1], x[:, :, 0]))) < 1.0
-    print(f"measured: seam: gap against the exact distance to the wall within {dev:.2e} m over all records, "
-          f"{int(seam.sum())} node-records within 1 degree of the seam")
+    print(
+        f"measured: seam: gap against the exact distance to the wall within {dev:.2e} m over all records, "
+        f"{int(seam.sum())} node-records within 1 degree of the seam"
+    )
     assert dev <= 1e-6, f"seam: gap off the distance to the wall by {dev:.2e} m"
     assert seam.any(), "seam: no node near the seam"
     assert crossed, "seam: no contact past the seam"
@@ -133,8 +145,10 @@ def check_open_edge(data):
     edge = 0.02 + 1e-3 * 0.01 + 5e-6  # plane's edge + edge tolerance (1e-3 of a 1 cm patch) + one step
     beyond = x[:, :, 0] > edge
     corrected_beyond = int((beyond & (f > 0)).sum())
-    print(f"measured: open-edge: {int(beyond.sum())} node-records beyond the edge, {corrected_beyond} of them "
-          f"corrected; lowest node beyond the edge at y = {x[:, :, 1][beyond].min() if beyond.any() else 0:.3e} m")
+    print(
+        f"measured: open-edge: {int(beyond.sum())} node-records beyond the edge, {corrected_beyond} of them "
+        f"corrected; lowest node beyond the edge at y = {x[:, :, 1][beyond].min() if beyond.any() else 0:.3e} m"
+    )
     assert beyond.any() and beyond[-1].all(), "open-edge: the block did not leave the plane"
     assert corrected_beyond == 0, "open-edge: nodes beyond the edge were corrected"
     assert np.all(g[beyond] > BEYOND), "open-edge: nodes beyond the edge were still projected on the plane"
@@ -151,8 +165,8 @@ def check_two_surfaces(data):
     nodes = data["bodies/Block/contact/nodes"]
     x = positions(data, "Block", nodes)
     f = data["bodies/Block/contact/force"]
-    onWall = np.abs(x[0, :, 0] - x[0, :, 0].min()) < 1e-9    # x- face
-    onFloor = np.abs(x[0, :, 1] - x[0, :, 1].min()) < 1e-9   # y- face
+    onWall = np.abs(x[0, :, 0] - x[0, :, 0].min()) < 1e-9  # x- face
+    onFloor = np.abs(x[0, :, 1] - x[0, :, 1].min()) < 1e-9  # y- face
     both = [k for k in range(len(f)) if f[k, onWall & ~onFloor].max() > 0 and f[k, onFloor & ~onWall].max() > 0]
     print(f"measured: two-surfaces: {len(both)} records with forces on the wall and the floor at once")
     assert both, "two-surfaces: never in contact with both surfaces at once"
@@ -161,7 +175,9 @@ def check_two_surfaces(data):
 def check_impact(data):
     f = data["bodies/Cube/contact/total_force"]
     p = data["bodies/Cube/momentum"][:, 1]
-    print(f"measured: impact-100: largest total contact force {f.max():.3e} N, momentum y {p[0]:.3e} -> {p[-1]:.3e} kg m/s")
+    print(
+        f"measured: impact-100: largest total contact force {f.max():.3e} N, momentum y {p[0]:.3e} -> {p[-1]:.3e} kg m/s"
+    )
     assert f.max() > 0 and p[-1] > p[0], "impact-100: the cube did not hit the rings"
 
 
@@ -169,8 +185,10 @@ def check_free_vibration(data):
     tot = data["energy/total"]
     strain = data["energy/strain"]
     drift = float(np.max(np.abs(tot - tot[0])) / tot[0])
-    print(f"measured: free-vibration: {len(tot)} records over {data['time'][-1]:.3g} s, relative energy drift "
-          f"{drift:.3e}, largest strain energy {strain.max() / tot[0]:.3f} of the total")
+    print(
+        f"measured: free-vibration: {len(tot)} records over {data['time'][-1]:.3g} s, relative energy drift "
+        f"{drift:.3e}, largest strain energy {strain.max() / tot[0]:.3f} of the total"
+    )
     # no force does work: the drift is the balance error, under the same round-off bound
     assert drift <= BOUNDS["balance"], f"free-vibration: energy drifted by {drift:.3e} (bound {BOUNDS['balance']:.3e})"
     assert strain.max() > 0.01 * tot[0], "free-vibration: the beam does not vibrate"
@@ -180,8 +198,10 @@ def check_rubbing(data):
     p = data["bodies/Block/momentum"][:, 0]
     work = data["energy/contact_work"]
     f = data["bodies/Block/contact/force"]
-    print(f"measured: rubbing: momentum x {p[0]:.4e} -> {p[-1]:.4e} kg m/s, contact work {work[-1]:.3e} J, "
-          f"{(f.sum(axis=1) > 0).mean() * 100:.0f} % of the records in contact")
+    print(
+        f"measured: rubbing: momentum x {p[0]:.4e} -> {p[-1]:.4e} kg m/s, contact work {work[-1]:.3e} J, "
+        f"{(f.sum(axis=1) > 0).mean() * 100:.0f} % of the records in contact"
+    )
     assert work[-1] < 0, "rubbing: friction dissipated nothing"
     assert p[-1] < p[0], "rubbing: friction did not slow the block"
     assert p[-1] > 0.2 * p[0], "rubbing: the block stopped: it no longer rubs"
@@ -265,8 +285,11 @@ def largest_coordinate(P):
     """An upper bound of the coordinates a contact node or surface point has (m): the largest origin or
     centre plus the largest extent (box lengths, plane vectors, diameters)."""
     origin = max(float(np.abs(numbers(v)).max()) for k, v in P.items() if k.endswith(("->Origin", "->Center")))
-    extent = max(float(np.abs(numbers(v)).max()) if not k.endswith("->Radius") else 2 * float(v)
-                 for k, v in P.items() if k.endswith(("->Lengths", "->U", "->V", "->Radius")))
+    extent = max(
+        float(np.abs(numbers(v)).max()) if not k.endswith("->Radius") else 2 * float(v)
+        for k, v in P.items()
+        if k.endswith(("->Lengths", "->U", "->V", "->Radius"))
+    )
     return origin + extent
 
 
@@ -283,9 +306,11 @@ def balance_bound(P, kind, data):
     X = float(np.abs(data[f"bodies/{body}/nodesets/{nodeset}/displacement"]).max())
     v0 = speed(P)
     A = X / (v0 * h)
-    return (10 * 8 * EPS * A * np.sqrt(N * 2 * np.pi * A),
-            f"oscillation: 10 x 8 eps A sqrt(N 2 pi A), A = X / (v0 h) = {A:.4g}, N = {N}, X = {X:.4g} m, "
-            f"v0 = {v0:.4g} m/s")
+    return (
+        10 * 8 * EPS * A * np.sqrt(N * 2 * np.pi * A),
+        f"oscillation: 10 x 8 eps A sqrt(N 2 pi A), A = X / (v0 h) = {A:.4g}, N = {N}, X = {X:.4g} m, "
+        f"v0 = {v0:.4g} m/s",
+    )
 
 
 def penetration_bound(P, kind, data):
@@ -313,10 +338,18 @@ def penetration_bound(P, kind, data):
 # the output says "stopped").
 CASES = {
     "grazing": dict(deck="grazing.xml", balance="drift", penetration="lagrange", check=check_grazing),
-    "impact-100": dict(deck="../../../inputs/cube-rings.xml", balance="drift", penetration="lagrange",
-                       overrides={"Bodies->Cube->Initial velocity": "{0, -100, 0}", "Time->End time": "3e-4",
-                                  "Bodies->Cube->Reduction->Frequency check": ("0", "int"),
-                                  "Output->Every": ("50", "int")}, check=check_impact),
+    "impact-100": dict(
+        deck="../../../inputs/cube-rings.xml",
+        balance="drift",
+        penetration="lagrange",
+        overrides={
+            "Bodies->Cube->Initial velocity": "{0, -100, 0}",
+            "Time->End time": "3e-4",
+            "Bodies->Cube->Reduction->Frequency check": ("0", "int"),
+            "Output->Every": ("50", "int"),
+        },
+        check=check_impact,
+    ),
     "stick": dict(deck="stick.xml", balance="drift", penetration="lagrange", check=check_stick),
     # kp is found where the deck's step is the estimated critical step, which counts each penalty
     # spring three times (the penalty on the predicted gap is stable for h^2 kp / m < 4/3, an
@@ -324,20 +357,30 @@ CASES = {
     # refused; forced (Allow unstable time step) to 3.3 times it, it creates energy and is stopped.
     "penalty-below-limit": dict(deck="penalty.xml", balance="drift", penetration="penalty", penalty=0.3),
     "penalty-at-limit": dict(deck="penalty.xml", balance="drift", penetration="penalty", penalty=0.95),
-    "penalty-above-limit": dict(deck="penalty.xml", penalty=1.1, refuse=r"exceeds the critical step.*smaller 'Penalty stiffness'"),
-    "penalty-above-limit-allowed": dict(deck="penalty-squeeze.xml", penalty=3.3,
-                                        stop=r"energy of the bodies grew|no longer finite|energy balance error",
-                                        overrides={"Time->Allow unstable time step": ("true", "bool")}),
+    "penalty-above-limit": dict(
+        deck="penalty.xml", penalty=1.1, refuse=r"exceeds the critical step.*smaller 'Penalty stiffness'"
+    ),
+    "penalty-above-limit-allowed": dict(
+        deck="penalty-squeeze.xml",
+        penalty=3.3,
+        stop=r"energy of the bodies grew|no longer finite|energy balance error",
+        overrides={"Time->Allow unstable time step": ("true", "bool")},
+    ),
     "penalty-squeeze-stable": dict(deck="penalty-squeeze.xml", penalty=0.3, balance="drift", penetration="penalty"),
     "seam": dict(deck="seam.xml", balance="drift", penetration="lagrange", check=check_seam),
-    "patch-corner-edge": dict(deck="patch-corner-edge.xml", balance="drift", penetration="lagrange",
-                              check=check_corner_edge),
+    "patch-corner-edge": dict(
+        deck="patch-corner-edge.xml", balance="drift", penetration="lagrange", check=check_corner_edge
+    ),
     "open-edge": dict(deck="open-edge.xml", balance="drift", penetration="lagrange", check=check_open_edge),
     "many-nodes": dict(deck="many-nodes.xml", balance="drift", penetration="lagrange", check=check_many_nodes),
     "two-surfaces": dict(deck="two-surfaces.xml", balance="drift", penetration="caught", check=check_two_surfaces),
-    "free-vibration-1e7": dict(deck="free-vibration.xml", balance=("oscillation", "Beam", "x+"), penetration=None,
-                               overrides={"Bodies->Beam->Watched node sets": ("{x+}", "Array(string)")},
-                               check=check_free_vibration),
+    "free-vibration-1e7": dict(
+        deck="free-vibration.xml",
+        balance=("oscillation", "Beam", "x+"),
+        penetration=None,
+        overrides={"Bodies->Beam->Watched node sets": ("{x+}", "Array(string)")},
+        check=check_free_vibration,
+    ),
     "rubbing-1e6": dict(deck="rubbing.xml", balance="drift", penetration="lagrange", check=check_rubbing),
 }
 
@@ -348,10 +391,17 @@ def critical_penalty(run, deck, workdir):
     h = float(et.deck_value(deck, "Time->Time step"))
     kp, pts = 1e8, []
     for it in range(8):
-        v = et.variant(deck, os.path.join(workdir, "kp.xml"), {"Contact->Penalty stiffness": (f"{kp:.17g}", "double"),
-                                                               "Contact->Method": "Penalty", "Time->End time": (f"{h:.17g}", "double"),
-                                                               "Time->Allow unstable time step": ("true", "bool"),
-                                                               "Output->File": "kp.h5"})
+        v = et.variant(
+            deck,
+            os.path.join(workdir, "kp.xml"),
+            {
+                "Contact->Penalty stiffness": (f"{kp:.17g}", "double"),
+                "Contact->Method": "Penalty",
+                "Time->End time": (f"{h:.17g}", "double"),
+                "Time->Allow unstable time step": ("true", "bool"),
+                "Output->File": "kp.h5",
+            },
+        )
         et.run([run, v], workdir)
         with epaphe.open(os.path.join(workdir, "kp.h5")) as f:
             hc = float(f.attrs["critical_time_step"])
@@ -380,8 +430,10 @@ def main():
     overrides["Output->File"] = out
     if "penalty" in c:
         kp, hc, h = critical_penalty(a.run, deck, a.workdir)
-        print(f"measured: {a.case}: critical kp for h = {h:g} s is {kp:.4e} N/m (critical step there {hc:.6e} s); "
-              f"running kp = {c['penalty']} x that")
+        print(
+            f"measured: {a.case}: critical kp for h = {h:g} s is {kp:.4e} N/m (critical step there {hc:.6e} s); "
+            f"running kp = {c['penalty']} x that"
+        )
         overrides["Contact->Method"] = "Penalty"
         overrides["Contact->Penalty stiffness"] = (f"{c['penalty'] * kp:.17g}", "double")
     if os.path.exists(out):
@@ -412,8 +464,10 @@ def main():
     P = deck_parameters(v)
     balance, why_balance = balance_bound(P, c["balance"], data)
     penetration, why_penetration = penetration_bound(P, c["penetration"], data)
-    print(f"bound: {a.case}: energy balance {balance:.3e} ({why_balance}); penetration {penetration:.3e} m "
-          f"({why_penetration})")
+    print(
+        f"bound: {a.case}: energy balance {balance:.3e} ({why_balance}); penetration {penetration:.3e} m "
+        f"({why_penetration})"
+    )
     BOUNDS.update(balance=balance, penetration=penetration)
     common(data, balance, penetration, a.case)
     if "check" in c:

@@ -37,9 +37,16 @@ int solveTridiagonal(const Runtime& rt, const std::string& solverName) {
     const GO i = map->getGlobalElement(l);
     std::vector<GO> c;
     std::vector<double> v;
-    if (i > 0) { c.push_back(i - 1); v.push_back(-1.0); }
-    c.push_back(i); v.push_back(2.5);
-    if (i < n - 1) { c.push_back(i + 1); v.push_back(-1.0); }
+    if (i > 0) {
+      c.push_back(i - 1);
+      v.push_back(-1.0);
+    }
+    c.push_back(i);
+    v.push_back(2.5);
+    if (i < n - 1) {
+      c.push_back(i + 1);
+      v.push_back(-1.0);
+    }
     A->insertGlobalValues(i, Teuchos::ArrayView<const GO>(c), Teuchos::ArrayView<const double>(v));
   }
   A->fillComplete();
@@ -96,7 +103,8 @@ int main(int argc, char** argv) {
       // Count the distinct OpenMP threads that execute iterations of a kernel.
       Kokkos::View<int*> who("who", 1 << 16);
       Kokkos::parallel_for(
-          "epaphe::test::threads", Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Kokkos::Schedule<Kokkos::Static>>(0, who.extent(0)),
+          "epaphe::test::threads",
+          Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Kokkos::Schedule<Kokkos::Static>>(0, who.extent(0)),
           KOKKOS_LAMBDA(const int i) {
             double s = 0;
             for (int k = 0; k < 2000; ++k) s += std::sin(i + k);

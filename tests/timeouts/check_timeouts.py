@@ -23,8 +23,9 @@ def main():
     ap.add_argument("--build", required=True)
     ap.add_argument("--times", required=True)
     a = ap.parse_args()
-    out = subprocess.run(["ctest", "--test-dir", a.build, "--show-only=json-v1"], capture_output=True, text=True,
-                         timeout=120, check=True).stdout
+    out = subprocess.run(
+        ["ctest", "--test-dir", a.build, "--show-only=json-v1"], capture_output=True, text=True, timeout=120, check=True
+    ).stdout
     tests = json.loads(out)["tests"]
     times = {}
     for line in open(a.times, encoding="utf-8"):
@@ -41,13 +42,18 @@ def main():
             continue
         # not timed: this check itself (it passes only once the others have times), and a test that
         # skips on this machine (SKIP_RETURN_CODE; ctest records no time for a skipped run)
-        default_run = (not any(label in REST for label in labels) and t["name"] != "unit.test-timeouts"
-                       and "SKIP_RETURN_CODE" not in props)
+        default_run = (
+            not any(label in REST for label in labels)
+            and t["name"] != "unit.test-timeouts"
+            and "SKIP_RETURN_CODE" not in props
+        )
         if t["name"] in times:
             margins.append((timeout / max(times[t["name"]], 1e-3), t["name"], timeout, times[t["name"]]))
         elif default_run:
-            failures.append(f"{t['name']}: no measured time in {a.times} (its TIMEOUT is the label default "
-                            f"{timeout:.0f} s); run it, then tools/update-test-times")
+            failures.append(
+                f"{t['name']}: no measured time in {a.times} (its TIMEOUT is the label default "
+                f"{timeout:.0f} s); run it, then tools/update-test-times"
+            )
     for ratio, name, timeout, seconds in sorted(margins)[:5]:
         print(f"smallest margins: {name}: TIMEOUT {timeout:.0f} s, measured {seconds:.1f} s ({ratio:.1f}x)")
     print(f"{len(tests)} tests, {len(tests) - len(failures)} with a TIMEOUT and, in the default run, a measured time")

@@ -52,9 +52,9 @@ def png_problems(path):
     while pos < len(data):
         if pos + 8 > len(data):
             return ["truncated chunk header"]
-        length, ctype = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        crc = data[pos + 8 + length:pos + 12 + length]
+        length, ctype = struct.unpack(">I4s", data[pos : pos + 8])
+        body = data[pos + 8 : pos + 8 + length]
+        crc = data[pos + 8 + length : pos + 12 + length]
         if len(body) != length or len(crc) != 4:
             return [f"truncated {ctype!r} chunk"]
         if struct.unpack(">I", crc)[0] != zlib.crc32(ctype + body) & 0xFFFFFFFF:
@@ -83,8 +83,10 @@ def png_problems(path):
         problems.append(f"file size {len(data)} bytes")
     if not problems:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         img = plt.imread(path)[..., :3]
         inked = np.mean(np.any(img < 0.9, axis=-1))
         if not 0.01 < inked < 0.6:
@@ -139,30 +141,72 @@ def main():
     # two short runs: the study to compare
     h5 = {}
     for name, extra in (("lagrange", {}), ("penalty", {"Contact->Method": "Penalty"})):
-        deck = variant(a.deck, os.path.join(wd, name + ".xml"),
-                       dict({"Output->File": name + ".h5", "Time->End time": (f"{END_TIME:g}", "double"),
-                             "Run->Progress interval": ("0", "double")}, **extra))
+        deck = variant(
+            a.deck,
+            os.path.join(wd, name + ".xml"),
+            dict(
+                {
+                    "Output->File": name + ".h5",
+                    "Time->End time": (f"{END_TIME:g}", "double"),
+                    "Run->Progress interval": ("0", "double"),
+                },
+                **extra,
+            ),
+        )
         run([a.run, deck, "--threads", "1"], wd)
         h5[name] = os.path.join(wd, name + ".h5")
     ref = {}
     for name, path in h5.items():
         with h5py.File(path, "r") as f:
-            ref[name] = {k: f[k][()] for k in (
-                "time", "bodies/Bar/contact/total_force", "bodies/Bar/contact/gap",
-                "bodies/Bar/nodesets/x+/displacement", "bodies/Bar/nodesets/x-/velocity",
-                "energy/kinetic", "energy/strain", "energy/total", "energy/contact_work", "energy/balance_error")}
+            ref[name] = {
+                k: f[k][()]
+                for k in (
+                    "time",
+                    "bodies/Bar/contact/total_force",
+                    "bodies/Bar/contact/gap",
+                    "bodies/Bar/nodesets/x+/displacement",
+                    "bodies/Bar/nodesets/x-/velocity",
+                    "energy/kinetic",
+                    "energy/strain",
+                    "energy/total",
+                    "energy/contact_work",
+                    "energy/balance_error",
+                )
+            }
             ref[name]["name"] = f.attrs["name"].decode() if isinstance(f.attrs["name"], bytes) else f.attrs["name"]
     labels = {"lagrange": "Lagrange", "penalty": "Penalty"}
 
     # ---- 1. everything, overlaid, with CSVs and node K ----------------------------------------
     print("all figures, two files overlaid, --node 1 --csv")
     out = os.path.join(wd, "all")
-    p = plot(tool, [h5["lagrange"], h5["penalty"], "--out", out, "--label", "Lagrange", "--label", "Penalty",
-                    "--csv", "--node", str(NODE)], wd)
+    p = plot(
+        tool,
+        [
+            h5["lagrange"],
+            h5["penalty"],
+            "--out",
+            out,
+            "--label",
+            "Lagrange",
+            "--label",
+            "Penalty",
+            "--csv",
+            "--node",
+            str(NODE),
+        ],
+        wd,
+    )
     check(p.returncode == 0, f"plot failed ({p.returncode}): {p.stderr.strip()}")
     check(p.stderr.strip() == "", f"unexpected stderr: {p.stderr.strip()!r}")
-    stems = ["gap-Bar", "force-Bar", "displacement-Bar-x+", "displacement-Bar-x-", "velocity-Bar-x+",
-             "velocity-Bar-x-", "energy"]
+    stems = [
+        "gap-Bar",
+        "force-Bar",
+        "displacement-Bar-x+",
+        "displacement-Bar-x-",
+        "velocity-Bar-x+",
+        "velocity-Bar-x-",
+        "energy",
+    ]
     printed = p.stdout.split()
     expected = [os.path.join(out, s + ".png") for s in stems] + [os.path.join(out, s + ".csv") for s in stems]
     check(sorted(printed) == sorted(expected), f"printed files {printed}, expected {expected}")
@@ -193,11 +237,17 @@ def main():
             same(curves["gap-Bar"][lab]["gap_min_m"], r["bodies/Bar/contact/gap"].min(axis=1), f"gap min {lab}")
             same(curves["gap-Bar"][lab][f"gap_node{NODE}_m"], r["bodies/Bar/contact/gap"][:, NODE], f"gap node {lab}")
             d = curves["displacement-Bar-x+"][lab]
-            same(np.stack([d["ux_m"], d["uy_m"], d["uz_m"]], axis=1), r["bodies/Bar/nodesets/x+/displacement"][:, NODE],
-                 f"displacement x+ node {NODE} {lab}")
+            same(
+                np.stack([d["ux_m"], d["uy_m"], d["uz_m"]], axis=1),
+                r["bodies/Bar/nodesets/x+/displacement"][:, NODE],
+                f"displacement x+ node {NODE} {lab}",
+            )
             v = curves["velocity-Bar-x-"][lab]
-            same(np.stack([v["vx_m_per_s"], v["vy_m_per_s"], v["vz_m_per_s"]], axis=1),
-                 r["bodies/Bar/nodesets/x-/velocity"][:, NODE], f"velocity x- node {NODE} {lab}")
+            same(
+                np.stack([v["vx_m_per_s"], v["vy_m_per_s"], v["vz_m_per_s"]], axis=1),
+                r["bodies/Bar/nodesets/x-/velocity"][:, NODE],
+                f"velocity x- node {NODE} {lab}",
+            )
             e = curves["energy"][lab]
             for k in ("kinetic", "strain", "total", "contact_work"):
                 same(e[k + "_J"], r["energy/" + k], f"energy {k} {lab}")
@@ -207,17 +257,24 @@ def main():
         f_p = curves["force-Bar"]["Penalty"]["total_force_N"]
         check(f_l.shape == f_p.shape and not np.array_equal(f_l, f_p), "the two overlaid force curves are identical")
         check(f_l.max() > 1e6, f"force curve peak {f_l.max():g} N: no contact plotted?")
-        print(f"  CSV curves equal the HDF5 data for both files ({f_l.size} records each)"
-              if not failures else "  CSV checks FAILED")
+        print(
+            f"  CSV curves equal the HDF5 data for both files ({f_l.size} records each)"
+            if not failures
+            else "  CSV checks FAILED"
+        )
 
     # ---- 2. mean of the set, default labels ----------------------------------------------------
     print("mean of a node set; default labels")
     out2 = os.path.join(wd, "mean")
-    p = plot(tool, [h5["lagrange"], h5["penalty"], "--out", out2, "--what", "displacement", "--nodeset", "x+",
-                    "--csv"], wd)
+    p = plot(
+        tool, [h5["lagrange"], h5["penalty"], "--out", out2, "--what", "displacement", "--nodeset", "x+", "--csv"], wd
+    )
     if check(p.returncode == 0, f"mean-of-set plot failed: {p.stderr.strip()}"):
-        check(p.stdout.split() == [os.path.join(out2, "displacement-Bar-x+.png"),
-                                   os.path.join(out2, "displacement-Bar-x+.csv")], f"printed {p.stdout.split()}")
+        check(
+            p.stdout.split()
+            == [os.path.join(out2, "displacement-Bar-x+.png"), os.path.join(out2, "displacement-Bar-x+.csv")],
+            f"printed {p.stdout.split()}",
+        )
         c = read_csv(os.path.join(out2, "displacement-Bar-x+.csv"))
         # both variants share the deck's Run->Name: the legends fall back to the file stems
         check(sorted(c) == ["lagrange", "penalty"], f"default labels {sorted(c)}, expected the file stems")
@@ -235,8 +292,9 @@ def main():
     # ---- 3. time window ------------------------------------------------------------------------
     print("time window --tmin 2e-5 --tmax 6e-5")
     out3 = os.path.join(wd, "window")
-    p = plot(tool, [h5["penalty"], "--out", out3, "--what", "force,energy", "--tmin", "2e-5", "--tmax", "6e-5",
-                    "--csv"], wd)
+    p = plot(
+        tool, [h5["penalty"], "--out", out3, "--what", "force,energy", "--tmin", "2e-5", "--tmax", "6e-5", "--csv"], wd
+    )
     if check(p.returncode == 0, f"windowed plot failed: {p.stderr.strip()}"):
         t = ref["penalty"]["time"]
         keep = (t >= 2e-5 - 1e-13) & (t <= 6e-5 + 1e-13)
@@ -249,29 +307,54 @@ def main():
         check(not probs, f"windowed energy.png: {probs}")
 
     # ---- 4. units, from the package (python/epaphe/plots.py, what epaphe-plot draws with) -------
-    from epaphe import plots as mod         # epaphe_testing put python/ on the path
+    from epaphe import plots as mod  # epaphe_testing put python/ on the path
+
     for span, unit in ((END_TIME, "\u00b5s"), (5e-3, "ms"), (0.5, "ms"), (3.0, "s")):
         check(mod.time_unit(span)[0] == unit, f"time_unit({span:g}) = {mod.time_unit(span)}, expected {unit}")
-    for vals, u, want in (([1.6e6], "N", "MN"), ([2e-3, -4e-5], "m", "mm"), ([3200.0], "J", "kJ"),
-                          ([4e-5], "m", "\u00b5m"), ([0.0], "m", "m"), ([5.0], "m/s", "m/s")):
+    for vals, u, want in (
+        ([1.6e6], "N", "MN"),
+        ([2e-3, -4e-5], "m", "mm"),
+        ([3200.0], "J", "kJ"),
+        ([4e-5], "m", "\u00b5m"),
+        ([0.0], "m", "m"),
+        ([5.0], "m/s", "m/s"),
+    ):
         got = mod.si_scale([np.array(vals)], u)[0]
         check(got == want, f"si_scale({vals}, {u}) = {got}, expected {want}")
     print("  time units and SI prefixes as expected" if not failures else "  unit checks done")
 
     # ---- 5. errors and warnings ----------------------------------------------------------------
     print("errors")
-    expect_error(tool, [h5["lagrange"], "--nodeset", "nosuch", "--out", os.path.join(wd, "e1")], wd,
-                 "unknown node set", must_name=("nosuch", "x+", "x-"), out_dir=os.path.join(wd, "e1"))
-    expect_error(tool, [h5["lagrange"], "--body", "Wheel", "--out", os.path.join(wd, "e2")], wd,
-                 "unknown body", must_name=("Wheel", "Bar"), out_dir=os.path.join(wd, "e2"))
+    expect_error(
+        tool,
+        [h5["lagrange"], "--nodeset", "nosuch", "--out", os.path.join(wd, "e1")],
+        wd,
+        "unknown node set",
+        must_name=("nosuch", "x+", "x-"),
+        out_dir=os.path.join(wd, "e1"),
+    )
+    expect_error(
+        tool,
+        [h5["lagrange"], "--body", "Wheel", "--out", os.path.join(wd, "e2")],
+        wd,
+        "unknown body",
+        must_name=("Wheel", "Bar"),
+        out_dir=os.path.join(wd, "e2"),
+    )
     expect_error(tool, [os.path.join(wd, "absent.h5")], wd, "missing file", must_name=("absent.h5",))
     expect_error(tool, [os.path.join(wd, "lagrange.xml")], wd, "not an HDF5 file", must_name=("lagrange.xml",))
     notime = os.path.join(wd, "notime.h5")
     with h5py.File(notime, "w") as f:
         f["energy/kinetic"] = np.zeros(3)
     expect_error(tool, [notime], wd, "HDF5 file without /time", must_name=("notime.h5", "/time"))
-    expect_error(tool, [h5["lagrange"], "--node", "9", "--out", os.path.join(wd, "e3")], wd,
-                 "--node out of range", must_name=("9",), out_dir=os.path.join(wd, "e3"))
+    expect_error(
+        tool,
+        [h5["lagrange"], "--node", "9", "--out", os.path.join(wd, "e3")],
+        wd,
+        "--node out of range",
+        must_name=("9",),
+        out_dir=os.path.join(wd, "e3"),
+    )
     expect_error(tool, [h5["lagrange"], h5["penalty"], "--label", "only one"], wd, "--label count")
     expect_error(tool, [h5["lagrange"], "--what", "gap,pressure"], wd, "unknown --what", must_name=("pressure",))
 
@@ -282,13 +365,21 @@ def main():
     out5 = os.path.join(wd, "stopped")
     p = plot(tool, [stopped, "--out", out5, "--what", "force"], wd)
     ok = check(p.returncode == 0, f"incomplete file: exit {p.returncode}, expected 0 with a warning")
-    ok &= check(len(p.stderr.strip().splitlines()) == 1 and "warning" in p.stderr and "stopped: test" in p.stderr,
-                f"incomplete file: expected one warning line naming the status, got {p.stderr!r}")
+    ok &= check(
+        len(p.stderr.strip().splitlines()) == 1 and "warning" in p.stderr and "stopped: test" in p.stderr,
+        f"incomplete file: expected one warning line naming the status, got {p.stderr!r}",
+    )
     png = os.path.join(out5, "force-Bar.png")
     ok &= check(os.path.isfile(png) and not png_problems(png), "incomplete file: no valid PNG")
     print(f"  {'ok ' if ok else 'BAD'} incomplete file plotted: {p.stderr.strip()}")
-    expect_error(tool, [stopped, "--strict", "--out", os.path.join(wd, "e4")], wd, "incomplete file with --strict",
-                 must_name=("stopped: test",), out_dir=os.path.join(wd, "e4"))
+    expect_error(
+        tool,
+        [stopped, "--strict", "--out", os.path.join(wd, "e4")],
+        wd,
+        "incomplete file with --strict",
+        must_name=("stopped: test",),
+        out_dir=os.path.join(wd, "e4"),
+    )
 
     if failures:
         print("FAILED:\n  " + "\n  ".join(failures))

@@ -33,16 +33,16 @@ import h5py
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)                                         # test_plot's PNG check
-sys.path.insert(0, os.path.join(HERE, "..", "verification"))     # epaphe_testing: python/ on the path
+sys.path.insert(0, HERE)  # test_plot's PNG check
+sys.path.insert(0, os.path.join(HERE, "..", "verification"))  # epaphe_testing: python/ on the path
 from epaphe_testing import verdict  # noqa: E402
 from test_plot import png_problems  # noqa: E402
 from epaphe.cli import rotor  # noqa: E402
 from epaphe.measures import wear_lobes  # noqa: E402
 
-N_U, N_V = 120, 4                   # elements around x along the axis
-STEP = 360.0 / N_U                  # deg: half an element is the tolerance on angles
-PEAK = 20e-6                        # m, depth of a bump
+N_U, N_V = 120, 4  # elements around x along the axis
+STEP = 360.0 / N_U  # deg: half an element is the tolerance on angles
+PEAK = 20e-6  # m, depth of a bump
 failures = []
 
 
@@ -116,8 +116,10 @@ def near_all(got_rad, want_deg, what):
     got = np.degrees(np.asarray(got_rad))
     ok = check(len(got) == len(want_deg), f"{what}: {len(got)} angles {np.round(got, 1)}, expected {len(want_deg)}")
     for c in want_deg:
-        ok &= check(min((circ(g, c) for g in got), default=1e9) <= 0.5 * STEP,
-                    f"{what}: no angle within {0.5 * STEP:g} deg of {c:g} (got {np.round(got, 2)})")
+        ok &= check(
+            min((circ(g, c) for g in got), default=1e9) <= 0.5 * STEP,
+            f"{what}: no angle within {0.5 * STEP:g} deg of {c:g} (got {np.round(got, 2)})",
+        )
     return ok
 
 
@@ -134,7 +136,7 @@ def main():
     print("(a) k evenly spaced bumps, 120 x 4 elements")
     for start in (0.0, 180.0):
         for k in (3, 5, 7):
-            centres = [(20.7 + 360.0 * j / k) % 360.0 for j in range(k)]   # 20.7: between column centres
+            centres = [(20.7 + 360.0 * j / k) % 360.0 for j in range(k)]  # 20.7: between column centres
             angle = columns(start)
             w = bumps(angle, centres)
             f = coating_file(os.path.join(wd, f"bumps{k}-from{start:g}.h5"), {"Casing": (angle, w)})
@@ -143,41 +145,55 @@ def main():
             ok &= check(r.dominant_order == k, f"k={k}, columns from {start:g}: dominant_order {r.dominant_order}")
             ok &= near_all(r.lobe_angles, centres, f"k={k}, columns from {start:g}: lobe angles")
             ok &= near_all(r.harmonic_angles, centres, f"k={k}, columns from {start:g}: harmonic angles")
-            ok &= check(np.allclose(r.profile, w.max(axis=1), rtol=1e-12, atol=0) and
-                        math.isclose(r.max_wear, w.max(), rel_tol=1e-12),
-                        f"k={k}, columns from {start:g}: profile or max_wear ({r.max_wear:g}) differ from the wear's")
-            print(f"  {'ok ' if ok else 'BAD'} k={k}, columns from {start:g} deg: {r.lobe_count} lobes at "
-                  f"{np.round(np.degrees(r.lobe_angles), 1)}, harmonic {r.dominant_order}")
+            ok &= check(
+                np.allclose(r.profile, w.max(axis=1), rtol=1e-12, atol=0)
+                and math.isclose(r.max_wear, w.max(), rel_tol=1e-12),
+                f"k={k}, columns from {start:g}: profile or max_wear ({r.max_wear:g}) differ from the wear's",
+            )
+            print(
+                f"  {'ok ' if ok else 'BAD'} k={k}, columns from {start:g} deg: {r.lobe_count} lobes at "
+                f"{np.round(np.degrees(r.lobe_angles), 1)}, harmonic {r.dominant_order}"
+            )
 
     # ---- (b) a bump across 0/360 -----------------------------------------------------------------
     print("(b) a bump straddling 0/360 deg")
     for start, centres in ((0.0, [0.4]), (0.0, [359.2, 150.0]), (180.0, [0.4]), (180.0, [180.4])):
         angle = columns(start)
         r = wear_lobes(angle, bumps(angle, centres))
-        ok = check(r.lobe_count == len(centres), f"bumps at {centres}, columns from {start:g}: "
-                   f"lobe_count {r.lobe_count}, expected {len(centres)}")
+        ok = check(
+            r.lobe_count == len(centres),
+            f"bumps at {centres}, columns from {start:g}: " f"lobe_count {r.lobe_count}, expected {len(centres)}",
+        )
         ok &= near_all(r.lobe_angles, centres, f"bumps at {centres}, columns from {start:g}: lobe angles")
-        print(f"  {'ok ' if ok else 'BAD'} bumps at {centres} deg, columns from {start:g} deg: {r.lobe_count} "
-              f"lobe(s) at {np.round(np.degrees(r.lobe_angles), 1)}")
+        print(
+            f"  {'ok ' if ok else 'BAD'} bumps at {centres} deg, columns from {start:g} deg: {r.lobe_count} "
+            f"lobe(s) at {np.round(np.degrees(r.lobe_angles), 1)}"
+        )
 
     # ---- (b2) contrast: a pure cosine of order 3 of amplitude 0.5 over the mean -----------------------
     angle = columns(0.0)
     cosine = 1e-5 * (1 + 0.5 * np.cos(3 * angle))[:, None] * np.ones((1, 4))
     r = wear_lobes(angle, cosine)
-    check(r.dominant_order == 3 and math.isclose(r.contrast, 0.5, rel_tol=1e-9),
-          f"cosine of order 3, amplitude 0.5 of the mean: order {r.dominant_order}, contrast {r.contrast}")
+    check(
+        r.dominant_order == 3 and math.isclose(r.contrast, 0.5, rel_tol=1e-9),
+        f"cosine of order 3, amplitude 0.5 of the mean: order {r.dominant_order}, contrast {r.contrast}",
+    )
     print(f"(b2) a cosine of order 3 at half the mean: contrast {r.contrast:.12f}")
 
     # ---- (c) no wear, uniform wear -----------------------------------------------------------------
     print("(c) zero and uniform wear")
     f = coating_file(os.path.join(wd, "zero.h5"), {"Casing": (columns(), np.zeros((N_U, N_V)))})
     r = lobes_of(f)
-    ok = check((r.lobe_count, r.dominant_order, r.max_wear) == (0, 0, 0.0),
-               f"zero wear: lobe_count {r.lobe_count}, dominant_order {r.dominant_order}, max_wear {r.max_wear}")
+    ok = check(
+        (r.lobe_count, r.dominant_order, r.max_wear) == (0, 0, 0.0),
+        f"zero wear: lobe_count {r.lobe_count}, dominant_order {r.dominant_order}, max_wear {r.max_wear}",
+    )
     ok &= check(r.lobe_angles.size == 0 and r.harmonic_angles.size == 0, "zero wear: angles given")
     r = wear_lobes(columns(), np.full((N_U, N_V), 3e-6))
-    ok &= check((r.lobe_count, r.dominant_order) == (1, 0),
-                f"uniform wear: lobe_count {r.lobe_count}, dominant_order {r.dominant_order}, expected 1, 0")
+    ok &= check(
+        (r.lobe_count, r.dominant_order) == (1, 0),
+        f"uniform wear: lobe_count {r.lobe_count}, dominant_order {r.dominant_order}, expected 1, 0",
+    )
     print(f"  {'ok ' if ok else 'BAD'} zero wear: no lobe, no harmonic; uniform wear: one lobe, no harmonic")
 
     # ---- (d) the command line --------------------------------------------------------------------
@@ -206,8 +222,10 @@ def main():
             want_a = np.degrees(h["coating/Casing/angle"][()])
             want_w = h["coating/Casing/wear"][-1].max(axis=1)
         ok &= check(head == "angle_deg,wear_m", f"CSV header {head!r}")
-        ok &= check(data.shape == (N_U, 2) and np.array_equal(data[:, 0], want_a) and np.array_equal(data[:, 1], want_w),
-                    "CSV profile differs from the deepest wear of each column of the last record")
+        ok &= check(
+            data.shape == (N_U, 2) and np.array_equal(data[:, 0], want_a) and np.array_equal(data[:, 1], want_w),
+            "CSV profile differs from the deepest wear of each column of the last record",
+        )
     print(f"  {'ok ' if ok else 'BAD'} " + " / ".join(p.stdout.strip().splitlines()[1:3]))
 
     # ---- (e) errors ------------------------------------------------------------------------------
@@ -225,8 +243,9 @@ def main():
     bare = coating_file(os.path.join(wd, "uncoated.h5"), {}, coating=False)
     expect_error([bare], "no /coating", (bare, "has no coating"))
     angle = columns()
-    two = coating_file(os.path.join(wd, "two.h5"), {"Casing": (angle, bumps(angle, [90.0])),
-                                                    "Shroud": (angle, bumps(angle, [10.0]))})
+    two = coating_file(
+        os.path.join(wd, "two.h5"), {"Casing": (angle, bumps(angle, [90.0])), "Shroud": (angle, bumps(angle, [10.0]))}
+    )
     expect_error([two], "two coated surfaces, no --surface", (two, "Casing", "Shroud", "--surface"))
     expect_error([two, "--surface", "Hub"], "unknown --surface", ("Hub", "Casing", "Shroud"))
     r = lobes_of(two, "Shroud")

@@ -106,10 +106,26 @@ STUDY = """<ParameterList name="Study">
   </ParameterList>
 </ParameterList>
 """
-MEASURE_COLS = ["contact_start_s", "contact_end_s", "impulse_Ns", "plateau_force_N", "max_penetration_m",
-                "displacement_rms_m", "rebound_velocity_m_per_s", "energy_balance_rel"]
-ERROR_COLS = ["contact_start_error", "contact_end_error", "impulse_error", "plateau_force_error",
-              "max_penetration_error", "displacement_rms_error", "rebound_velocity_error", "energy_balance_error"]
+MEASURE_COLS = [
+    "contact_start_s",
+    "contact_end_s",
+    "impulse_Ns",
+    "plateau_force_N",
+    "max_penetration_m",
+    "displacement_rms_m",
+    "rebound_velocity_m_per_s",
+    "energy_balance_rel",
+]
+ERROR_COLS = [
+    "contact_start_error",
+    "contact_end_error",
+    "impulse_error",
+    "plateau_force_error",
+    "max_penetration_error",
+    "displacement_rms_error",
+    "rebound_velocity_error",
+    "energy_balance_error",
+]
 COST_COLS = ["wall_time_s", "setup_time_s", "loop_time_s", "steps", "steps_per_second", "threads"]
 
 
@@ -124,18 +140,27 @@ def case_study(a):
     if not check(proc.returncode == 0, f"the sweep failed (exit {proc.returncode})"):
         return
     head, rows = read_csv(os.path.join(out, "tiny.csv"))
-    for col in ["run", "label", "Time->Time step", "status", "reference", "time_step_s"] + MEASURE_COLS + \
-            ERROR_COLS + COST_COLS + ["file"]:
+    for col in (
+        ["run", "label", "Time->Time step", "status", "reference", "time_step_s"]
+        + MEASURE_COLS
+        + ERROR_COLS
+        + COST_COLS
+        + ["file"]
+    ):
         check(col in head, f"CSV: no column {col} (columns: {head})")
     check(len(rows) == 5, f"CSV: {len(rows)} rows, expected 5 (4 variants and the reference run)")
     by_h = {r["Time->Time step"]: r for r in rows}
     check(set(by_h) == {"2e-6", "4e-7", "2e-7", "1e-7", "2.5e-8"}, f"CSV: varied values {sorted(by_h)}")
     ref = [r for r in rows if r["reference"] == "yes"]
-    check(len(ref) == 1 and ref[0]["time_step_s"] and math.isclose(fnum(ref[0]["time_step_s"]), 2.5e-8),
-          f"CSV: the reference row is not the h = 2.5e-8 run: {ref}")
+    check(
+        len(ref) == 1 and ref[0]["time_step_s"] and math.isclose(fnum(ref[0]["time_step_s"]), 2.5e-8),
+        f"CSV: the reference row is not the h = 2.5e-8 run: {ref}",
+    )
     bad = by_h.get("2e-6", {})
-    check(bad.get("status", "").startswith("refused: unstable time step"),
-          f"h = 2e-6: status '{bad.get('status')}', expected 'refused: unstable time step (critical ...)'")
+    check(
+        bad.get("status", "").startswith("refused: unstable time step"),
+        f"h = 2e-6: status '{bad.get('status')}', expected 'refused: unstable time step (critical ...)'",
+    )
     check(all(bad.get(c, "") == "" for c in MEASURE_COLS), "h = 2e-6: a refused run has measures")
     steps = ["4e-7", "2e-7", "1e-7"]
     for h in steps:
@@ -145,15 +170,21 @@ def case_study(a):
             check(math.isfinite(fnum(r.get(c, ""))), f"h = {h}: {c} = '{r.get(c)}' is not finite")
         check(fnum(r.get("steps", "")) == round(1.2e-4 / float(h)), f"h = {h}: steps {r.get('steps')}")
     d = [fnum(by_h[h]["displacement_rms_error"]) for h in steps if h in by_h]
-    print("displacement error vs h = 2.5e-8:", ", ".join(f"h={h}: {x:.3e}" for h, x in zip(steps, d)),
-          "; ratios", ", ".join(f"{d[i] / d[i + 1]:.2f}" for i in range(len(d) - 1)))
+    print(
+        "displacement error vs h = 2.5e-8:",
+        ", ".join(f"h={h}: {x:.3e}" for h, x in zip(steps, d)),
+        "; ratios",
+        ", ".join(f"{d[i] / d[i + 1]:.2f}" for i in range(len(d) - 1)),
+    )
     # Second order is what theory gives for this measure: the RMS displacement difference of the
     # x- face to the h = 2.5e-8 run. Between contact events central difference is second order;
     # the impact instant (t0 = 2e-5 s) is a multiple of every step, so the velocity jump falls on
     # the grid, and the Lagrange force falls continuously to zero at release (no O(h) event error).
     # Asserted: a ratio of at least 3.5 (2^1.8) per halving, which first order (2) cannot reach.
-    check(len(d) == 3 and all(d[i] >= 3.5 * d[i + 1] for i in range(2)),
-          f"the displacement error does not fall by 3.5x per halving of h (second order): {d}")
+    check(
+        len(d) == 3 and all(d[i] >= 3.5 * d[i + 1] for i in range(2)),
+        f"the displacement error does not fall by 3.5x per halving of h (second order): {d}",
+    )
     for kind in ("force", "gap", "displacement", "work-precision"):
         p = os.path.join(out, f"tiny-{kind}.png")
         if check(os.path.isfile(p) and os.path.getsize(p) > 0, f"{p} missing or empty"):
@@ -168,34 +199,53 @@ def case_study(a):
         return
     for h in steps:
         check(f"Time_step={h}: cached" in proc.stdout, f"h = {h} ran again: the cache missed")
-    check(": running" not in proc.stdout.replace("Time_step=2e-6: running", ""),
-          "a run ran again although its history is up to date")
+    check(
+        ": running" not in proc.stdout.replace("Time_step=2e-6: running", ""),
+        "a run ran again although its history is up to date",
+    )
     head, rows = read_csv(os.path.join(out, "tiny.csv"))
     check(len(rows) == 5, f"CSV (exact): {len(rows)} rows, expected 5 (exact and 4 variants)")
     ex = next((r for r in rows if r["run"] == "exact"), None)
     if check(ex is not None, "CSV (exact): no 'exact' row"):
-        for col, want in (("contact_start_s", 2e-5), ("contact_end_s", 1e-4), ("plateau_force_N", 1.6e6),
-                          ("impulse_Ns", 128.0), ("rebound_velocity_m_per_s", -100.0)):
+        for col, want in (
+            ("contact_start_s", 2e-5),
+            ("contact_end_s", 1e-4),
+            ("plateau_force_N", 1.6e6),
+            ("impulse_Ns", 128.0),
+            ("rebound_velocity_m_per_s", -100.0),
+        ):
             check(math.isclose(fnum(ex[col]), want, rel_tol=1e-9), f"exact {col} = {ex[col]}, expected {want:g}")
     for r in rows:
         if r["status"] != "complete":
             continue
         e = {c: fnum(r[c]) for c in ERROR_COLS}
-        for c, tol in (("contact_start_error", 0.01), ("contact_end_error", 0.01), ("impulse_error", 0.02),
-                       ("plateau_force_error", 0.02), ("rebound_velocity_error", 0.02),
-                       ("displacement_rms_error", 0.02)):
+        for c, tol in (
+            ("contact_start_error", 0.01),
+            ("contact_end_error", 0.01),
+            ("impulse_error", 0.02),
+            ("plateau_force_error", 0.02),
+            ("rebound_velocity_error", 0.02),
+            ("displacement_rms_error", 0.02),
+        ):
             check(e[c] <= tol, f"{r['run']} vs exact: {c} = {e[c]:.3g} > {tol}")
         check(e["energy_balance_error"] < 1e-8, f"{r['run']}: energy balance {e['energy_balance_error']}")
 
 
 # STUDY with one more time step and no Plots list
-JOBS_STUDY = re.sub(r'  <ParameterList name="Plots">.*?</ParameterList>\n', '',
-                    STUDY.replace("tiny bar time-step study", "jobs study")
-                    .replace("{{2e-6, 4e-7, 2e-7, 1e-7}}", "{{2e-6, 4e-7, 2e-7, 1e-7, 5e-8}}"), flags=re.S)
-TIMING_COLS = ("wall_time_s", "setup_time_s", "loop_time_s", "steps_per_second")   # measured, differ run to run
+JOBS_STUDY = re.sub(
+    r'  <ParameterList name="Plots">.*?</ParameterList>\n',
+    "",
+    STUDY.replace("tiny bar time-step study", "jobs study").replace(
+        "{{2e-6, 4e-7, 2e-7, 1e-7}}", "{{2e-6, 4e-7, 2e-7, 1e-7, 5e-8}}"
+    ),
+    flags=re.S,
+)
+TIMING_COLS = ("wall_time_s", "setup_time_s", "loop_time_s", "steps_per_second")  # measured, differ run to run
 # "[i/N] NAME: STATUS in X s; k of N done, L left, ETA m:ss (mean Y s a case, J at a time)"
-END_LINE = re.compile(r"^\[(\d+)/(\d+)\] (\S+): (.+?) in ([0-9.]+) s(?: \(log: [^)]*\))?; (\d+) of (\d+) done, "
-                      r"(\d+) left, ETA (\d+:\d\d) \(mean ([0-9.]+) s a case, (\d+) at a time\)$")
+END_LINE = re.compile(
+    r"^\[(\d+)/(\d+)\] (\S+): (.+?) in ([0-9.]+) s(?: \(log: [^)]*\))?; (\d+) of (\d+) done, "
+    r"(\d+) left, ETA (\d+:\d\d) \(mean ([0-9.]+) s a case, (\d+) at a time\)$"
+)
 CACHED_LINE = re.compile(r"^\[(\d+)/(\d+)\] (\S+): cached \([^)]*\); (\d+) of (\d+) done, (\d+) left")
 
 
@@ -203,11 +253,16 @@ def progress_ok(tag, stdout, total, jobs):
     """Every run ends with a line "k of N done, N - k left, ETA ..." (k = 1..N in order) at `jobs` at a time."""
     ends = [m for m in map(END_LINE.match, stdout.splitlines()) if m]
     ks = [int(m.group(6)) for m in ends]
-    check(ks == list(range(1, total + 1)), f"{tag}: the progress lines count {ks}, expected 1..{total} "
-          f"(one 'k of {total} done, ..., ETA m:ss' line per run)")
+    check(
+        ks == list(range(1, total + 1)),
+        f"{tag}: the progress lines count {ks}, expected 1..{total} "
+        f"(one 'k of {total} done, ..., ETA m:ss' line per run)",
+    )
     for m in ends:
-        check(int(m.group(7)) == total and int(m.group(8)) == total - int(m.group(6)),
-              f"{tag}: '{m.group(0)}': the count of runs left is not N - k")
+        check(
+            int(m.group(7)) == total and int(m.group(8)) == total - int(m.group(6)),
+            f"{tag}: '{m.group(0)}': the count of runs left is not N - k",
+        )
         check(int(m.group(11)) == jobs, f"{tag}: '{m.group(0)}': {m.group(11)} at a time, expected {jobs}")
     return ends
 
@@ -216,13 +271,16 @@ def capture_figures():
     """Records every matplotlib Figure saved ({file name: Figure}): the sweep closes its figures after
     saving them, and their axes stay readable."""
     import matplotlib
+
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
+
     saved, original = {}, Figure.savefig
 
     def savefig(self, fname, *args, **kw):
         saved[os.path.basename(str(fname))] = self
         return original(self, fname, *args, **kw)
+
     Figure.savefig = savefig
     return saved, lambda: setattr(Figure, "savefig", original)
 
@@ -236,21 +294,27 @@ def check_study_figures(figs, name, deck):
     if check(wp is not None, f"no work-precision figure saved (saved: {sorted(figs)})"):
         ax = wp.axes[0]
         check(ax.get_xlabel() == "wall time (s)", f"work-precision: x label '{ax.get_xlabel()}'")
-        check(ax.get_ylabel().startswith("error against") and ax.get_ylabel().endswith("(-)"),
-              f"work-precision: y label '{ax.get_ylabel()}', expected 'error against ... (-)'")
+        check(
+            ax.get_ylabel().startswith("error against") and ax.get_ylabel().endswith("(-)"),
+            f"work-precision: y label '{ax.get_ylabel()}', expected 'error against ... (-)'",
+        )
         check("jobs study" in ax.get_title() and deck in ax.get_title(), f"work-precision: title '{ax.get_title()}'")
         leg = ax.get_legend()
         texts = [t.get_text() for t in leg.get_texts()] if leg else []
-        check(len(texts) >= 2 and all(any(t.startswith(m + ":") for t in texts) for m in ("impulse", "displacement")),
-              f"work-precision: legend {texts}: expected one entry per measure, named")
+        check(
+            len(texts) >= 2 and all(any(t.startswith(m + ":") for t in texts) for m in ("impulse", "displacement")),
+            f"work-precision: legend {texts}: expected one entry per measure, named",
+        )
     for kind, nplots in (("force", 1), ("gap", 1), ("displacement", 1)):
         fig = figs.get(f"{name}-{kind}.png")
         if not check(fig is not None, f"no {kind} figure saved"):
             continue
         axes = fig.axes
         check(len(axes) == nplots, f"{kind}: {len(axes)} axes")
-        check(re.fullmatch(r"time \((\u00b5s|ms|s)\)", axes[-1].get_xlabel()) is not None,
-              f"{kind}: x label '{axes[-1].get_xlabel()}'")
+        check(
+            re.fullmatch(r"time \((\u00b5s|ms|s)\)", axes[-1].get_xlabel()) is not None,
+            f"{kind}: x label '{axes[-1].get_xlabel()}'",
+        )
         for ax in axes:
             check(has_unit(ax.get_ylabel()), f"{kind}: y label '{ax.get_ylabel()}' has no unit")
         title = axes[0].get_title()
@@ -264,28 +328,49 @@ def check_rotor_figures(workdir):
     """epaphe-rotor's interaction map and spectrum, drawn from synthetic spectra (lines at EO 4, 6, 2)."""
     import numpy as np
     from epaphe import plots
+
     eo = np.linspace(0, 40, 801)
     speeds = [600.0, 1000.0, 1400.0]
-    amp = np.array([1e-5 * np.exp(-(eo - k) ** 2 / 0.01) + 1e-9 for k in (4, 6, 2)])
-    fig = plots.draw_interaction_map(eo, speeds, amp, os.path.join(workdir, "map-tip-le.png"), "blade-casing.xml",
-                                     "tip-le", "x", dominant=[4.0, 6.0, 2.0])
+    amp = np.array([1e-5 * np.exp(-((eo - k) ** 2) / 0.01) + 1e-9 for k in (4, 6, 2)])
+    fig = plots.draw_interaction_map(
+        eo,
+        speeds,
+        amp,
+        os.path.join(workdir, "map-tip-le.png"),
+        "blade-casing.xml",
+        "tip-le",
+        "x",
+        dominant=[4.0, 6.0, 2.0],
+    )
     ax, bar = fig.axes[0], fig.axes[1]
     check(ax.get_xlabel() == "engine order (-)", f"interaction map: x label '{ax.get_xlabel()}'")
     check(ax.get_ylabel() == "rotation speed (rad/s)", f"interaction map: y label '{ax.get_ylabel()}'")
     check(bar.get_ylabel().endswith("(m)"), f"interaction map: colour bar label '{bar.get_ylabel()}'")
-    check("blade-casing.xml" in ax.get_title() and "tip-le" in ax.get_title(),
-          f"interaction map: title '{ax.get_title()}'")
+    check(
+        "blade-casing.xml" in ax.get_title() and "tip-le" in ax.get_title(),
+        f"interaction map: title '{ax.get_title()}'",
+    )
     check(ax.get_legend() is not None, "interaction map: no legend for the dominant-order circles")
-    fig = plots.draw_spectrum(eo, amp[0], "|u_x| (m)", "speed-600.h5, node set tip-le", os.path.join(workdir, "s.png"),
-                              rotation_hz=600.0 / (2 * math.pi))
+    fig = plots.draw_spectrum(
+        eo,
+        amp[0],
+        "|u_x| (m)",
+        "speed-600.h5, node set tip-le",
+        os.path.join(workdir, "s.png"),
+        rotation_hz=600.0 / (2 * math.pi),
+    )
     ax = fig.axes[0]
-    check(ax.get_xlabel().endswith("(-)") and ax.get_ylabel() == "|u_x| (m)", f"spectrum: labels '{ax.get_xlabel()}', "
-          f"'{ax.get_ylabel()}'")
+    check(
+        ax.get_xlabel().endswith("(-)") and ax.get_ylabel() == "|u_x| (m)",
+        f"spectrum: labels '{ax.get_xlabel()}', " f"'{ax.get_ylabel()}'",
+    )
     top = ax.child_axes[0] if ax.child_axes else None
     if check(top is not None and top.get_xlabel() == "frequency (Hz)", "spectrum: no 'frequency (Hz)' axis on top"):
         # EO 40 at 600 rad/s: 40 x 600 / (2 pi) = 3819.7 Hz
-        check(math.isclose(top.get_xlim()[1], 40 * 600 / (2 * math.pi), rel_tol=1e-9),
-              f"spectrum: the frequency axis ends at {top.get_xlim()[1]} Hz, expected 3819.7")
+        check(
+            math.isclose(top.get_xlim()[1], 40 * 600 / (2 * math.pi), rel_tol=1e-9),
+            f"spectrum: the frequency axis ends at {top.get_xlim()[1]} Hz, expected 3819.7",
+        )
 
 
 def case_jobs(a):
@@ -328,13 +413,20 @@ def case_jobs(a):
         cached = [m for m in map(CACHED_LINE.match, res.stdout.splitlines()) if m]
         ends = [m for m in map(END_LINE.match, res.stdout.splitlines()) if m]
         ks = sorted([int(m.group(4)) for m in cached] + [int(m.group(6)) for m in ends])
-        check(len(cached) == 5 and ks == list(range(1, total + 1)), f"cached rerun: {len(cached)} cached lines, "
-              f"counts {ks}: expected 5 cached runs counted as done, 1..{total}")
-        if check(len(ends) == 1 and ends[0].group(3) == "Time_step=2e-6",
-                 "cached rerun: not one run (the refused step)"):
+        check(
+            len(cached) == 5 and ks == list(range(1, total + 1)),
+            f"cached rerun: {len(cached)} cached lines, "
+            f"counts {ks}: expected 5 cached runs counted as done, 1..{total}",
+        )
+        if check(
+            len(ends) == 1 and ends[0].group(3) == "Time_step=2e-6", "cached rerun: not one run (the refused step)"
+        ):
             m = ends[0]
-            check(m.group(5) == m.group(10), f"cached rerun: mean {m.group(10)} s a case, the one run took "
-                  f"{m.group(5)} s: the cached runs changed the mean")
+            check(
+                m.group(5) == m.group(10),
+                f"cached rerun: mean {m.group(10)} s a case, the one run took "
+                f"{m.group(5)} s: the cached runs changed the mean",
+            )
         check_study_figures(saved, "jobs", os.path.basename(a.deck))
     check_rotor_figures(a.workdir)
     case_interrupt(a)
@@ -356,9 +448,27 @@ def running_in(directory):
 def case_interrupt(a):
     out = os.path.join(a.workdir, "out-interrupt")
     # 1e6, 5e5 and 3.3e5 steps (about 20, 10 and 7 s each): SIGINT once both first runs are in their time loop
-    cmd = [sys.executable, a.sweep, a.deck, "--vary", "Time->Time step=1e-7,2e-7,3e-7", "--set", "Time->End time=0.1",
-           "--set", "Run->Progress interval=0.2", "--reference", "none", "--out", out, "--force", "--jobs", "2",
-           "--no-plots", "--run", a.run]
+    cmd = [
+        sys.executable,
+        a.sweep,
+        a.deck,
+        "--vary",
+        "Time->Time step=1e-7,2e-7,3e-7",
+        "--set",
+        "Time->End time=0.1",
+        "--set",
+        "Run->Progress interval=0.2",
+        "--reference",
+        "none",
+        "--out",
+        out,
+        "--force",
+        "--jobs",
+        "2",
+        "--no-plots",
+        "--run",
+        a.run,
+    ]
     proc = subprocess.Popen(cmd, cwd=a.workdir, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     lines, looping = [], set()
     for line in proc.stdout:
@@ -382,102 +492,169 @@ def case_interrupt(a):
     check(not running_in(runs), f"Ctrl-C: epaphe-run still running in {runs}: pids {running_in(runs)}")
     sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))
     import epaphe
+
     for h in ("1e-7", "2e-7"):
         path = os.path.join(runs, f"Time_step={h}.h5")
         try:
             with epaphe.open(path) as run:
                 status = run.status
-        except Exception as e:      # noqa: BLE001 (reported as a failure)
+        except Exception as e:  # noqa: BLE001 (reported as a failure)
             status = f"unreadable: {e}"
         check(status.startswith("stopped: interrupted by SIGINT"), f"Ctrl-C: {path}: status '{status}'")
     check("[3/3] Time_step=3e-7: running" not in text, "Ctrl-C: the third run started after the interrupt")
-    check("interrupted: 2 of 3 case(s) done; stopped Time_step=1e-7, Time_step=2e-7" in text,
-          "Ctrl-C: no line naming the stopped runs")
+    check(
+        "interrupted: 2 of 3 case(s) done; stopped Time_step=1e-7, Time_step=2e-7" in text,
+        "Ctrl-C: no line naming the stopped runs",
+    )
 
 
 BAD = [
-    ("unknown-list", """<ParameterList name="Study">
+    (
+        "unknown-list",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vray"/>
-</ParameterList>""", ["unknown-list.xml:3", "'Vray'", "did you mean 'Vary'"]),
-    ("unknown-parameter", """<ParameterList name="Study">
+</ParameterList>""",
+        ["unknown-list.xml:3", "'Vray'", "did you mean 'Vary'"],
+    ),
+    (
+        "unknown-parameter",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <Parameter name="Combien" type="string" value="Zip"/>
-</ParameterList>""", ["unknown-parameter.xml:3", "'Combien'", "did you mean 'Combine'"]),
-    ("missing-deck", """<ParameterList name="Study">
+</ParameterList>""",
+        ["unknown-parameter.xml:3", "'Combien'", "did you mean 'Combine'"],
+    ),
+    (
+        "missing-deck",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="no/such/deck.xml"/>
   <ParameterList name="Vary"><Parameter name="Time->Time step" type="Array(string)" value="{{1e-7}}"/></ParameterList>
-</ParameterList>""", ["missing-deck.xml:2", "'Deck'", "no/such/deck.xml", "no such file"]),
-    ("unknown-deck-key", """<ParameterList name="Study">
+</ParameterList>""",
+        ["missing-deck.xml:2", "'Deck'", "no/such/deck.xml", "no such file"],
+    ),
+    (
+        "unknown-deck-key",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary">
     <Parameter name="Time->Time stpe" type="Array(string)" value="{{1e-7, 2e-7}}"/>
   </ParameterList>
-</ParameterList>""", ["unknown-deck-key.xml:4", "'Time->Time stpe'", "did you mean 'Time->Time step'"]),
-    ("unknown-body", """<ParameterList name="Study">
+</ParameterList>""",
+        ["unknown-deck-key.xml:4", "'Time->Time stpe'", "did you mean 'Time->Time step'"],
+    ),
+    (
+        "unknown-body",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary">
     <Parameter name="Bodies->Barr->Reduction->Fixed-interface modes" type="Array(string)" value="{{10, 20}}"/>
   </ParameterList>
-</ParameterList>""", ["unknown-body.xml:4", "'Barr'", "Bar"]),
-    ("not-a-number", """<ParameterList name="Study">
+</ParameterList>""",
+        ["unknown-body.xml:4", "'Barr'", "Bar"],
+    ),
+    (
+        "not-a-number",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary">
     <Parameter name="Time->Time step" type="Array(string)" value="{{1e-7, 2e-7x}}"/>
   </ParameterList>
-</ParameterList>""", ["not-a-number.xml:4", "'Time->Time step'", "'2e-7x'", "double"]),
-    ("out-of-range", """<ParameterList name="Study">
+</ParameterList>""",
+        ["not-a-number.xml:4", "'Time->Time step'", "'2e-7x'", "double"],
+    ),
+    (
+        "out-of-range",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary">
     <Parameter name="Time->Time step" type="Array(string)" value="{{1e-7, -2e-7}}"/>
   </ParameterList>
-</ParameterList>""", ["out-of-range.xml:4", "'Time->Time step' = '-2e-7'", "out of range"]),
-    ("bad-enum", """<ParameterList name="Study">
+</ParameterList>""",
+        ["out-of-range.xml:4", "'Time->Time step' = '-2e-7'", "out of range"],
+    ),
+    (
+        "bad-enum",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary">
     <Parameter name="Contact->Method" type="Array(string)" value="{{Lagrange, Penalti}}"/>
   </ParameterList>
-</ParameterList>""", ["bad-enum.xml:4", "'Penalti'", "did you mean 'Penalty'"]),
-    ("zip-lengths", """<ParameterList name="Study">
+</ParameterList>""",
+        ["bad-enum.xml:4", "'Penalti'", "did you mean 'Penalty'"],
+    ),
+    (
+        "zip-lengths",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary">
     <Parameter name="Time->Time step" type="Array(string)" value="{{1e-7, 2e-7}}"/>
     <Parameter name="Contact->Method" type="Array(string)" value="{{Lagrange, Penalty, Lagrange}}"/>
   </ParameterList>
-</ParameterList>""", ["zip-lengths.xml", "Zip", "'Time->Time step': 2", "'Contact->Method': 3", "Product"]),
-    ("bad-combine", """<ParameterList name="Study">
+</ParameterList>""",
+        ["zip-lengths.xml", "Zip", "'Time->Time step': 2", "'Contact->Method': 3", "Product"],
+    ),
+    (
+        "bad-combine",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <Parameter name="Combine" type="string" value="Cartesian"/>
-</ParameterList>""", ["bad-combine.xml:3", "'Study->Combine' = 'Cartesian'", "'Product'"]),
-    ("bad-exact", """<ParameterList name="Study">
+</ParameterList>""",
+        ["bad-combine.xml:3", "'Study->Combine' = 'Cartesian'", "'Product'"],
+    ),
+    (
+        "bad-exact",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary"><Parameter name="Time->Time step" type="Array(string)" value="{{1e-7}}"/></ParameterList>
   <ParameterList name="Reference"><Parameter name="Exact" type="string" value="bar-on-floor"/></ParameterList>
-</ParameterList>""", ["bad-exact.xml:4", "'Reference->Exact' = 'bar-on-floor'", "bar-on-wall"]),
-    ("exact-does-not-apply", """<ParameterList name="Study">
+</ParameterList>""",
+        ["bad-exact.xml:4", "'Reference->Exact' = 'bar-on-floor'", "bar-on-wall"],
+    ),
+    (
+        "exact-does-not-apply",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary"><Parameter name="Time->Time step" type="Array(string)" value="{{1e-7}}"/></ParameterList>
   <ParameterList name="Reference"><Parameter name="Exact" type="string" value="two-bars"/></ParameterList>
-</ParameterList>""", ["exact-does-not-apply.xml:4", "'two-bars' does not apply", "two bodies"]),
-    ("bad-measure", """<ParameterList name="Study">
+</ParameterList>""",
+        ["exact-does-not-apply.xml:4", "'two-bars' does not apply", "two bodies"],
+    ),
+    (
+        "bad-measure",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary"><Parameter name="Time->Time step" type="Array(string)" value="{{1e-7}}"/></ParameterList>
   <ParameterList name="Measures">
     <Parameter name="Compute" type="Array(string)" value="{{impulse, contact stat}}"/>
   </ParameterList>
-</ParameterList>""", ["bad-measure.xml:5", "'contact stat'", "did you mean 'contact start'"]),
-    ("bad-nodeset", """<ParameterList name="Study">
+</ParameterList>""",
+        ["bad-measure.xml:5", "'contact stat'", "did you mean 'contact start'"],
+    ),
+    (
+        "bad-nodeset",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary"><Parameter name="Time->Time step" type="Array(string)" value="{{1e-7}}"/></ParameterList>
   <ParameterList name="Measures"><Parameter name="Node set" type="string" value="y+"/></ParameterList>
-</ParameterList>""", ["bad-nodeset.xml:4", "'Measures->Node set' = 'y+'", "x+, x-"]),
-    ("not-xml", """<ParameterList name="Study">
+</ParameterList>""",
+        ["bad-nodeset.xml:4", "'Measures->Node set' = 'y+'", "x+, x-"],
+    ),
+    (
+        "not-xml",
+        """<ParameterList name="Study">
   <Parameter name="Deck" type="string" value="{deck}"/>
   <ParameterList name="Vary">
-</ParameterList>""", ["not-xml.xml:5", "not well-formed XML"]),
-    ("not-a-study", """<ParameterList name="Studdy">
+</ParameterList>""",
+        ["not-xml.xml:5", "not well-formed XML"],
+    ),
+    (
+        "not-a-study",
+        """<ParameterList name="Studdy">
   <Parameter name="Deck" type="string" value="{deck}"/>
-</ParameterList>""", ["not-a-study.xml:1", "<ParameterList name=\"Study\">"]),
+</ParameterList>""",
+        ["not-a-study.xml:1", '<ParameterList name="Study">'],
+    ),
 ]
 
 
@@ -492,6 +669,7 @@ def in_process(a):
     instead of one each)."""
     import contextlib
     import io
+
     sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))
     from epaphe.cli import sweep as mod
 
@@ -500,6 +678,7 @@ def in_process(a):
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             rc = mod.main(args + ["--run", a.run])
         return Result(rc, out.getvalue(), err.getvalue())
+
     return call
 
 
@@ -514,17 +693,36 @@ def case_bad(a):
         expect_error(name, sweep(a, args, a.workdir) if i == 0 else call(args), must)
     # command lines
     for name, args, must in (
-            ("deck-without-vary", [a.deck], ["nothing to vary"]),
-            ("vary-without-equals", [a.deck, "--vary", "Time->Time step"], ["--vary 'Time->Time step'", "KEY=VALUE"]),
-            ("reference-exact-unknown", [a.deck, "--vary", "Time->Time step=1e-7", "--reference", "exact:moon"],
-             ["'exact:moon'", "bar-on-wall"]),
-            ("cli-unknown-key", [a.deck, "--vary", "Time->End tme=1e-4"], ["'Time->End tme'", "'Time->End time'"]),
-            ("missing-input", ["no-such-study.xml"], ["no-such-study.xml", "no such file"])):
+        ("deck-without-vary", [a.deck], ["nothing to vary"]),
+        ("vary-without-equals", [a.deck, "--vary", "Time->Time step"], ["--vary 'Time->Time step'", "KEY=VALUE"]),
+        (
+            "reference-exact-unknown",
+            [a.deck, "--vary", "Time->Time step=1e-7", "--reference", "exact:moon"],
+            ["'exact:moon'", "bar-on-wall"],
+        ),
+        ("cli-unknown-key", [a.deck, "--vary", "Time->End tme=1e-4"], ["'Time->End tme'", "'Time->End time'"]),
+        ("missing-input", ["no-such-study.xml"], ["no-such-study.xml", "no such file"]),
+    ):
         expect_error(name, call(args + ["--out", os.path.join(a.workdir, "out-" + name), "--check"]), must)
     # a usage error exits from argparse: as a process
-    expect_error("jobs-zero", sweep(a, [a.deck, "--vary", "Time->Time step=1e-7", "--jobs", "0", "--check",
-                                        "--out", os.path.join(a.workdir, "out-jobs-zero")], a.workdir),
-                 ["--jobs 0", "must be >= 1"])
+    expect_error(
+        "jobs-zero",
+        sweep(
+            a,
+            [
+                a.deck,
+                "--vary",
+                "Time->Time step=1e-7",
+                "--jobs",
+                "0",
+                "--check",
+                "--out",
+                os.path.join(a.workdir, "out-jobs-zero"),
+            ],
+            a.workdir,
+        ),
+        ["--jobs 0", "must be >= 1"],
+    )
 
 
 def case_studies(a):
@@ -541,8 +739,10 @@ def expect_error(name, proc, must):
     err = proc.stderr.strip()
     print(f"{name}: exit {proc.returncode}: {err}")
     check(proc.returncode == 1, f"{name}: exit status {proc.returncode}, expected 1")
-    check(len(err.splitlines()) == 1 and err.startswith("epaphe-sweep: error: "),
-          f"{name}: stderr is not one 'epaphe-sweep: error:' line: {err!r}")
+    check(
+        len(err.splitlines()) == 1 and err.startswith("epaphe-sweep: error: "),
+        f"{name}: stderr is not one 'epaphe-sweep: error:' line: {err!r}",
+    )
     check("Traceback" not in err, f"{name}: a traceback")
     for m in must:
         check(m in err, f"{name}: the message does not name {m!r}: {err}")

@@ -38,8 +38,25 @@ def main():
     a = ap.parse_args()
     os.makedirs(a.workdir, exist_ok=True)
     out = os.path.join(a.workdir, "campbell")
-    p = subprocess.run([sys.executable, a.rotor, "campbell", a.deck, "--orders", "1-8", "--speeds", "31", "--out", out,
-                        "--campbell", a.campbell], capture_output=True, text=True, timeout=TIMEOUT)
+    p = subprocess.run(
+        [
+            sys.executable,
+            a.rotor,
+            "campbell",
+            a.deck,
+            "--orders",
+            "1-8",
+            "--speeds",
+            "31",
+            "--out",
+            out,
+            "--campbell",
+            a.campbell,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+    )
     print(p.stdout)
     if p.returncode != 0:
         print(p.stderr)
@@ -54,14 +71,20 @@ def main():
         samples = f["samples"][()]
     # the parametric model between samples against direct reductions
     worst = np.abs(pf / df - 1).max()
-    print(f"parametric against direct reduction between samples: largest relative difference {worst:.2e} (1e-5 asserted)")
+    print(
+        f"parametric against direct reduction between samples: largest relative difference {worst:.2e} (1e-5 asserted)"
+    )
     if worst > 1e-5:
         failures.append(f"the parametric model's frequencies differ from a direct reduction's by {worst:.2e} > 1e-5")
     g = np.interp(ds, speeds, f_growth(out))
     rel = np.abs(g / growth_direct - 1).max()
-    print(f"static displacement of the contact set between samples: largest relative difference {100 * rel:.3f} % (0.5 % asserted)")
+    print(
+        f"static displacement of the contact set between samples: largest relative difference {100 * rel:.3f} % (0.5 % asserted)"
+    )
     if rel > 5e-3:
-        failures.append(f"the parametric static displacement differs from a direct reduction's by {100 * rel:.3f} % > 0.5 %")
+        failures.append(
+            f"the parametric static displacement differs from a direct reduction's by {100 * rel:.3f} % > 0.5 %"
+        )
     # the reduced curves against the full model
     red_at_full = np.array([[np.interp(w, speeds, freq[:, i]) for i in range(freq.shape[1])] for w in fs])
     # the curve is sampled: compare at the exact speeds through epaphe-campbell's own table instead of interpolating
@@ -71,28 +94,36 @@ def main():
         red_at_full[i] = freq[j]
     lower = (red_at_full[exact] < ff[exact] * (1 - 1e-9)).sum()
     err5 = np.abs(red_at_full[exact][:, :5] / ff[exact][:, :5] - 1).max()
-    print(f"reduced against full model at {len(exact)} speeds on the curve's grid: {lower} values below the full model's "
-          f"(0 asserted), first five modes within {100 * err5:.3f} % (0.5 % asserted)")
+    print(
+        f"reduced against full model at {len(exact)} speeds on the curve's grid: {lower} values below the full model's "
+        f"(0 asserted), first five modes within {100 * err5:.3f} % (0.5 % asserted)"
+    )
     if lower:
         failures.append(f"{lower} reduced frequencies are below the full model's: not Rayleigh-Ritz bounds")
     if err5 > 5e-3:
-        failures.append(f"the first five reduced frequencies differ from the full model's by {100 * err5:.3f} % > 0.5 %")
+        failures.append(
+            f"the first five reduced frequencies differ from the full model's by {100 * err5:.3f} % > 0.5 %"
+        )
     # crossings
     if len(cross) == 0:
         failures.append("no crossing listed")
-    x2 = fs ** 2
+    x2 = fs**2
     for w, k, mode, fr in cross:
         on_line = abs(fr - k * w / (2 * np.pi)) / fr
         coef = np.polyfit(x2, ff[:, int(mode) - 1], 2)
         f_full = np.polyval(coef, w * w)
         off = abs(f_full / (k * w / (2 * np.pi)) - 1)
-        print(f"crossing EO {int(k)} mode {int(mode)} at {w:.2f} rad/s, {fr:.2f} Hz: on its line to {on_line:.1e}, "
-              f"the full model's curve there {f_full:.2f} Hz ({100 * off:.3f} %)")
+        print(
+            f"crossing EO {int(k)} mode {int(mode)} at {w:.2f} rad/s, {fr:.2f} Hz: on its line to {on_line:.1e}, "
+            f"the full model's curve there {f_full:.2f} Hz ({100 * off:.3f} %)"
+        )
         if on_line > 1e-9:
             failures.append(f"crossing EO {int(k)} mode {int(mode)}: {fr} Hz is not on the line k Omega / 2 pi")
         if off > 5e-3:
-            failures.append(f"crossing EO {int(k)} mode {int(mode)} at {w:.2f} rad/s: the full model's frequency there "
-                            f"differs from the line by {100 * off:.3f} % > 0.5 %")
+            failures.append(
+                f"crossing EO {int(k)} mode {int(mode)} at {w:.2f} rad/s: the full model's frequency there "
+                f"differs from the line by {100 * off:.3f} % > 0.5 %"
+            )
     if not any(int(k) == 4 and int(mode) == 1 for _, k, mode, _ in cross):
         failures.append("the crossing of EO 4 with mode 1 is missing")
     png = os.path.join(out, "campbell.png")
@@ -103,13 +134,20 @@ def main():
     os.makedirs(sweep, exist_ok=True)
     for name in os.listdir(sweep):
         os.remove(os.path.join(sweep, name))
-    p = subprocess.run([os.path.abspath(a.run), os.path.abspath(a.deck), "--speeds", "900,1000,1100", "--revolutions", "0.05"], cwd=sweep,
-                       capture_output=True, text=True, timeout=TIMEOUT)
+    p = subprocess.run(
+        [os.path.abspath(a.run), os.path.abspath(a.deck), "--speeds", "900,1000,1100", "--revolutions", "0.05"],
+        cwd=sweep,
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+    )
     built, reused = p.stdout.count("parametric model over"), p.stdout.count("reused from")
     print(f"speed sweep over 3 speeds: the parametric model built {built} time(s), reused {reused} time(s)")
     if p.returncode != 0 or built != 1 or reused != 2:
-        failures.append(f"a speed sweep of 3 speeds built the parametric model {built} time(s) and reused it {reused} "
-                        f"time(s) (1 and 2 expected; exit {p.returncode})")
+        failures.append(
+            f"a speed sweep of 3 speeds built the parametric model {built} time(s) and reused it {reused} "
+            f"time(s) (1 and 2 expected; exit {p.returncode})"
+        )
     for m in failures:
         print("FAIL " + m)
     print("FAILED" if failures else "PASSED")

@@ -21,17 +21,25 @@ def main():
     failures, worst = [], []
     for modes in (0, 5, 20, 60):
         name = f"cb{modes}"
-        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
-            "Output->File": name + ".h5", "Bodies->Ring->Reduction->Fixed-interface modes": (str(modes), "int"),
-            "Bodies->Ring->Reduction->Cache": ("false", "bool")})
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, name + ".xml"),
+            {
+                "Output->File": name + ".h5",
+                "Bodies->Ring->Reduction->Fixed-interface modes": (str(modes), "int"),
+                "Bodies->Ring->Reduction->Cache": ("false", "bool"),
+            },
+        )
         run([a.run, deck], a.workdir)
         with h5py.File(os.path.join(a.workdir, name + ".h5"), "r") as f:
             full = f["/bodies/Ring/frequencies/full"][()]
             red = f["/bodies/Ring/frequencies/reduced"][: full.size]
         err = (red - full) / full
         worst.append(err.max())
-        print(f"{modes:3d} modes: relative errors of the first {full.size} frequencies: "
-              + " ".join(f"{e:.2e}" for e in err))
+        print(
+            f"{modes:3d} modes: relative errors of the first {full.size} frequencies: "
+            + " ".join(f"{e:.2e}" for e in err)
+        )
         if not (err >= -1e-9).all():
             failures.append(f"{modes} modes: a reduced frequency is below the full model's ({err.min():.2e})")
     if not all(worst[i + 1] < worst[i] for i in range(len(worst) - 1)):

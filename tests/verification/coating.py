@@ -43,8 +43,11 @@ for method in ("Lagrange", "Penalty"):
     if method == "Penalty":
         extra["Contact->Penalty stiffness"] = ("1e7", "double")
     name = f"bar-{method.lower()}"
-    deck = variant(a.bar_deck, os.path.join(a.workdir, name + ".xml"),
-                   dict(coat, **extra, **{"Output->File": (name + ".h5", "string")}))
+    deck = variant(
+        a.bar_deck,
+        os.path.join(a.workdir, name + ".xml"),
+        dict(coat, **extra, **{"Output->File": (name + ".h5", "string")}),
+    )
     proc = run([a.run, deck], a.workdir)
     h = history(os.path.join(a.workdir, name + ".h5"))
     f = h["bodies/Bar/contact/total_force"]
@@ -55,28 +58,39 @@ for method in ("Lagrange", "Penalty"):
     wear = h["coating/Wall/wear"][-1]
     worn = np.sort(wear[wear > 0])
     bal = np.abs(h["energy/balance_error"]).max()
-    print(f"{method}: contact until t = {h['time'][last] * 1e3:.3f} ms of {h['time'][-1] * 1e3:.1f}; "
-          f"energy {e0:.4f} -> {e1:.4f} J, lost {lost:.4f} J; plastic dissipation {plastic:.4f} J, "
-          f"elastic left {elastic:.3g} J; lost - dissipated = {lost - plastic:.4f} J ({(lost - plastic) / e0 * 100:.3f} %); "
-          f"wear of the {worn.size} worn elements {worn.min() * 1e6:.3f}-{worn.max() * 1e6:.3f} um; balance {bal:.2e}")
+    print(
+        f"{method}: contact until t = {h['time'][last] * 1e3:.3f} ms of {h['time'][-1] * 1e3:.1f}; "
+        f"energy {e0:.4f} -> {e1:.4f} J, lost {lost:.4f} J; plastic dissipation {plastic:.4f} J, "
+        f"elastic left {elastic:.3g} J; lost - dissipated = {lost - plastic:.4f} J ({(lost - plastic) / e0 * 100:.3f} %); "
+        f"wear of the {worn.size} worn elements {worn.min() * 1e6:.3f}-{worn.max() * 1e6:.3f} um; balance {bal:.2e}"
+    )
     if not last < len(f) - 10:
         failures.append(f"{method}: the bar is still on the wall at the end")
     if not plastic > 0.1 * e0:
         failures.append(f"{method}: the coating dissipated only {plastic:.4g} J of {e0:.4g}")
     if not abs(lost - plastic - elastic) <= 1e-2 * e0:
-        failures.append(f"{method}: energy lost {lost:.5g} J against the coating's {plastic + elastic:.5g} J, more than "
-                        f"1 % of {e0:.4g} J apart")
+        failures.append(
+            f"{method}: energy lost {lost:.5g} J against the coating's {plastic + elastic:.5g} J, more than "
+            f"1 % of {e0:.4g} J apart"
+        )
     if method == "Lagrange":  # the difference is the step's: first order in h (the contact work's trapezoid)
-        half = variant(deck, os.path.join(a.workdir, name + "-half.xml"),
-                       {"Time->Time step": ("5e-8", "double"), "Output->File": (name + "-half.h5", "string")})
+        half = variant(
+            deck,
+            os.path.join(a.workdir, name + "-half.xml"),
+            {"Time->Time step": ("5e-8", "double"), "Output->File": (name + "-half.h5", "string")},
+        )
         run([a.run, half], a.workdir)
         hh = history(os.path.join(a.workdir, name + "-half.h5"))
         diff2 = hh["energy/total"][0] - hh["energy/total"][-1] - hh["energy/plastic_dissipation"][-1]
-        print(f"  at h/2: lost - dissipated = {diff2:.4f} J ({diff2 / e0 * 100:.3f} %), "
-              f"{(lost - plastic) / diff2:.2f} times less than at h")
+        print(
+            f"  at h/2: lost - dissipated = {diff2:.4f} J ({diff2 / e0 * 100:.3f} %), "
+            f"{(lost - plastic) / diff2:.2f} times less than at h"
+        )
         if not (lost - plastic) / diff2 >= 1.8:
-            failures.append(f"{method}: lost - dissipated {lost - plastic:.4g} J at h, {diff2:.4g} J at h/2: not first "
-                            "order in h")
+            failures.append(
+                f"{method}: lost - dissipated {lost - plastic:.4g} J at h, {diff2:.4g} J at h/2: not first "
+                "order in h"
+            )
     if not bal <= 1e-8:
         failures.append(f"{method}: energy balance error {bal:.3g} > 1e-8")
     if not (worn.size == 4 and worn.max() - worn.min() <= 1e-9 * worn.max()):
@@ -88,33 +102,65 @@ for method in ("Lagrange", "Penalty"):
 # penalty, sigma_Y = 1e300, E = 1e9: the coating is a spring A E / t = 1e-4 x 1e9 / 2e-3 = 5e7 N/m per
 # node at its front (x = 0.202; it stops the bar within 0.6 mm of its 2), the penalty law of that
 # stiffness on a bare wall there
-elastic = variant(a.bar_deck, os.path.join(a.workdir, "bar-elastic.xml"), dict(coat, **{
-    "Surfaces->Wall->Coating->Yield stress": ("1e300", "double"),
-    "Surfaces->Wall->Coating->Young's modulus": ("1e9", "double"), "Contact->Method": ("Penalty", "string"),
-    "Contact->Penalty stiffness": ("1e7", "double"), "Output->File": ("bar-elastic.h5", "string")}))
-spring = variant(a.bar_deck, os.path.join(a.workdir, "bar-spring.xml"), {
-    k: v for k, v in coat.items() if not k.startswith("Surfaces")} | {
-    "Contact->Method": ("Penalty", "string"), "Contact->Penalty stiffness": ("5e7", "double"),
-    "Output->File": ("bar-spring.h5", "string")})
+elastic = variant(
+    a.bar_deck,
+    os.path.join(a.workdir, "bar-elastic.xml"),
+    dict(
+        coat,
+        **{
+            "Surfaces->Wall->Coating->Yield stress": ("1e300", "double"),
+            "Surfaces->Wall->Coating->Young's modulus": ("1e9", "double"),
+            "Contact->Method": ("Penalty", "string"),
+            "Contact->Penalty stiffness": ("1e7", "double"),
+            "Output->File": ("bar-elastic.h5", "string"),
+        },
+    ),
+)
+spring = variant(
+    a.bar_deck,
+    os.path.join(a.workdir, "bar-spring.xml"),
+    {k: v for k, v in coat.items() if not k.startswith("Surfaces")}
+    | {
+        "Contact->Method": ("Penalty", "string"),
+        "Contact->Penalty stiffness": ("5e7", "double"),
+        "Output->File": ("bar-spring.h5", "string"),
+    },
+)
 for d in (elastic, spring):
     run([a.run, d], a.workdir)
 he, hs = history(os.path.join(a.workdir, "bar-elastic.h5")), history(os.path.join(a.workdir, "bar-spring.h5"))
-worst = max(np.abs(he[k] - hs[k]).max() / max(np.abs(hs[k]).max(), 1e-300)
-            for k in ("bodies/Bar/contact/force", "bodies/Bar/momentum", "energy/kinetic", "energy/contact_work"))
-print(f"infinite yield against a penalty spring of the element's stiffness: largest difference {worst:.2e} of scale; "
-      f"wear {he['coating/Wall/wear'].max():.3g} m, peak force {hs['bodies/Bar/contact/total_force'].max():.4g} N")
+worst = max(
+    np.abs(he[k] - hs[k]).max() / max(np.abs(hs[k]).max(), 1e-300)
+    for k in ("bodies/Bar/contact/force", "bodies/Bar/momentum", "energy/kinetic", "energy/contact_work")
+)
+print(
+    f"infinite yield against a penalty spring of the element's stiffness: largest difference {worst:.2e} of scale; "
+    f"wear {he['coating/Wall/wear'].max():.3g} m, peak force {hs['bodies/Bar/contact/total_force'].max():.4g} N"
+)
 if not (worst <= 1e-8 and he["coating/Wall/wear"].max() == 0.0 and hs["bodies/Bar/contact/total_force"].max() > 0):
     failures.append(f"infinite yield: {worst:.3g} from the elastic (penalty 5e7 N/m) run, or wear, or no contact")
 
 # ---- 2. zero thickness = the rigid casing ------------------------------------------------------
-one = {"Time->End revolutions": ("1", "double"), "Output->Every": ("20", "int"),
-       "Bodies->Blade->Reduction->Cache file": ("blade.rom.h5", "string")}
-rigid = variant(a.rigid_deck, os.path.join(a.workdir, "rigid.xml"),
-                dict(one, **{"Output->File": ("rigid.h5", "string")}))
-thin = variant(a.deck, os.path.join(a.workdir, "thin.xml"),
-               dict(one, **{"Output->File": ("thin.h5", "string"),
-                            "Surfaces->Casing->Radius": ("0.3", "double"),
-                            "Surfaces->Casing->Coating->Thickness": ("0", "double")}))
+one = {
+    "Time->End revolutions": ("1", "double"),
+    "Output->Every": ("20", "int"),
+    "Bodies->Blade->Reduction->Cache file": ("blade.rom.h5", "string"),
+}
+rigid = variant(
+    a.rigid_deck, os.path.join(a.workdir, "rigid.xml"), dict(one, **{"Output->File": ("rigid.h5", "string")})
+)
+thin = variant(
+    a.deck,
+    os.path.join(a.workdir, "thin.xml"),
+    dict(
+        one,
+        **{
+            "Output->File": ("thin.h5", "string"),
+            "Surfaces->Casing->Radius": ("0.3", "double"),
+            "Surfaces->Casing->Coating->Thickness": ("0", "double"),
+        },
+    ),
+)
 for d in (rigid, thin):
     run([a.run, d], a.workdir)
 hr, ht = history(os.path.join(a.workdir, "rigid.h5")), history(os.path.join(a.workdir, "thin.h5"))
@@ -131,29 +177,38 @@ for key, x in hr.items():
     compared += 1
     if not d <= 1e-12 * scale:
         failures.append(f"zero thickness: {key} differs from the rigid casing run by {d:.3g} (scale {scale:.3g})")
-print(f"zero thickness against the rigid casing: {compared} histories compared, "
-      f"peak contact force {hr['bodies/Blade/contact/total_force'].max():.4g} N")
+print(
+    f"zero thickness against the rigid casing: {compared} histories compared, "
+    f"peak contact force {hr['bodies/Blade/contact/total_force'].max():.4g} N"
+)
 if compared < 10:
     failures.append(f"zero thickness: only {compared} histories compared")
 
 # ---- 3. the wear follows the casing's lobes ----------------------------------------------------
-two = variant(a.deck, os.path.join(a.workdir, "coated.xml"),
-              dict(one, **{"Time->End revolutions": ("2", "double"), "Output->File": ("coated.h5", "string")}))
+two = variant(
+    a.deck,
+    os.path.join(a.workdir, "coated.xml"),
+    dict(one, **{"Time->End revolutions": ("2", "double"), "Output->File": ("coated.h5", "string")}),
+)
 proc = run([a.run, two], a.workdir)
 h = history(os.path.join(a.workdir, "coated.h5"))
 angle, wear = h["coating/Casing/angle"], h["coating/Casing/wear"][-1]
 for row, order in ((0, 2), (wear.shape[1] - 1, 6)):
-    lobes = wear_lobes(angle, wear[:, row:row + 1])
+    lobes = wear_lobes(angle, wear[:, row : row + 1])
     peaks = np.degrees(lobes.harmonic_angles)
     expected = np.arange(order) * 360.0 / order
     miss = max((min(abs((x - e + 180) % 360 - 180) for x in peaks) for e in expected), default=360.0)
-    print(f"row {row} (axial {h['coating/Casing/axial'][row] * 1e3:.0f} mm): {lobes.lobe_count} lobes at "
-          f"{', '.join(f'{x:.1f}' for x in np.degrees(lobes.lobe_angles))} deg, dominant harmonic {lobes.dominant_order} "
-          f"peaking at {', '.join(f'{x:.1f}' for x in peaks)} deg, max wear {lobes.max_wear * 1e6:.2f} um; farthest "
-          f"from the clearance law's {order} lobes: {miss:.1f} deg")
+    print(
+        f"row {row} (axial {h['coating/Casing/axial'][row] * 1e3:.0f} mm): {lobes.lobe_count} lobes at "
+        f"{', '.join(f'{x:.1f}' for x in np.degrees(lobes.lobe_angles))} deg, dominant harmonic {lobes.dominant_order} "
+        f"peaking at {', '.join(f'{x:.1f}' for x in peaks)} deg, max wear {lobes.max_wear * 1e6:.2f} um; farthest "
+        f"from the clearance law's {order} lobes: {miss:.1f} deg"
+    )
     if lobes.dominant_order != order or miss > 8.0:
-        failures.append(f"row {row}: dominant wear harmonic {lobes.dominant_order} peaking at {peaks} deg; expected "
-                        f"{order} at {expected} deg")
+        failures.append(
+            f"row {row}: dominant wear harmonic {lobes.dominant_order} peaking at {peaks} deg; expected "
+            f"{order} at {expected} deg"
+        )
 if "wear lobe(s)" not in proc.stdout:
     failures.append("blade-coating: the summary has no lobes line")
 sys.exit(verdict(failures))

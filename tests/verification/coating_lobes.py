@@ -32,11 +32,34 @@ from epaphe_testing import parse_args, verdict  # noqa: E402
 
 a = parse_args("--rotor", "--mpiexec")
 crossing = {n: 2 * math.pi * 691.1063 / n for n in (4, 4.5, 6)}
-cases = [(crossing[4], 4, True), (crossing[6], 6, True), (1.1 * crossing[4], 4, False),
-         (1.1 * crossing[6], 6, False), (crossing[4.5], 4, False)]
+cases = [
+    (crossing[4], 4, True),
+    (crossing[6], 6, True),
+    (1.1 * crossing[4], 4, False),
+    (1.1 * crossing[6], 6, False),
+    (crossing[4.5], 4, False),
+]
 speeds = [round(w, 3) for w, _, _ in cases]
-cmd = [sys.executable, a.rotor, "map", a.deck, "--speeds", ",".join(f"{w:g}" for w in speeds), "--revs", "8",
-       "--skip", "3", "--ranks", "2", "--mpiexec", a.mpiexec, "--run", a.run, "--out", a.workdir]
+cmd = [
+    sys.executable,
+    a.rotor,
+    "map",
+    a.deck,
+    "--speeds",
+    ",".join(f"{w:g}" for w in speeds),
+    "--revs",
+    "8",
+    "--skip",
+    "3",
+    "--ranks",
+    "2",
+    "--mpiexec",
+    a.mpiexec,
+    "--run",
+    a.run,
+    "--out",
+    a.workdir,
+]
 p = subprocess.run(cmd, capture_output=True, text=True)
 print(p.stdout)
 if p.returncode != 0:
@@ -48,13 +71,19 @@ with h5py.File(os.path.join(a.workdir, "map.h5"), "r") as f:
     tip = f["tip-le/dominant_engine_order"][()]
 for i, (w, n, at) in enumerate(cases):
     what = f"{w:.1f} rad/s ({w / crossing[n]:.2f} x Omega_{n})"
-    print(f"{what}: {lobes[i]} lobes, wear harmonic {order[i]} at {contrast[i]:.2f} of the mean wear, "
-          f"tip engine order {tip[i]:.2f}")
+    print(
+        f"{what}: {lobes[i]} lobes, wear harmonic {order[i]} at {contrast[i]:.2f} of the mean wear, "
+        f"tip engine order {tip[i]:.2f}"
+    )
     if at:
         if not (lobes[i] == n and order[i] == n and contrast[i] >= 0.5 and abs(tip[i] - n) <= 0.1):
-            failures.append(f"{what}: {lobes[i]} lobes, harmonic {order[i]} at {contrast[i]:.2f}, tip EO {tip[i]:.2f}; "
-                            f"expected {n} lobes, harmonic {n} at 0.5 or more, tip EO {n}")
+            failures.append(
+                f"{what}: {lobes[i]} lobes, harmonic {order[i]} at {contrast[i]:.2f}, tip EO {tip[i]:.2f}; "
+                f"expected {n} lobes, harmonic {n} at 0.5 or more, tip EO {n}"
+            )
     elif (lobes[i] == n and order[i] == n) or contrast[i] > 0.3:
-        failures.append(f"{what}: {lobes[i]} lobes, harmonic {order[i]} at {contrast[i]:.2f} of the mean: an "
-                        f"engine-order pattern off the crossing")
+        failures.append(
+            f"{what}: {lobes[i]} lobes, harmonic {order[i]} at {contrast[i]:.2f} of the mean: an "
+            f"engine-order pattern off the crossing"
+        )
 sys.exit(verdict(failures))

@@ -30,24 +30,42 @@ off = []
 for i, eps in enumerate((1e-15, 1e-14, 1e-12)):
     name = f"bar-perturbed-{i}"
     v0 = 10.0 * (1.0 + eps)
-    deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"),
-                   dict(coat, **{"Bodies->Bar->Initial velocity": (f"{{{v0!r}, 0, 0}}", "Array(double)"),
-                                 "Output->File": (name + ".h5", "string")}))
+    deck = variant(
+        a.deck,
+        os.path.join(a.workdir, name + ".xml"),
+        dict(
+            coat,
+            **{
+                "Bodies->Bar->Initial velocity": (f"{{{v0!r}, 0, 0}}", "Array(double)"),
+                "Output->File": (name + ".h5", "string"),
+            },
+        ),
+    )
     run([a.run, deck], a.workdir)
     h = history(os.path.join(a.workdir, name + ".h5"))
     e0, e1 = h["energy/total"][0], h["energy/total"][-1]
     plastic, elastic = h["energy/plastic_dissipation"][-1], h["energy/coating_elastic"][-1]
     work = h["energy/contact_work"][-1]
     miss = abs(e0 - e1 - plastic - elastic) / e0
-    print(f"v0 (1 + {eps:g}): energy {e0:.4f} -> {e1:.4f} J, contact work {work:.3f} J, plastic dissipation "
-          f"{plastic:.3f} J: lost - dissipated = {miss * 100:.2f} % of {e0:.4g} J")
+    print(
+        f"v0 (1 + {eps:g}): energy {e0:.4f} -> {e1:.4f} J, contact work {work:.3f} J, plastic dissipation "
+        f"{plastic:.3f} J: lost - dissipated = {miss * 100:.2f} % of {e0:.4g} J"
+    )
     off.append(miss)
 
 if expect_finding:
-    failures = [] if max(off) > 0.05 else [
-        f"every perturbed run now balances (largest miss {max(off) * 100:.2f} %): the finding is gone; "
-        "drop --expect-finding from verification.coating-perturbed"]
+    failures = (
+        []
+        if max(off) > 0.05
+        else [
+            f"every perturbed run now balances (largest miss {max(off) * 100:.2f} %): the finding is gone; "
+            "drop --expect-finding from verification.coating-perturbed"
+        ]
+    )
 else:
-    failures = [f"run {i}: lost - dissipated {m * 100:.2f} % of the initial energy (1 % allowed)"
-                for i, m in enumerate(off) if m > 0.01]
+    failures = [
+        f"run {i}: lost - dissipated {m * 100:.2f} % of the initial energy (1 % allowed)"
+        for i, m in enumerate(off)
+        if m > 0.01
+    ]
 sys.exit(verdict(failures))

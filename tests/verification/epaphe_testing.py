@@ -14,26 +14,32 @@ from epaphe.results import history  # noqa: E402,F401
 # The tests check with `assert` too: under python -O (or PYTHONOPTIMIZE) those checks vanish and a
 # test would pass whatever it measures. Refuse to run rather than lie.
 if sys.flags.optimize:
-    raise SystemExit("epaphe tests: Python runs with -O / PYTHONOPTIMIZE, which strips `assert`: "
-                     "unset PYTHONOPTIMIZE and run again")
+    raise SystemExit(
+        "epaphe tests: Python runs with -O / PYTHONOPTIMIZE, which strips `assert`: "
+        "unset PYTHONOPTIMIZE and run again"
+    )
 
 
 # verification.coating's bar: bar-on-wall.xml at 10 m/s (32 J) into its wall coated with 2 mm of an
 # elastic-plastic coating (yield 100 MPa, E = 10 GPa, H = 1 GPa, 10 x 10 elements of 1 cm^2)
-COATED_BAR = {"Surfaces->Wall->Origin": ("{0.204, -0.04, -0.04}", "Array(double)"),  # the front at 0.202
-              "Surfaces->Wall->Coating->Thickness": ("2e-3", "double"),
-              "Surfaces->Wall->Coating->Young's modulus": ("1e10", "double"),
-              "Surfaces->Wall->Coating->Yield stress": ("1e8", "double"),
-              "Surfaces->Wall->Coating->Hardening modulus": ("1e9", "double"),
-              "Surfaces->Wall->Coating->Elements": ("{10, 10}", "Array(int)"),
-              "Bodies->Bar->Initial velocity": ("{10, 0, 0}", "Array(double)"),
-              "Time->End time": ("1e-3", "double"), "Output->Every": ("10", "int")}
+COATED_BAR = {
+    "Surfaces->Wall->Origin": ("{0.204, -0.04, -0.04}", "Array(double)"),  # the front at 0.202
+    "Surfaces->Wall->Coating->Thickness": ("2e-3", "double"),
+    "Surfaces->Wall->Coating->Young's modulus": ("1e10", "double"),
+    "Surfaces->Wall->Coating->Yield stress": ("1e8", "double"),
+    "Surfaces->Wall->Coating->Hardening modulus": ("1e9", "double"),
+    "Surfaces->Wall->Coating->Elements": ("{10, 10}", "Array(int)"),
+    "Bodies->Bar->Initial velocity": ("{10, 0, 0}", "Array(double)"),
+    "Time->End time": ("1e-3", "double"),
+    "Output->Every": ("10", "int"),
+}
 
 
 def parse_args(*extra):
     """The common command line of the test scripts: --run EPAPHE_RUN --deck DECK --workdir DIR
     (plus `extra` option names); the work directory is created."""
     import argparse
+
     ap = argparse.ArgumentParser()
     for name in ("--run", "--deck", "--workdir") + extra:
         ap.add_argument(name, required=True)
@@ -60,5 +66,3 @@ def verdict(failures):
     """Prints PASSED, or FAILED with one line per failure; returns the exit code (0 or 1)."""
     print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
     return 1 if failures else 0
-
-

@@ -75,9 +75,15 @@ DECK = """<ParameterList name="Epaphe">
 
 
 def write_deck(workdir, name, method, clamped="", g=G, v0=V0, retained=True):
-    text = DECK.format(v0=", ".join(map(repr, v0)), g=", ".join(map(repr, g)), h=H, end=H * STEPS, name=name,
-                       method=method, clamped=f'<Parameter name="Clamped node set" type="string" value="{clamped}"/>'
-                       if clamped else "")
+    text = DECK.format(
+        v0=", ".join(map(repr, v0)),
+        g=", ".join(map(repr, g)),
+        h=H,
+        end=H * STEPS,
+        name=name,
+        method=method,
+        clamped=f'<Parameter name="Clamped node set" type="string" value="{clamped}"/>' if clamped else "",
+    )
     if not retained:
         text = text.replace('<Parameter name="Retained node set" type="string" value="x+"/>', "")
     path = os.path.join(workdir, name + ".xml")
@@ -88,6 +94,7 @@ def write_deck(workdir, name, method, clamped="", g=G, v0=V0, retained=True):
 
 def main():
     import argparse
+
     ap = argparse.ArgumentParser()
     ap.add_argument("--run", required=True)
     ap.add_argument("--workdir", required=True)
@@ -104,30 +111,39 @@ def main():
         v_exact = V0[None, :] + G[None, :] * t[:, None]
         worst_u = worst_v = 0.0
         for s in ("x+", "x-"):
-            u = hist[f"bodies/Bar/nodesets/{s}/displacement"]       # records x nodes x 3
+            u = hist[f"bodies/Bar/nodesets/{s}/displacement"]  # records x nodes x 3
             v = hist[f"bodies/Bar/nodesets/{s}/velocity"]
             worst_u = max(worst_u, np.abs(u - u_exact[:, None, :]).max() / np.abs(u_exact).max())
             worst_v = max(worst_v, np.abs(v - v_exact[:, None, :]).max() / np.abs(v_exact).max())
         m = hist["bodies/Bar/attrs"]["rigid_mass"]
         p = hist["bodies/Bar/momentum"]
         worst_p = np.abs(p - m * v_exact).max() / (m * np.abs(v_exact).max())
+
         # the run's external work sums f . (q_{n+1} - q_{n-1}) / 2, which telescopes to the weight's work
         # along the mid-step displacement (u_n + u_{n+1})/2 from (u_{-1} + u_0)/2
         def u_at(s):
             return V0[None, :] * s[:, None] + 0.5 * G[None, :] * s[:, None] ** 2
+
         mid = 0.5 * (u_at(t) + u_at(t + H)) - 0.5 * u_at(np.array([-H]))
         work_exact = m * (mid @ G)
         ext = hist["energy/external_work"]
         worst_w = np.abs(ext - work_exact).max() / np.abs(work_exact).max()
-        kin_exact = 0.5 * m * (v_exact ** 2).sum(axis=1)
+        kin_exact = 0.5 * m * (v_exact**2).sum(axis=1)
         worst_k = np.abs(hist["energy/kinetic"] - kin_exact).max() / kin_exact.max()
         balance = np.abs(hist["energy/balance_error"]).max()
-        print(f"{label:22s} ({method}): displacement {worst_u:.1e}, velocity {worst_v:.1e}, momentum {worst_p:.1e}, "
-              f"external work {worst_w:.1e}, kinetic {worst_k:.1e} (relative to the largest value), "
-              f"balance error {balance:.1e}; z moved {u_exact[-1, 2]:+.6e} m, weight's work {work_exact[-1]:.6e} J")
-        for what, err, tol in (("displacement", worst_u, ROUNDOFF), ("velocity", worst_v, ROUNDOFF),
-                               ("momentum", worst_p, ROUNDOFF), ("external work", worst_w, ROUNDOFF),
-                               ("kinetic energy", worst_k, ROUNDOFF), ("energy balance", balance, BALANCE)):
+        print(
+            f"{label:22s} ({method}): displacement {worst_u:.1e}, velocity {worst_v:.1e}, momentum {worst_p:.1e}, "
+            f"external work {worst_w:.1e}, kinetic {worst_k:.1e} (relative to the largest value), "
+            f"balance error {balance:.1e}; z moved {u_exact[-1, 2]:+.6e} m, weight's work {work_exact[-1]:.6e} J"
+        )
+        for what, err, tol in (
+            ("displacement", worst_u, ROUNDOFF),
+            ("velocity", worst_v, ROUNDOFF),
+            ("momentum", worst_p, ROUNDOFF),
+            ("external work", worst_w, ROUNDOFF),
+            ("kinetic energy", worst_k, ROUNDOFF),
+            ("energy balance", balance, BALANCE),
+        ):
             if not err <= tol:
                 failures.append(f"{label}: {what} differs from the free fall by {err:.2e} (relative) > {tol:g}")
         return hist
@@ -140,10 +156,19 @@ def main():
 
     # Refused where M t_d is not the weight
     for label, method, clamped, expect in (
-            ("cb-clamped", "Craig-Bampton", "x-", "a rigid translation along x is not a motion of its Craig-Bampton "
-                                                  "model"),
-            ("massless-clamped", "Massless boundary", "x-", "a rigid translation along x is not a motion of its "
-                                                            "Massless boundary model")):
+        (
+            "cb-clamped",
+            "Craig-Bampton",
+            "x-",
+            "a rigid translation along x is not a motion of its Craig-Bampton " "model",
+        ),
+        (
+            "massless-clamped",
+            "Massless boundary",
+            "x-",
+            "a rigid translation along x is not a motion of its " "Massless boundary model",
+        ),
+    ):
         deck = write_deck(a.workdir, label, method, clamped=clamped, v0=[0, 0, 0])
         proc = run([a.run, deck, "--threads", "1"], a.workdir, expect_ok=False)
         msg = proc.stderr.strip()
@@ -158,25 +183,39 @@ def main():
     hist = history(os.path.join(a.workdir, "lumped-clamped.h5"))
     fixed = np.abs(hist["bodies/Bar/nodesets/x-/displacement"]).max()
     sag = hist["bodies/Bar/nodesets/x+/displacement"][-1, :, 2].mean()
-    print(f"clamped, lumped mass: clamped face moved {fixed:.1e} m, free end z {sag:+.3e} m after {STEPS} steps, "
-          f"balance error {np.abs(hist['energy/balance_error']).max():.1e}")
+    print(
+        f"clamped, lumped mass: clamped face moved {fixed:.1e} m, free end z {sag:+.3e} m after {STEPS} steps, "
+        f"balance error {np.abs(hist['energy/balance_error']).max():.1e}"
+    )
     if not (fixed == 0.0 and sag < 0 and np.abs(hist["energy/balance_error"]).max() <= BALANCE):
-        failures.append(f"clamped lumped body under gravity: clamped face moved {fixed}, free end z {sag} (expected "
-                        "< 0), or the balance does not close")
+        failures.append(
+            f"clamped lumped body under gravity: clamped face moved {fixed}, free end z {sag} (expected "
+            "< 0), or the balance does not close"
+        )
 
     # Restart bit for bit: stop after 150 steps, restart, compare with the uninterrupted run.
     deck = write_deck(a.workdir, "restart", "Craig-Bampton")
     ref = os.path.join(a.workdir, "restart-ref.h5")
     run([a.run, deck, "--threads", "1", "--output", ref], a.workdir)
     cut = os.path.join(a.workdir, "restart-cut.h5")
-    proc = run([a.run, deck, "--threads", "1", "--output", cut, "--stop-after-steps", "150"], a.workdir,
-               expect_ok=False)
+    proc = run(
+        [a.run, deck, "--threads", "1", "--output", cut, "--stop-after-steps", "150"], a.workdir, expect_ok=False
+    )
     run([a.run, deck, "--threads", "1", "--output", cut, "--restart", cut], a.workdir)
     h_ref, h_cut = history(ref), history(cut)
-    differing = [k for k in h_ref if k not in ("attrs",) and not k.endswith("/attrs") and not k.startswith("checkpoint")
-                 and isinstance(h_ref[k], np.ndarray) and not np.array_equal(h_ref[k], h_cut.get(k))]
-    print(f"restart after 150 of {STEPS} steps: exit of the stopped run {proc.returncode}; series differing from the "
-          f"uninterrupted run: {differing or 'none'}")
+    differing = [
+        k
+        for k in h_ref
+        if k not in ("attrs",)
+        and not k.endswith("/attrs")
+        and not k.startswith("checkpoint")
+        and isinstance(h_ref[k], np.ndarray)
+        and not np.array_equal(h_ref[k], h_cut.get(k))
+    ]
+    print(
+        f"restart after 150 of {STEPS} steps: exit of the stopped run {proc.returncode}; series differing from the "
+        f"uninterrupted run: {differing or 'none'}"
+    )
     if differing:
         failures.append(f"restart with gravity is not bit for bit: {differing}")
     return verdict(failures)

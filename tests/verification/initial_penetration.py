@@ -27,24 +27,36 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from epaphe_testing import parse_args, run, variant  # noqa: E402
 
-D = 5e-4            # penetration (m): the wall at x = 0.2 - D
+D = 5e-4  # penetration (m): the wall at x = 0.2 - D
 RHO, E, S, L = 8000.0, 2e11, 4e-4, 0.2
 Z = RHO * np.sqrt(E / RHO) * S
 
 
 def main():
     a = parse_args()
-    base = {"Surfaces->Wall->Origin": f"{{{0.2 - D}, -0.04, -0.04}}",
-            "Bodies->Bar->Initial velocity": "{0, 0, 0}", "Time->End time": ("3e-4", "double")}
+    base = {
+        "Surfaces->Wall->Origin": f"{{{0.2 - D}, -0.04, -0.04}}",
+        "Bodies->Bar->Initial velocity": "{0, 0, 0}",
+        "Time->End time": ("3e-4", "double"),
+    }
     refused = run([a.run, variant(a.deck, os.path.join(a.workdir, "refused.xml"), base)], a.workdir, expect_ok=False)
-    assert refused.returncode != 0 and "start interpenetrating" in refused.stderr and "0.0005 m inside" in refused.stderr, \
-        refused.stderr
+    assert (
+        refused.returncode != 0 and "start interpenetrating" in refused.stderr and "0.0005 m inside" in refused.stderr
+    ), refused.stderr
     print("refused without 'Resolve gently':", refused.stderr.strip()[:160], "...")
     given = {}
     for T in (1e-5, 1e-4):
-        deck = variant(a.deck, os.path.join(a.workdir, f"ramp-{T:g}.xml"),
-                       dict(base, **{"Contact->Initial penetration": "Resolve gently",
-                                     "Contact->Penetration ramp time": (f"{T:g}", "double")}))
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, f"ramp-{T:g}.xml"),
+            dict(
+                base,
+                **{
+                    "Contact->Initial penetration": "Resolve gently",
+                    "Contact->Penetration ramp time": (f"{T:g}", "double"),
+                },
+            ),
+        )
         out = os.path.join(a.workdir, f"ramp-{T:g}.h5")
         p = run([a.run, deck, "--threads", "1", "--output", out], a.workdir)
         assert "initial penetration: 4 node(s), deepest 5.000e-04 m, resolved gently" in p.stdout, p.stdout[-600:]
@@ -53,14 +65,20 @@ def main():
             balance = np.abs(f["/energy/balance_error"][:]).max()
             given[T] = f["/energy/contact_work"][-1]
             gap_end = f["/bodies/Bar/contact/gap"][-1]
-        print(f"T = {T:g} s: energy given {given[T]:.4g} J (1-D law Z d^2/T = {Z * D * D / T:.4g} J), "
-              f"balance {balance:.2e}, end gaps {np.min(gap_end):.3e} m")
+        print(
+            f"T = {T:g} s: energy given {given[T]:.4g} J (1-D law Z d^2/T = {Z * D * D / T:.4g} J), "
+            f"balance {balance:.2e}, end gaps {np.min(gap_end):.3e} m"
+        )
         assert balance < 1e-9, balance
         assert np.min(gap_end) >= 0.0, gap_end
-    cube = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "badinput", "cases",
-                        "bodies-start-interpenetrating.xml")
-    deck = variant(cube, os.path.join(a.workdir, "one-step.xml"),
-                   {"Contact->Initial penetration": "Resolve gently", "Contact->Penetration ramp time": ("1e-7", "double")})
+    cube = os.path.join(
+        os.path.dirname(os.path.abspath(__file__)), "..", "badinput", "cases", "bodies-start-interpenetrating.xml"
+    )
+    deck = variant(
+        cube,
+        os.path.join(a.workdir, "one-step.xml"),
+        {"Contact->Initial penetration": "Resolve gently", "Contact->Penetration ramp time": ("1e-7", "double")},
+    )
     out = os.path.join(a.workdir, "one-step.h5")
     p = run([a.run, deck, "--threads", "1", "--output", out], a.workdir, expect_ok=False)
     print("resolved in one step:", p.stderr.strip()[:200], "...")

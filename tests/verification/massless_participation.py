@@ -26,23 +26,36 @@ from v1_bar_on_wall import measure  # noqa: E402
 
 a = parse_args()
 runs = {}
-for name, modes, candidates, solver in (("lowest100", 100, 0, "Anasazi"), ("chosen20", 20, 100, "Anasazi"),
-                                       ("lowest20", 20, 0, "Anasazi"), ("dense100", 100, 0, "LAPACK dense")):
-    deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
-        "Bodies->Bar->Reduction->Method": ("Massless boundary", "string"),
-        "Bodies->Bar->Reduction->Fixed-interface modes": (str(modes), "int"),
-        "Bodies->Bar->Reduction->Candidate modes": (str(candidates), "int"),
-        "Bodies->Bar->Reduction->Load direction": ("{1, 0, 0}", "Array(double)"),
-        "Bodies->Bar->Reduction->Eigensolver": (solver, "string"),
-        "Bodies->Bar->Reduction->Cache": ("false", "bool"),
-        "Time->Time step": ("2e-7", "double"), "Output->File": (name + ".h5", "string")})
+for name, modes, candidates, solver in (
+    ("lowest100", 100, 0, "Anasazi"),
+    ("chosen20", 20, 100, "Anasazi"),
+    ("lowest20", 20, 0, "Anasazi"),
+    ("dense100", 100, 0, "LAPACK dense"),
+):
+    deck = variant(
+        a.deck,
+        os.path.join(a.workdir, name + ".xml"),
+        {
+            "Bodies->Bar->Reduction->Method": ("Massless boundary", "string"),
+            "Bodies->Bar->Reduction->Fixed-interface modes": (str(modes), "int"),
+            "Bodies->Bar->Reduction->Candidate modes": (str(candidates), "int"),
+            "Bodies->Bar->Reduction->Load direction": ("{1, 0, 0}", "Array(double)"),
+            "Bodies->Bar->Reduction->Eigensolver": (solver, "string"),
+            "Bodies->Bar->Reduction->Cache": ("false", "bool"),
+            "Time->Time step": ("2e-7", "double"),
+            "Output->File": (name + ".h5", "string"),
+        },
+    )
     p = run([a.run, deck, "--threads", "1"], a.workdir)
     path = os.path.join(a.workdir, name + ".h5")
     h = history(path)
     runs[name] = (h, measure(path)["errs"])
     line = next((x for x in p.stdout.splitlines() if x.startswith("[Bar] Massless boundary")), "")
-    print(f"{name}: {h['bodies/Bar/attrs']['reduced_dofs']} reduced DOFs; errors "
-          + ", ".join(f"{k} {v:.3%}" for k, v in runs[name][1].items()) + f"\n  {line}")
+    print(
+        f"{name}: {h['bodies/Bar/attrs']['reduced_dofs']} reduced DOFs; errors "
+        + ", ".join(f"{k} {v:.3%}" for k, v in runs[name][1].items())
+        + f"\n  {line}"
+    )
 
 failures = []
 (h100, e100), (h20, e20), (hlow, elow) = runs["lowest100"], runs["chosen20"], runs["lowest20"]
@@ -63,6 +76,8 @@ for key in ("bodies/Bar/contact/total_force", "bodies/Bar/momentum"):
         failures.append(f"{key}: LAPACK dense differs from Anasazi by {d / scale:.3g} of its scale")
 for k in ("force", "rebound"):
     if not elow[k] >= 3 * e20[k]:
-        failures.append(f"{k}: the lowest 20 modes ({elow[k]:.3%}) are not 3 times further off than the chosen "
-                        f"20 ({e20[k]:.3%})")
+        failures.append(
+            f"{k}: the lowest 20 modes ({elow[k]:.3%}) are not 3 times further off than the chosen "
+            f"20 ({e20[k]:.3%})"
+        )
 sys.exit(verdict(failures))

@@ -23,8 +23,22 @@ RETAINED_DOFS = 48  # 16 tip nodes x 3
 
 def modes_table(exe, deck, workdir, tag, modes):
     path = os.path.join(workdir, f"{tag}.csv")
-    proc = subprocess.run([os.path.abspath(exe), os.path.abspath(deck), "--modes", ",".join(map(str, modes)), "--count", "6", "--csv", path],
-                          cwd=workdir, capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    proc = subprocess.run(
+        [
+            os.path.abspath(exe),
+            os.path.abspath(deck),
+            "--modes",
+            ",".join(map(str, modes)),
+            "--count",
+            "6",
+            "--csv",
+            path,
+        ],
+        cwd=workdir,
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, OMP_NUM_THREADS="1"),
+    )
     if proc.returncode != 0:
         raise SystemExit(f"epaphe-modes failed on {deck}: {proc.stderr.strip()}")
     with open(path) as f:
@@ -47,14 +61,18 @@ def main():
         if line.strip().startswith("reduced DOFs"):
             sizes = [int(x) for x in line.split()[2:]]
             if sizes != [RETAINED_DOFS + 5, RETAINED_DOFS + 10]:
-                failures.append(f"massless boundary reduced DOFs {sizes}, expected {[RETAINED_DOFS + 5, RETAINED_DOFS + 10]}")
+                failures.append(
+                    f"massless boundary reduced DOFs {sizes}, expected {[RETAINED_DOFS + 5, RETAINED_DOFS + 10]}"
+                )
     cb = variant(a.deck, os.path.join(a.workdir, "cb.xml"), {"Bodies->Blade->Reduction->Method": "Craig-Bampton"})
     _, cb_rows = modes_table(a.modes, cb, a.workdir, "cb", [5])
     cb_first = abs(float(cb_rows[0]["relative_error"]))
     print(f"Craig-Bampton 5 modes: first frequency off by {cb_first:.2e}")
     if not cb_first > 100 * max(worst, 1e-12):
-        failures.append(f"Craig-Bampton with 5 modes is as exact as the massless boundary ({cb_first:.2e}): the "
-                        "comparison does not tell the two reductions apart")
+        failures.append(
+            f"Craig-Bampton with 5 modes is as exact as the massless boundary ({cb_first:.2e}): the "
+            "comparison does not tell the two reductions apart"
+        )
     # 2. Guyan
     guyan = variant(a.deck, os.path.join(a.workdir, "guyan.xml"), {"Bodies->Blade->Reduction->Method": "Guyan"})
     out, rows = modes_table(a.modes, guyan, a.workdir, "guyan", [5, 10])
@@ -62,7 +80,9 @@ def main():
     for r in rows:
         by_modes.setdefault(r["modes"], []).append(float(r["reduced_hz"]))
     g5, g10 = by_modes.get("5", []), by_modes.get("10", [])
-    print(f"Guyan: f1 {g5[0] if g5 else float('nan'):.6g} Hz with '5' and {g10[0] if g10 else float('nan'):.6g} Hz with '10' modes")
+    print(
+        f"Guyan: f1 {g5[0] if g5 else float('nan'):.6g} Hz with '5' and {g10[0] if g10 else float('nan'):.6g} Hz with '10' modes"
+    )
     if not g5 or g5 != g10:
         failures.append(f"Guyan depends on the mode count: {g5} against {g10}")
     if any(float(r["relative_error"]) < -1e-10 for r in rows):

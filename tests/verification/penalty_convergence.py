@@ -23,15 +23,28 @@ a = ap.parse_args()
 failures = []
 for study in ("bar-penalty", "cube-penalty"):
     out = os.path.join(a.workdir, study)
-    cmd = [sys.executable, a.sweep, os.path.join(a.studies, study + ".xml"), "--out", out, "--run", a.run,
-           "--reference", "Contact->Method=Lagrange", "--no-plots"]
+    cmd = [
+        sys.executable,
+        a.sweep,
+        os.path.join(a.studies, study + ".xml"),
+        "--out",
+        out,
+        "--run",
+        a.run,
+        "--reference",
+        "Contact->Method=Lagrange",
+        "--no-plots",
+    ]
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         sys.stderr.write(p.stdout + p.stderr)
         sys.exit(f"{study}: epaphe-sweep failed")
     rows = list(csv.DictReader(open(os.path.join(out, study + ".csv"))))
-    pen = [(float(r["Contact->Penalty stiffness"]), float(r["displacement_rms_error"]))
-           for r in rows if r.get("Contact->Method") == "Penalty" and r["status"] == "complete"]
+    pen = [
+        (float(r["Contact->Penalty stiffness"]), float(r["displacement_rms_error"]))
+        for r in rows
+        if r.get("Contact->Method") == "Penalty" and r["status"] == "complete"
+    ]
     pen.sort()
     print(f"{study}: kp (N/m)   displacement RMS difference to Lagrange (relative)")
     for kp, e in pen:

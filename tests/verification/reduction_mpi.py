@@ -22,12 +22,16 @@ def main():
     freqs = {}
     for np_ in (1, 2):
         name = f"np{np_}"
-        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
-            "Output->File": name + ".h5",
-            "Time->End time": ("1e-6", "double"),
-            "Bodies->Bar->Reduction->Cache": ("false", "bool"),
-            "Bodies->Bar->Reduction->Fixed-interface modes": ("30", "int"),
-        })
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, name + ".xml"),
+            {
+                "Output->File": name + ".h5",
+                "Time->End time": ("1e-6", "double"),
+                "Bodies->Bar->Reduction->Cache": ("false", "bool"),
+                "Bodies->Bar->Reduction->Fixed-interface modes": ("30", "int"),
+            },
+        )
         proc = run([a.mpiexec, "-np", str(np_), a.run, deck, "--threads", "1"], a.workdir)
         print(f"--- {np_} rank(s)\n" + "\n".join(l for l in proc.stdout.splitlines() if "Craig-Bampton" in l))
         with h5py.File(os.path.join(a.workdir, name + ".h5"), "r") as f:
@@ -44,8 +48,10 @@ def main():
             worst = np.inf
         rel = np.max(np.abs(f1[~rigid] - f2[~rigid]) / f1[~rigid])
         worst = max(worst, rel)
-        print(f"{k:16s} {f1.size:3d} frequencies ({rigid.sum()} rigid-body), max relative difference of the "
-              f"elastic ones, 1 vs 2 ranks: {rel:.2e}")
+        print(
+            f"{k:16s} {f1.size:3d} frequencies ({rigid.sum()} rigid-body), max relative difference of the "
+            f"elastic ones, 1 vs 2 ranks: {rel:.2e}"
+        )
     print("PASSED" if worst <= TOL else f"FAILED: {worst:.2e} > {TOL:g}")
     return 0 if worst <= TOL else 1
 

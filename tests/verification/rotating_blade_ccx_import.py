@@ -41,10 +41,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from epaphe_testing import deck_value, variant, verdict  # noqa: E402
 import rotating_blade_ccx as rb  # noqa: E402
 
-SAMPLES = (0.0, 500.0, 1000.0)   # rad/s: the imported ccx jobs
-MIDDLE = 750.0                   # rad/s: between samples, against ccx's direct run there
-MODES = 6                        # frequencies compared
-CB_MODES = 20                    # fixed-interface modes of the reduction
+SAMPLES = (0.0, 500.0, 1000.0)  # rad/s: the imported ccx jobs
+MIDDLE = 750.0  # rad/s: between samples, against ccx's direct run there
+MODES = 6  # frequencies compared
+CB_MODES = 20  # fixed-interface modes of the reduction
 AT_SAMPLE = 1e-6
 SAME = 1e-5
 BETWEEN = 1e-3
@@ -56,35 +56,59 @@ def ccx_job(a, job, model, speed, store):
     """A ccx run: static centrifugal step (NLGEOM) printing U, then a perturbation step that stores the
     matrices (store) or computes the frequencies."""
     last = "*FREQUENCY, SOLVER=MATRIXSTORAGE\n" if store else f"*FREQUENCY\n{MODES + 4}\n"
-    text, d = rb.ccx(a, job, model + "*STEP, NLGEOM, INC=100\n*STATIC\n" + rb.centrif(speed, [0, 0, 1], [0, 0, 0])
-                     + "*NODE PRINT, NSET=NALL\nU\n*END STEP\n*STEP, PERTURBATION\n" + last + "*END STEP\n")
+    text, d = rb.ccx(
+        a,
+        job,
+        model
+        + "*STEP, NLGEOM, INC=100\n*STATIC\n"
+        + rb.centrif(speed, [0, 0, 1], [0, 0, 0])
+        + "*NODE PRINT, NSET=NALL\nU\n*END STEP\n*STEP, PERTURBATION\n"
+        + last
+        + "*END STEP\n",
+    )
     return text, d
 
 
 def imported_deck(a, name, speed, matrix_job, imported, check):
     text = open(a.deck).read()
-    text = re.sub(r'<ParameterList name="Mesh">.*?</ParameterList>',
-                  '<ParameterList name="Mesh"><Parameter name="Type" type="string" value="CalculiX"/>'
-                  '<Parameter name="Input file" type="string" value="ccx/model.inp"/>'
-                  f'<Parameter name="Matrix job" type="string" value="ccx/{matrix_job}"/></ParameterList>',
-                  text, count=1, flags=re.S)
+    text = re.sub(
+        r'<ParameterList name="Mesh">.*?</ParameterList>',
+        '<ParameterList name="Mesh"><Parameter name="Type" type="string" value="CalculiX"/>'
+        '<Parameter name="Input file" type="string" value="ccx/model.inp"/>'
+        f'<Parameter name="Matrix job" type="string" value="ccx/{matrix_job}"/></ParameterList>',
+        text,
+        count=1,
+        flags=re.S,
+    )
     text = re.sub(r'<ParameterList name="Material">.*?</ParameterList>', "", text, count=1, flags=re.S)
     text = re.sub(r'<Parameter name="Clamped node set"[^>]*/>', "", text, count=1)
     base = os.path.join(a.workdir, name + "-base.xml")
     open(base, "w").write(text)
-    over = {"Bodies->Blade->Reduction->Fixed-interface modes": (str(CB_MODES), "int"),
-            "Bodies->Blade->Reduction->Frequency check": (str(check), "int"),
-            "Bodies->Blade->Reduction->Cache": ("false", "bool"),
-            "Surfaces->Casing->Radius": (f"{a.tip_radius + 0.01:.17g}", "double"),
-            "Time->End revolutions": ("0", "double"), "Time->End time": ("1e-6", "double"),
-            "Run->Progress interval": ("0", "double"), "Output->File": (name + ".h5", "string")}
+    over = {
+        "Bodies->Blade->Reduction->Fixed-interface modes": (str(CB_MODES), "int"),
+        "Bodies->Blade->Reduction->Frequency check": (str(check), "int"),
+        "Bodies->Blade->Reduction->Cache": ("false", "bool"),
+        "Surfaces->Casing->Radius": (f"{a.tip_radius + 0.01:.17g}", "double"),
+        "Time->End revolutions": ("0", "double"),
+        "Time->End time": ("1e-6", "double"),
+        "Run->Progress interval": ("0", "double"),
+        "Output->File": (name + ".h5", "string"),
+    }
     if imported:
-        over.update({"Bodies->Blade->Rotation->Speed": (f"{speed:.17g}", "double"),
-                     "Bodies->Blade->Rotation->Speed range": ("{%g, %g}" % (SAMPLES[0], SAMPLES[-1]), "Array(double)"),
-                     "Bodies->Blade->Rotation->Imported speeds": ("{%s}" % ", ".join(f"{w:g}" for w in SAMPLES),
-                                                                  "Array(double)"),
-                     "Bodies->Blade->Rotation->Imported jobs": ("{%s}" % ", ".join(f"ccx/m{w:g}" for w in SAMPLES),
-                                                                "Array(string)")})
+        over.update(
+            {
+                "Bodies->Blade->Rotation->Speed": (f"{speed:.17g}", "double"),
+                "Bodies->Blade->Rotation->Speed range": ("{%g, %g}" % (SAMPLES[0], SAMPLES[-1]), "Array(double)"),
+                "Bodies->Blade->Rotation->Imported speeds": (
+                    "{%s}" % ", ".join(f"{w:g}" for w in SAMPLES),
+                    "Array(double)",
+                ),
+                "Bodies->Blade->Rotation->Imported jobs": (
+                    "{%s}" % ", ".join(f"ccx/m{w:g}" for w in SAMPLES),
+                    "Array(string)",
+                ),
+            }
+        )
     deck = variant(base, os.path.join(a.workdir, name + ".xml"), over)
     out = rb.sh([a.run, deck], a.workdir, f"epaphe-run {name}")
     with h5py.File(os.path.join(a.workdir, name + ".h5"), "r") as f:
@@ -115,8 +139,9 @@ def main():
     model = rb.model_text(rest["coords"], rest["hexes"], clamped, material)
     for s in ("tip", "tip-le", "tip-te"):
         nodes = [int(i) + 1 for i in sets[s]]
-        model += f"*NSET, NSET={s}\n" + "".join(", ".join(map(str, nodes[k:k + 12])) + ",\n"
-                                                for k in range(0, len(nodes), 12))
+        model += f"*NSET, NSET={s}\n" + "".join(
+            ", ".join(map(str, nodes[k : k + 12])) + ",\n" for k in range(0, len(nodes), 12)
+        )
     os.makedirs(os.path.join(a.workdir, "ccx"), exist_ok=True)
     open(os.path.join(a.workdir, "ccx", "model.inp"), "w").write(model)
     n = len(rest["coords"])
@@ -128,8 +153,10 @@ def main():
         u = rb.displacements(text, n)
         ref[w] = dict(freqs=rb.frequencies(text)[:MODES], tip=np.linalg.norm(u[tip], axis=1).max())
 
-    print(f"{'speed':>6} {'mode':>4} {'parametric Hz':>14} {'direct CB Hz':>13} {'diff':>9} {'import full':>12} "
-          f"{'ccx Hz':>12} {'diff':>9}")
+    print(
+        f"{'speed':>6} {'mode':>4} {'parametric Hz':>14} {'direct CB Hz':>13} {'diff':>9} {'import full':>12} "
+        f"{'ccx Hz':>12} {'diff':>9}"
+    )
     reduced = {}
     for w in SAMPLES + (MIDDLE,):
         par, _, grow, _ = imported_deck(a, f"par{w:g}", w, "m0", True, 0)
@@ -139,33 +166,53 @@ def main():
         d_same = np.abs(full / fc - 1)
         d_ccx = np.abs(par / fc - 1)
         for m in range(MODES):
-            print(f"{w:6g} {m + 1:4d} {par[m]:13.6f} {direct[m]:12.6f} {d_direct[m]:9.1e} {full[m]:12.6f} "
-                  f"{fc[m]:12.6f} "
-                  f"{d_same[m]:9.1e}")
+            print(
+                f"{w:6g} {m + 1:4d} {par[m]:13.6f} {direct[m]:12.6f} {d_direct[m]:9.1e} {full[m]:12.6f} "
+                f"{fc[m]:12.6f} "
+                f"{d_same[m]:9.1e}"
+            )
         if grow is None:
             tip_err = np.inf
-        else:   # at rest both are 0
+        else:  # at rest both are 0
             tip_err = abs(grow / ref[w]["tip"] - 1) if ref[w]["tip"] > 0 else abs(grow)
-        print(f"{w:6g} parametric vs direct CB {d_direct.max():.2e}; import full vs ccx {d_same.max():.2e}; "
-              f"parametric vs ccx {100 * d_ccx.max():.4f} %; tip's largest static displacement {grow} m vs ccx "
-              f"{ref[w]['tip']:.6e} m ({100 * tip_err:.4f} %)")
+        print(
+            f"{w:6g} parametric vs direct CB {d_direct.max():.2e}; import full vs ccx {d_same.max():.2e}; "
+            f"parametric vs ccx {100 * d_ccx.max():.4f} %; tip's largest static displacement {grow} m vs ccx "
+            f"{ref[w]['tip']:.6e} m ({100 * tip_err:.4f} %)"
+        )
         if w in SAMPLES and d_direct.max() > AT_SAMPLE:
-            failures.append(f"{w:g} rad/s (a sample): parametric vs direct reduction {d_direct.max():.1e} "
-                            f"> {AT_SAMPLE:g}")
+            failures.append(
+                f"{w:g} rad/s (a sample): parametric vs direct reduction {d_direct.max():.1e} " f"> {AT_SAMPLE:g}"
+            )
         if d_same.max() > SAME:
             failures.append(f"{w:g} rad/s: imported full-model frequencies vs ccx {d_same.max():.1e} > {SAME:g}")
         if w == MIDDLE and d_direct.max() > BETWEEN:
-            failures.append(f"{w:g} rad/s (between samples): parametric vs direct reduction {d_direct.max():.1e} "
-                            f"> {BETWEEN:g}")
+            failures.append(
+                f"{w:g} rad/s (between samples): parametric vs direct reduction {d_direct.max():.1e} " f"> {BETWEEN:g}"
+            )
         if d_ccx.max() > FREQ_TOL:
             failures.append(f"{w:g} rad/s: parametric vs ccx {100 * d_ccx.max():.3f} % > {100 * FREQ_TOL:g} %")
         if tip_err > TIP_TOL:
-            failures.append(f"{w:g} rad/s: tip static displacement {grow} m vs ccx {ref[w]['tip']:.6e} m: "
-                            f"{100 * tip_err:.3f} % > {100 * TIP_TOL:g} %")
+            failures.append(
+                f"{w:g} rad/s: tip static displacement {grow} m vs ccx {ref[w]['tip']:.6e} m: "
+                f"{100 * tip_err:.3f} % > {100 * TIP_TOL:g} %"
+            )
         reduced[w] = par
     # the Campbell diagram of the imported model: its points at the samples are ccx's frequencies
-    rb.sh([a.campbell, os.path.join(a.workdir, f"par{MIDDLE:g}.xml"), "--output", "campbell.h5", "--speeds", "5",
-           "--count", str(MODES)], a.workdir, "epaphe-campbell")
+    rb.sh(
+        [
+            a.campbell,
+            os.path.join(a.workdir, f"par{MIDDLE:g}.xml"),
+            "--output",
+            "campbell.h5",
+            "--speeds",
+            "5",
+            "--count",
+            str(MODES),
+        ],
+        a.workdir,
+        "epaphe-campbell",
+    )
     with h5py.File(os.path.join(a.workdir, "campbell.h5"), "r") as f:
         full_speeds, full = np.array(f["/full/speeds"]), np.array(f["/full/frequencies"])
         speeds, curves = np.array(f["/speeds"]), np.array(f["/frequencies"])
@@ -194,8 +241,10 @@ def main():
         runs.append("reused from" in rb.sh([a.run, cached], a.workdir, "epaphe-run with the cache"))
     print(f"cache: built, then reused {runs[1]}, then after a changed job file reused {runs[2]}")
     if runs != [False, True, False]:
-        failures.append(f"the cache of the imported parametric model: reused in runs {runs}, expected "
-                        "[False, True, False] (built, reused, rebuilt after a job file changed)")
+        failures.append(
+            f"the cache of the imported parametric model: reused in runs {runs}, expected "
+            "[False, True, False] (built, reused, rebuilt after a job file changed)"
+        )
     return verdict(failures)
 
 

@@ -27,9 +27,13 @@ from epaphe_testing import run, variant, verdict  # noqa: E402
 def law(f):
     """The speed law of the deck stored in the output, as (w0, w1, t0, t1)."""
     import xml.etree.ElementTree as ET
+
     root = ET.fromstring(f["run/deck"][()].decode() if isinstance(f["run/deck"][()], bytes) else f["run/deck"][()])
-    vals = {p.get("name"): float(p.get("value")) for p in root.iter("Parameter")
-            if p.get("name") in ("Start speed", "End speed", "Start time", "End time") and p.get("type") == "double"}
+    vals = {
+        p.get("name"): float(p.get("value"))
+        for p in root.iter("Parameter")
+        if p.get("name") in ("Start speed", "End speed", "Start time", "End time") and p.get("type") == "double"
+    }
     sl = [x for x in root.iter("ParameterList") if x.get("name") == "Speed law"][0]
     v = {p.get("name"): float(p.get("value")) for p in sl.iter("Parameter") if p.get("type") == "double"}
     return v["Start speed"], v["End speed"], v["Start time"], v["End time"]
@@ -41,8 +45,10 @@ def energy_check(path, name, failures):
         bal = float(np.abs(e["balance_error"][()]).max())
         drive = float(np.abs(e["drive_work"][()]).max())
         top = float(np.abs(e["total"][()]).max())
-    print(f"{name}: energy balance error {bal:.2e} (1e-6 asserted), drive work {drive:.3e} J = {drive / top:.2e} of the "
-          f"largest energy {top:.3e} J (> 1e-3 asserted)")
+    print(
+        f"{name}: energy balance error {bal:.2e} (1e-6 asserted), drive work {drive:.3e} J = {drive / top:.2e} of the "
+        f"largest energy {top:.3e} J (> 1e-3 asserted)"
+    )
     if not bal <= 1e-6:
         failures.append(f"{name}: energy balance error {bal:.2e} > 1e-6")
     if not drive > 1e-3 * top:
@@ -75,8 +81,10 @@ def main():
     k = j[0]
     wc = s[k] - g[k] * (s[k + 1] - s[k]) / (g[k + 1] - g[k])
     fc = float(np.interp(wc, s, F))
-    print(f"Campbell: engine order 6 crosses mode 1 at {wc:.1f} rad/s ({fc:.1f} Hz); the ramp runs {w0:g} to {w1:g} "
-          f"rad/s from {t0:g} to {t1:g} s")
+    print(
+        f"Campbell: engine order 6 crosses mode 1 at {wc:.1f} rad/s ({fc:.1f} Hz); the ramp runs {w0:g} to {w1:g} "
+        f"rad/s from {t0:g} to {t1:g} s"
+    )
     if not min(w0, w1) < wc < max(w0, w1):
         failures.append(f"the ramp does not cross {wc:.1f} rad/s")
     speed = np.interp(t, [t0, t1], [w0, w1])
@@ -86,25 +94,32 @@ def main():
         z = np.convolve(u[:, d] * np.exp(-2j * np.pi * fc * t), np.ones(n) / n, mode="same")
         amp2 += np.abs(z) ** 2
     amp = 2 * np.sqrt(amp2)
-    inside = (t > t0 + 0.005) & (t < t1 - 0.005)   # the average sees the ramp only
+    inside = (t > t0 + 0.005) & (t < t1 - 0.005)  # the average sees the ramp only
     i = int(np.argmax(np.where(inside, amp, 0)))
     first = amp[inside & (t < t0 + 0.015)].max()
     last = amp[inside & (t > t1 - 0.015)].max()
     rel = speed[i] / wc - 1
-    print(f"the first mode's band peaks at t = {t[i]:.4f} s, {speed[i]:.1f} rad/s ({100 * rel:+.2f} % of the crossing, "
-          f"3 % asserted), amplitude {amp[i]:.3e} m against {first:.3e} m and {last:.3e} m in the first and last 10 ms "
-          f"(2x asserted)")
+    print(
+        f"the first mode's band peaks at t = {t[i]:.4f} s, {speed[i]:.1f} rad/s ({100 * rel:+.2f} % of the crossing, "
+        f"3 % asserted), amplitude {amp[i]:.3e} m against {first:.3e} m and {last:.3e} m in the first and last 10 ms "
+        f"(2x asserted)"
+    )
     if not abs(rel) <= 0.03:
         failures.append(f"the response peaks at {speed[i]:.1f} rad/s, {100 * rel:+.2f} % from the crossing {wc:.1f}")
     if not amp[i] >= 2 * max(first, last):
         failures.append(f"no peak: {amp[i]:.3e} m against {first:.3e} and {last:.3e} m at the ramp's ends")
     energy_check(os.path.join(W, "run-up.h5"), "run-up (penalty)", failures)
-    lag = variant(a.deck, os.path.join(W, "lagrange.xml"), {
-        "Contact->Method": "Lagrange",
-        "Time->End time": "0.02",
-        "Bodies->Blade->Rotation->Speed law->Start time": "0.001",
-        "Bodies->Blade->Rotation->Speed law->End time": "0.019",
-        "Output->File": "lagrange.h5"})
+    lag = variant(
+        a.deck,
+        os.path.join(W, "lagrange.xml"),
+        {
+            "Contact->Method": "Lagrange",
+            "Time->End time": "0.02",
+            "Bodies->Blade->Rotation->Speed law->Start time": "0.001",
+            "Bodies->Blade->Rotation->Speed law->End time": "0.019",
+            "Output->File": "lagrange.h5",
+        },
+    )
     run([a.run, lag, "--output", "lagrange.h5"], W)
     energy_check(os.path.join(W, "lagrange.h5"), "run-up (Lagrange)", failures)
     return verdict(failures)

@@ -35,8 +35,22 @@ def main():
     out = os.path.join(a.workdir, "map")
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(a.workdir, exist_ok=True)
-    cmd = [sys.executable, a.rotor, "map", a.deck, "--speeds", ",".join(f"{w:g}" for w in SPEEDS), "--revs", "1",
-           "--skip", "0", "--run", a.run, "--out", out]
+    cmd = [
+        sys.executable,
+        a.rotor,
+        "map",
+        a.deck,
+        "--speeds",
+        ",".join(f"{w:g}" for w in SPEEDS),
+        "--revs",
+        "1",
+        "--skip",
+        "0",
+        "--run",
+        a.run,
+        "--out",
+        out,
+    ]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
     log = p.stdout
     if p.returncode != 0:
@@ -50,9 +64,11 @@ def main():
     cached = sum(", from cache" in open(s).read() for s in summaries)
     with h5py.File(os.path.join(out, "map.h5"), "r") as f:
         mapped = len(f["speeds"][()])
-    print(f"{len(SPEEDS)} speeds: parametric model built {built} time(s) (1 asserted), taken from it by {taken} runs "
-          f"(50), reused from the cache by {reused} (49; {cached} summaries say so), direct reductions {direct} (0); "
-          f"map over {mapped} speeds")
+    print(
+        f"{len(SPEEDS)} speeds: parametric model built {built} time(s) (1 asserted), taken from it by {taken} runs "
+        f"(50), reused from the cache by {reused} (49; {cached} summaries say so), direct reductions {direct} (0); "
+        f"map over {mapped} speeds"
+    )
     failures = []
     if built != 1:
         failures.append(f"the parametric model was built {built} times, not once")

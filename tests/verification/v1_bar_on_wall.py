@@ -38,7 +38,7 @@ def measure(path):
     on = np.nonzero(f > 1e-6 * F)[0]
     assert on.size > 0, f"{path}: no contact at all"
     start = t[on[0]]
-    end = t[on[-1]] + dt                  # first record without force
+    end = t[on[-1]] + dt  # first record without force
     impulse = f.sum() * dt
     plateau = impulse / (end - start)
     m = h["bodies/Bar/attrs"]["rigid_mass"]
@@ -56,15 +56,26 @@ def measure(path):
         "force": abs(plateau - F) / F,
         "rebound": abs(rebound - V0) / V0,
     }
-    return dict(start=start, end=end, plateau=plateau, rebound=rebound, face=face_mean, balance=balance,
-                sps=sps, errs=errs, total=sum(errs.values()))
+    return dict(
+        start=start,
+        end=end,
+        plateau=plateau,
+        rebound=rebound,
+        face=face_mean,
+        balance=balance,
+        sps=sps,
+        errs=errs,
+        total=sum(errs.values()),
+    )
 
 
 def report(label, m):
     e = m["errs"]
-    print(f"{label:34s} start {m['start']:.4e} ({e['start']:.2%})  end {m['end']:.4e} ({e['end']:.2%})  "
-          f"plateau {m['plateau']:.4e} N ({e['force']:.2%})  rebound {m['rebound']:.3f} m/s ({e['rebound']:.2%})  "
-          f"face v {m['face']:+.3f} m/s  balance {m['balance']:.1e}  {m['sps']:.0f} steps/s")
+    print(
+        f"{label:34s} start {m['start']:.4e} ({e['start']:.2%})  end {m['end']:.4e} ({e['end']:.2%})  "
+        f"plateau {m['plateau']:.4e} N ({e['force']:.2%})  rebound {m['rebound']:.3f} m/s ({e['rebound']:.2%})  "
+        f"face v {m['face']:+.3f} m/s  balance {m['balance']:.1e}  {m['sps']:.0f} steps/s"
+    )
 
 
 def main():
@@ -72,8 +83,11 @@ def main():
     failures = []
 
     def case(name, overrides):
-        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"),
-                       dict({"Output->File": name + ".h5", "Run->Progress interval": ("0", "double")}, **overrides))
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, name + ".xml"),
+            dict({"Output->File": name + ".h5", "Run->Progress interval": ("0", "double")}, **overrides),
+        )
         run([a.run, deck, "--threads", "2"], a.workdir)
         return measure(os.path.join(a.workdir, name + ".h5"))
 
@@ -88,8 +102,10 @@ def main():
 
     print("V1 bar on a rigid wall: exact start 2.0e-5 s, end 1.0e-4 s, plateau 1.6e6 N, rebound 100 m/s")
     check("Lagrange, CB 100 modes, h=1e-7", case("lagrange", {}))
-    check(f"Penalty kp={KP:g}, CB 100 modes, h=1e-7",
-          case("penalty", {"Contact->Method": "Penalty", "Contact->Penalty stiffness": (f"{KP:g}", "double")}))
+    check(
+        f"Penalty kp={KP:g}, CB 100 modes, h=1e-7",
+        case("penalty", {"Contact->Method": "Penalty", "Contact->Penalty stiffness": (f"{KP:g}", "double")}),
+    )
 
     # The massless boundary on the free bar: its 6 rigid-body modes with the 100 lowest elastic ones,
     # the static part the inertia-relief residual flexibility, at h = 4e-7 s (its stable step is the
@@ -98,10 +114,17 @@ def main():
     # stated), and in free flight before the impact the momentum is m v0 and the contact face moves
     # at v0 (1e-9). Then V1's tolerances.
     def massless(name, h):
-        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
-            "Output->File": name + ".h5", "Run->Progress interval": ("0", "double"),
-            "Bodies->Bar->Reduction->Method": "Massless boundary", "Time->Time step": (f"{h:g}", "double"),
-            "Bodies->Bar->Reduction->Fixed-interface modes": ("100", "int")})
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, name + ".xml"),
+            {
+                "Output->File": name + ".h5",
+                "Run->Progress interval": ("0", "double"),
+                "Bodies->Bar->Reduction->Method": "Massless boundary",
+                "Time->Time step": (f"{h:g}", "double"),
+                "Bodies->Bar->Reduction->Fixed-interface modes": ("100", "int"),
+            },
+        )
         return run([a.run, deck, "--threads", "2"], a.workdir).stdout, history(os.path.join(a.workdir, name + ".h5"))
 
     log, hm = massless("massless", 4e-7)
@@ -119,8 +142,10 @@ def main():
     v_err = np.abs(hm["bodies/Bar/nodesets/x+/velocity"][before, :, 0] - V0).max() / V0
     print(f"massless boundary, free flight: momentum error {p_err:.1e}, contact-face velocity error {v_err:.1e}")
     if not (p_err <= 1e-9 and v_err <= 1e-9):
-        failures.append(f"massless boundary free flight: momentum error {p_err:.2e}, face velocity error {v_err:.2e} "
-                        "(> 1e-9): the initial velocity is not the rigid translation")
+        failures.append(
+            f"massless boundary free flight: momentum error {p_err:.2e}, face velocity error {v_err:.2e} "
+            "(> 1e-9): the initial velocity is not the rigid translation"
+        )
     check("Lagrange, massless 100 modes, h=4e-7", measure(os.path.join(a.workdir, "massless.h5")))
 
     # Energy: the massless boundary's residual is driven by the average of the forces at t_n-1 and
@@ -130,8 +155,10 @@ def main():
     # 71 J here, 2.2 %; Craig-Bampton loses 59 J, its face's kinetic energy at impact).
     _, hm = massless("massless-h1e-7", 1e-7)
     e0, e1 = hm["energy/total"][0], hm["energy/total"][-1]
-    print(f"massless boundary, h = 1e-7 s: energy {e0:.3f} J at the start, {e1:.3f} J after the rebound "
-          f"({(e1 - e0) / e0:+.1e})")
+    print(
+        f"massless boundary, h = 1e-7 s: energy {e0:.3f} J at the start, {e1:.3f} J after the rebound "
+        f"({(e1 - e0) / e0:+.1e})"
+    )
     if not abs(e1 - e0) <= 1e-4 * e0:
         failures.append(f"massless boundary: energy {e0:.3f} J -> {e1:.3f} J, off by more than 1e-4")
 
@@ -139,15 +166,26 @@ def main():
     modes = [10, 40, 100]
     totals = []
     for nm in modes:
-        m = case(f"modes{nm}", {"Bodies->Bar->Reduction->Fixed-interface modes": (str(nm), "int"),
-                                "Time->Time step": ("5e-8", "double")})
+        m = case(
+            f"modes{nm}",
+            {"Bodies->Bar->Reduction->Fixed-interface modes": (str(nm), "int"), "Time->Time step": ("5e-8", "double")},
+        )
         report(f"Lagrange, CB {nm} modes, h=5e-8", m)
         totals.append(m["total"])
-    full = case("full", {"Bodies->Bar->Reduction->Method": "None", "Time->Time step": ("5e-8", "double"),
-                         "Time->End time": ("1.3e-4", "double")})
+    full = case(
+        "full",
+        {
+            "Bodies->Bar->Reduction->Method": "None",
+            "Time->Time step": ("5e-8", "double"),
+            "Time->End time": ("1.3e-4", "double"),
+        },
+    )
     report("Lagrange, full model, h=5e-8", full)
-    print("sum of relative errors vs modes:", ", ".join(f"{n}: {t:.4f}" for n, t in zip(modes, totals)),
-          f", full: {full['total']:.4f}")
+    print(
+        "sum of relative errors vs modes:",
+        ", ".join(f"{n}: {t:.4f}" for n, t in zip(modes, totals)),
+        f", full: {full['total']:.4f}",
+    )
     if not all(totals[i + 1] < totals[i] for i in range(len(totals) - 1)):
         failures.append(f"error does not fall as modes are added: {totals}")
 
@@ -167,9 +205,15 @@ def main():
 
     def free_end(h):
         name = f"h{h:g}"
-        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
-            "Output->File": name + ".h5", "Time->Time step": (f"{h:g}", "double"),
-            "Run->Progress interval": ("0", "double")})
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, name + ".xml"),
+            {
+                "Output->File": name + ".h5",
+                "Time->Time step": (f"{h:g}", "double"),
+                "Run->Progress interval": ("0", "double"),
+            },
+        )
         run([a.run, deck, "--threads", "1"], a.workdir)
         hist = history(os.path.join(a.workdir, name + ".h5"))
         return hist["time"], hist["bodies/Bar/nodesets/x-/displacement"][:, :, 0].mean(axis=1)
@@ -181,13 +225,18 @@ def main():
         stride, ref_stride = int(round(steps[0] / h)), int(round(steps[0] / ref_h))
         n = min(len(t[::stride]), len(t_ref[::ref_stride]))
         diffs.append(np.abs(u[::stride][:n] - u_ref[::ref_stride][:n]).max())
-    print("largest free-end displacement difference to h = 2.5e-8:",
-          ", ".join(f"h={h:g}: {d:.3e} m" for h, d in zip(steps, diffs)),
-          "; ratios", ", ".join(f"{diffs[i] / diffs[i + 1]:.2f}" for i in range(len(diffs) - 1)))
+    print(
+        "largest free-end displacement difference to h = 2.5e-8:",
+        ", ".join(f"h={h:g}: {d:.3e} m" for h, d in zip(steps, diffs)),
+        "; ratios",
+        ", ".join(f"{diffs[i] / diffs[i + 1]:.2f}" for i in range(len(diffs) - 1)),
+    )
     ratios = [diffs[i] / diffs[i + 1] for i in range(len(diffs) - 1)]
     if not all(r >= ORDER2_RATIO for r in ratios):
-        failures.append(f"time-step error falls by {', '.join(f'{r:.2f}' for r in ratios)} per halving of h, "
-                        f"not the >= {ORDER2_RATIO} of a second-order method: {diffs}")
+        failures.append(
+            f"time-step error falls by {', '.join(f'{r:.2f}' for r in ratios)} per halving of h, "
+            f"not the >= {ORDER2_RATIO} of a second-order method: {diffs}"
+        )
 
     return verdict(failures)
 

@@ -82,22 +82,24 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from epaphe_testing import deck_value, history, parse_args, run, variant, verdict  # noqa: E402
 
-TOL = 0.01             # docs/verification.md V3: contact durations within 1 % over 10 periods
-BALANCE_TOL = 1e-9     # round-off of the balance identity
-ROUNDOFF = 1e-9        # contact work never rises by more than this (relative to E_ref)
+TOL = 0.01  # docs/verification.md V3: contact durations within 1 % over 10 periods
+BALANCE_TOL = 1e-9  # round-off of the balance identity
+ROUNDOFF = 1e-9  # contact work never rises by more than this (relative to E_ref)
 # The finding, as recorded (docs/verification.md V3): the signed errors (%) of the 8 regular periods'
 # durations: fall (period 1) or rigid flight, contact 1, wave flight, contact 2
-FINDING = ((-0.033, +0.200, -0.167, +0.300),
-           (-0.200, +0.200, -0.500, +1.299),
-           (-0.533, +0.200, -0.699, +1.998),
-           (-0.833, +0.200, -0.999, +2.897),
-           (-1.199, +0.200, -1.365, +3.896),
-           (-1.765, +0.200, -2.031, +5.894),
-           (-3.064, +0.200, -3.263, +9.590),
-           (-6.394, +0.200, -6.594, +0.200))
-MARGIN_STEPS = 3                 # the band on each duration, in steps of h (derivation in the docstring)
+FINDING = (
+    (-0.033, +0.200, -0.167, +0.300),
+    (-0.200, +0.200, -0.500, +1.299),
+    (-0.533, +0.200, -0.699, +1.998),
+    (-0.833, +0.200, -0.999, +2.897),
+    (-1.199, +0.200, -1.365, +3.896),
+    (-1.765, +0.200, -2.031, +5.894),
+    (-3.064, +0.200, -3.263, +9.590),
+    (-6.394, +0.200, -6.594, +0.200),
+)
+MARGIN_STEPS = 3  # the band on each duration, in steps of h (derivation in the docstring)
 FINDING_CONTACTS, CONTACTS_BAND = 30, 4
-FINDING_LOSS, LOSS_BAND = 5.505, 0.05   # J the contact took over the 8 regular periods, relative band
+FINDING_LOSS, LOSS_BAND = 5.505, 0.05  # J the contact took over the 8 regular periods, relative band
 
 
 def setting(deck, lumped=True):
@@ -116,7 +118,9 @@ def setting(deck, lumped=True):
     h = float(deck_value(root, "Time->Time step"))
     end = float(deck_value(root, "Time->End time"))
     assert grav[1] == grav[2] == 0 and grav[0] < 0, f"gravity {grav}: V3 drops the bar along -x"
-    assert method == "Full, lumped mass" or not lumped, f"the energy bound is derived for a lumped contact face, not '{method}'"
+    assert (
+        method == "Full, lumped mass" or not lumped
+    ), f"the energy bound is derived for a lumped contact face, not '{method}'"
     s = dict(L=Lx, A=Ly * Lz, dx=Lx / nx, E=E, rho=rho, g=-grav[0], h0=x0 - plane, h=h, end=end)
     s["c"] = math.sqrt(E / rho)
     s["V"] = math.sqrt(2 * s["g"] * s["h0"])
@@ -155,11 +159,14 @@ def main():
         sys.argv.remove("--expect-finding")
     a = parse_args()
     s = setting(a.deck)
-    failures = []    # the default test's checks: energy, and durations no worse than the finding
-    misses = []      # the reference: every duration within 1 %, 2 contacts a period
-    moved = []       # the finding's signature out of its band, either way (--expect-finding)
-    deck = variant(a.deck, os.path.join(a.workdir, "bouncing-bar.xml"),
-                   {"Output->File": "bouncing-bar.h5", "Run->Progress interval": ("0", "double")})
+    failures = []  # the default test's checks: energy, and durations no worse than the finding
+    misses = []  # the reference: every duration within 1 %, 2 contacts a period
+    moved = []  # the finding's signature out of its band, either way (--expect-finding)
+    deck = variant(
+        a.deck,
+        os.path.join(a.workdir, "bouncing-bar.xml"),
+        {"Output->File": "bouncing-bar.h5", "Run->Progress interval": ("0", "double")},
+    )
     wall = time.time()
     run([a.run, deck, "--threads", "1"], a.workdir)
     wall = time.time() - wall
@@ -168,28 +175,38 @@ def main():
     h = s["h"]
     assert np.allclose(np.diff(t), h), "records must be every step (Output->Every = 1)"
     crit = hist["attrs"]["critical_time_step"]
-    print(f"V3 bouncing bar: L = {s['L']}, c = {s['c']:g}, g = {s['g']}, h0 = {s['h0']}: V = {s['V']:g}, "
-          f"T_fall = {s['T_fall']:g}, T_c = {s['T_c']:.6f}, flight 2V/g = {s['T_flight']:g}, period "
-          f"{s['period']:.6f}, {s['periods']} periods")
-    print(f"mesh dx = {s['dx']:g} (contact face mass m_f = {s['m_f']:g} of {s['rho'] * s['A'] * s['L']:g}), "
-          f"h = {h:g} s (critical {crit:.6g} s printed by epaphe-run; c h / dx = {s['alpha']:.4f}), "
-          f"{t.size} steps in {wall:.1f} s on 1 thread")
+    print(
+        f"V3 bouncing bar: L = {s['L']}, c = {s['c']:g}, g = {s['g']}, h0 = {s['h0']}: V = {s['V']:g}, "
+        f"T_fall = {s['T_fall']:g}, T_c = {s['T_c']:.6f}, flight 2V/g = {s['T_flight']:g}, period "
+        f"{s['period']:.6f}, {s['periods']} periods"
+    )
+    print(
+        f"mesh dx = {s['dx']:g} (contact face mass m_f = {s['m_f']:g} of {s['rho'] * s['A'] * s['L']:g}), "
+        f"h = {h:g} s (critical {crit:.6g} s printed by epaphe-run; c h / dx = {s['alpha']:.4f}), "
+        f"{t.size} steps in {wall:.1f} s on 1 thread"
+    )
 
     # ---- contact and flight durations ------------------------------------------------------------
     force = hist["bodies/Bar/contact/total_force"]
-    f_scale = s["rho"] * s["A"] * s["c"] * s["V"]         # rho A c V, the force of an impact at V
+    f_scale = s["rho"] * s["A"] * s["c"] * s["V"]  # rho A c V, the force of an impact at V
     starts, ends, chatter = intervals(t, force > 1e-6 * f_scale, h, s["T_c"] / 10)
     contact = ends - starts
     flights = np.concatenate([[starts[0]], starts[1:] - ends[:-1], [s["end"] - ends[-1]]])
     n_expected = 2 * s["periods"]
-    regular = len(FINDING)                                 # periods recorded with 2 contacts each
-    print(f"{contact.size} contacts (expected {n_expected}, recorded {FINDING_CONTACTS} +- {CONTACTS_BAND}); "
-          f"steps without force inside them (chatter): {sum(chatter)}")
-    print(f"durations against the exact ones; [recorded error, band: max({TOL:.0%}, |recorded| + "
-          f"{MARGIN_STEPS} steps)]")
-    print(" period | fall/rigid flight                      | contact 1                              | "
-          "wave flight                            | contact 2")
-    worst = {"contact": (0.0,), "flight": (0.0,)}   # (|error|, error, period)
+    regular = len(FINDING)  # periods recorded with 2 contacts each
+    print(
+        f"{contact.size} contacts (expected {n_expected}, recorded {FINDING_CONTACTS} +- {CONTACTS_BAND}); "
+        f"steps without force inside them (chatter): {sum(chatter)}"
+    )
+    print(
+        f"durations against the exact ones; [recorded error, band: max({TOL:.0%}, |recorded| + "
+        f"{MARGIN_STEPS} steps)]"
+    )
+    print(
+        " period | fall/rigid flight                      | contact 1                              | "
+        "wave flight                            | contact 2"
+    )
+    worst = {"contact": (0.0,), "flight": (0.0,)}  # (|error|, error, period)
 
     def rel(x, ref):
         return (x - ref) / ref
@@ -207,9 +224,15 @@ def main():
         wave = flights[i2] if i2 < flights.size and i2 < contact.size else None
         c2 = contact[i2] if i2 < contact.size else None
         row = []
-        for k, (what, x, ref) in enumerate((("flight", fall, fall_ref), ("contact", c1, s["T_c"]),
-                                            ("flight", wave, s["T_flight"]), ("contact", c2, s["T_c"]))):
-            if p >= regular:                               # not periodic any more: printed, bounded below
+        for k, (what, x, ref) in enumerate(
+            (
+                ("flight", fall, fall_ref),
+                ("contact", c1, s["T_c"]),
+                ("flight", wave, s["T_flight"]),
+                ("contact", c2, s["T_c"]),
+            )
+        ):
+            if p >= regular:  # not periodic any more: printed, bounded below
                 row.append(cell(x, ref))
                 continue
             rec = FINDING[p][k] / 100
@@ -218,71 +241,93 @@ def main():
             row.append(cell(x, ref, rec, band))
             name = f"period {p + 1}: {what} {k // 2 + 1}"
             if x is None:
-                failures.append(f"{name} missing: {contact.size} contacts, the finding has 2 in each of periods 1 "
-                                f"to {regular}")
+                failures.append(
+                    f"{name} missing: {contact.size} contacts, the finding has 2 in each of periods 1 " f"to {regular}"
+                )
                 continue
             err = rel(x, ref)
             worst[what] = max(worst[what], (abs(err), err, p + 1))
             if not abs(err) <= TOL:
                 misses.append(f"{name} of {x:.5f} s, exact {ref:.5f} s ({err:+.2%}, tolerance {TOL:.0%})")
             if not abs(err) <= band:
-                failures.append(f"{name} of {x:.5f} s, exact {ref:.5f} s: {err:+.3%}, worse than the recorded finding "
-                                f"({rec:+.3%}) by more than {MARGIN_STEPS} steps (band {band:.3%})")
-            if not abs(err - rec) <= margin + 5e-6:     # (+ the recorded figures' last digit)
-                moved.append(f"{name}: {err:+.3%}, recorded {rec:+.3%}: {'better' if abs(err) < abs(rec) else 'worse'} "
-                             f"by more than {MARGIN_STEPS} steps ({margin:.3%})")
+                failures.append(
+                    f"{name} of {x:.5f} s, exact {ref:.5f} s: {err:+.3%}, worse than the recorded finding "
+                    f"({rec:+.3%}) by more than {MARGIN_STEPS} steps (band {band:.3%})"
+                )
+            if not abs(err - rec) <= margin + 5e-6:  # (+ the recorded figures' last digit)
+                moved.append(
+                    f"{name}: {err:+.3%}, recorded {rec:+.3%}: {'better' if abs(err) < abs(rec) else 'worse'} "
+                    f"by more than {MARGIN_STEPS} steps ({margin:.3%})"
+                )
         print(f" {p + 1:6d} | " + " | ".join(row))
     print(f"last rigid flight, cut by the end of the run: {flights[-1]:.5f} s (exact {s['T_fall']:g})")
-    recorded_worst = {"flight": max(abs(r[k]) for r in FINDING for k in (0, 2)) / 100,
-                      "contact": max(abs(r[k]) for r in FINDING for k in (1, 3)) / 100}
+    recorded_worst = {
+        "flight": max(abs(r[k]) for r in FINDING for k in (0, 2)) / 100,
+        "contact": max(abs(r[k]) for r in FINDING for k in (1, 3)) / 100,
+    }
     for what, w in worst.items():
         if len(w) > 1:
-            print(f"worst {what} over periods 1 to {regular}: {w[1]:+.3%} in period {w[2]} (recorded: "
-                  f"{recorded_worst[what]:.3%})")
+            print(
+                f"worst {what} over periods 1 to {regular}: {w[1]:+.3%} in period {w[2]} (recorded: "
+                f"{recorded_worst[what]:.3%})"
+            )
     # from period 9 (the contacts after the regular periods'): no pairing with the exact durations; bounded
     # by the finding's longest contact and the exact rigid flight
     later = slice(2 * regular, None)
     longest = s["T_c"] * (1 + max(max(r[1], r[3]) for r in FINDING) / 100) + MARGIN_STEPS * h
     longest_flight = 2 * s["T_fall"] * (1 + TOL)
-    late_c, late_f = contact[later], flights[2 * regular:-1]
-    print(f"from period {regular + 1}: {late_c.size} contacts, longest {late_c.max(initial=0):.5f} s "
-          f"(bound {longest:.5f} s: the finding's longest + {MARGIN_STEPS} steps), longest flight "
-          f"{late_f.max(initial=0):.5f} s (bound {longest_flight:.5f} s: 2 T_fall + {TOL:.0%})")
+    late_c, late_f = contact[later], flights[2 * regular : -1]
+    print(
+        f"from period {regular + 1}: {late_c.size} contacts, longest {late_c.max(initial=0):.5f} s "
+        f"(bound {longest:.5f} s: the finding's longest + {MARGIN_STEPS} steps), longest flight "
+        f"{late_f.max(initial=0):.5f} s (bound {longest_flight:.5f} s: 2 T_fall + {TOL:.0%})"
+    )
     for i in np.flatnonzero(late_c > longest):
-        failures.append(f"contact {2 * regular + i + 1} (from {starts[2 * regular + i]:.4f} s) lasts "
-                        f"{late_c[i]:.5f} s, longer than the finding's longest contact + {MARGIN_STEPS} steps "
-                        f"({longest:.5f} s)")
+        failures.append(
+            f"contact {2 * regular + i + 1} (from {starts[2 * regular + i]:.4f} s) lasts "
+            f"{late_c[i]:.5f} s, longer than the finding's longest contact + {MARGIN_STEPS} steps "
+            f"({longest:.5f} s)"
+        )
     for i in np.flatnonzero(late_f > longest_flight):
-        failures.append(f"the flight before contact {2 * regular + i + 1} lasts {late_f[i]:.5f} s, longer than the "
-                        f"exact rigid flight 2 T_fall + {TOL:.0%} ({longest_flight:.5f} s)")
+        failures.append(
+            f"the flight before contact {2 * regular + i + 1} lasts {late_f[i]:.5f} s, longer than the "
+            f"exact rigid flight 2 T_fall + {TOL:.0%} ({longest_flight:.5f} s)"
+        )
     if contact.size != n_expected:
         misses.append(f"{contact.size} contacts in {s['periods']} periods, {n_expected} expected")
     if not contact.size <= FINDING_CONTACTS + CONTACTS_BAND:
         failures.append(f"{contact.size} contacts, more than the recorded {FINDING_CONTACTS} + {CONTACTS_BAND}")
     if not abs(contact.size - FINDING_CONTACTS) <= CONTACTS_BAND:
-        moved.append(f"{contact.size} contacts, recorded {FINDING_CONTACTS} +- {CONTACTS_BAND}: "
-                     f"{'better' if contact.size < FINDING_CONTACTS else 'worse'} (exact {n_expected})")
+        moved.append(
+            f"{contact.size} contacts, recorded {FINDING_CONTACTS} +- {CONTACTS_BAND}: "
+            f"{'better' if contact.size < FINDING_CONTACTS else 'worse'} (exact {n_expected})"
+        )
 
     # ---- energy ----------------------------------------------------------------------------------
     E_ref = s["E_ref"]
     total, ext, work = hist["energy/total"], hist["energy/external_work"], hist["energy/contact_work"]
-    physical = total - ext                      # kinetic + strain + potential of gravity, from its start
+    physical = total - ext  # kinetic + strain + potential of gravity, from its start
     drift = physical - physical[0]
     balance = np.abs(hist["energy/balance_error"]).max()
     rise = np.diff(work).max()
-    bound_impact = lambda v: 0.5 * s["m_f"] * (1 + s["alpha"] ** 2 / 2) * v ** 2 + s["m_f"] * s["g"] * v * h  # noqa
+    bound_impact = lambda v: 0.5 * s["m_f"] * (1 + s["alpha"] ** 2 / 2) * v**2 + s["m_f"] * s["g"] * v * h  # noqa
     V1, V2 = s["V"], s["V"] + 2 * s["g"] * s["L"] / s["c"]
     bound = s["periods"] * (bound_impact(V1) + bound_impact(V2))
     first = -(work[np.searchsorted(t, ends[0])] - work[0])
     lo, hi = 0.5 * s["m_f"] * (s["V"] - 2 * s["g"] * h) ** 2, bound_impact(s["V"] + s["g"] * h)
-    per_period = [-(work[np.searchsorted(t, ends[min(2 * p + 1, ends.size - 1)])] - work[0])
-                  for p in range(s["periods"])]
-    print(f"energy: E_ref = m g h0 = {E_ref:g} J; drift after {s['periods']} periods {drift[-1]:+.4f} J "
-          f"({drift[-1] / E_ref:+.3%} of E_ref), largest rise {drift.max():+.2e} J; contact work {work[-1]:+.4f} J; "
-          f"balance error {balance:.1e}")
+    per_period = [
+        -(work[np.searchsorted(t, ends[min(2 * p + 1, ends.size - 1)])] - work[0]) for p in range(s["periods"])
+    ]
+    print(
+        f"energy: E_ref = m g h0 = {E_ref:g} J; drift after {s['periods']} periods {drift[-1]:+.4f} J "
+        f"({drift[-1] / E_ref:+.3%} of E_ref), largest rise {drift.max():+.2e} J; contact work {work[-1]:+.4f} J; "
+        f"balance error {balance:.1e}"
+    )
     print("  cumulative loss at the end of contacts 2, 4, 6, ... (J): " + ", ".join(f"{x:.4f}" for x in per_period))
-    print(f"  bound sum_i B(V_i) = {s['periods']} x (B({V1:g}) + B({V2:.4g})) = {bound:.4f} J "
-          f"({bound / E_ref:.3%} of E_ref); first impact lost {first:.5f} J, derived within [{lo:.5f}, {hi:.5f}] J")
+    print(
+        f"  bound sum_i B(V_i) = {s['periods']} x (B({V1:g}) + B({V2:.4g})) = {bound:.4f} J "
+        f"({bound / E_ref:.3%} of E_ref); first impact lost {first:.5f} J, derived within [{lo:.5f}, {hi:.5f}] J"
+    )
     if not balance <= BALANCE_TOL:
         failures.append(f"energy balance error {balance:.2e} > {BALANCE_TOL:g}: gravity's work is not accounted for")
     if not rise <= ROUNDOFF * E_ref:
@@ -295,25 +340,37 @@ def main():
         failures.append(f"first impact lost {first:.5f} J, outside the derived [{lo:.5f}, {hi:.5f}] J")
     if ends.size >= 2 * regular:
         loss = -(work[np.searchsorted(t, ends[2 * regular - 1])] - work[0])
-        print(f"  the contact took {loss:.4f} J over the {regular} regular periods (recorded {FINDING_LOSS} J "
-              f"+- {LOSS_BAND:.0%})")
+        print(
+            f"  the contact took {loss:.4f} J over the {regular} regular periods (recorded {FINDING_LOSS} J "
+            f"+- {LOSS_BAND:.0%})"
+        )
         if not abs(loss - FINDING_LOSS) <= LOSS_BAND * FINDING_LOSS:
-            moved.append(f"the contact took {loss:.4f} J over periods 1 to {regular}, recorded {FINDING_LOSS} J "
-                         f"+- {LOSS_BAND:.0%}: {'better' if loss < FINDING_LOSS else 'worse'}")
-    print(f"the reference (every duration within {TOL:.0%}, {n_expected} contacts): "
-          + (f"not met, {len(misses)} misses (the finding; listed with --expect-finding)" if misses else "met"))
+            moved.append(
+                f"the contact took {loss:.4f} J over periods 1 to {regular}, recorded {FINDING_LOSS} J "
+                f"+- {LOSS_BAND:.0%}: {'better' if loss < FINDING_LOSS else 'worse'}"
+            )
+    print(
+        f"the reference (every duration within {TOL:.0%}, {n_expected} contacts): "
+        + (f"not met, {len(misses)} misses (the finding; listed with --expect-finding)" if misses else "met")
+    )
     if not expect_finding:
         return verdict(failures)
     if not misses:
-        failures.append(f"every duration is now within {TOL:.0%} over the {s['periods']} periods, {n_expected} "
-                        "contacts: the finding is gone; hold the default test's durations to 1 % (drop FINDING) "
-                        "and this registration's --expect-finding (docs/verification.md V3)")
+        failures.append(
+            f"every duration is now within {TOL:.0%} over the {s['periods']} periods, {n_expected} "
+            "contacts: the finding is gone; hold the default test's durations to 1 % (drop FINDING) "
+            "and this registration's --expect-finding (docs/verification.md V3)"
+        )
     for m in moved:
-        failures.append(f"the finding moved: {m} (a regression if worse; if better, update FINDING in this script "
-                        "and docs/verification.md V3)")
+        failures.append(
+            f"the finding moved: {m} (a regression if worse; if better, update FINDING in this script "
+            "and docs/verification.md V3)"
+        )
     if misses and not moved:
-        print("KNOWN FINDING (docs/verification.md V3, issue 16), still as recorded: the reference misses\n  "
-              + "\n  ".join(misses))
+        print(
+            "KNOWN FINDING (docs/verification.md V3, issue 16), still as recorded: the reference misses\n  "
+            + "\n  ".join(misses)
+        )
     return verdict(failures)
 
 

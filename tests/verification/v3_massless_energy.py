@@ -51,9 +51,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
 from v3_bouncing_bar import setting  # noqa: E402
 
-IDENTITY_TOL = 1e-9    # identity (1), relative to E_ref: the records' round-off over 8e4 steps
-BALANCE_TOL = 2e-14    # per step: the balance's round-off grows with the steps (8e4 at h, 1.6e5 at h/2)
-MODEL_TOL = 0.01       # the modes' own terms in (2), neglected in the derivation
+IDENTITY_TOL = 1e-9  # identity (1), relative to E_ref: the records' round-off over 8e4 steps
+BALANCE_TOL = 2e-14  # per step: the balance's round-off grows with the steps (8e4 at h, 1.6e5 at h/2)
+MODEL_TOL = 0.01  # the modes' own terms in (2), neglected in the derivation
 
 
 def face_compliance(rom, h, normal_axis=0):
@@ -75,32 +75,51 @@ def face_compliance(rom, h, normal_axis=0):
 
 
 def measure(a, s, modes, h, label):
-    deck = variant(a.deck, os.path.join(a.workdir, label + ".xml"),
-                   {"Output->File": label + ".h5", "Run->Progress interval": ("0", "double"),
-                    "Bodies->Bar->Reduction->Method": "Massless boundary",
-                    "Bodies->Bar->Reduction->Fixed-interface modes": (str(modes), "int"),
-                    "Bodies->Bar->Reduction->Cache file": label + ".rom.h5",
-                    "Time->Time step": (f"{h:.12g}", "double")})
+    deck = variant(
+        a.deck,
+        os.path.join(a.workdir, label + ".xml"),
+        {
+            "Output->File": label + ".h5",
+            "Run->Progress interval": ("0", "double"),
+            "Bodies->Bar->Reduction->Method": "Massless boundary",
+            "Bodies->Bar->Reduction->Fixed-interface modes": (str(modes), "int"),
+            "Bodies->Bar->Reduction->Cache file": label + ".rom.h5",
+            "Time->Time step": (f"{h:.12g}", "double"),
+        },
+    )
     run([a.run, deck, "--threads", "1"], a.workdir)
     hist = history(os.path.join(a.workdir, label + ".h5"))
     delta, gamma, uniform = face_compliance(os.path.join(a.workdir, label + ".rom.h5"), h)
     t = hist["time"]
     F, g = hist["bodies/Bar/contact/force"], hist["bodies/Bar/contact/gap"]
     Phi = np.zeros_like(F)
-    Phi[1:] = F[:-1]                                    # the force acting at t_j
+    Phi[1:] = F[:-1]  # the force acting at t_j
     physical = hist["energy/total"] - hist["energy/external_work"]
     drift = physical - physical[0]
     loss = np.zeros(t.size)
     gain = np.zeros(t.size)
-    loss[1:-1] = (Phi[2:] * g[:-2]).sum(1) / 4          # step m = j: Phi_{m+1} . g_{m-1} / 4
-    gain[1:-1] = (Phi[:-2] * g[2:]).sum(1) / 4          # Phi_{m-1} . g_{m+1} / 4
-    predicted = np.cumsum(gain - loss)                  # identity (1): E_{j+1/2} is record j's
+    loss[1:-1] = (Phi[2:] * g[:-2]).sum(1) / 4  # step m = j: Phi_{m+1} . g_{m-1} / 4
+    gain[1:-1] = (Phi[:-2] * g[2:]).sum(1) / 4  # Phi_{m-1} . g_{m+1} / 4
+    predicted = np.cumsum(gain - loss)  # identity (1): E_{j+1/2} is record j's
     on = Phi.sum(1) > 0
     landings = np.flatnonzero(on[1:] & ~on[:-1]) + 1
     releases = np.flatnonzero(on[:-1] & ~on[1:])
-    return dict(h=h, uniform=uniform, t=t, drift=drift, predicted=predicted, loss=loss, gain=gain, landings=landings,
-                releases=releases, delta=delta, gamma=gamma, complementarity=np.abs(Phi * g).max(),
-                balance=np.abs(hist["energy/balance_error"]).max(), wall=float(hist["attrs"]["loop_time"]))
+    return dict(
+        h=h,
+        uniform=uniform,
+        t=t,
+        drift=drift,
+        predicted=predicted,
+        loss=loss,
+        gain=gain,
+        landings=landings,
+        releases=releases,
+        delta=delta,
+        gamma=gamma,
+        complementarity=np.abs(Phi * g).max(),
+        balance=np.abs(hist["energy/balance_error"]).max(),
+        wall=float(hist["attrs"]["loop_time"]),
+    )
 
 
 def main():
@@ -108,7 +127,7 @@ def main():
     if "--modes" in sys.argv:
         i = sys.argv.index("--modes")
         modes = int(sys.argv[i + 1])
-        del sys.argv[i:i + 2]
+        del sys.argv[i : i + 2]
     a = parse_args()
     s = setting(a.deck, lumped=False)
     E_ref, V, g = s["E_ref"], s["V"], s["g"]
@@ -126,28 +145,44 @@ def main():
         hi = (1 + r["gamma"] / 2) * ((V + 2 * g * h) * h) ** 2 / (4 * r["delta"]) * (1 + MODEL_TOL)
         worst = np.abs(r["drift"]).max()
         rows.append((h, worst))
-        print(f"massless boundary, {modes} elastic modes, h = {h:g} s: face compliance delta = {r['delta']:.5g} m/N "
-              f"(gamma = G_face / delta = {r['gamma']:.5f}; Delta 1 uniform to {r['uniform']:.1e}), loop {r['wall']:.2f} s")
-        print(f"  identity (1): largest |E - E_0 - sum of landing and release terms| = {ident:.2e} J "
-              f"({ident / E_ref:.1e} of E_ref); max |Phi_j g_j| = {r['complementarity']:.1e}; "
-              f"balance error {r['balance']:.1e}")
-        print(f"  {r['landings'].size} landings and {r['releases'].size} releases (the exact solution: "
-              f"{len(landing_speeds)} each): losses {r['loss'].sum():.4f} J, gains {r['gain'].sum():.4f} J")
+        print(
+            f"massless boundary, {modes} elastic modes, h = {h:g} s: face compliance delta = {r['delta']:.5g} m/N "
+            f"(gamma = G_face / delta = {r['gamma']:.5f}; Delta 1 uniform to {r['uniform']:.1e}), loop {r['wall']:.2f} s"
+        )
+        print(
+            f"  identity (1): largest |E - E_0 - sum of landing and release terms| = {ident:.2e} J "
+            f"({ident / E_ref:.1e} of E_ref); max |Phi_j g_j| = {r['complementarity']:.1e}; "
+            f"balance error {r['balance']:.1e}"
+        )
+        print(
+            f"  {r['landings'].size} landings and {r['releases'].size} releases (the exact solution: "
+            f"{len(landing_speeds)} each): losses {r['loss'].sum():.4f} J, gains {r['gain'].sum():.4f} J"
+        )
         print(f"  first landing (t = {r['t'][k]:.5f} s) lost {first:.5f} J, derived within [{lo:.5f}, {hi:.5f}] J")
-        print(f"  10 periods: largest |E - E_0| {worst:.4f} J ({worst / E_ref:.3%} of E_ref), end "
-              f"{r['drift'][-1]:+.4f} J; bound (3) B = {B:.4f} J ({B / E_ref:.3%})")
+        print(
+            f"  10 periods: largest |E - E_0| {worst:.4f} J ({worst / E_ref:.3%} of E_ref), end "
+            f"{r['drift'][-1]:+.4f} J; bound (3) B = {B:.4f} J ({B / E_ref:.3%})"
+        )
         if not r["uniform"] <= 1e-9:
-            failures.append(f"h = {h:g}: the face is not uniform under a uniform force (Delta 1 off 1 by "
-                            f"{r['uniform']:.1e}): the scalar face of the derivation does not apply")
+            failures.append(
+                f"h = {h:g}: the face is not uniform under a uniform force (Delta 1 off 1 by "
+                f"{r['uniform']:.1e}): the scalar face of the derivation does not apply"
+            )
         if not r["balance"] <= BALANCE_TOL * r["t"].size:
-            failures.append(f"h = {h:g}: energy balance error {r['balance']:.2e} > {BALANCE_TOL:g} x {r['t'].size} steps")
+            failures.append(
+                f"h = {h:g}: energy balance error {r['balance']:.2e} > {BALANCE_TOL:g} x {r['t'].size} steps"
+            )
         if not ident <= IDENTITY_TOL * E_ref:
-            failures.append(f"h = {h:g}: identity (1) off by {ident:.3e} J > {IDENTITY_TOL:g} E_ref: the energy moves "
-                            f"elsewhere than at landings and releases")
+            failures.append(
+                f"h = {h:g}: identity (1) off by {ident:.3e} J > {IDENTITY_TOL:g} E_ref: the energy moves "
+                f"elsewhere than at landings and releases"
+            )
         if not r["complementarity"] <= IDENTITY_TOL * force_scale:
             failures.append(f"h = {h:g}: a node carries force {r['complementarity']:.3e} N m off the plane")
         if not lo <= first <= hi:
-            failures.append(f"h = {h:g}: the first landing lost {first:.5f} J, outside the derived [{lo:.5f}, {hi:.5f}] J")
+            failures.append(
+                f"h = {h:g}: the first landing lost {first:.5f} J, outside the derived [{lo:.5f}, {hi:.5f}] J"
+            )
         if not worst <= B:
             failures.append(f"h = {h:g}: energy drift {worst:.4f} J exceeds the derived bound (3) {B:.4f} J")
     ratio = rows[0][1] / rows[1][1]

@@ -57,9 +57,9 @@ from epaphe_testing import deck_value, history, parse_args, run, variant, verdic
 # elements per direction of the mapped cube, coarse to fine (V4_MESHES=16,24 for a study; 24^3 takes
 # about 2 min on 1 thread, too long for the ctest)
 MESHES = tuple(int(x) for x in os.environ.get("V4_MESHES", "8,12,16").split(","))
-TOL = 0.05                  # finest mesh against Hertz, see the docstring
-BALANCE_TOL = 1e-6          # Output->Energy balance tolerance's default
-STEP_FRACTION = 0.9         # time step / critical step
+TOL = 0.05  # finest mesh against Hertz, see the docstring
+BALANCE_TOL = 1e-6  # Output->Energy balance tolerance's default
+STEP_FRACTION = 0.9  # time step / critical step
 
 
 def hertz(deck):
@@ -78,8 +78,8 @@ def hertz(deck):
     assert U[2] == V[2] == 0, "the plane must be horizontal (z = const)"
     s = dict(R=R, E=E, nu=nu, rho=rho, v0=-v[2], gap=(c[2] - R) - o[2], end=float(deck_value(root, "Time->End time")))
     assert s["gap"] > 0, f"the plane is {s['gap']} m from the lower pole: it must be below it"
-    s["Es"] = E / (1 - nu ** 2)
-    s["m"] = 4 / 3 * math.pi * R ** 3 * rho
+    s["Es"] = E / (1 - nu**2)
+    s["m"] = 4 / 3 * math.pi * R**3 * rho
     s["delta"] = (15 * s["m"] * s["v0"] ** 2 / (16 * s["Es"] * math.sqrt(R))) ** 0.4
     s["F"] = 4 / 3 * s["Es"] * math.sqrt(R) * s["delta"] ** 1.5
     s["t_c"] = 2.87 * (s["m"] ** 2 / (R * s["Es"] ** 2 * s["v0"])) ** 0.2
@@ -102,11 +102,18 @@ def measure(hist, s):
     vz = hist["bodies/Ball/momentum"][:, 2] / m
     z = np.concatenate([[0.0], np.cumsum(0.5 * (vz[1:] + vz[:-1]) * h)])
     delta = z[i0] - z
-    return dict(h=h, F=float(F.max()), delta=float(delta.max()),
-                t_c=float(t[i1] - t[i0] + h), gaps=gaps, mass=m, restitution=float(vz[-1] / s["v0"]),
-                pole_speed=float(-hist["bodies/Ball/nodesets/z-pole/velocity"][i0 - 1, 0, 2] / s["v0"]),
-                ended=bool(i1 < t.size - 1),
-                balance=float(np.abs(hist["energy/balance_error"]).max()))
+    return dict(
+        h=h,
+        F=float(F.max()),
+        delta=float(delta.max()),
+        t_c=float(t[i1] - t[i0] + h),
+        gaps=gaps,
+        mass=m,
+        restitution=float(vz[-1] / s["v0"]),
+        pole_speed=float(-hist["bodies/Ball/nodesets/z-pole/velocity"][i0 - 1, 0, 2] / s["v0"]),
+        ended=bool(i1 < t.size - 1),
+        balance=float(np.abs(hist["energy/balance_error"]).max()),
+    )
 
 
 def main():
@@ -114,59 +121,91 @@ def main():
     s = hertz(a.deck)
     failures = []
     print(f"V4 Hertz impact: R = {s['R']:g} m, E* = {s['Es']:.4g} Pa, m = {s['m']:.5g} kg, v0 = {s['v0']:g} m/s")
-    print(f"Hertz: delta_max = {s['delta']:.5g} m ({s['delta'] / s['R']:.3%} of R), F_max = {s['F']:.5g} N, "
-          f"t_c = {s['t_c']:.5g} s, contact radius a = {s['a']:.4g} m ({s['a'] / s['R']:.3f} R)")
-    print(f"quasi-static: wave transit 2R/c_d = {s['transit']:.4g} s (c_d = {s['c_d']:.5g} m/s), "
-          f"t_c / transit = {s['t_c'] / s['transit']:.2f}")
+    print(
+        f"Hertz: delta_max = {s['delta']:.5g} m ({s['delta'] / s['R']:.3%} of R), F_max = {s['F']:.5g} N, "
+        f"t_c = {s['t_c']:.5g} s, contact radius a = {s['a']:.4g} m ({s['a'] / s['R']:.3f} R)"
+    )
+    print(
+        f"quasi-static: wave transit 2R/c_d = {s['transit']:.4g} s (c_d = {s['c_d']:.5g} m/s), "
+        f"t_c / transit = {s['t_c'] / s['transit']:.2f}"
+    )
     # Hertz's assumptions, from the deck (docs/verification.md V4 compares with the quasi-static theory)
     if not 0.002 <= s["delta"] / s["R"] <= 0.02:
-        failures.append(f"delta_max / R = {s['delta'] / s['R']:.3%}: outside [0.2 %, 2 %], Hertz's small strain "
-                        "and half-space assumptions do not hold; change the speed")
+        failures.append(
+            f"delta_max / R = {s['delta'] / s['R']:.3%}: outside [0.2 %, 2 %], Hertz's small strain "
+            "and half-space assumptions do not hold; change the speed"
+        )
     if not s["t_c"] >= 5 * s["transit"]:
-        failures.append(f"t_c = {s['t_c'] / s['transit']:.2f} wave transits: below 5, the impact is not "
-                        "quasi-static; lower the speed or the radius")
+        failures.append(
+            f"t_c = {s['t_c'] / s['transit']:.2f} wave transits: below 5, the impact is not "
+            "quasi-static; lower the speed or the radius"
+        )
     if not s["end"] >= s["gap"] / s["v0"] + 1.1 * s["t_c"]:
-        failures.append(f"End time {s['end']:g} s: the contact (gap {s['gap']:g} m at {s['v0']:g} m/s, then about "
-                        f"{s['t_c']:.3g} s) would not be over; raise it")
+        failures.append(
+            f"End time {s['end']:g} s: the contact (gap {s['gap']:g} m at {s['v0']:g} m/s, then about "
+            f"{s['t_c']:.3g} s) would not be over; raise it"
+        )
     if failures:
         return verdict(failures)
 
     rows = []
     for n in MESHES:
-        common = {"Bodies->Ball->Mesh->Elements": (f"{{{n}, {n}, {n}}}", "Array(int)"),
-                  "Run->Progress interval": ("0", "double")}
+        common = {
+            "Bodies->Ball->Mesh->Elements": (f"{{{n}, {n}, {n}}}", "Array(int)"),
+            "Run->Progress interval": ("0", "double"),
+        }
         # 1. the critical step of this mesh (epaphe-run's estimate, written to the output)
-        probe = variant(a.deck, os.path.join(a.workdir, f"probe-{n}.xml"),
-                        dict(common, **{"Output->File": f"probe-{n}.h5", "Time->Time step": ("1e-12", "double"),
-                                        "Time->End time": ("2e-12", "double")}))
+        probe = variant(
+            a.deck,
+            os.path.join(a.workdir, f"probe-{n}.xml"),
+            dict(
+                common,
+                **{
+                    "Output->File": f"probe-{n}.h5",
+                    "Time->Time step": ("1e-12", "double"),
+                    "Time->End time": ("2e-12", "double"),
+                },
+            ),
+        )
         run([a.run, probe, "--threads", "1"], a.workdir)
         crit = float(history(os.path.join(a.workdir, f"probe-{n}.h5"))["attrs"]["critical_time_step"])
         h = float(f"{STEP_FRACTION * crit:.3e}")
         # 2. the impact
-        deck = variant(a.deck, os.path.join(a.workdir, f"hertz-{n}.xml"),
-                       dict(common, **{"Output->File": f"hertz-{n}.h5", "Time->Time step": (repr(h), "double")}))
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, f"hertz-{n}.xml"),
+            dict(common, **{"Output->File": f"hertz-{n}.h5", "Time->Time step": (repr(h), "double")}),
+        )
         wall = time.time()
         run([a.run, deck, "--threads", "1"], a.workdir)
         wall = time.time() - wall
         hist = history(os.path.join(a.workdir, f"hertz-{n}.h5"))
         r = measure(hist, s)
-        r.update(n=n, dofs=int(hist["bodies/Ball/attrs"]["reduced_dofs"]), crit=crit, wall=wall,
-                 steps=int(hist["time"].size))
+        r.update(
+            n=n, dofs=int(hist["bodies/Ball/attrs"]["reduced_dofs"]), crit=crit, wall=wall, steps=int(hist["time"].size)
+        )
         for k, power in (("F", 0.6), ("delta", 0.4), ("t_c", 0.4)):
             r["e_" + k] = (r[k] - s[k]) / s[k]
             ref = s[k] * (r["mass"] / s["m"]) ** power
             r["eh_" + k] = (r[k] - ref) / ref
         rows.append(r)
-        print(f"  n = {n}: {r['dofs']} DOFs, h = {h:.3e} s ({STEP_FRACTION:g} of critical {crit:.4e} s), "
-              f"{r['steps']} steps in {wall:.1f} s; ball mass {r['mass']:.5g} kg", flush=True)
+        print(
+            f"  n = {n}: {r['dofs']} DOFs, h = {h:.3e} s ({STEP_FRACTION:g} of critical {crit:.4e} s), "
+            f"{r['steps']} steps in {wall:.1f} s; ball mass {r['mass']:.5g} kg",
+            flush=True,
+        )
 
-    print(" mesh | DOFs   | F_max (N)            | delta_max (m)         | t_c (s)               | "
-          "errors vs Hertz(m_h): F, delta, t_c | restit. | run (s)")
+    print(
+        " mesh | DOFs   | F_max (N)            | delta_max (m)         | t_c (s)               | "
+        "errors vs Hertz(m_h): F, delta, t_c | restit. | run (s)"
+    )
     for r in rows:
-        print(f" {r['n']:2d}^3 | {r['dofs']:6d} | {r['F']:9.4g} ({r['e_F']:+7.2%}) | {r['delta']:10.5g} "
-              f"({r['e_delta']:+7.2%}) | {r['t_c']:10.5g} ({r['e_t_c']:+7.2%}) | {r['eh_F']:+7.2%} "
-              f"{r['eh_delta']:+7.2%} {r['eh_t_c']:+7.2%} (m_h/m - 1 = {r['mass'] / s['m'] - 1:+.2%}) "
-              f"| {r['restitution']:7.4f} | {r['wall']:6.1f}")
+        print(
+            f" {r['n']:2d}^3 | {r['dofs']:6d} | {r['F']:9.4g} ({r['e_F']:+7.2%}) | {r['delta']:10.5g} "
+            f"({r['e_delta']:+7.2%}) | {r['t_c']:10.5g} ({r['e_t_c']:+7.2%}) | {r['eh_F']:+7.2%} "
+            f"{r['eh_delta']:+7.2%} {r['eh_t_c']:+7.2%} (m_h/m - 1 = {r['mass'] / s['m'] - 1:+.2%}) "
+            f"| {r['restitution']:7.4f} | {r['wall']:6.1f}"
+        )
     print(f" Hertz | {'':6s} | {s['F']:9.4g}            | {s['delta']:10.5g}           | {s['t_c']:10.5g}")
     for r in rows:
         if r["gaps"]:
@@ -178,19 +217,25 @@ def main():
         if not r["restitution"] > 0.8:
             failures.append(f"n = {r['n']}: the ball leaves at {r['restitution']:.3f} v0 upwards, not above 0.8 v0")
         if not abs(r["pole_speed"] - 1) < 1e-6:
-            failures.append(f"n = {r['n']}: the pole arrives at {r['pole_speed']:.6f} v0, not v0: the ball was "
-                            "not in free flight before the contact")
+            failures.append(
+                f"n = {r['n']}: the pole arrives at {r['pole_speed']:.6f} v0, not v0: the ball was "
+                "not in free flight before the contact"
+            )
     for k, name in (("F", "F_max"), ("delta", "delta_max"), ("t_c", "t_c")):
         errs = [abs(r["e_" + k]) for r in rows]
         steps = [abs(r1[k] - r0[k]) / s[k] for r0, r1 in zip(rows, rows[1:])]
         print(f"{name}: change between successive meshes " + ", ".join(f"{x:.2%}" for x in steps))
         for (r0, r1), d0, d1 in zip(zip(rows[1:], rows[2:]), steps, steps[1:]):
             if not d1 < d0:
-                failures.append(f"{name}: the change from n = {r0['n']} to n = {r1['n']} ({d1:.2%} of Hertz) is not "
-                                f"below the previous one ({d0:.2%}): the mesh sequence does not converge")
+                failures.append(
+                    f"{name}: the change from n = {r0['n']} to n = {r1['n']} ({d1:.2%} of Hertz) is not "
+                    f"below the previous one ({d0:.2%}): the mesh sequence does not converge"
+                )
         if not errs[-1] <= TOL:
-            failures.append(f"{name}: finest mesh (n = {rows[-1]['n']}) {rows[-1][k]:.5g}, Hertz {s[k]:.5g}: "
-                            f"error {rows[-1]['e_' + k]:+.2%} beyond {TOL:.0%}")
+            failures.append(
+                f"{name}: finest mesh (n = {rows[-1]['n']}) {rows[-1][k]:.5g}, Hertz {s[k]:.5g}: "
+                f"error {rows[-1]['e_' + k]:+.2%} beyond {TOL:.0%}"
+            )
     return verdict(failures)
 
 

@@ -26,10 +26,17 @@ def main():
     depth = {}
     for v in (10, 50):
         name = f"v{v}"
-        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
-            "Output->File": name + ".h5", "Time->Time step": ("2e-7", "double"), "Time->End time": ("1e-3", "double"),
-            "Bodies->Cube->Initial velocity": (f"{{0, -{v}, 0}}", "Array(double)"),
-            "Run->Progress interval": ("0", "double")})
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, name + ".xml"),
+            {
+                "Output->File": name + ".h5",
+                "Time->Time step": ("2e-7", "double"),
+                "Time->End time": ("1e-3", "double"),
+                "Bodies->Cube->Initial velocity": (f"{{0, -{v}, 0}}", "Array(double)"),
+                "Run->Progress interval": ("0", "double"),
+            },
+        )
         run([a.run, deck, "--threads", "1"], a.workdir)
         h = history(os.path.join(a.workdir, name + ".h5"))
         m = h["bodies/Cube/attrs"]["rigid_mass"]
@@ -37,8 +44,10 @@ def main():
         uy = h["bodies/Cube/nodesets/all/displacement"][:, :, 1].mean(axis=1)
         depth[v] = -uy.min()
         balance = np.abs(h["energy/balance_error"]).max()
-        print(f"{v:3d} m/s: final vertical velocity {vy[-1]:+.3f} m/s, deepest mean displacement {uy.min():.5f} m, "
-              f"energy balance {balance:.1e}")
+        print(
+            f"{v:3d} m/s: final vertical velocity {vy[-1]:+.3f} m/s, deepest mean displacement {uy.min():.5f} m, "
+            f"energy balance {balance:.1e}"
+        )
         if not (vy[-1] > 0 and abs(vy[-1] - v) <= 0.01 * v):
             failures.append(f"{v} m/s: the cube does not bounce back at {v} m/s (final {vy[-1]:.3f} m/s)")
         if not balance <= 1e-8:
@@ -55,10 +64,16 @@ def main():
             for i in range(px):
                 for k in range(px):
                     p, q = idx[i + px * (py * k)], idx[(n - i) + px * (py * (n - k))]
-                    worst = max(worst, np.abs(u[:, p, 0] + u[:, q, 0]).max(), np.abs(u[:, p, 2] + u[:, q, 2]).max(),
-                                np.abs(u[:, p, 1] - u[:, q, 1]).max())
-            print(f"symmetry of the bottom face: largest violation {worst:.2e} m of {scale:.2e} m "
-                  f"({worst / scale:.1e})")
+                    worst = max(
+                        worst,
+                        np.abs(u[:, p, 0] + u[:, q, 0]).max(),
+                        np.abs(u[:, p, 2] + u[:, q, 2]).max(),
+                        np.abs(u[:, p, 1] - u[:, q, 1]).max(),
+                    )
+            print(
+                f"symmetry of the bottom face: largest violation {worst:.2e} m of {scale:.2e} m "
+                f"({worst / scale:.1e})"
+            )
             if not worst <= 1e-6 * scale:
                 failures.append(f"symmetry violated: {worst / scale:.2e} > 1e-6")
     if not depth[50] > depth[10]:

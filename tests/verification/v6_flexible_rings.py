@@ -36,13 +36,17 @@ from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E
 def main():
     a = parse_args("--rigid-deck")
     failures = []
-    common = {"Time->End time": ("6e-4", "double"), "Run->Progress interval": ("0", "double"),
-              "Output->Every": ("10", "int")}
+    common = {
+        "Time->End time": ("6e-4", "double"),
+        "Run->Progress interval": ("0", "double"),
+        "Output->Every": ("10", "int"),
+    }
     res = {}
     half = {f"Bodies->{r} ring->Reduction->Fixed-interface modes": ("50", "int") for r in ("Left", "Right")}
     for name, base, extra in (("rigid", a.rigid_deck, {}), ("flexible", a.deck, {}), ("flexible-50", a.deck, half)):
-        deck = variant(base, os.path.join(a.workdir, name + ".xml"),
-                       dict(common, **extra, **{"Output->File": name + ".h5"}))
+        deck = variant(
+            base, os.path.join(a.workdir, name + ".xml"), dict(common, **extra, **{"Output->File": name + ".h5"})
+        )
         out = run([a.run, deck, "--threads", "1"], a.workdir)
         print([l for l in out.stdout.splitlines() if "per-step" in l or "steps/s" in l])
         h = history(os.path.join(a.workdir, name + ".h5"))
@@ -51,9 +55,11 @@ def main():
         c = F > 1e-6 * F.max()
         dt = t[1] - t[0]
         res[name] = (F[c].mean(), t[c][-1] - t[c][0], h, F.sum() * dt, F.max())
-        print(f"{name:11s}: mean contact force {F[c].mean():.4e} N, max {F.max():.4e} N, contact {1e3 * (t[c][-1] - t[c][0]):.4f} ms, "
-              f"impulse {F.sum() * dt:.4e} N s, contact still on at the end: {bool(c[-1])}, "
-              f"energy balance {np.abs(h['energy/balance_error']).max():.1e}")
+        print(
+            f"{name:11s}: mean contact force {F[c].mean():.4e} N, max {F.max():.4e} N, contact {1e3 * (t[c][-1] - t[c][0]):.4f} ms, "
+            f"impulse {F.sum() * dt:.4e} N s, contact still on at the end: {bool(c[-1])}, "
+            f"energy balance {np.abs(h['energy/balance_error']).max():.1e}"
+        )
         if c[-1]:
             failures.append(f"{name}: the contact has not ended at the run's end, {t[-1]:.3g} s")
         if np.abs(h["energy/balance_error"]).max() > 1e-8:
@@ -62,22 +68,32 @@ def main():
     ratio50 = res["flexible-50"][0] / res["rigid"][0]
     durations = res["rigid"][1] / res["flexible"][1]
     impulses = res["flexible"][3] / res["rigid"][3]
-    print(f"flexible / rigid: mean contact force {ratio:.4f} (50 modes per ring: {ratio50:.4f}), impulse {impulses:.4f}, "
-          f"peak force {res['flexible'][4] / res['rigid'][4]:.3f}, contact duration {1 / durations:.3f} x")
+    print(
+        f"flexible / rigid: mean contact force {ratio:.4f} (50 modes per ring: {ratio50:.4f}), impulse {impulses:.4f}, "
+        f"peak force {res['flexible'][4] / res['rigid'][4]:.3f}, contact duration {1 / durations:.3f} x"
+    )
     if not res["flexible"][1] > res["rigid"][1]:
         failures.append("the contact does not last longer with flexible rings")
     if not ratio < 1:
-        failures.append(f"mean contact force ratio {ratio:.4f}: not below 1 (a compliance in series with the contact "
-                        "must lower the force)")
+        failures.append(
+            f"mean contact force ratio {ratio:.4f}: not below 1 (a compliance in series with the contact "
+            "must lower the force)"
+        )
     if not res["flexible"][4] < res["rigid"][4]:
-        failures.append(f"peak contact force {res['flexible'][4]:.4e} N with flexible rings, not below the rigid "
-                        f"rings' {res['rigid'][4]:.4e} N")
+        failures.append(
+            f"peak contact force {res['flexible'][4]:.4e} N with flexible rings, not below the rigid "
+            f"rings' {res['rigid'][4]:.4e} N"
+        )
     change = abs(ratio - ratio50)
-    print(f"ring modes 50 -> 100: the ratio changes by {change:.2e}, {change / max(1 - ratio, 1e-300):.3f} of the "
-          f"rings' effect 1 - ratio = {1 - ratio:.4f} (allowed 0.1)")
+    print(
+        f"ring modes 50 -> 100: the ratio changes by {change:.2e}, {change / max(1 - ratio, 1e-300):.3f} of the "
+        f"rings' effect 1 - ratio = {1 - ratio:.4f} (allowed 0.1)"
+    )
     if not change <= 0.1 * (1 - ratio):
-        failures.append(f"the mean force ratio is not converged in the rings' modes: {ratio:.4f} (100) against "
-                        f"{ratio50:.4f} (50), more than 10 % of 1 - ratio = {1 - ratio:.4f}")
+        failures.append(
+            f"the mean force ratio is not converged in the rings' modes: {ratio:.4f} (100) against "
+            f"{ratio50:.4f} (50), more than 10 % of 1 - ratio = {1 - ratio:.4f}"
+        )
     h = res["flexible"][2]
     uL, uR = h["bodies/Left ring/nodesets/outer/displacement"], h["bodies/Right ring/nodesets/outer/displacement"]
     print(f"ring face deflection: max {1e3 * np.abs(uL).max():.4f} mm (left), {1e3 * np.abs(uR).max():.4f} mm (right)")
@@ -98,8 +114,12 @@ def main():
     for i in range(p):
         for k in range(p):
             q1, q2 = idx[i + p * (p * k)], idx[(n - i) + p * (p * (n - k))]
-            worst = max(worst, np.abs(u[:, q1, 0] + u[:, q2, 0]).max(), np.abs(u[:, q1, 2] + u[:, q2, 2]).max(),
-                        np.abs(u[:, q1, 1] - u[:, q2, 1]).max())
+            worst = max(
+                worst,
+                np.abs(u[:, q1, 0] + u[:, q2, 0]).max(),
+                np.abs(u[:, q1, 2] + u[:, q2, 2]).max(),
+                np.abs(u[:, q1, 1] - u[:, q2, 1]).max(),
+            )
     print(f"cube bottom-face symmetry: {worst:.2e} m of {cs:.2e} m")
     if not worst <= 1e-6 * cs:
         failures.append(f"cube symmetry violated ({worst / cs:.2e})")

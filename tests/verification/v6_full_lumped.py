@@ -34,9 +34,15 @@ def contact_measures(h):
     gap = h["bodies/Cube/contact/gap"][1:]
     inside = gap[gap < BEYOND]
     m = h["bodies/Cube/attrs"]["rigid_mass"]
-    return dict(start=t[on[0]], end=t[on[-1]] + dt, impulse=force.sum() * dt,
-                penetration=max(0.0, -inside.min()), balance=np.abs(h["energy/balance_error"]).max(),
-                rebound=h["bodies/Cube/momentum"][-1, 1] / m, critical=h["attrs"]["critical_time_step"])
+    return dict(
+        start=t[on[0]],
+        end=t[on[-1]] + dt,
+        impulse=force.sum() * dt,
+        penetration=max(0.0, -inside.min()),
+        balance=np.abs(h["energy/balance_error"]).max(),
+        rebound=h["bodies/Cube/momentum"][-1, 1] / m,
+        critical=h["attrs"]["critical_time_step"],
+    )
 
 
 def main():
@@ -44,10 +50,18 @@ def main():
     failures = []
     out = {}
     for name, method in (("cb", "Craig-Bampton"), ("full", "Full, lumped mass")):
-        deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"), {
-            "Output->File": name + ".h5", "Output->Every": ("1", "int"), "Time->End time": ("1e-3", "double"),
-            "Bodies->Cube->Reduction->Method": method, "Run->Progress interval": ("0", "double"),
-            "Output->Fields every": ("1000", "int")})
+        deck = variant(
+            a.deck,
+            os.path.join(a.workdir, name + ".xml"),
+            {
+                "Output->File": name + ".h5",
+                "Output->Every": ("1", "int"),
+                "Time->End time": ("1e-3", "double"),
+                "Bodies->Cube->Reduction->Method": method,
+                "Run->Progress interval": ("0", "double"),
+                "Output->Fields every": ("1000", "int"),
+            },
+        )
         run([a.run, deck, "--threads", "1"], a.workdir)
         h = history(os.path.join(a.workdir, name + ".h5"))
         out[name] = contact_measures(h)
@@ -56,14 +70,18 @@ def main():
             rows = np.searchsorted(h["time"], h["fields/time"])
             watched = h["bodies/Cube/nodesets/all/displacement"][rows]
             worst = np.abs(frames - watched).max()
-            print(f"field frames: {frames.shape[0]} of {frames.shape[1]} nodes, largest difference to the watched "
-                  f"displacements {worst:.1e} m")
+            print(
+                f"field frames: {frames.shape[0]} of {frames.shape[1]} nodes, largest difference to the watched "
+                f"displacements {worst:.1e} m"
+            )
             if not (worst == 0.0 and os.path.exists(os.path.join(a.workdir, name + ".xmf"))):
                 failures.append(f"field frames differ from the watched displacements by {worst:.2e} m, or no XDMF")
         m = out[name]
-        print(f"{method:18s}: contact {m['start']:.4e} .. {m['end']:.4e} s, impulse {m['impulse']:.5e} N s, "
-              f"rebound {m['rebound']:+.4f} m/s, penetration {m['penetration']:.2e} m, "
-              f"energy balance {m['balance']:.1e}, critical step {m['critical']:.4e} s")
+        print(
+            f"{method:18s}: contact {m['start']:.4e} .. {m['end']:.4e} s, impulse {m['impulse']:.5e} N s, "
+            f"rebound {m['rebound']:+.4f} m/s, penetration {m['penetration']:.2e} m, "
+            f"energy balance {m['balance']:.1e}, critical step {m['critical']:.4e} s"
+        )
     cb, full = out["cb"], out["full"]
     duration = cb["end"] - cb["start"]
     for key in ("start", "end"):
@@ -84,8 +102,10 @@ def main():
         if not m["rebound"] > 0:
             failures.append(f"{name}: the cube does not bounce back ({m['rebound']:+.3f} m/s)")
     if not full["critical"] > cb["critical"]:
-        failures.append(f"critical step of the lumped full model {full['critical']:.3e} s is not above the "
-                        f"consistent reduced model's {cb['critical']:.3e} s")
+        failures.append(
+            f"critical step of the lumped full model {full['critical']:.3e} s is not above the "
+            f"consistent reduced model's {cb['critical']:.3e} s"
+        )
     return verdict(failures)
 
 

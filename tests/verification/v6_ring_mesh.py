@@ -22,8 +22,12 @@ def main():
     dist = {}
     for name, nu, nv in MESHES:
         tag = name.replace(" ", "-")
-        over = {"Output->File": tag + ".h5", "Time->End time": ("6e-4", "double"), "Output->Every": ("5", "int"),
-                "Run->Progress interval": ("0", "double")}
+        over = {
+            "Output->File": tag + ".h5",
+            "Time->End time": ("6e-4", "double"),
+            "Output->Every": ("5", "int"),
+            "Run->Progress interval": ("0", "double"),
+        }
         for ring in ("Left ring", "Right ring"):
             over[f"Surfaces->{ring}->Points"] = (f"{{{nu}, {nv}}}", "Array(int)")
         deck = variant(a.deck, os.path.join(a.workdir, tag + ".xml"), over)

@@ -50,18 +50,18 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from epaphe_testing import history, run, variant, verdict  # noqa: E402
 
-FIRST_NODE_THESIS = 1.8e-3   # s, thesis section 4.2.2 (dashed lines of figure 4.11)
-FIRST_NODE_TOL = 0.05        # the issue's tolerance on it
-KE_STOPPED = 0.01            # stuck: kinetic energy at the end / initial (10 % of the speed)
-TAIL = 0.10                  # stuck: in contact over this last fraction of the run
-EVERY = 5                    # records every 5 steps (5 us at h = 1e-6 s: 0.3 % of 1.8 ms)
+FIRST_NODE_THESIS = 1.8e-3  # s, thesis section 4.2.2 (dashed lines of figure 4.11)
+FIRST_NODE_TOL = 0.05  # the issue's tolerance on it
+KE_STOPPED = 0.01  # stuck: kinetic energy at the end / initial (10 % of the speed)
+TAIL = 0.10  # stuck: in contact over this last fraction of the run
+EVERY = 5  # records every 5 steps (5 us at h = 1e-6 s: 0.3 % of 1.8 ms)
 
 # (name, deck, overrides, end time (s)); h = the deck's 1e-6 s unless overridden. The end times leave
 # the cube time to clear the rings after the contact: measured, every bounce or pass is decided (and
 # stays so) by 3.4 ms at the latest (kp = 1e6), so 5 ms; the stuck cube (mu = 0.3) is followed to
 # 8 ms, over four times its 1.8 ms of frictionless contact, to show it stays.
-PEN_H = ("8e-7", "double")   # kp = 1e8 needs h <= 8.8e-7 s (docs/verification.md V6): every penalty
-                             # run and its Lagrange reference use 8e-7 s
+PEN_H = ("8e-7", "double")  # kp = 1e8 needs h <= 8.8e-7 s (docs/verification.md V6): every penalty
+# run and its Lagrange reference use 8e-7 s
 CASES = [
     ("v10", "rigid", {"Bodies->Cube->Initial velocity": ("{0, -10, 0}", "Array(double)")}, 5e-3),
     ("v50", "rigid", {}, 5e-3),
@@ -71,23 +71,46 @@ CASES = [
     ("mu0.8", "rigid", {"Contact->Friction coefficient": ("0.8", "double")}, 5e-3),
     ("flexible", "flexible", {}, 5e-3),
     ("lagrange-h8e-7", "rigid", {"Time->Time step": PEN_H}, 5e-3),
-    ("kp1e6", "rigid", {"Time->Time step": PEN_H, "Contact->Method": "Penalty",
-                        "Contact->Penalty stiffness": ("1e6", "double")}, 5e-3),
-    ("kp1e7", "rigid", {"Time->Time step": PEN_H, "Contact->Method": "Penalty",
-                        "Contact->Penalty stiffness": ("1e7", "double")}, 5e-3),
-    ("kp1e8", "rigid", {"Time->Time step": PEN_H, "Contact->Method": "Penalty",
-                        "Contact->Penalty stiffness": ("1e8", "double")}, 5e-3),
+    (
+        "kp1e6",
+        "rigid",
+        {"Time->Time step": PEN_H, "Contact->Method": "Penalty", "Contact->Penalty stiffness": ("1e6", "double")},
+        5e-3,
+    ),
+    (
+        "kp1e7",
+        "rigid",
+        {"Time->Time step": PEN_H, "Contact->Method": "Penalty", "Contact->Penalty stiffness": ("1e7", "double")},
+        5e-3,
+    ),
+    (
+        "kp1e8",
+        "rigid",
+        {"Time->Time step": PEN_H, "Contact->Method": "Penalty", "Contact->Penalty stiffness": ("1e8", "double")},
+        5e-3,
+    ),
 ]
 GROUPS = {
-    "velocity": (["v10", "v50", "v100"], ["10 m/s", "50 m/s", "100 m/s"],
-                 "cube between rigid rings, E = 2.1 GPa: impact velocity (thesis 4.1.2)"),
-    "friction": (["v50", "mu0.1", "mu0.3", "mu0.8"], ["mu = 0", "mu = 0.1", "mu = 0.3", "mu = 0.8"],
-                 "cube between rigid rings at 50 m/s, E = 2.1 GPa: friction (thesis 4.3.3, fig. 4.24)"),
-    "flexible": (["v50", "flexible"], ["rigid rings", "flexible rings"],
-                 "cube at 50 m/s, E = 2.1 GPa: rigid and flexible rings (thesis 4.3.1, figs. 4.19-4.20)"),
-    "penalty": (["kp1e6", "kp1e7", "kp1e8", "lagrange-h8e-7"], ["kp = 1e6 N/m", "kp = 1e7 N/m", "kp = 1e8 N/m",
-                                                              "Lagrange"],
-                "cube between rigid rings at 50 m/s, E = 2.1 GPa, h = 8e-7 s: penalty and Lagrange (thesis 4.4, fig. 4.26)"),
+    "velocity": (
+        ["v10", "v50", "v100"],
+        ["10 m/s", "50 m/s", "100 m/s"],
+        "cube between rigid rings, E = 2.1 GPa: impact velocity (thesis 4.1.2)",
+    ),
+    "friction": (
+        ["v50", "mu0.1", "mu0.3", "mu0.8"],
+        ["mu = 0", "mu = 0.1", "mu = 0.3", "mu = 0.8"],
+        "cube between rigid rings at 50 m/s, E = 2.1 GPa: friction (thesis 4.3.3, fig. 4.24)",
+    ),
+    "flexible": (
+        ["v50", "flexible"],
+        ["rigid rings", "flexible rings"],
+        "cube at 50 m/s, E = 2.1 GPa: rigid and flexible rings (thesis 4.3.1, figs. 4.19-4.20)",
+    ),
+    "penalty": (
+        ["kp1e6", "kp1e7", "kp1e8", "lagrange-h8e-7"],
+        ["kp = 1e6 N/m", "kp = 1e7 N/m", "kp = 1e8 N/m", "Lagrange"],
+        "cube between rigid rings at 50 m/s, E = 2.1 GPa, h = 8e-7 s: penalty and Lagrange (thesis 4.4, fig. 4.26)",
+    ),
 }
 
 
@@ -108,8 +131,10 @@ def geometry(rigid_deck, flexible_deck):
     fd = -float(val(fl, "Origin").strip("{}").split(",")[0])
     fR = float(val(fl, "Inner radius")) + float(val(fl, "Thickness"))
     if abs(fd - d) > 1e-12 or abs(fR - R) > 1e-12:
-        raise SystemExit(f"{flexible_deck}: ring centre {fd} m / outer radius {fR} m differ from {rigid_deck}'s "
-                         f"{d} m / {R} m: the regimes' y_touch assumes the same arcs")
+        raise SystemExit(
+            f"{flexible_deck}: ring centre {fd} m / outer radius {fR} m differ from {rigid_deck}'s "
+            f"{d} m / {R} m: the regimes' y_touch assumes the same arcs"
+        )
     return np.sqrt(R * R - (d - a) ** 2), a
 
 
@@ -156,10 +181,12 @@ def outcome(h, y_touch, half):
         "contact_at_end": contact_end,
         "exit_velocity": float(vy[-1]),
         "peak_force": float(peak),
-        "depth": float(-(y.mean(axis=1) - y[0].mean()).min()),   # deepest fall of the centroid
+        "depth": float(-(y.mean(axis=1) - y[0].mean()).min()),  # deepest fall of the centroid
         "ke_ratio": float(ke[-1] / ke0),
-        "y_min_end": float(y[-1].min()), "y_max_end": float(y[-1].max()),
-        "node1": int(cn[k]), "node1_xyz": [float(v) for v in XC[k]],
+        "y_min_end": float(y[-1].min()),
+        "y_max_end": float(y[-1].max()),
+        "node1": int(cn[k]),
+        "node1_xyz": [float(v) for v in XC[k]],
         "node1_start": float(t[ni[0]]) if ni.size else None,
         "node1_end": float(t[ni[-1]] + dt) if ni.size and ni[-1] < t.size - 1 else None,
         "node1_breaks": int(np.count_nonzero(np.diff(ni) > 1)) if ni.size else 0,
@@ -170,8 +197,10 @@ def outcome(h, y_touch, half):
 
 def figure(group, res, workdir):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     names, labels, title = GROUPS[group]
     fig, ax = plt.subplots(2, 2, figsize=(11, 7.5))
     for n, lab in zip(names, labels):
@@ -201,6 +230,7 @@ def figure(group, res, workdir):
 
 def main():
     import argparse
+
     ap = argparse.ArgumentParser()
     for name in ("--run", "--deck", "--flexible-deck", "--workdir"):
         ap.add_argument(name, required=True)
@@ -213,8 +243,12 @@ def main():
     res = {}
     start = time.time()
     for name, which, over, end in CASES:
-        o = {"Output->File": name + ".h5", "Run->Progress interval": ("0", "double"),
-             "Output->Every": (str(EVERY), "int"), "Time->End time": (repr(end), "double")}
+        o = {
+            "Output->File": name + ".h5",
+            "Run->Progress interval": ("0", "double"),
+            "Output->Every": (str(EVERY), "int"),
+            "Time->End time": (repr(end), "double"),
+        }
         o.update(over)
         # one field frame at t = 0 writes the mesh coordinates (/bodies/*/mesh/coordinates)
         o["Output->Fields every"] = ("100000000", "int")
@@ -224,10 +258,12 @@ def main():
         r = outcome(history(os.path.join(a.workdir, name + ".h5")), y_touch, half)
         res[name] = r
         fmt = lambda v: "-" if v is None else f"{1e3 * v:.3f}"  # noqa: E731
-        print(f"{name:15s} {r['regime']:9s} contact {fmt(r['contact_start'])}-{fmt(r['contact_end'])} ms, exit "
-              f"v_y {r['exit_velocity']:+8.2f} m/s, peak force {r['peak_force']:.3e} N, centroid "
-              f"{1e3 * r['depth']:.1f} mm down, KE end/start {r['ke_ratio']:.2e}  ({time.time() - t0:.1f} s)",
-              flush=True)
+        print(
+            f"{name:15s} {r['regime']:9s} contact {fmt(r['contact_start'])}-{fmt(r['contact_end'])} ms, exit "
+            f"v_y {r['exit_velocity']:+8.2f} m/s, peak force {r['peak_force']:.3e} N, centroid "
+            f"{1e3 * r['depth']:.1f} mm down, KE end/start {r['ke_ratio']:.2e}  ({time.time() - t0:.1f} s)",
+            flush=True,
+        )
     print(f"all runs: {time.time() - start:.0f} s")
 
     failures = []
@@ -235,9 +271,11 @@ def main():
     def regime(name, want, why):
         if res[name]["regime"] != want:
             r = res[name]
-            failures.append(f"{name}: {why}: expected '{want}', got '{r['regime']}' (v_y {r['exit_velocity']:+.2f} m/s, "
-                            f"contact at the end {r['contact_at_end']}, lowest/highest node "
-                            f"{1e3 * r['y_min_end']:.1f}/{1e3 * r['y_max_end']:.1f} mm, KE ratio {r['ke_ratio']:.2e})")
+            failures.append(
+                f"{name}: {why}: expected '{want}', got '{r['regime']}' (v_y {r['exit_velocity']:+.2f} m/s, "
+                f"contact at the end {r['contact_at_end']}, lowest/highest node "
+                f"{1e3 * r['y_min_end']:.1f}/{1e3 * r['y_max_end']:.1f} mm, KE ratio {r['ke_ratio']:.2e})"
+            )
 
     def duration(name):
         r = res[name]
@@ -249,35 +287,49 @@ def main():
     regime("v50", "bounce", "thesis 4.1.2: at 50 m/s the cube follows the curvature, then bounces")
     regime("v100", "pass", "thesis 4.1.2: at 100 m/s the cube deforms enough to pass through")
     if not res["v50"]["depth"] > res["v10"]["depth"]:
-        failures.append(f"thesis 4.1.2: the 50 m/s cube does not go deeper ({1e3 * res['v50']['depth']:.1f} mm) than "
-                        f"the 10 m/s one ({1e3 * res['v10']['depth']:.1f} mm)")
+        failures.append(
+            f"thesis 4.1.2: the 50 m/s cube does not go deeper ({1e3 * res['v50']['depth']:.1f} mm) than "
+            f"the 10 m/s one ({1e3 * res['v10']['depth']:.1f} mm)"
+        )
     regime("mu0.1", "bounce", "thesis 4.3.3: with mu = 0.1 the cube still bounces")
     if not duration("mu0.1") > duration("v50"):
-        failures.append(f"thesis 4.3.3: the contact with mu = 0.1 ({1e3 * duration('mu0.1'):.3f} ms) is not longer "
-                        f"than with mu = 0 ({1e3 * duration('v50'):.3f} ms)")
+        failures.append(
+            f"thesis 4.3.3: the contact with mu = 0.1 ({1e3 * duration('mu0.1'):.3f} ms) is not longer "
+            f"than with mu = 0 ({1e3 * duration('v50'):.3f} ms)"
+        )
     if not res["mu0.1"]["depth"] < res["v50"]["depth"]:
-        failures.append(f"thesis 4.3.3: with mu = 0.1 the cube does not go less deep ({1e3 * res['mu0.1']['depth']:.1f} "
-                        f"mm) than with mu = 0 ({1e3 * res['v50']['depth']:.1f} mm)")
+        failures.append(
+            f"thesis 4.3.3: with mu = 0.1 the cube does not go less deep ({1e3 * res['mu0.1']['depth']:.1f} "
+            f"mm) than with mu = 0 ({1e3 * res['v50']['depth']:.1f} mm)"
+        )
     regime("mu0.3", "stuck", "thesis 4.3.3: with mu = 0.3 the cube stays stuck between the rings")
     regime("mu0.8", "bounce", "thesis 4.3.3: with mu = 0.8 the cube is stopped, compressed, and bounces")
     if not duration("mu0.8") < duration("v50"):
-        failures.append(f"thesis 4.3.3: the contact with mu = 0.8 ({1e3 * duration('mu0.8'):.3f} ms) is not shorter "
-                        f"than with mu = 0 ({1e3 * duration('v50'):.3f} ms)")
+        failures.append(
+            f"thesis 4.3.3: the contact with mu = 0.8 ({1e3 * duration('mu0.8'):.3f} ms) is not shorter "
+            f"than with mu = 0 ({1e3 * duration('v50'):.3f} ms)"
+        )
     if not res["mu0.8"]["exit_velocity"] < res["v50"]["exit_velocity"]:
-        failures.append(f"thesis 4.3.3: the exit velocity with mu = 0.8 ({res['mu0.8']['exit_velocity']:+.2f} m/s) is "
-                        f"not below mu = 0's ({res['v50']['exit_velocity']:+.2f} m/s)")
+        failures.append(
+            f"thesis 4.3.3: the exit velocity with mu = 0.8 ({res['mu0.8']['exit_velocity']:+.2f} m/s) is "
+            f"not below mu = 0's ({res['v50']['exit_velocity']:+.2f} m/s)"
+        )
     regime("flexible", "pass", "thesis 4.3.1 (fig. 4.19c): flexible rings let the cube through")
     vmax = float(res["flexible"]["curves"]["vy"].max())
     print(f"flexible rings: largest rigid velocity v_y {vmax:+.2f} m/s (the cube never moves up)")
     if not vmax < 0:
-        failures.append(f"thesis 4.3.1 (fig. 4.19c): with flexible rings the cube's motion is not strictly downward "
-                        f"(v_y reaches {vmax:+.2f} m/s)")
+        failures.append(
+            f"thesis 4.3.1 (fig. 4.19c): with flexible rings the cube's motion is not strictly downward "
+            f"(v_y reaches {vmax:+.2f} m/s)"
+        )
     ratio = res["flexible"]["peak_force"] / res["v50"]["peak_force"]
     print(f"flexible / rigid peak contact force: {ratio:.3f}")
     if not ratio < 1:
-        failures.append(f"thesis 4.3.1 (fig. 4.20): the peak contact force with flexible rings "
-                        f"({res['flexible']['peak_force']:.3e} N) is not lower than with rigid rings "
-                        f"({res['v50']['peak_force']:.3e} N)")
+        failures.append(
+            f"thesis 4.3.1 (fig. 4.20): the peak contact force with flexible rings "
+            f"({res['flexible']['peak_force']:.3e} N) is not lower than with rigid rings "
+            f"({res['v50']['peak_force']:.3e} N)"
+        )
     regime("kp1e6", "pass", "thesis 4.4: kp = 1e6 N/m lets the cube fall through the rigid rings")
     ref = res["lagrange-h8e-7"]["curves"]
     diffs = {}
@@ -285,27 +337,39 @@ def main():
         c = res[kp]["curves"]
         n = min(c["t"].size, ref["t"].size)
         diffs[kp] = float(np.abs(c["yc"][:n] - ref["yc"][:n]).max())
-    print("largest difference of the centroid's height to the Lagrange run (h = 8e-7 s): "
-          + ", ".join(f"{k} {1e3 * v:.2f} mm" for k, v in diffs.items()))
+    print(
+        "largest difference of the centroid's height to the Lagrange run (h = 8e-7 s): "
+        + ", ".join(f"{k} {1e3 * v:.2f} mm" for k, v in diffs.items())
+    )
     if not diffs["kp1e6"] > diffs["kp1e7"] > diffs["kp1e8"]:
-        failures.append(f"thesis 4.4: the penalty runs do not approach the Lagrange run as kp grows "
-                        f"(centroid differences {', '.join(f'{k} {1e3 * v:.2f} mm' for k, v in diffs.items())})")
+        failures.append(
+            f"thesis 4.4: the penalty runs do not approach the Lagrange run as kp grows "
+            f"(centroid differences {', '.join(f'{k} {1e3 * v:.2f} mm' for k, v in diffs.items())})"
+        )
     if res["kp1e8"]["regime"] != res["lagrange-h8e-7"]["regime"]:
-        failures.append(f"thesis 4.4: kp = 1e8 N/m ({res['kp1e8']['regime']}) does not reproduce the Lagrange run's "
-                        f"regime ({res['lagrange-h8e-7']['regime']})")
+        failures.append(
+            f"thesis 4.4: kp = 1e8 N/m ({res['kp1e8']['regime']}) does not reproduce the Lagrange run's "
+            f"regime ({res['lagrange-h8e-7']['regime']})"
+        )
     r = res["v50"]
     if r["node1_start"] is None or r["node1_end"] is None:
         failures.append(f"thesis 4.2.2: node 1 (id {r['node1']}) has no complete contact at 50 m/s")
     else:
         d1 = r["node1_end"] - r["node1_start"]
-        print(f"node 1 (id {r['node1']} at {r['node1_xyz']}): contact {1e3 * r['node1_start']:.3f}-"
-              f"{1e3 * r['node1_end']:.3f} ms = {1e3 * d1:.3f} ms ({r['node1_breaks']} interruptions), thesis 1.8 ms; "
-              f"first contact of any node {1e3 * r['first_touch']:.3f} ms")
+        print(
+            f"node 1 (id {r['node1']} at {r['node1_xyz']}): contact {1e3 * r['node1_start']:.3f}-"
+            f"{1e3 * r['node1_end']:.3f} ms = {1e3 * d1:.3f} ms ({r['node1_breaks']} interruptions), thesis 1.8 ms; "
+            f"first contact of any node {1e3 * r['first_touch']:.3f} ms"
+        )
         if not abs(d1 - FIRST_NODE_THESIS) <= FIRST_NODE_TOL * FIRST_NODE_THESIS:
             failures.append(f"thesis 4.2.2: node 1's contact at 50 m/s lasts {1e3 * d1:.3f} ms, not 1.8 ms within 5 %")
-        if not abs(r["node1_start"] - r["first_touch"]) <= 1e-12 + (res["v50"]["curves"]["t"][1] - res["v50"]["curves"]["t"][0]):
-            failures.append(f"thesis 4.2.2: node 1 (id {r['node1']}) is not among the first to touch "
-                            f"({1e3 * r['node1_start']:.3f} ms against {1e3 * r['first_touch']:.3f} ms)")
+        if not abs(r["node1_start"] - r["first_touch"]) <= 1e-12 + (
+            res["v50"]["curves"]["t"][1] - res["v50"]["curves"]["t"][0]
+        ):
+            failures.append(
+                f"thesis 4.2.2: node 1 (id {r['node1']}) is not among the first to touch "
+                f"({1e3 * r['node1_start']:.3f} ms against {1e3 * r['first_touch']:.3f} ms)"
+            )
 
     for g in GROUPS:
         path = figure(g, res, a.workdir)

@@ -49,23 +49,42 @@ def main():
     revs = float(deck_value(a.deck, "Time->End revolutions"))
     every = deck_value(a.deck, "Output->Every")
     common = {"Run->Progress interval": ("0", "double")}
-    runs = {"flexible": variant(a.deck, os.path.join(a.workdir, "flexible.xml"),
-                                dict(common, **{"Output->File": "flexible.h5"})),
-            "rigid": variant(a.rigid_deck, os.path.join(a.workdir, "rigid.xml"),
-                             dict(common, **{"Output->File": "rigid.h5", "Time->Time step": (repr(h), "double"),
-                                             "Time->End revolutions": (repr(revs), "double"),
-                                             "Output->Every": (every, "int")})),
-            "flexible-20": variant(a.deck, os.path.join(a.workdir, "flexible-20.xml"),
-                                   dict(common, **{"Output->File": "flexible-20.h5",
-                                                   "Bodies->Casing->Reduction->Fixed-interface modes": ("20", "int")}))}
+    runs = {
+        "flexible": variant(
+            a.deck, os.path.join(a.workdir, "flexible.xml"), dict(common, **{"Output->File": "flexible.h5"})
+        ),
+        "rigid": variant(
+            a.rigid_deck,
+            os.path.join(a.workdir, "rigid.xml"),
+            dict(
+                common,
+                **{
+                    "Output->File": "rigid.h5",
+                    "Time->Time step": (repr(h), "double"),
+                    "Time->End revolutions": (repr(revs), "double"),
+                    "Output->Every": (every, "int"),
+                },
+            ),
+        ),
+        "flexible-20": variant(
+            a.deck,
+            os.path.join(a.workdir, "flexible-20.xml"),
+            dict(
+                common,
+                **{"Output->File": "flexible-20.h5", "Bodies->Casing->Reduction->Fixed-interface modes": ("20", "int")},
+            ),
+        ),
+    }
     res = {}
     for name, deck in runs.items():
         start = time.time()
         out = run([a.run, deck, "--threads", "1"], a.workdir)
         wall = time.time() - start
         rate = re.search(r"([0-9.e+]+) steps/s", out.stdout)
-        print(f"{name}: {wall:.1f} s wall, {rate.group(1) if rate else '?'} steps/s; " +
-              "; ".join(l.strip() for l in out.stdout.splitlines() if "per-step" in l or "critical" in l))
+        print(
+            f"{name}: {wall:.1f} s wall, {rate.group(1) if rate else '?'} steps/s; "
+            + "; ".join(l.strip() for l in out.stdout.splitlines() if "per-step" in l or "critical" in l)
+        )
         path = os.path.join(a.workdir, name + ".h5")
         bad = finite(path)
         if bad:
@@ -77,9 +96,11 @@ def main():
         amp = max(np.abs(hist[f"bodies/Blade/nodesets/{s}/displacement"]).max() for s in ("tip-le", "tip-te"))
         bal = np.abs(hist["energy/balance_error"]).max()
         pen = max(0.0, -hist["bodies/Blade/contact/gap"].min())
-        print(f"{name}: impulse {res[name]['impulse']:.4g} N s, peak force {F.max():.4g} N, in contact at "
-              f"{100 * np.mean(F > 0):.1f} % of the records, blade tip amplitude {1e3 * amp:.4f} mm, "
-              f"energy balance {bal:.1e}, largest penetration {pen:.1e} m")
+        print(
+            f"{name}: impulse {res[name]['impulse']:.4g} N s, peak force {F.max():.4g} N, in contact at "
+            f"{100 * np.mean(F > 0):.1f} % of the records, blade tip amplitude {1e3 * amp:.4f} mm, "
+            f"energy balance {bal:.1e}, largest penetration {pen:.1e} m"
+        )
         period = 2 * math.pi / 1000.0
         steps = hist["attrs"]["steps"]
         if not abs(steps * h - revs * period) <= h:
@@ -91,33 +112,47 @@ def main():
         if not pen <= 1e-9:
             failures.append(f"{name}: penetration {pen:.2e} m above 1e-9 m")
         ev = rotor.contact_events(path, "Blade", ["tip-le", "tip-te"], skip=1)
-        print(f"{name}: contacts per revolution (revolutions 1+): leading edge {ev['tip-le']['per_rev']}, "
-              f"trailing edge {ev['tip-te']['per_rev']}")
+        print(
+            f"{name}: contacts per revolution (revolutions 1+): leading edge {ev['tip-le']['per_rev']}, "
+            f"trailing edge {ev['tip-te']['per_rev']}"
+        )
         if not ev["tip-le"]["per_rev"] or ev["tip-le"]["per_rev"] != [2] * len(ev["tip-le"]["per_rev"]):
             failures.append(f"{name}: leading-edge contacts per revolution {ev['tip-le']['per_rev']}, expected 2")
     u = res["flexible"]["h"]["bodies/Casing/nodesets/inner/displacement"]
     umax = np.abs(u).max()
-    print(f"casing inner face: largest |u| {1e6 * umax:.3f} um over {u.shape[1]} nodes "
-          f"({umax / (0.3 * np.finfo(float).eps):.1e} x the round-off of a 0.3 m coordinate)")
+    print(
+        f"casing inner face: largest |u| {1e6 * umax:.3f} um over {u.shape[1]} nodes "
+        f"({umax / (0.3 * np.finfo(float).eps):.1e} x the round-off of a 0.3 m coordinate)"
+    )
     if not umax > 1e-6:
         failures.append(f"the casing's inner face moves by {umax:.2e} m only (expected > 1 um)")
     ratio = res["flexible"]["impulse"] / res["rigid"]["impulse"]
     ratio20 = res["flexible-20"]["impulse"] / res["rigid"]["impulse"]
-    print(f"flexible / rigid casing: contact impulse {ratio:.4f} (casing 10 modes), {ratio20:.4f} (20 modes); "
-          f"peak force {res['flexible']['peak'] / res['rigid']['peak']:.3f}, "
-          f"{res['flexible-20']['peak'] / res['rigid']['peak']:.3f}")
+    print(
+        f"flexible / rigid casing: contact impulse {ratio:.4f} (casing 10 modes), {ratio20:.4f} (20 modes); "
+        f"peak force {res['flexible']['peak'] / res['rigid']['peak']:.3f}, "
+        f"{res['flexible-20']['peak'] / res['rigid']['peak']:.3f}"
+    )
     if not ratio < 1:
-        failures.append(f"flexible / rigid contact impulse {ratio:.4f}: not below 1 (a compliance in series with the "
-                        "contact must lower the force)")
+        failures.append(
+            f"flexible / rigid contact impulse {ratio:.4f}: not below 1 (a compliance in series with the "
+            "contact must lower the force)"
+        )
     if not res["flexible"]["peak"] < res["rigid"]["peak"]:
-        failures.append(f"peak contact force {res['flexible']['peak']:.4g} N with the flexible casing, not below the "
-                        f"rigid casing's {res['rigid']['peak']:.4g} N")
+        failures.append(
+            f"peak contact force {res['flexible']['peak']:.4g} N with the flexible casing, not below the "
+            f"rigid casing's {res['rigid']['peak']:.4g} N"
+        )
     change = abs(ratio - ratio20)
-    print(f"casing modes 10 -> 20: the ratio changes by {change:.2e}, {change / max(1 - ratio20, 1e-300):.3f} of the "
-          f"casing's effect 1 - ratio = {1 - ratio20:.4f} (allowed 0.1)")
+    print(
+        f"casing modes 10 -> 20: the ratio changes by {change:.2e}, {change / max(1 - ratio20, 1e-300):.3f} of the "
+        f"casing's effect 1 - ratio = {1 - ratio20:.4f} (allowed 0.1)"
+    )
     if not change <= 0.1 * (1 - ratio20):
-        failures.append(f"the impulse ratio is not converged in the casing's modes: {ratio:.4f} (10) against "
-                        f"{ratio20:.4f} (20), more than 10 % of 1 - ratio = {1 - ratio20:.4f}")
+        failures.append(
+            f"the impulse ratio is not converged in the casing's modes: {ratio:.4f} (10) against "
+            f"{ratio20:.4f} (20), more than 10 % of 1 - ratio = {1 - ratio20:.4f}"
+        )
     return verdict(failures)
 
 

@@ -43,30 +43,52 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from epaphe_testing import history, parse_args, run, variant, verdict  # noqa: E402
 
 a = parse_args("--mpiexec")
-base = {"Run->Progress interval": ("0", "double"), "Time->End revolutions": ("3", "double"),
-        "Contact->Friction coefficient": ("0", "double"), "Time->Damping->Type": ("Rayleigh", "string"),
-        "Time->Damping->Alpha": ("43", "double")}
+base = {
+    "Run->Progress interval": ("0", "double"),
+    "Time->End revolutions": ("3", "double"),
+    "Contact->Friction coefficient": ("0", "double"),
+    "Time->Damping->Type": ("Rayleigh", "string"),
+    "Time->Damping->Alpha": ("43", "double"),
+}
 
 
 def simulate(name, overrides, launcher=()):
-    deck = variant(a.deck, os.path.join(a.workdir, name + ".xml"),
-                   dict(base, **overrides, **{"Output->File": (name + ".h5", "string"),
-                                              "Bodies->Blade->Reduction->Cache file": (name + ".rom.h5", "string")}))
+    deck = variant(
+        a.deck,
+        os.path.join(a.workdir, name + ".xml"),
+        dict(
+            base,
+            **overrides,
+            **{
+                "Output->File": (name + ".h5", "string"),
+                "Bodies->Blade->Reduction->Cache file": (name + ".rom.h5", "string"),
+            },
+        ),
+    )
     run([*launcher, a.run, deck], a.workdir)
     h = history(os.path.join(a.workdir, name + ".h5"))
-    u = np.concatenate([h[f"bodies/Blade/nodesets/{s}/displacement"].reshape(len(h["time"]), -1)
-                        for s in ("tip-le", "tip-te")], axis=1)
+    u = np.concatenate(
+        [h[f"bodies/Blade/nodesets/{s}/displacement"].reshape(len(h["time"]), -1) for s in ("tip-le", "tip-te")], axis=1
+    )
     return h, u
 
 
 failures = []
-ref, uref = simulate("craig-bampton-100", {"Bodies->Blade->Reduction->Method": ("Craig-Bampton", "string"),
-                                           "Bodies->Blade->Reduction->Fixed-interface modes": ("100", "int"),
-                                          "Time->Time step": ("1e-7", "double"), "Output->Every": ("47", "int")})
+ref, uref = simulate(
+    "craig-bampton-100",
+    {
+        "Bodies->Blade->Reduction->Method": ("Craig-Bampton", "string"),
+        "Bodies->Blade->Reduction->Fixed-interface modes": ("100", "int"),
+        "Time->Time step": ("1e-7", "double"),
+        "Output->Every": ("47", "int"),
+    },
+)
 tref = ref["time"]
 peak = np.abs(uref).max()
-print(f"reference: Craig-Bampton, 100 modes, h = 1e-7 s, critical step {ref['attrs']['critical_time_step']:.3g} s, "
-      f"{ref['attrs']['steps_per_second']:.0f} steps/s; largest tip displacement {peak * 1e6:.1f} um")
+print(
+    f"reference: Craig-Bampton, 100 modes, h = 1e-7 s, critical step {ref['attrs']['critical_time_step']:.3g} s, "
+    f"{ref['attrs']['steps_per_second']:.0f} steps/s; largest tip displacement {peak * 1e6:.1f} um"
+)
 
 
 def error(h, u):
@@ -86,61 +108,91 @@ check_balance("reference", ref)
 
 # ---- modes, at the reference's step -----------------------------------------------------------
 modal = {}
-for label, overrides in (("craig-bampton-40", {"Bodies->Blade->Reduction->Method": ("Craig-Bampton", "string"),
-                                               "Bodies->Blade->Reduction->Fixed-interface modes": ("40", "int")}),
-                         ("massless-20", {"Bodies->Blade->Reduction->Fixed-interface modes": ("20", "int")}),
-                         ("massless-30", {"Bodies->Blade->Reduction->Fixed-interface modes": ("30", "int")}),
-                         ("massless-60", {"Bodies->Blade->Reduction->Fixed-interface modes": ("60", "int")})):
-    h, u = simulate(label + "-h1e-7", dict(overrides, **{"Time->Time step": ("1e-7", "double"),
-                                                         "Output->Every": ("47", "int")}))
+for label, overrides in (
+    (
+        "craig-bampton-40",
+        {
+            "Bodies->Blade->Reduction->Method": ("Craig-Bampton", "string"),
+            "Bodies->Blade->Reduction->Fixed-interface modes": ("40", "int"),
+        },
+    ),
+    ("massless-20", {"Bodies->Blade->Reduction->Fixed-interface modes": ("20", "int")}),
+    ("massless-30", {"Bodies->Blade->Reduction->Fixed-interface modes": ("30", "int")}),
+    ("massless-60", {"Bodies->Blade->Reduction->Fixed-interface modes": ("60", "int")}),
+):
+    h, u = simulate(
+        label + "-h1e-7", dict(overrides, **{"Time->Time step": ("1e-7", "double"), "Output->Every": ("47", "int")})
+    )
     check_balance(label, h)
     modal[label] = (error(h, u), h, u)
-    print(f"{label}, h = 1e-7 s: error {modal[label][0] * 100:.3g} % of the peak, critical step "
-          f"{h['attrs']['critical_time_step']:.3g} s, {h['attrs']['steps_per_second']:.0f} steps/s, "
-          f"loop {h['attrs']['loop_time']:.3g} s")
+    print(
+        f"{label}, h = 1e-7 s: error {modal[label][0] * 100:.3g} % of the peak, critical step "
+        f"{h['attrs']['critical_time_step']:.3g} s, {h['attrs']['steps_per_second']:.0f} steps/s, "
+        f"loop {h['attrs']['loop_time']:.3g} s"
+    )
 e20, e30, e60, g40 = (modal[k][0] for k in ("massless-20", "massless-30", "massless-60", "craig-bampton-40"))
 if not e20 > e30 > e60:
-    failures.append(f"h = 1e-7 s: the error does not fall with the modes: 20, 30, 60 modes {e20:.3g}, {e30:.3g}, "
-                    f"{e60:.3g} of the peak")
+    failures.append(
+        f"h = 1e-7 s: the error does not fall with the modes: 20, 30, 60 modes {e20:.3g}, {e30:.3g}, "
+        f"{e60:.3g} of the peak"
+    )
 if not e60 <= g40:
-    failures.append(f"60 modes at h = 1e-7 s: error {e60:.3g} of the peak, farther from the reference than "
-                    f"Craig-Bampton with 40 modes ({g40:.3g})")
+    failures.append(
+        f"60 modes at h = 1e-7 s: error {e60:.3g} of the peak, farther from the reference than "
+        f"Craig-Bampton with 40 modes ({g40:.3g})"
+    )
 
 # ---- time step, 20 modes ---------------------------------------------------------------------
 h1 = 4.675e-6  # 1000 steps per revolution: 2 pi / 1344 / 1000 to 4 digits, the deck's step
-steps = [h1 / 2 ** k for k in range(5)]
+steps = [h1 / 2**k for k in range(5)]
 series = []
 for k, step in enumerate(steps):
     name = f"massless-20-h{step:.6g}"
-    h, u = simulate(name, {"Bodies->Blade->Reduction->Fixed-interface modes": ("20", "int"),
-                           "Time->Time step": (f"{step:.17g}", "double"), "Output->Every": (str(2 ** k), "int")})
+    h, u = simulate(
+        name,
+        {
+            "Bodies->Blade->Reduction->Fixed-interface modes": ("20", "int"),
+            "Time->Time step": (f"{step:.17g}", "double"),
+            "Output->Every": (str(2**k), "int"),
+        },
+    )
     check_balance(name, h)
     series.append((h, u))
-    print(f"massless boundary, 20 modes, h = {step:.6g} s ({2 * np.pi / 1344 / step:.0f} steps/rev): critical step "
-          f"{h['attrs']['critical_time_step']:.3g} s, {h['attrs']['steps_per_second']:.0f} steps/s, loop "
-          f"{h['attrs']['loop_time']:.3g} s")
+    print(
+        f"massless boundary, 20 modes, h = {step:.6g} s ({2 * np.pi / 1344 / step:.0f} steps/rev): critical step "
+        f"{h['attrs']['critical_time_step']:.3g} s, {h['attrs']['steps_per_second']:.0f} steps/s, loop "
+        f"{h['attrs']['loop_time']:.3g} s"
+    )
     if k == 0:
         ratio = h["attrs"]["critical_time_step"] / ref["attrs"]["critical_time_step"]
         print(f"critical step: massless {ratio:.1f} times the Craig-Bampton model's")
         if not ratio >= 10:
             failures.append(f"massless critical step only {ratio:.3g} times Craig-Bampton's (expected >= 10)")
-        print(f"at 1000 steps/rev against the reference: error {error(h, u) * 100:.3g} % of the peak (the 20-mode "
-              f"model at h = 1e-7 s: {e20 * 100:.3g} %)")
+        print(
+            f"at 1000 steps/rev against the reference: error {error(h, u) * 100:.3g} % of the peak (the 20-mode "
+            f"model at h = 1e-7 s: {e20 * 100:.3g} %)"
+        )
 n = min(len(hu[0]["time"]) for hu in series)
 for hh, _ in series:
     assert np.allclose(hh["time"][:n], series[0][0]["time"][:n], rtol=0, atol=1e-3 * h1), "records off the h1 grid"
 diffs = [np.abs(series[k][1][:n] - series[k + 1][1][:n]).max() / peak for k in range(len(series) - 1)]
 ratios = [diffs[k] / diffs[k + 1] for k in range(len(diffs) - 1)]
 order = np.log2(diffs[0] / diffs[-1]) / (len(diffs) - 1)
-print("20 modes, |u(h) - u(h/2)| / peak for h = 1000, 2000, 4000, 8000 steps/rev: "
-      + ", ".join(f"{100 * d:.3g} %" for d in diffs)
-      + "; ratios " + ", ".join(f"{r:.2f}" for r in ratios) + f"; mean observed order {order:.2f} (at least 1)")
+print(
+    "20 modes, |u(h) - u(h/2)| / peak for h = 1000, 2000, 4000, 8000 steps/rev: "
+    + ", ".join(f"{100 * d:.3g} %" for d in diffs)
+    + "; ratios "
+    + ", ".join(f"{r:.2f}" for r in ratios)
+    + f"; mean observed order {order:.2f} (at least 1)"
+)
 print(f"time error at 1000 steps/rev, estimated (Richardson, first order: |u(h) - u(h/2)|): {100 * diffs[0]:.3g} %")
 if not all(r > 1 for r in ratios):
     failures.append(f"20 modes: the difference between h and h/2 does not fall with h: ratios {ratios}")
 if not order >= 1.0:
-    failures.append(f"20 modes: mean observed order in h {order:.3g} < 1 (the modes feel the force at t_n to second "
-                    "order; first order where the contact is entered and left)")
+    failures.append(
+        f"20 modes: mean observed order in h {order:.3g} < 1 (the modes feel the force at t_n to second "
+        "order; first order where the contact is entered and left)"
+    )
 mpi = {"Time->End revolutions": ("1", "double"), "Bodies->Blade->Reduction->Cache": ("false", "bool")}
 _, u1 = simulate("ranks-1", mpi)
 _, u2 = simulate("ranks-2", mpi, launcher=(a.mpiexec, "-n", "2"))

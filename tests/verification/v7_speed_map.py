@@ -30,18 +30,39 @@ from epaphe_testing import engine_order_lines  # noqa: E402
 from epaphe import measures as rotor  # noqa: E402  (epaphe-rotor's spectra)
 
 SPEEDS = (600, 1000, 1400)
-REVS, SKIP = 16, 8   # 8 whole revolutions analyzed: bins 1/8 of an engine order apart
-DOMINANCE = 2.0      # the largest line over anything off the even-order lines, at least 2x (6 dB)
-EVEN_ENERGY = 0.95   # share of the spectral energy on even whole orders (steady forced response)
+REVS, SKIP = 16, 8  # 8 whole revolutions analyzed: bins 1/8 of an engine order apart
+DOMINANCE = 2.0  # the largest line over anything off the even-order lines, at least 2x (6 dB)
+EVEN_ENERGY = 0.95  # share of the spectral energy on even whole orders (steady forced response)
 
 ap = argparse.ArgumentParser()
 for k in ("--rotor", "--run", "--deck", "--workdir", "--mpiexec"):
     ap.add_argument(k, required=True)
 a = ap.parse_args()
 os.makedirs(a.workdir, exist_ok=True)
-p = subprocess.run([sys.executable, a.rotor, "map", a.deck, "--speeds", ",".join(map(str, SPEEDS)), "--revs", str(REVS),
-                    "--skip", str(SKIP), "--ranks", "2", "--mpiexec", a.mpiexec, "--run", a.run, "--out", a.workdir],
-                   capture_output=True, text=True)
+p = subprocess.run(
+    [
+        sys.executable,
+        a.rotor,
+        "map",
+        a.deck,
+        "--speeds",
+        ",".join(map(str, SPEEDS)),
+        "--revs",
+        str(REVS),
+        "--skip",
+        str(SKIP),
+        "--ranks",
+        "2",
+        "--mpiexec",
+        a.mpiexec,
+        "--run",
+        a.run,
+        "--out",
+        a.workdir,
+    ],
+    capture_output=True,
+    text=True,
+)
 print(p.stdout)
 if p.returncode != 0:
     sys.exit(p.stderr)
@@ -61,13 +82,17 @@ for w in SPEEDS:
     for s in ("tip-le", "tip-te"):
         eo, freq, amp = rotor.spectrum(h5, "Blade", s, "x", SKIP)
         d = engine_order_lines(eo, amp, REVS - SKIP)
-        print(f"{s} at {w} rad/s: dominant engine order {d['order']} (peak at EO {d['peak']:.3f}, {d['off']:.2f} bins "
-              f"off), {100 * d['even_fraction']:.2f} % of the energy on even orders, largest line "
-              f"{d['off_line_ratio']:.1f} x anything off them")
+        print(
+            f"{s} at {w} rad/s: dominant engine order {d['order']} (peak at EO {d['peak']:.3f}, {d['off']:.2f} bins "
+            f"off), {100 * d['even_fraction']:.2f} % of the energy on even orders, largest line "
+            f"{d['off_line_ratio']:.1f} x anything off them"
+        )
         if d["off"] > 0.5 or d["order"] % 2 or d["even_fraction"] < EVEN_ENERGY or d["off_line_ratio"] < DOMINANCE:
-            failures.append(f"{s} at {w} rad/s: largest line at EO {d['peak']:.3f} ({d['off']:.2f} bins from EO "
-                            f"{d['order']}), {100 * d['even_fraction']:.1f} % of the energy on even orders, "
-                            f"{d['off_line_ratio']:.1f} x anything off them: expected an even whole order on its bin, "
-                            f">= {100 * EVEN_ENERGY:g} % and >= {DOMINANCE:g} x")
+            failures.append(
+                f"{s} at {w} rad/s: largest line at EO {d['peak']:.3f} ({d['off']:.2f} bins from EO "
+                f"{d['order']}), {100 * d['even_fraction']:.1f} % of the energy on even orders, "
+                f"{d['off_line_ratio']:.1f} x anything off them: expected an even whole order on its bin, "
+                f">= {100 * EVEN_ENERGY:g} % and >= {DOMINANCE:g} x"
+            )
 print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
 sys.exit(1 if failures else 0)

@@ -29,9 +29,17 @@ SKIP = 77  # ctest SKIP_RETURN_CODE of verification.xdmf-paraview
 
 def write_fields(a):
     """Runs the cube between the rings with field output; returns the .xmf path."""
-    deck = variant(a.deck, os.path.join(a.workdir, "fields.xml"), {
-        "Output->File": "fields.h5", "Output->Fields every": ("1000", "int"), "Time->End time": ("6e-4", "double"),
-        "Time->Time step": ("2e-7", "double"), "Bodies->Cube->Initial velocity": ("{0, -10, 0}", "Array(double)")})
+    deck = variant(
+        a.deck,
+        os.path.join(a.workdir, "fields.xml"),
+        {
+            "Output->File": "fields.h5",
+            "Output->Fields every": ("1000", "int"),
+            "Time->End time": ("6e-4", "double"),
+            "Time->Time step": ("2e-7", "double"),
+            "Bodies->Cube->Initial velocity": ("{0, -10, 0}", "Array(double)"),
+        },
+    )
     run([a.run, deck, "--threads", "1"], a.workdir)
     return os.path.join(a.workdir, "fields.xmf")
 
@@ -39,8 +47,10 @@ def write_fields(a):
 def check_paraview(a):
     pv = a.pvpython if a.pvpython not in ("none", "") and os.access(a.pvpython, os.X_OK) else shutil.which("pvpython")
     if not pv:
-        print("SKIPPED: ParaView's pvpython is not installed, so its XDMF reader is not checked "
-              "(Debian: apt-get install paraview python3-paraview, then configure again)")
+        print(
+            "SKIPPED: ParaView's pvpython is not installed, so its XDMF reader is not checked "
+            "(Debian: apt-get install paraview python3-paraview, then configure again)"
+        )
         return SKIP
     xmf = write_fields(a)
     failures = []
@@ -48,19 +58,21 @@ def check_paraview(a):
         frames = len(f["/fields/time"])
         # what the reader shows at the last time: every body's last frame and the static surface
         # grids (the rings' points), as the .xmf declares them
-        last = np.concatenate([f[f"/bodies/{b}/fields/position"][-1] for b in f["/bodies"]
-                               if f"/bodies/{b}/fields/position" in f]
-                              + [f[f"/surfaces/{g}/points"][()] for g in f.get("/surfaces", {})
-                                 if f"/surfaces/{g}/points" in f])
+        last = np.concatenate(
+            [f[f"/bodies/{b}/fields/position"][-1] for b in f["/bodies"] if f"/bodies/{b}/fields/position" in f]
+            + [f[f"/surfaces/{g}/points"][()] for g in f.get("/surfaces", {}) if f"/surfaces/{g}/points" in f]
+        )
     lo, hi = last.min(axis=0), last.max(axis=0)
     script = os.path.join(a.workdir, "read.py")
     with open(script, "w") as s:
-        s.write("from paraview.simple import *\n"
-                f"r = XDMFReader(FileNames=[{xmf!r}])\n"
-                "r.UpdatePipeline()\n"
-                "print('TIMES', len(r.TimestepValues))\n"
-                "r.UpdatePipeline(r.TimestepValues[-1])\n"
-                "print('BOUNDS', *r.GetDataInformation().GetBounds())\n")
+        s.write(
+            "from paraview.simple import *\n"
+            f"r = XDMFReader(FileNames=[{xmf!r}])\n"
+            "r.UpdatePipeline()\n"
+            "print('TIMES', len(r.TimestepValues))\n"
+            "r.UpdatePipeline(r.TimestepValues[-1])\n"
+            "print('BOUNDS', *r.GetDataInformation().GetBounds())\n"
+        )
     out = subprocess.run([pv, script], capture_output=True, text=True)
     lines = [l for l in out.stdout.splitlines() if l.startswith(("TIMES", "BOUNDS"))]
     print(f"ParaView ({pv}, exit {out.returncode}):", "; ".join(lines) or out.stderr[-1000:])
@@ -92,9 +104,16 @@ def check_hdf_items(root, f, failures):
 
 def check_coating(a, failures):
     """The coating's grid in the XDMF file of half a revolution of the coated blade."""
-    deck = variant(a.coating_deck, os.path.join(a.workdir, "coating.xml"), {
-        "Output->File": "coating.h5", "Output->Fields every": ("5000", "int"), "Output->Wear every": ("5000", "int"),
-        "Time->End revolutions": ("0.5", "double")})
+    deck = variant(
+        a.coating_deck,
+        os.path.join(a.workdir, "coating.xml"),
+        {
+            "Output->File": "coating.h5",
+            "Output->Fields every": ("5000", "int"),
+            "Output->Wear every": ("5000", "int"),
+            "Time->End revolutions": ("0.5", "double"),
+        },
+    )
     run([a.run, deck, "--threads", "1"], a.workdir)
     root = ET.parse(os.path.join(a.workdir, "coating.xmf")).getroot()
     with h5py.File(os.path.join(a.workdir, "coating.h5"), "r") as f:
@@ -112,9 +131,13 @@ def check_coating(a, failures):
         r = np.hypot(points[:, 0], points[:, 1])
         # the clearance law moves the casing by up to 0.15 mm from its Radius: within 0.2 mm of the front
         if not (np.abs(r - front).max() < 2e-4):
-            failures.append(f"coating: quadrilateral corners at radii {r.min():.6f}-{r.max():.6f} m, front near {front}")
-        print(f"coating: {len(grids)} frames of {g['mesh/quads'].shape[0]} quadrilaterals at radii "
-              f"{r.min():.6f}-{r.max():.6f} m; largest wear {wear.max() * 1e6:.3g} um")
+            failures.append(
+                f"coating: quadrilateral corners at radii {r.min():.6f}-{r.max():.6f} m, front near {front}"
+            )
+        print(
+            f"coating: {len(grids)} frames of {g['mesh/quads'].shape[0]} quadrilaterals at radii "
+            f"{r.min():.6f}-{r.max():.6f} m; largest wear {wear.max() * 1e6:.3g} um"
+        )
 
 
 def main():

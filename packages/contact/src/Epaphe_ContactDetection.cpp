@@ -24,7 +24,7 @@ namespace epaphe {
 /// +infinity when the surface is not such a graph.
 double radialTurnRate(const BSplineSurface& S, const std::array<double, 3>& axis, const std::array<double, 3>& center) {
   constexpr double none = std::numeric_limits<double>::infinity();
-  if (S.periodicU() == S.periodicV()) return none;   // closed in exactly one direction
+  if (S.periodicU() == S.periodicV()) return none;  // closed in exactly one direction
   const bool aroundU = S.periodicU();
   auto split = [&](const double* x, double perp[3], double& z) {
     z = 0.0;
@@ -40,8 +40,10 @@ double radialTurnRate(const BSplineSurface& S, const std::array<double, 3>& axis
       double perp[3], z;
       split(g.data(), perp, z);
       scale = std::max({scale, std::sqrt(perp[0] * perp[0] + perp[1] * perp[1] + perp[2] * perp[2]), std::abs(z)});
-      if (i == 0) rowZ[j] = z;
-      else if (std::abs(z - rowZ[j]) > 1e-12 * scale) return none;   // a row around is not at one z
+      if (i == 0)
+        rowZ[j] = z;
+      else if (std::abs(z - rowZ[j]) > 1e-12 * scale)
+        return none;  // a row around is not at one z
     }
   {  // once around, not twice: the grid's angles along the first row sum to one turn
     double turned = 0.0;
@@ -61,7 +63,7 @@ double radialTurnRate(const BSplineSurface& S, const std::array<double, 3>& axis
   constexpr int k = 16;
   double rate = 0.0;
   int turnSign = 0, alongSign = 0;
-  const int aroundSamples = k * nAround, alongSamples = k * (nAlong - 1);   // the open direction: both ends
+  const int aroundSamples = k * nAround, alongSamples = k * (nAlong - 1);  // the open direction: both ends
   for (int a = 0; a < aroundSamples; ++a)
     for (int b = 0; b <= alongSamples; ++b) {
       const double around = double(a) / k, along = double(b) / k;
@@ -92,8 +94,9 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
     : opt_(options), surfaces_(std::move(surfaces)) {
   const int nc = static_cast<int>(dofs.size() / 3);
   const int ns = static_cast<int>(surfaces_.size());
-  EPAPHE_REQUIRE(nc > 0 && dofs.size() == 3 * std::size_t(nc) && X.size() == dofs.size(),
-                 "contact: " << dofs.size() << " node DOFs and " << X.size() << " coordinates; give 3 of each per node");
+  EPAPHE_REQUIRE(
+      nc > 0 && dofs.size() == 3 * std::size_t(nc) && X.size() == dofs.size(),
+      "contact: " << dofs.size() << " node DOFs and " << X.size() << " coordinates; give 3 of each per node");
   EPAPHE_REQUIRE(ns > 0, "contact: no surface to contact");
   EPAPHE_REQUIRE(opt_.nrTolerance > 0.0 && opt_.nrMaxIterations > 0,
                  "contact: Newton tolerance " << opt_.nrTolerance << " and " << opt_.nrMaxIterations
@@ -115,15 +118,15 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
     if (cs.moving) cs.surface = cs.moving;
     EPAPHE_REQUIRE(cs.surface, "contact: surface " << s << " is null");
     EPAPHE_REQUIRE(std::isfinite(cs.omega), "contact: surface '" << cs.surface->name() << "' turns at " << cs.omega
-                                                                  << " rad/s; give a finite speed");
+                                                                 << " rad/s; give a finite speed");
     EPAPHE_REQUIRE(std::isfinite(cs.phase), "contact: surface '" << cs.surface->name() << "' has the initial angle "
-                                                                  << cs.phase << " rad; give a finite angle");
+                                                                 << cs.phase << " rad; give a finite angle");
     const double l = std::sqrt(cs.axis[0] * cs.axis[0] + cs.axis[1] * cs.axis[1] + cs.axis[2] * cs.axis[2]);
     EPAPHE_REQUIRE(l > 0.0, "contact: surface '" << cs.surface->name() << "' has a zero rotation axis");
     for (double& a : cs.axis) a /= l;
     v.surf(s) = cs.surface->view();
     anyCarried_ = anyCarried_ || cs.moving;
-    v.turn(s, 0) = cs.law.ramp ? cs.law.fastest() : cs.omega;   // the skipping's bound of the turn rate
+    v.turn(s, 0) = cs.law.ramp ? cs.law.fastest() : cs.omega;  // the skipping's bound of the turn rate
     for (int d = 0; d < 3; ++d) {
       v.turn(s, 1 + d) = cs.axis[d];
       v.turn(s, 4 + d) = cs.center[d];
@@ -154,8 +157,8 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
         for (const auto& [di, dj] : {std::pair{1, 0}, std::pair{0, 1}}) {
           if ((i + di >= G.nu() && !G.periodicU()) || (j + dj >= G.nv() && !G.periodicV())) continue;
           const auto n = G.gridPoint((i + di) % G.nu(), (j + dj) % G.nv());
-          const double edge = std::sqrt((n[0] - p[0]) * (n[0] - p[0]) + (n[1] - p[1]) * (n[1] - p[1]) +
-                                     (n[2] - p[2]) * (n[2] - p[2]));
+          const double edge =
+              std::sqrt((n[0] - p[0]) * (n[0] - p[0]) + (n[1] - p[1]) * (n[1] - p[1]) + (n[2] - p[2]) * (n[2] - p[2]));
           if (edge > 0.0 && edge < smallestPatch_) {
             smallestPatch_ = edge;
             smallestPatchSurface_ = s;
@@ -209,7 +212,8 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   std::vector<CoatingMaterial> materials;
   for (const ContactSurface& cs : surfaces_) {
     EPAPHE_REQUIRE(cs.coating.elements[0] == 0 || !cs.moving,
-                   "contact: surface '" << cs.surface->name() << "' is carried by a flexible body and has a coating; a "
+                   "contact: surface '" << cs.surface->name()
+                                        << "' is carried by a flexible body and has a coating; a "
                                            "coating is supported on rigid surfaces only (a rigid casing behind it)");
     coated.push_back(cs.surface);
     materials.push_back(cs.coating);
@@ -220,14 +224,14 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
 }
 
 void ContactDetection::setPenetrationOffsets(const std::vector<double>& depth, double rampEnd) {
-  EPAPHE_REQUIRE(depth.size() == std::size_t(numNodes()), "contact: " << depth.size() << " penetration depths for "
-                                                                      << numNodes() << " nodes");
-  EPAPHE_REQUIRE(std::isfinite(rampEnd) && rampEnd > 0.0, "contact: the initial penetrations' ramp ends at "
-                                                              << rampEnd << " s; it must be a finite time > 0");
+  EPAPHE_REQUIRE(depth.size() == std::size_t(numNodes()),
+                 "contact: " << depth.size() << " penetration depths for " << numNodes() << " nodes");
+  EPAPHE_REQUIRE(std::isfinite(rampEnd) && rampEnd > 0.0,
+                 "contact: the initial penetrations' ramp ends at " << rampEnd << " s; it must be a finite time > 0");
   fence();
   for (int k = 0; k < numNodes(); ++k) {
-    EPAPHE_REQUIRE(std::isfinite(depth[k]) && depth[k] >= 0.0, "contact: penetration depth " << depth[k]
-                                                                   << " of node " << k << "; give a finite value >= 0");
+    EPAPHE_REQUIRE(std::isfinite(depth[k]) && depth[k] >= 0.0,
+                   "contact: penetration depth " << depth[k] << " of node " << k << "; give a finite value >= 0");
     v_.offset(k) = depth[k];
     v_.offsetSurf(k) = depth[k] > 0.0 ? v_.selected(k) : -1;
   }
@@ -237,16 +241,21 @@ void ContactDetection::setPenetrationOffsets(const std::vector<double>& depth, d
 
 Teuchos::RCP<const Teuchos::ParameterList> ContactDetection::getValidParameters() {
   auto pl = Teuchos::rcp(new Teuchos::ParameterList("Detection"));
-  deck::addDouble(*pl, "Newton tolerance", 1e-8, "crit_NR: closest-point Newton stops when the parameter step is "
-                                                 "below it", 1e-300, 1.0);
+  deck::addDouble(*pl, "Newton tolerance", 1e-8,
+                  "crit_NR: closest-point Newton stops when the parameter step is "
+                  "below it",
+                  1e-300, 1.0);
   deck::addInt(*pl, "Newton max iterations", 50, "Closest-point Newton iterations at most", 1, 10000);
-  deck::addDouble(*pl, "Edge tolerance", 1e-3, "A node beyond the edge of an open surface by less than this "
-                                               "fraction of a patch still touches it (nodes on a shared edge, "
-                                               "lateral round-off); farther, it is beyond the surface", 0.0, 1.0);
-  deck::addBool(*pl, "Skip distant nodes", true, "Skip the Newton projection of a node whose last gap exceeds "
-                                                 "how far it and the surfaces can have moved since (results "
-                                                 "unchanged to round-off; output steps project every node); false "
-                                                 "projects every node at every step");
+  deck::addDouble(*pl, "Edge tolerance", 1e-3,
+                  "A node beyond the edge of an open surface by less than this "
+                  "fraction of a patch still touches it (nodes on a shared edge, "
+                  "lateral round-off); farther, it is beyond the surface",
+                  0.0, 1.0);
+  deck::addBool(*pl, "Skip distant nodes", true,
+                "Skip the Newton projection of a node whose last gap exceeds "
+                "how far it and the surfaces can have moved since (results "
+                "unchanged to round-off; output steps project every node); false "
+                "projects every node at every step");
   deck::addBool(*pl, "Allow large motion per step", false,
                 "A contact node that moves farther in one time step than the smallest patch of the surfaces (the "
                 "shortest distance between neighbouring grid nodes) can cross an open surface between two "
@@ -306,8 +315,8 @@ void ContactDetection::setSkipState(const std::vector<double>& st) {
   const int nc = numNodes(), ns = numSurfaces();
   std::size_t i = 0;
   auto next = [&]() {
-    EPAPHE_REQUIRE(i < st.size(), "contact: the checkpoint's detection state has " << st.size()
-                                                                                    << " values, too few for this scene");
+    EPAPHE_REQUIRE(i < st.size(),
+                   "contact: the checkpoint's detection state has " << st.size() << " values, too few for this scene");
     return st[i++];
   };
   for (int k = 0; k < nc; ++k) {
@@ -324,8 +333,8 @@ void ContactDetection::setSkipState(const std::vector<double>& st) {
     c.resize(static_cast<std::size_t>(next()));
     for (double& x : c) x = next();
   }
-  EPAPHE_REQUIRE(i == st.size(), "contact: the checkpoint's detection state has " << st.size() << " values, "
-                                                                                 << i << " expected for this scene");
+  EPAPHE_REQUIRE(i == st.size(), "contact: the checkpoint's detection state has " << st.size() << " values, " << i
+                                                                                  << " expected for this scene");
 }
 
 std::vector<double> ContactDetection::warmStarts() const {
@@ -340,9 +349,9 @@ std::vector<double> ContactDetection::warmStarts() const {
 
 void ContactDetection::setWarmStarts(const std::vector<double>& all) {
   const std::size_t nc = static_cast<std::size_t>(numNodes()), ns = surfaces_.size();
-  EPAPHE_REQUIRE(all.size() == 2 * nc * ns, "contact: " << all.size() << " warm-start parameters given, "
-                                                        << 2 * nc * ns << " expected (2 per node, " << nc
-                                                        << " nodes, " << ns << " surfaces)");
+  EPAPHE_REQUIRE(all.size() == 2 * nc * ns, "contact: " << all.size() << " warm-start parameters given, " << 2 * nc * ns
+                                                        << " expected (2 per node, " << nc << " nodes, " << ns
+                                                        << " surfaces)");
   fence();
   for (std::size_t s = 0; s < ns; ++s)
     for (std::size_t k = 0; k < nc; ++k)
@@ -357,9 +366,10 @@ void ContactDetection::rebuildCarried(const DenseVector& q) {
     const auto gX = gridX_[s];
     const auto gx = gridPos_[s];
     const auto gdof = gridDof_[s];
-    forEach("epaphe::contact::surface_nodes", gx.extent(0), 5, KOKKOS_LAMBDA(const int g) {
-      for (int d = 0; d < 3; ++d) gx(g, d) = gX(g, d) + (gdof(g, d) >= 0 ? q(gdof(g, d)) : 0.0);
-    });
+    forEach(
+        "epaphe::contact::surface_nodes", gx.extent(0), 5, KOKKOS_LAMBDA(const int g) {
+          for (int d = 0; d < 3; ++d) gx(g, d) = gX(g, d) + (gdof(g, d) >= 0 ? q(gdof(g, d)) : 0.0);
+        });
     Kokkos::deep_copy(gridPosH_[s], gx);
     surfaces_[s].moving->update(gridPosH_[s].data());  // (ng x 3, LayoutRight: the layout update() reads)
     v_.surf(s) = surfaces_[s].moving->view();          // its broad-phase bins may have moved
@@ -440,103 +450,106 @@ void ContactDetection::project(bool all, bool refineOnly) {
   // about 0.6 us per projection of a node on a surface on one thread (warm-started Newton on a
   // bicubic patch), 30 ns per skipped node; as many projections expected as at the last step
   const long expected = skip && !refineOnly ? std::max(lastProjected_, 1) : nc;
-  forEach("epaphe::contact::detect", nc, 30L + 600L * ns * expected / nc, KOKKOS_LAMBDA(const int k) {
-    if (refineOnly && !v.refine(k)) return;
-    double x[3];
-    for (int d = 0; d < 3; ++d) x[d] = v.X(k, d) + q(v.dof(k, d));
-    for (int d = 0; d < 3; ++d) v.x(k, d) = x[d];
-    if (skip && v.eligible(k)) {
-      double dx = 0.0;
-      for (int d = 0; d < 3; ++d) dx += (x[d] - v.xLast(k, d)) * (x[d] - v.xLast(k, d));
-      double move = ::sqrt(dx);
-      for (int s = 0; s < ns; ++s)
-        move += ::fabs(v.turn(s, 0)) * (t - v.tLast(k)) * v.turn(s, 7) + (v.travel(s) - v.travelLast(k, s));
-      // The distance to a surface is 1-Lipschitz in the node's position and moves by at most the
-      // surface's own motion: the gap now is at least the last one less `move`, and the node cannot
-      // have crossed the surface (a crossing needs a segment at least gLast long). A lower bound of
-      // the gap, b > 0: out of contact for certain (b is kept for the add passes' refine test).
-      const double b = v.gLast(k) - move;
-      if (b > 0.0) {
-        v.skipped(k) = 1;
-        v.bound(k) = b;
-        v.iterations(k) = 0;
-        return;
-      }
-    }
-    v.skipped(k) = 0;
-    v.refine(k) = 0;
-    int best = -1, its = 0, element = -1;
-    double g = 1e300, gmin = 1e300;
-    bool eligible = true;
-    for (int s = 0; s < ns; ++s) {
-      const SurfaceView& S = v.surf(s);   // a reference: a copy would copy its 4 views per node and surface
-      double xs[3] = {x[0], x[1], x[2]};
-      if (v.turn(s, 8) != 0.0) {
-        // in the surface's frame: x_s = c + R^T (x - c)
-        const double c0 = v.turn(s, 4), c1 = v.turn(s, 5), c2 = v.turn(s, 6);
-        const double r[3] = {x[0] - c0, x[1] - c1, x[2] - c2}, cc[3] = {c0, c1, c2};
-        for (int i = 0; i < 3; ++i) xs[i] = cc[i] + v.rot(s, 0, i) * r[0] + v.rot(s, 1, i) * r[1] + v.rot(s, 2, i) * r[2];
-      }
-      const double uLast = v.uv(k, s, 0), vLast = v.uv(k, s, 1), dt = t - v.tLast(k);
-      const bool warm = uLast == uLast && vLast == vLast;
-      double u0 = uLast, v0 = vLast;
-      if (!warm) {
-        nearestGridPoint(S, xs, u0, v0);
-      } else if (dt != 0.0) {
-        // predicted: moved on by its last rate, if by less than a patch; or back, for an output
-        // step's measurement at t_n after the step's detection at t_n+1 (dt = -h): the foot the
-        // detection at t_n found, x having moved since only by the correction
-        const double du = v.uvRate(k, s, 0) * dt, dv = v.uvRate(k, s, 1) * dt;
-        if (::fabs(du) < 1.0 && ::fabs(dv) < 1.0) {
-          u0 += du;
-          v0 += dv;
+  forEach(
+      "epaphe::contact::detect", nc, 30L + 600L * ns * expected / nc, KOKKOS_LAMBDA(const int k) {
+        if (refineOnly && !v.refine(k)) return;
+        double x[3];
+        for (int d = 0; d < 3; ++d) x[d] = v.X(k, d) + q(v.dof(k, d));
+        for (int d = 0; d < 3; ++d) v.x(k, d) = x[d];
+        if (skip && v.eligible(k)) {
+          double dx = 0.0;
+          for (int d = 0; d < 3; ++d) dx += (x[d] - v.xLast(k, d)) * (x[d] - v.xLast(k, d));
+          double move = ::sqrt(dx);
+          for (int s = 0; s < ns; ++s)
+            move += ::fabs(v.turn(s, 0)) * (t - v.tLast(k)) * v.turn(s, 7) + (v.travel(s) - v.travelLast(k, s));
+          // The distance to a surface is 1-Lipschitz in the node's position and moves by at most the
+          // surface's own motion: the gap now is at least the last one less `move`, and the node cannot
+          // have crossed the surface (a crossing needs a segment at least gLast long). A lower bound of
+          // the gap, b > 0: out of contact for certain (b is kept for the add passes' refine test).
+          const double b = v.gLast(k) - move;
+          if (b > 0.0) {
+            v.skipped(k) = 1;
+            v.bound(k) = b;
+            v.iterations(k) = 0;
+            return;
+          }
         }
-      }
-      const Projection p = closestPoint(S, xs, u0, v0, tol, maxIt);
-      if (warm && dt > 0.0) {  // a closed direction's parameter wraps: the shortest way round
-        double du = p.u - uLast, dv = p.v - vLast;
-        if (S.periodicU) du -= S.nu * ::floor(du / S.nu + 0.5);
-        if (S.periodicV) dv -= S.nv * ::floor(dv / S.nv + 0.5);
-        v.uvRate(k, s, 0) = du / dt;
-        v.uvRate(k, s, 1) = dv / dt;
-      }
-      v.uv(k, s, 0) = p.u;
-      v.uv(k, s, 1) = p.v;
-      its = p.iterations > its ? p.iterations : its;
-      eligible = eligible && p.converged && !(p.beyond > 0.0);
-      v.travelLast(k, s) = v.travel(s);
-      // through a coating: the gap to its current profile; the bound's to the unworn one
-      const int e = v.coat.element(s, S, p.u, p.v, v.selected(k) == s ? v.element(k) : -1);
-      const double pg = p.gap - v.coat.offset(s, e);
-      const double gUnworn = e < 0 ? p.gap : p.gap - v.coat.law(s, 0);
-      gmin = gUnworn < gmin ? gUnworn : gmin;
-      if (!(p.beyond > edgeTol) && pg < g) {
-        g = pg;
-        best = s;
-        element = e;
-        for (int d = 0; d < 3; ++d) {  // back to the bodies' frame: n = R n_s, S = c + R (S_s - c)
-          v.normal(k, d) = v.rot(s, d, 0) * p.normal[0] + v.rot(s, d, 1) * p.normal[1] + v.rot(s, d, 2) * p.normal[2];
-          double y = v.turn(s, 4 + d);
-          for (int e = 0; e < 3; ++e) y += v.rot(s, d, e) * (p.point[e] - v.turn(s, 4 + e));
-          v.footX(k, d) = y;
+        v.skipped(k) = 0;
+        v.refine(k) = 0;
+        int best = -1, its = 0, element = -1;
+        double g = 1e300, gmin = 1e300;
+        bool eligible = true;
+        for (int s = 0; s < ns; ++s) {
+          const SurfaceView& S = v.surf(s);  // a reference: a copy would copy its 4 views per node and surface
+          double xs[3] = {x[0], x[1], x[2]};
+          if (v.turn(s, 8) != 0.0) {
+            // in the surface's frame: x_s = c + R^T (x - c)
+            const double c0 = v.turn(s, 4), c1 = v.turn(s, 5), c2 = v.turn(s, 6);
+            const double r[3] = {x[0] - c0, x[1] - c1, x[2] - c2}, cc[3] = {c0, c1, c2};
+            for (int i = 0; i < 3; ++i)
+              xs[i] = cc[i] + v.rot(s, 0, i) * r[0] + v.rot(s, 1, i) * r[1] + v.rot(s, 2, i) * r[2];
+          }
+          const double uLast = v.uv(k, s, 0), vLast = v.uv(k, s, 1), dt = t - v.tLast(k);
+          const bool warm = uLast == uLast && vLast == vLast;
+          double u0 = uLast, v0 = vLast;
+          if (!warm) {
+            nearestGridPoint(S, xs, u0, v0);
+          } else if (dt != 0.0) {
+            // predicted: moved on by its last rate, if by less than a patch; or back, for an output
+            // step's measurement at t_n after the step's detection at t_n+1 (dt = -h): the foot the
+            // detection at t_n found, x having moved since only by the correction
+            const double du = v.uvRate(k, s, 0) * dt, dv = v.uvRate(k, s, 1) * dt;
+            if (::fabs(du) < 1.0 && ::fabs(dv) < 1.0) {
+              u0 += du;
+              v0 += dv;
+            }
+          }
+          const Projection p = closestPoint(S, xs, u0, v0, tol, maxIt);
+          if (warm && dt > 0.0) {  // a closed direction's parameter wraps: the shortest way round
+            double du = p.u - uLast, dv = p.v - vLast;
+            if (S.periodicU) du -= S.nu * ::floor(du / S.nu + 0.5);
+            if (S.periodicV) dv -= S.nv * ::floor(dv / S.nv + 0.5);
+            v.uvRate(k, s, 0) = du / dt;
+            v.uvRate(k, s, 1) = dv / dt;
+          }
+          v.uv(k, s, 0) = p.u;
+          v.uv(k, s, 1) = p.v;
+          its = p.iterations > its ? p.iterations : its;
+          eligible = eligible && p.converged && !(p.beyond > 0.0);
+          v.travelLast(k, s) = v.travel(s);
+          // through a coating: the gap to its current profile; the bound's to the unworn one
+          const int e = v.coat.element(s, S, p.u, p.v, v.selected(k) == s ? v.element(k) : -1);
+          const double pg = p.gap - v.coat.offset(s, e);
+          const double gUnworn = e < 0 ? p.gap : p.gap - v.coat.law(s, 0);
+          gmin = gUnworn < gmin ? gUnworn : gmin;
+          if (!(p.beyond > edgeTol) && pg < g) {
+            g = pg;
+            best = s;
+            element = e;
+            for (int d = 0; d < 3; ++d) {  // back to the bodies' frame: n = R n_s, S = c + R (S_s - c)
+              v.normal(k, d) =
+                  v.rot(s, d, 0) * p.normal[0] + v.rot(s, d, 1) * p.normal[1] + v.rot(s, d, 2) * p.normal[2];
+              double y = v.turn(s, 4 + d);
+              for (int e = 0; e < 3; ++e) y += v.rot(s, d, e) * (p.point[e] - v.turn(s, 4 + e));
+              v.footX(k, d) = y;
+            }
+            v.foot(k, 0) = p.u;
+            v.foot(k, 1) = p.v;
+          }
         }
-        v.foot(k, 0) = p.u;
-        v.foot(k, 1) = p.v;
-      }
-    }
-    if (rampEnd > 0.0 && best >= 0 && best == v.offsetSurf(k)) {
-      g += v.offset(k) * (1.0 - t / rampEnd);  // a gently resolved initial penetration
-      eligible = false;
-    }
-    v.gap(k) = g;
-    v.selected(k) = best;
-    v.element(k) = element;
-    v.iterations(k) = its;
-    for (int d = 0; d < 3; ++d) v.xLast(k, d) = x[d];
-    v.tLast(k) = t;
-    v.gLast(k) = gmin;
-    v.eligible(k) = eligible && gmin > 0.0 ? 1 : 0;
-  });
+        if (rampEnd > 0.0 && best >= 0 && best == v.offsetSurf(k)) {
+          g += v.offset(k) * (1.0 - t / rampEnd);  // a gently resolved initial penetration
+          eligible = false;
+        }
+        v.gap(k) = g;
+        v.selected(k) = best;
+        v.element(k) = element;
+        v.iterations(k) = its;
+        for (int d = 0; d < 3; ++d) v.xLast(k, d) = x[d];
+        v.tLast(k) = t;
+        v.gLast(k) = gmin;
+        v.eligible(k) = eligible && gmin > 0.0 ? 1 : 0;
+      });
   fence();
   int projected = 0, iters = 0;
   for (int k = 0; k < nc; ++k) {

@@ -82,7 +82,7 @@ struct ContactSurface {
 };
 
 struct DetectionOptions {
-  double nrTolerance = 1e-8;    // crit_NR: Newton stop on the parameter step
+  double nrTolerance = 1e-8;  // crit_NR: Newton stop on the parameter step
   int nrMaxIterations = 50;
   double edgeTolerance = 1e-3;  // a node beyond an open edge by less (in patches) still touches
   bool skipDistant = true;      // skip the projection of nodes certified out of contact
@@ -103,27 +103,27 @@ GuardOptions guardOptions(const Teuchos::ParameterList& contact);
 /// the kernel (views only). Per node k unless said; per surface s for the surface data.
 struct DetectionViews {
   using Vec3 = Kokkos::View<double* [3]>;
-  Kokkos::View<int* [3]> dof;        // q index of each contact node DOF
-  Vec3 X;                            // reference positions
-  Vec3 x;                            // positions at the last detect()
-  Kokkos::View<SurfaceView*> surf;   // [s] the surfaces (a carried one re-copied after its update)
-  Kokkos::View<double* [3][3]> rot;  // [s] R(omega t + phase)
-  Kokkos::View<double* [9]> turn;    // [s] omega, axis (3), center (3), r_s, turning (1) or not (0)
-  Kokkos::View<double** [2]> uv;     // [k][s] warm start (NaN: cold start from the nearest grid node)
-  Kokkos::View<double** [2]> uvRate; // [k][s] d(u, v)/dt of the foot point between its last two projections
-  Kokkos::View<double*> gap;         // selected gap (1e300: beyond every surface)
-  Kokkos::View<int*> selected;       // selected surface (-1: none)
-  Vec3 normal;                       // unit normal n_k at the foot point, bodies' frame
-  Kokkos::View<double* [2]> foot;    // foot point parameters (u, v) on the selected surface
-  Vec3 footX;                        // foot point, bodies' frame
-  Kokkos::View<int*> iterations;     // Newton iterations of this step (max over surfaces; 0: skipped)
+  Kokkos::View<int* [3]> dof;         // q index of each contact node DOF
+  Vec3 X;                             // reference positions
+  Vec3 x;                             // positions at the last detect()
+  Kokkos::View<SurfaceView*> surf;    // [s] the surfaces (a carried one re-copied after its update)
+  Kokkos::View<double* [3][3]> rot;   // [s] R(omega t + phase)
+  Kokkos::View<double* [9]> turn;     // [s] omega, axis (3), center (3), r_s, turning (1) or not (0)
+  Kokkos::View<double** [2]> uv;      // [k][s] warm start (NaN: cold start from the nearest grid node)
+  Kokkos::View<double** [2]> uvRate;  // [k][s] d(u, v)/dt of the foot point between its last two projections
+  Kokkos::View<double*> gap;          // selected gap (1e300: beyond every surface)
+  Kokkos::View<int*> selected;        // selected surface (-1: none)
+  Vec3 normal;                        // unit normal n_k at the foot point, bodies' frame
+  Kokkos::View<double* [2]> foot;     // foot point parameters (u, v) on the selected surface
+  Vec3 footX;                         // foot point, bodies' frame
+  Kokkos::View<int*> iterations;      // Newton iterations of this step (max over surfaces; 0: skipped)
   // skipping: position, time and smallest gap of the last projection; eligible: it may be skipped
   Vec3 xLast;
   Kokkos::View<double*> tLast, gLast;
   Kokkos::View<int*> eligible, skipped, refine;
-  Kokkos::View<double*> bound;       // a lower bound of a skipped node's gap
-  Kokkos::View<double*> travel;      // [s] T_s: the carried surface's summed largest control-point motion
-  Kokkos::View<double**> travelLast; // [k][s] T_s at the node's last projection
+  Kokkos::View<double*> bound;        // a lower bound of a skipped node's gap
+  Kokkos::View<double*> travel;       // [s] T_s: the carried surface's summed largest control-point motion
+  Kokkos::View<double**> travelLast;  // [k][s] T_s at the node's last projection
   // initial penetrations resolved gently (setPenetrationOffsets): the depth d_k >= 0 added to the
   // gap on surface offsetSurf(k) (-1: none), ramped down to 0 at the ramp's end
   Kokkos::View<double*> offset;
@@ -192,17 +192,18 @@ private:
   DetectionOptions opt_;
   std::vector<ContactSurface> surfaces_;
   DetectionViews v_;
-  std::vector<Kokkos::View<double* [3]>> gridX_, gridPos_;   // [s] carried surfaces' grid (empty: rigid)
+  std::vector<Kokkos::View<double*[3]>> gridX_, gridPos_;  // [s] carried surfaces' grid (empty: rigid)
   std::vector<Kokkos::View<int* [3]>> gridDof_;
   std::vector<Kokkos::View<double* [3]>::HostMirror> gridPosH_;
-  std::vector<std::vector<double>> ctrlLast_;  // [s] a carried surface's control points at the last rebuild (empty: none yet)
+  std::vector<std::vector<double>>
+      ctrlLast_;  // [s] a carried surface's control points at the last rebuild (empty: none yet)
   double time_ = 0.0;
   double rampEnd_ = 0.0;  // offsets vanish at this time (0: no offsets)
   double smallestPatch_ = 1e300;
   int smallestPatchSurface_ = -1;
   int lastProjected_ = 0, lastIterations_ = 0;
   bool anyCarried_ = false;
-  DenseVector q_;   // the coordinates of the last detect() (for refine())
+  DenseVector q_;  // the coordinates of the last detect() (for refine())
 };
 
 }  // namespace epaphe

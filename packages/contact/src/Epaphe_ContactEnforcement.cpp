@@ -11,17 +11,17 @@
 namespace epaphe {
 
 Kokkos::View<int*> ContactStepViews::upload(const std::vector<int>& list) const {
-  EPAPHE_REQUIRE(list.size() <= active.extent(0), "contact: " << list.size() << " active nodes, room for "
-                                                              << active.extent(0));
+  EPAPHE_REQUIRE(list.size() <= active.extent(0),
+                 "contact: " << list.size() << " active nodes, room for " << active.extent(0));
   const auto a = Kokkos::subview(active, Kokkos::make_pair(0, static_cast<int>(list.size())));
   for (std::size_t i = 0; i < list.size(); ++i) a(i) = list[i];  // host-accessible (ContactDetection)
   return a;
 }
 
 std::unique_ptr<ContactEnforcement> makeContactEnforcement(const ContactOptions& o, int numNodes) {
-  EPAPHE_REQUIRE(std::isfinite(o.friction) && o.friction >= 0.0,
-                 "contact: friction coefficient mu = " << o.friction
-                                                        << "; it must be a finite value >= 0 (0: frictionless)");
+  EPAPHE_REQUIRE(
+      std::isfinite(o.friction) && o.friction >= 0.0,
+      "contact: friction coefficient mu = " << o.friction << "; it must be a finite value >= 0 (0: frictionless)");
   std::unique_ptr<ContactEnforcement> normal;
   if (o.method == ContactMethod::Penalty)
     normal = std::make_unique<PenaltyContact>(o.penaltyStiffness);

@@ -29,40 +29,40 @@ enum class ContactMethod { Lagrange = 0, Penalty = 1 };
 
 struct ContactOptions {
   ContactMethod method = ContactMethod::Lagrange;
-  double penaltyStiffness = 1e10;   // k_p (N/m), penalty only
-  double nrTolerance = 1e-8;        // crit_NR: Newton stop on the parameter step
+  double penaltyStiffness = 1e10;  // k_p (N/m), penalty only
+  double nrTolerance = 1e-8;       // crit_NR: Newton stop on the parameter step
   int nrMaxIterations = 50;
-  bool lumped = false;              // lump the contact matrix MC (section 2.5.2)
-  double friction = 0.0;            // Coulomb coefficient mu >= 0 (eq. 2.31); 0: frictionless
-  double edgeTolerance = 1e-3;      // a node beyond an open edge by less (in patches) still touches
-  double timeStep = 0.0;            // h: the rotation of turning surfaces over a step (friction)
-  bool skipDistant = true;          // skip the projection of nodes certified out of contact (detection)
-  bool warmFriction = true;         // start the stick/slip classification from the last step's state
+  bool lumped = false;          // lump the contact matrix MC (section 2.5.2)
+  double friction = 0.0;        // Coulomb coefficient mu >= 0 (eq. 2.31); 0: frictionless
+  double edgeTolerance = 1e-3;  // a node beyond an open edge by less (in patches) still touches
+  double timeStep = 0.0;        // h: the rotation of turning surfaces over a step (friction)
+  bool skipDistant = true;      // skip the projection of nodes certified out of contact (detection)
+  bool warmFriction = true;     // start the stick/slip classification from the last step's state
 };
 
 /// What a strategy reads and writes at a step, per contact node k unless said. Views only: copy
 /// members into kernels by value.
 struct ContactStepViews {
   using Vec3 = Kokkos::View<double* [3]>;
-  Kokkos::View<double*> gap;         // g*_k (detection)
-  Kokkos::View<int*> surf;           // selected surface (-1: none)
-  Vec3 normal, x, footX;             // n_k, position, foot point (bodies' frame)
-  Kokkos::View<double* [9]> turn;    // [s] omega, axis, center, ... (ContactDetection)
-  RelativeMotion D;                  // D_k's entries (valid for the nodes on a surface)
-  Kokkos::View<double** [3][3]> C;   // C_ab = D_a F D_b^T of the active pairs
-  Kokkos::View<int*> active;         // the active nodes (first nA entries, see upload())
-  Kokkos::View<double*> force;       // lambda_k (N)
-  Kokkos::View<double*> mu;          // mu_k applied (friction)
-  Vec3 dir;                          // c_k = n_k + mu_k t_k
-  Vec3 tangent;                      // t_k (unit, or zero)
+  Kokkos::View<double*> gap;        // g*_k (detection)
+  Kokkos::View<int*> surf;          // selected surface (-1: none)
+  Vec3 normal, x, footX;            // n_k, position, foot point (bodies' frame)
+  Kokkos::View<double* [9]> turn;   // [s] omega, axis, center, ... (ContactDetection)
+  RelativeMotion D;                 // D_k's entries (valid for the nodes on a surface)
+  Kokkos::View<double** [3][3]> C;  // C_ab = D_a F D_b^T of the active pairs
+  Kokkos::View<int*> active;        // the active nodes (first nA entries, see upload())
+  Kokkos::View<double*> force;      // lambda_k (N)
+  Kokkos::View<double*> mu;         // mu_k applied (friction)
+  Vec3 dir;                         // c_k = n_k + mu_k t_k
+  Vec3 tangent;                     // t_k (unit, or zero)
   // A normal law other than the rigid one (CoatingContact) states each active node's normal row,
   //     alpha_k n_k^T sum_b C_kb f_b + beta_k lambda_k = gamma_k   (f_b = lambda_b c_b),
   // when `rows` is set: row(k) = {alpha, beta, gamma}; {1, 0, -g*_k} is the rigid Lagrange row
   // (eq. 2.33) and {0, 1, F} a known force F (penalty). Lagrange and friction solve these rows.
   Kokkos::View<double* [3]> row;
   bool rows = false;
-  Kokkos::View<int*> element;        // coating element under node k (-1: none; detection)
-  CoatingViews coat;                 // the coatings (detection)
+  Kokkos::View<int*> element;  // coating element under node k (-1: none; detection)
+  CoatingViews coat;           // the coatings (detection)
   /// Copies the host list into `active` (no allocation) and returns the view of its entries.
   Kokkos::View<int*> upload(const std::vector<int>& list) const;
 };

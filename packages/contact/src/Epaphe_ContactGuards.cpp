@@ -28,8 +28,8 @@ void ContactGuards::checkInitialVelocities(const SurfaceContact& contact, const 
   for (std::size_t b = 0; b < speeds.size() && b < bodies_.size(); ++b) {
     if (!(speeds[b] * h > L)) continue;
     std::ostringstream os;
-    os << origin_ << ": body '" << bodies_[b] << "': its 'Initial velocity' (|v0| = " << speeds[b]
-       << " m/s) moves it " << speeds[b] * h << " m per 'Time->Time step' (" << h << " s), more than the smallest "
+    os << origin_ << ": body '" << bodies_[b] << "': its 'Initial velocity' (|v0| = " << speeds[b] << " m/s) moves it "
+       << speeds[b] * h << " m per 'Time->Time step' (" << h << " s), more than the smallest "
        << "patch of the contact surfaces (" << L << " m, surface '"
        << surfaceName(contact, contact.detection().smallestPatchSurface())
        << "'): contact would be missed between two steps (tunnelling). Check the velocity's units (m/s), use "
@@ -75,9 +75,9 @@ PenetrationReport ContactGuards::checkInitialPenetration(SurfaceContact& contact
   ErrorBuilder eb;
   eb << origin_ << ": the bodies start interpenetrating: " << r.count << " contact node(s) lie inside a surface at "
      << "t = 0 (deeper than " << r.tolerance << " m); the deepest, node " << contact.nodes()[r.node] << " of body '"
-     << (b >= 0 && b < static_cast<int>(bodies_.size()) ? bodies_[b] : std::string("?")) << "' at ("
-     << r.position[0] << ", " << r.position[1] << ", " << r.position[2] << ") m, is " << r.deepest
-     << " m inside surface '" << surfaceName(contact, r.surface)
+     << (b >= 0 && b < static_cast<int>(bodies_.size()) ? bodies_[b] : std::string("?")) << "' at (" << r.position[0]
+     << ", " << r.position[1] << ", " << r.position[2] << ") m, is " << r.deepest << " m inside surface '"
+     << surfaceName(contact, r.surface)
      << "'. Move the bodies or surfaces apart (check positions, 'Origin', 'Center', 'Radius' and 'Flip normal'), or "
         "set 'Contact->Initial penetration' = 'Resolve gently' to push them apart over 'Penetration ramp time'";
   eb.raise();
@@ -112,7 +112,7 @@ std::string ContactGuards::checkStep(const SurfaceContact& contact, const DenseV
      << surfaceName(contact, contact.detection().smallestPatchSurface()) << "')";
   if (contact.force()(kw) > 0.0) {  // pressed on a surface: not a node flying past it
     os << " while pressed on surface '" << surfaceName(contact, contact.surfaceIndex()(kw)) << "' (force "
-       << contact.force()(kw) << " N, " << contact.numActive() <<  " node(s) in contact): the motion diverges in "
+       << contact.force()(kw) << " N, " << contact.numActive() << " node(s) in contact): the motion diverges in "
        << "contact, no node flew past a surface";
     const double rampEnd = contact.detection().penetrationRampEnd();
     if (rampEnd > 0.0 && t + h <= rampEnd + 10.0 * h) {  // the push that resolves initial penetrations

@@ -41,10 +41,10 @@ namespace epaphe {
 
 /// The worst initial penetration found at t = 0.
 struct PenetrationReport {
-  int count = 0;          // nodes deeper than the tolerance
-  double deepest = 0.0;   // largest depth (m, > 0)
-  int node = -1;          // contact index of the deepest node
-  int surface = -1;       // the surface it penetrates
+  int count = 0;                                  // nodes deeper than the tolerance
+  double deepest = 0.0;                           // largest depth (m, > 0)
+  int node = -1;                                  // contact index of the deepest node
+  int surface = -1;                               // the surface it penetrates
   std::array<double, 3> position{0.0, 0.0, 0.0};  // its position at t = 0
   double tolerance = 0.0;
   int facing = 0;             // nodes over a surface at t = 0 (their projection inside it)

@@ -41,13 +41,16 @@ CoulombFriction::CoulombFriction(double mu, bool penalty, double kp, double h, i
 
 Teuchos::RCP<const Teuchos::ParameterList> CoulombFriction::getValidParameters() {
   auto pl = Teuchos::rcp(new Teuchos::ParameterList("Coulomb friction"));
-  deck::addDouble(*pl, "Friction coefficient", 0.0, "Coulomb mu: the correction acts along n + mu t, t opposing the "
-                                                    "sliding (eqs. 2.29, 2.31), capped so that a node sticks rather "
-                                                    "than slides back", 0.0);
-  deck::addBool(*pl, "Warm friction start", true, "A node in contact at the last step starts its stick/slip "
-                                                  "classification from that step's final state and sliding "
-                                                  "direction (usually one pass) instead of from its predicted "
-                                                  "motion; false: always from the predicted motion");
+  deck::addDouble(*pl, "Friction coefficient", 0.0,
+                  "Coulomb mu: the correction acts along n + mu t, t opposing the "
+                  "sliding (eqs. 2.29, 2.31), capped so that a node sticks rather "
+                  "than slides back",
+                  0.0);
+  deck::addBool(*pl, "Warm friction start", true,
+                "A node in contact at the last step starts its stick/slip "
+                "classification from that step's final state and sliding "
+                "direction (usually one pass) instead of from its predicted "
+                "motion; false: always from the predicted motion");
   return pl;
 }
 
@@ -67,8 +70,8 @@ namespace {
 /// tangential unknowns (their rows are s1 = s2 = 0): c_0 = (1 + mu t.n, mu t.e1, mu t.e2) (t is
 /// tangential, t.n = 0 to round-off, kept so that c_0 is n + mu t exactly). Returns whether it slides.
 template <class B, class T, class S>
-KOKKOS_INLINE_FUNCTION bool slidingColumn(const B& basis, const T& tangent, const S& state, int k, double mu,
-                                          int slide, double c0[3]) {
+KOKKOS_INLINE_FUNCTION bool slidingColumn(const B& basis, const T& tangent, const S& state, int k, double mu, int slide,
+                                          double c0[3]) {
   if (state(k) != slide) return false;
   for (int i = 0; i < 3; ++i) {
     double s = 0.0;
@@ -124,7 +127,8 @@ void CoulombFriction::prepare(const ContactStepViews& v, const std::vector<int>&
           xx += x(k, e) * x(k, e);
         }
         // e1: the coordinate axis least aligned with n, made orthogonal to n; e2 = n x e1
-        const int ax = ::fabs(n[0]) <= ::fabs(n[1]) && ::fabs(n[0]) <= ::fabs(n[2]) ? 0 : (::fabs(n[1]) <= ::fabs(n[2]) ? 1 : 2);
+        const int ax =
+            ::fabs(n[0]) <= ::fabs(n[1]) && ::fabs(n[0]) <= ::fabs(n[2]) ? 0 : (::fabs(n[1]) <= ::fabs(n[2]) ? 1 : 2);
         double e1[3] = {0.0, 0.0, 0.0};
         e1[ax] = 1.0;
         double an = n[ax], l1 = 0.0;
@@ -186,7 +190,7 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
   int bestChanges = -1, passes = 0, releases = 0;
   bool restored = false;
   int nA = static_cast<int>(activeH.size());
-  localFlexibility(v, v.upload(activeH), nA);   // releases only remove nodes: it covers every pass
+  localFlexibility(v, v.upload(activeH), nA);  // releases only remove nodes: it covers every pass
   for (;;) {
     const auto active = v.upload(activeH);
     countUnknowns(v, activeH, nA);
@@ -229,7 +233,7 @@ void CoulombFriction::localFlexibility(const ContactStepViews& v, const Kokkos::
   forEach(
       "epaphe::contact::friction_local", nA, 30L * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
-        const double* Ba = &basis(ka, 0, 0);   // 3 x 3 blocks, contiguous
+        const double* Ba = &basis(ka, 0, 0);  // 3 x 3 blocks, contiguous
         for (int bb = a; bb < nA; ++bb) {
           const int kb = active(bb);
           const double* Cab = &C(ka, kb, 0, 0);
@@ -248,7 +252,7 @@ void CoulombFriction::localFlexibility(const ContactStepViews& v, const Kokkos::
               double s = 0.0;
               for (int d = 0; d < 3; ++d) s += Ba[3 * i + d] * G[d][j];
               Tab[3 * i + j] = s;
-              Tba[3 * j + i] = s;   // (on the diagonal block, its own transpose: made symmetric)
+              Tba[3 * j + i] = s;  // (on the diagonal block, its own transpose: made symmetric)
             }
         }
       });
@@ -278,27 +282,27 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   const auto row = v.row;
   // Raw pointers into T (T_ab's 3 x 3 entries contiguous, row i at 3 i) and A (column-major,
   // leading dimension 3 nc): the views' multi-index arithmetic was most of this loop's instructions.
-  const long ld = static_cast<long>(A.extent(0));   // 3 nc, as solveSystem() reads it
+  const long ld = static_cast<long>(A.extent(0));  // 3 nc, as solveSystem() reads it
   forEach(
       "epaphe::contact::friction_matrix", nA, 20L * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
         const bool sl = state(ka) == slide;
         const int i0 = penalty ? 1 : 0, i1 = sl ? 1 : 3;  // node a's rows: i in [i0, i1)
-        double b[3] = {0.0, 0.0, 0.0};                     // right-hand side of rows i
+        double b[3] = {0.0, 0.0, 0.0};                    // right-hand side of rows i
         b[0] = rows ? row(ka, 2) : -gap(ka);
         for (int i = 1; i < 3; ++i)
           for (int d = 0; d < 3; ++d) b[i] -= basis(ka, i, d) * disp(ka, d);
         const double ra0 = rows ? row(ka, 0) : 1.0, ra1 = rows ? row(ka, 1) : 0.0;
         const double* Ta = &T(ka, 0, 0, 0);
-        double* Ar = A.data() + off(a) - i0;   // Ar[i + col ld]: row i of node a
+        double* Ar = A.data() + off(a) - i0;  // Ar[i + col ld]: row i of node a
         for (int bb = 0; bb < nA; ++bb) {
           const int kb = active(bb);
           const double* Tab = Ta + 9L * kb;
-          const int c = off(bb);   // node b's first column
-          if (state(kb) == slide) {   // one column, T_ab c_0 (under penalty known: to the right-hand side)
+          const int c = off(bb);     // node b's first column
+          if (state(kb) == slide) {  // one column, T_ab c_0 (under penalty known: to the right-hand side)
             const double c0 = column(kb, 0), c1 = column(kb, 1), c2 = column(kb, 2);
             const double fb = penalty ? (rows ? row(kb, 2) : kp * (-gap(kb))) : 0.0;
-            for (int i = i0; i < i1; ++i) {   // a's rows only: a sliding a has one
+            for (int i = i0; i < i1; ++i) {  // a's rows only: a sliding a has one
               const double y = Tab[3 * i] * c0 + Tab[3 * i + 1] * c1 + Tab[3 * i + 2] * c2;
               if (penalty)
                 b[i] -= y * fb;
@@ -307,7 +311,7 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
             }
             continue;
           }
-          if (penalty) {   // stuck: its normal column known, its tangential ones solved
+          if (penalty) {  // stuck: its normal column known, its tangential ones solved
             const double fb = rows ? row(kb, 2) : kp * (-gap(kb));
             for (int i = i0; i < i1; ++i) {
               b[i] -= Tab[3 * i] * fb;
@@ -316,7 +320,7 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
             }
             continue;
           }
-          for (int i = i0; i < i1; ++i)   // stuck, Lagrange: three columns
+          for (int i = i0; i < i1; ++i)  // stuck, Lagrange: three columns
             for (int j = 0; j < 3; ++j)
               Ar[i + (c + j) * ld] = i == 0 && rows ? ra0 * Tab[j] + (bb == a && j == 0 ? ra1 : 0.0) : Tab[3 * i + j];
         }
@@ -345,9 +349,9 @@ void CoulombFriction::solveSystem(const ContactStepViews& v, const std::vector<i
     copy(MCfH_, MCf_);
     copy(rhsH_, rhs_);
     const int info = solveDense(m, MCfH_.data(), ld, rhsH_.data(), ipiv_);
-    EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of " << nA << " active nodes (" << m
-                                                                         << " unknowns) is singular (zero pivot at unknown "
-                                                                         << info << ")");
+    EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of "
+                                  << nA << " active nodes (" << m << " unknowns) is singular (zero pivot at unknown "
+                                  << info << ")");
   }
   // (lambda, s1, s2) of every active node: the solved unknowns and the known ones
   for (int a = 0; a < nA; ++a) {
@@ -416,7 +420,7 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
             w1 += disp(ka, e) * basis(ka, 1, e);
             w2 += disp(ka, e) * basis(ka, 2, e);
           }
-          const double* Ta = &T(ka, 0, 0, 0);   // T_ab: 3 x 3, contiguous
+          const double* Ta = &T(ka, 0, 0, 0);  // T_ab: 3 x 3, contiguous
           for (int b = 0; b < nA; ++b) {
             const int kb = active(b);
             const double* Tab = Ta + 9L * kb;
@@ -534,6 +538,8 @@ void CoulombFriction::storeForces(const ContactStepViews& v, const std::vector<i
   }
 }
 
-void CoulombFriction::reset() { Kokkos::deep_copy(prev_, 0); }
+void CoulombFriction::reset() {
+  Kokkos::deep_copy(prev_, 0);
+}
 
 }  // namespace epaphe

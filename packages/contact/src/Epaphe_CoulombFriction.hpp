@@ -53,29 +53,29 @@ private:
 
   static constexpr int kStick = 2, kSlide = 1;
   static constexpr int kMaxFrictionPasses = 20;
-  static constexpr int kMaxReturns = 2;   // slide -> stick switches per node and solve, then it keeps sliding
+  static constexpr int kMaxReturns = 2;  // slide -> stick switches per node and solve, then it keeps sliding
   double mu_, kp_, h_;
   bool penalty_;
   bool warm_;
   std::unique_ptr<ContactEnforcement> frictionless_;
   int lastPasses_ = 0;
-  Kokkos::View<double* [3][3]> basis_;    // per node: rows n_a, e1_a, e2_a (tangent-plane basis)
-  Kokkos::View<double* [3]> disp_;        // d_a = u_a(q*) - u_a(q_n)
-  Kokkos::View<double** [3][3]> local_;   // T_ab (localFlexibility), indexed like C
-  Kokkos::View<double* [3]> column_;      // a sliding node's column c_0 in its basis (countUnknowns, per pass)
-  Kokkos::View<int*> state_, nextState_, bestState_;   // kStick, kSlide
-  Kokkos::View<double* [3]> nextTangent_, bestTangent_;
+  Kokkos::View<double* [3][3]> basis_;   // per node: rows n_a, e1_a, e2_a (tangent-plane basis)
+  Kokkos::View<double* [3]> disp_;       // d_a = u_a(q*) - u_a(q_n)
+  Kokkos::View<double** [3][3]> local_;  // T_ab (localFlexibility), indexed like C
+  Kokkos::View<double* [3]> column_;     // a sliding node's column c_0 in its basis (countUnknowns, per pass)
+  Kokkos::View<int*> state_, nextState_, bestState_;  // kStick, kSlide
+  Kokkos::View<double*[3]> nextTangent_, bestTangent_;
   Kokkos::View<int*> returns_;
-  Kokkos::View<double**, Kokkos::LayoutLeft> MCf_;   // friction system, 3 nc x 3 nc
+  Kokkos::View<double**, Kokkos::LayoutLeft> MCf_;  // friction system, 3 nc x 3 nc
   Kokkos::View<double**, Kokkos::LayoutLeft>::HostMirror MCfH_;
-  Kokkos::View<double*> sol_;             // the solution, (lambda, s1, s2) per active node, known ones included
+  Kokkos::View<double*> sol_;  // the solution, (lambda, s1, s2) per active node, known ones included
   Kokkos::View<double*>::HostMirror solH_;
-  Kokkos::View<double*> rhs_;             // right-hand side / solution of the solved unknowns
+  Kokkos::View<double*> rhs_;  // right-hand side / solution of the solved unknowns
   Kokkos::View<double*>::HostMirror rhsH_;
-  Kokkos::View<int*> unknownOffset_;      // per active position: its first solved unknown; [nA]: their count
+  Kokkos::View<int*> unknownOffset_;  // per active position: its first solved unknown; [nA]: their count
   Kokkos::View<int*>::HostMirror unknownOffsetH_;
-  Kokkos::View<int*> prev_;               // last step's final state (0: not in contact)
-  Kokkos::View<double* [3]> prevTangent_; // and direction
+  Kokkos::View<int*> prev_;                // last step's final state (0: not in contact)
+  Kokkos::View<double* [3]> prevTangent_;  // and direction
   std::vector<int> keep_, ipiv_;
 };
 

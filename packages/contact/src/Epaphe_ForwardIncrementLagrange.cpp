@@ -12,13 +12,14 @@ void normalDirections(const ContactStepViews& v) {
   const auto tangent = v.tangent;
   const auto dir = v.dir;
   const auto muA = v.mu;
-  forEach("epaphe::contact::normal_direction", normal.extent(0), 5, KOKKOS_LAMBDA(const int k) {
-    for (int d = 0; d < 3; ++d) {
-      dir(k, d) = normal(k, d);
-      tangent(k, d) = 0.0;
-    }
-    muA(k) = 0.0;
-  });
+  forEach(
+      "epaphe::contact::normal_direction", normal.extent(0), 5, KOKKOS_LAMBDA(const int k) {
+        for (int d = 0; d < 3; ++d) {
+          dir(k, d) = normal(k, d);
+          tangent(k, d) = 0.0;
+        }
+        muA(k) = 0.0;
+      });
   fence();
 }
 
@@ -50,16 +51,17 @@ void ForwardIncrementLagrange::enforce(const ContactStepViews& v, std::vector<in
     const auto dir = v.dir;
     const auto MC = MC_;
     // MC_ab = n_a^T C_ab c_b (eq. 2.32), C_ab = D_a F D_b^T, one row per active node.
-    forEach("epaphe::contact::matrix", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
-      const int ka = act(a);
-      for (int b = 0; b < nA; ++b) {
-        const int kb = act(b);
-        double s = 0.0;
-        for (int d = 0; d < 3; ++d)
-          for (int e = 0; e < 3; ++e) s += normal(ka, d) * C(ka, kb, d, e) * dir(kb, e);
-        MC(a, b) = s;
-      }
-    });
+    forEach(
+        "epaphe::contact::matrix", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
+          const int ka = act(a);
+          for (int b = 0; b < nA; ++b) {
+            const int kb = act(b);
+            double s = 0.0;
+            for (int d = 0; d < 3; ++d)
+              for (int e = 0; e < 3; ++e) s += normal(ka, d) * C(ka, kb, d, e) * dir(kb, e);
+            MC(a, b) = s;
+          }
+        });
     fence();
     std::vector<double>& A = A_;
     A.resize(static_cast<std::size_t>(nA) * nA);
@@ -85,8 +87,9 @@ void ForwardIncrementLagrange::enforce(const ContactStepViews& v, std::vector<in
         lambda_[a] = v.row(k, 2);
       }
     const int info = solveDense(nA, A.data(), nA, lambda_.data(), ipiv_);
-    EPAPHE_REQUIRE(info == 0, "contact: the contact matrix of " << nA << " active nodes is singular (zero pivot at unknown "
-                                                                << info << "); try lumping it ('Lump contact matrix')");
+    EPAPHE_REQUIRE(info == 0, "contact: the contact matrix of "
+                                  << nA << " active nodes is singular (zero pivot at unknown " << info
+                                  << "); try lumping it ('Lump contact matrix')");
     keep_.clear();
     for (int a = 0; a < nA; ++a)
       if (lambda_[a] >= 0.0) keep_.push_back(active[a]);

@@ -20,9 +20,9 @@ public:
 
 private:
   bool lumped_;
-  Kokkos::View<double**, Kokkos::LayoutLeft> MC_;   // nc x nc, the first nA x nA used
+  Kokkos::View<double**, Kokkos::LayoutLeft> MC_;  // nc x nc, the first nA x nA used
   std::vector<int> keep_, ipiv_;
-  std::vector<double> lambda_, A_;                  // work space, sized once
+  std::vector<double> lambda_, A_;  // work space, sized once
 };
 
 /// Penalty (thesis eq. 2.34), frictionless: lambda_a = k_p (-g*_a), c_a = n_a.

@@ -34,8 +34,8 @@ inline int solveDense(int n, double* A, int lda, double* b, std::vector<int>& ip
       std::swap(b[k], b[p]);
     }
     const double inv = 1.0 / a(k, k);
-    for (int i = k + 1; i < n; ++i) a(i, k) *= inv;      // multipliers l_ik
-    for (int j = k + 1; j < n; ++j) {                     // trailing update, column by column
+    for (int i = k + 1; i < n; ++i) a(i, k) *= inv;  // multipliers l_ik
+    for (int j = k + 1; j < n; ++j) {                // trailing update, column by column
       const double akj = a(k, j);
       if (akj != 0.0)
         for (int i = k + 1; i < n; ++i) a(i, j) -= a(i, k) * akj;

@@ -16,13 +16,15 @@ namespace {
 ContactNodes bodyNodes(const ReducedModel& body, const std::vector<int>& nodes) {
   ContactNodes cn;
   for (int node : nodes) {
-    EPAPHE_REQUIRE(node >= 0 && node < body.numNodes(),
-                   "body '" << body.name << "': contact node " << node << " is not in the model (0.." << body.numNodes() - 1 << ")");
+    EPAPHE_REQUIRE(node >= 0 && node < body.numNodes(), "body '" << body.name << "': contact node " << node
+                                                                 << " is not in the model (0.." << body.numNodes() - 1
+                                                                 << ")");
     int dof[3];
     double x[3];
     for (int d = 0; d < 3; ++d) {
       dof[d] = body.nodeDof[3 * node + d];
-      EPAPHE_REQUIRE(dof[d] >= 0, "body '" << body.name << "': contact node " << node << " (direction " << "xyz"[d]
+      EPAPHE_REQUIRE(dof[d] >= 0, "body '" << body.name << "': contact node " << node << " (direction "
+                                           << "xyz"[d]
                                            << ") is not a retained DOF of the reduced model; add it to the retained "
                                               "node set, and do not clamp contact nodes");
       x[d] = body.coords[node][d];
@@ -55,8 +57,11 @@ SurfaceContact::SurfaceContact(const ReducedModel& body, const std::vector<int>&
 SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> surfaces,
                                std::vector<ContactBlock> blocks, const ContactOptions& options,
                                const Flexibility& flexibility)
-    : opt_(options), nodes_(std::move(nodes.labels)), nodeBlock_(std::move(nodes.block)),
-      surfaces_(std::move(surfaces)), F_(flexibility.pack()) {
+    : opt_(options),
+      nodes_(std::move(nodes.labels)),
+      nodeBlock_(std::move(nodes.block)),
+      surfaces_(std::move(surfaces)),
+      F_(flexibility.pack()) {
   const int nc = static_cast<int>(nodes_.size());
   const int N = flexibility.size();
   EPAPHE_REQUIRE(nc > 0, "contact: the contact node set is empty");
@@ -130,8 +135,9 @@ Kokkos::View<int*>::HostMirror SurfaceContact::initNodeBlocks(const ContactNodes
   for (int k = 0; k < nc; ++k) {
     blkH(k) = nodeBlock_[k];
     for (int d = 0; d < 3; ++d)
-      EPAPHE_REQUIRE(inBlock(bH, nodes.dofs[3 * k + d], blkH(k)), "contact: node " << nodes_[k] << " DOF " << nodes.dofs[3 * k + d]
-                                                                                 << " is outside its body's block " << blkH(k));
+      EPAPHE_REQUIRE(inBlock(bH, nodes.dofs[3 * k + d], blkH(k)), "contact: node "
+                                                                      << nodes_[k] << " DOF " << nodes.dofs[3 * k + d]
+                                                                      << " is outside its body's block " << blkH(k));
   }
   Kokkos::deep_copy(nodeBlk_, blkH);
   return blkH;
@@ -172,11 +178,12 @@ void SurfaceContact::initCarriedSurfaces(const Kokkos::View<int* [2]>::HostMirro
                    "contact: surface '" << S.name() << "' has " << ng << " grid nodes but " << cs.gridDofs.size() / 3
                                         << " grid DOF triples and " << cs.gridX.size() / 3 << " positions");
     for (std::size_t g = 0; g < 3 * ng; ++g)
-      EPAPHE_REQUIRE(cs.gridDofs[g] < 0 || inBlock(bH, cs.gridDofs[g], cs.block), "contact: surface '" << S.name() << "' grid DOF "
-                                                                                 << cs.gridDofs[g] << " is outside its body's block");
+      EPAPHE_REQUIRE(
+          cs.gridDofs[g] < 0 || inBlock(bH, cs.gridDofs[g], cs.block),
+          "contact: surface '" << S.name() << "' grid DOF " << cs.gridDofs[g] << " is outside its body's block");
     for (int k = 0; k < nc; ++k)
       EPAPHE_REQUIRE(blkH(k) != cs.block, "contact: node " << nodes_[k] << " belongs to the body that carries surface '"
-                                                            << S.name() << "'; self-contact is not supported");
+                                                           << S.name() << "'; self-contact is not supported");
     gd.insert(gd.end(), cs.gridDofs.begin(), cs.gridDofs.end());
     maxGrid_[0] = std::max(maxGrid_[0], S.nu());
     maxGrid_[1] = std::max(maxGrid_[1], S.nv());
@@ -277,7 +284,9 @@ void SurfaceContact::initStepViews() {
   if (v_.rows) v_.row = Kokkos::View<double* [3]>("epaphe::contact::normal_rows", numNodes());
 }
 
-std::vector<double> SurfaceContact::warmStarts() const { return detection_->warmStarts(); }
+std::vector<double> SurfaceContact::warmStarts() const {
+  return detection_->warmStarts();
+}
 
 void SurfaceContact::setWarmStarts(const std::vector<double>& all) {
   detection_->setWarmStarts(all);
@@ -296,7 +305,9 @@ void SurfaceContact::detect(const DenseVector& q, bool all) {
   copy(surfH_, surf_);
 }
 
-void SurfaceContact::correct(const DenseVector& q, CostSplit& cost) { correctImpl(q, nullptr, cost); }
+void SurfaceContact::correct(const DenseVector& q, CostSplit& cost) {
+  correctImpl(q, nullptr, cost);
+}
 
 void SurfaceContact::correct(const DenseVector& qPredicted, const DenseVector& qCurrent, CostSplit& cost) {
   EPAPHE_REQUIRE(qCurrent.extent(0) == qPredicted.extent(0),
@@ -324,7 +335,7 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
   numActive_ = static_cast<int>(activeH_.size());
   const bool friction = opt_.friction > 0.0;
   const long long ns = detection_->numSurfaces(), projected = detection_->lastProjected();
-  projections_ += ns * projected;   // a node not skipped is projected on every surface
+  projections_ += ns * projected;  // a node not skipped is projected on every surface
   projectionsSkipped_ += ns * (nc - projected);
   if (numActive_ == 0) {
     enforcement_->commit(v_, activeH_);
@@ -332,9 +343,10 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     fill(force_, 0.0);
     if (friction) {
       fill(mu_, 0.0);
-      forEach("epaphe::contact::no_friction", nc, 1, KOKKOS_LAMBDA(const int k) {
-        for (int d = 0; d < 3; ++d) tangent(k, d) = 0.0;
-      });
+      forEach(
+          "epaphe::contact::no_friction", nc, 1, KOKKOS_LAMBDA(const int k) {
+            for (int d = 0; d < 3; ++d) tangent(k, d) = 0.0;
+          });
     }
     return;
   }
@@ -359,7 +371,7 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     const auto F = F_;
     const auto dir = dir_;
     const auto force = force_;
-    const auto act = v_.upload(activeH_);   // ascending: the sums below run in node order
+    const auto act = v_.upload(activeH_);  // ascending: the sums below run in node order
     const int nA = numActive_;
     const int T = Kokkos::DefaultHostExecutionSpace().concurrency(), n = static_cast<int>(q.extent(0));
     const auto blocks = blocks_;
@@ -388,11 +400,13 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
               if (l == 0.0 || patch(k) < 0) continue;
               const int nuE = ctrlDim(s, 0), nvE = ctrlDim(s, 1), i = pcell(k, 0), j = pcell(k, 1);
               for (int e2 = 0; e2 < 3; ++e2) {
-                const double c = -l * (rot(k, 0, e2) * dir(k, 0) + rot(k, 1, e2) * dir(k, 1) + rot(k, 2, e2) * dir(k, 2));
+                const double c =
+                    -l * (rot(k, 0, e2) * dir(k, 0) + rot(k, 1, e2) * dir(k, 1) + rot(k, 2, e2) * dir(k, 2));
                 if (c == 0.0) continue;
                 for (int r = 0; r < 4; ++r)
                   for (int t = 0; t < 4; ++t)
-                    coef(coefOff(s) + (static_cast<long>(e2) * nuE + i + r) * nvE + j + t) += c * pbasis(k, r) * pbasis(k, 4 + t);
+                    coef(coefOff(s) + (static_cast<long>(e2) * nuE + i + r) * nvE + j + t) +=
+                        c * pbasis(k, r) * pbasis(k, 4 + t);
               }
             }
           });
@@ -401,7 +415,8 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     // column-major); each dq_i sums its terms in node order on any number of threads
     forEach(
         "epaphe::contact::correction", T, 3L * n * nA / T, KOKKOS_LAMBDA(const int t) {
-          const int i0 = static_cast<int>(static_cast<long>(n) * t / T), i1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
+          const int i0 = static_cast<int>(static_cast<long>(n) * t / T),
+                    i1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
           for (int i = i0; i < i1; ++i) dq(i) = 0.0;
           for (int a = 0; a < nA; ++a) {
             const int k = act(a), blk = nodeBlk(k), b0 = blocks(blk, 0), n = blocks(blk, 1);
@@ -498,7 +513,8 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     copy(muH_, mu_);
     copy(tangentH_, tangent_);
   }
-  forEach("epaphe::contact::apply_correction", q.extent(0), 1, KOKKOS_LAMBDA(const int i) { q(i) += dq(i); });
+  forEach(
+      "epaphe::contact::apply_correction", q.extent(0), 1, KOKKOS_LAMBDA(const int i) { q(i) += dq(i); });
   fence();
 }
 
@@ -523,7 +539,8 @@ void SurfaceContact::motionEntries() {
   const auto ctrlOff = ctrlOff_;
   const int maxE = static_cast<int>(entW_.extent(1));
   forEach(
-      "epaphe::contact::relative_motion", numNodes(), 30L + 20L * (maxE > 1 ? 2 * (wu.extent(1) + wv.extent(1)) + maxE : 0), KOKKOS_LAMBDA(const int k) {
+      "epaphe::contact::relative_motion", numNodes(),
+      30L + 20L * (maxE > 1 ? 2 * (wu.extent(1) + wv.extent(1)) + maxE : 0), KOKKOS_LAMBDA(const int k) {
         for (int d = 0; d < 3; ++d) entDof(k, 0, d) = dof(k, d);
         entW(k, 0) = 1.0;
         int m = 1;
@@ -768,8 +785,10 @@ void SurfaceContact::relativeColumns() {
               for (int a = 0; a < 4; ++a)
                 for (int b = 0; b < 4; ++b) {
                   const double wab = w * pbasis(k, a) * pbasis(k, 4 + b);
-                  const double* pc = &Pm(pOff(s2, s) + ((static_cast<long>(e2) * nuEs + pcell(k, 0) + a) * nvEs + pcell(k, 1) + b) * rowsP) +
-                                     static_cast<long>(lo) * m;
+                  const double* pc =
+                      &Pm(pOff(s2, s) +
+                          ((static_cast<long>(e2) * nuEs + pcell(k, 0) + a) * nvEs + pcell(k, 1) + b) * rowsP) +
+                      static_cast<long>(lo) * m;
                   for (int x = 0; x < (hi - lo + 1) * m; ++x) t[x] += wab * pc[x];
                 }
             }
@@ -810,10 +829,11 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
   // their DOFs, the same at every step: made once and kept (fixedC_), where it was made again at
   // every step with contact (rotor37-massless, frictionless: 7 % of its loop, 117 pairs a step).
   forEach(
-      "epaphe::contact::relative_flexibility", nA, 30L * static_cast<long>(entW_.extent(1)) * nA, KOKKOS_LAMBDA(const int a) {
+      "epaphe::contact::relative_flexibility", nA, 30L * static_cast<long>(entW_.extent(1)) * nA,
+      KOKKOS_LAMBDA(const int a) {
         const int ka = active(a), sa = surf(ka), pa = patch(ka);
         const bool direct = D.count(ka) == 1 || pa >= 0;
-        const bool ownOnly = D.count(ka) == 1 && pa < 0;   // D_a is its own entry alone
+        const bool ownOnly = D.count(ka) == 1 && pa < 0;  // D_a is its own entry alone
         const double w0 = D.w(ka, 0);
         const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
         int dof[3];
@@ -853,7 +873,7 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
             for (int e = 0; e < 3; ++e)
               for (int d = 0; d < 3; ++d) own[d][e] = w0 * FlexibleColumn{F, D, nodeBlk, kb, e}(dof[d]);
           }
-          if (pa >= 0) {  // the grid part, R_a g
+          if (pa >= 0) {                                                           // the grid part, R_a g
             double g[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // g[e][e2]
             if (surf(kb) >= 0 && info(surf(kb), 0) == pa) {
               for (int e = 0; e < 3; ++e) {  // T's rows of the patch, (r, q, e2), are one run of 12 nv
@@ -868,7 +888,8 @@ void SurfaceContact::relativeFlexibility(const Kokkos::View<int*>& active) {
               }
             }
             for (int d = 0; d < 3; ++d)
-              for (int e = 0; e < 3; ++e) own[d][e] = own[d][e] + R[d][0] * g[e][0] + R[d][1] * g[e][1] + R[d][2] * g[e][2];
+              for (int e = 0; e < 3; ++e)
+                own[d][e] = own[d][e] + R[d][0] * g[e][0] + R[d][1] * g[e][1] + R[d][2] * g[e][2];
           }
           for (int d = 0; d < 3; ++d)
             for (int e = 0; e < 3; ++e) C(ka, kb, d, e) = own[d][e];

@@ -49,8 +49,8 @@
 // The system is solved in the unknowns not known beforehand (a sliding node's s_a is mu lambda_a t_a,
 // a penalty node's lambda_a is k_p (-g*_a): both move to the right-hand side), nA + 2 x (stuck
 // nodes) for Lagrange, by Gaussian elimination with partial pivoting (LAPACK's GESV above 64).
-// Classification, repeated while any node's state or sliding direction changes (at most 20 passes, then the pass with the fewest changes is
-// solved again and kept): stuck -> sliding when |s_a| > mu lambda_a, with t_a = s_a / |s_a|;
+// Classification, repeated while any node's state or sliding direction changes (at most 20 passes, then the pass with
+// the fewest changes is solved again and kept): stuck -> sliding when |s_a| > mu lambda_a, with t_a = s_a / |s_a|;
 // sliding -> stuck when the radial-return trial force s_trial = mu lambda_a t_a - K_a^{-1} w_a
 // (w_a: tangential part of the corrected motion, K_a = [e_i^T F_aa e_j] the node's 2 x 2 tangential
 // flexibility: the force that would stop it, the others' forces held) lies in the cone
@@ -90,10 +90,10 @@ struct ContactBlock {
 /// The contact nodes: per node its 3 DOF indices in the system q, its reference position, the block
 /// of its body and a label (its node number in that body, for output).
 struct ContactNodes {
-  std::vector<int> dofs;     // 3 per node
-  std::vector<double> X;     // 3 per node
-  std::vector<int> block;    // 1 per node
-  std::vector<int> labels;   // 1 per node
+  std::vector<int> dofs;    // 3 per node
+  std::vector<double> X;    // 3 per node
+  std::vector<int> block;   // 1 per node
+  std::vector<int> labels;  // 1 per node
   void add(int label, int blk, const int dof[3], const double x[3]) {
     labels.push_back(label);
     block.push_back(blk);
@@ -114,9 +114,8 @@ public:
                  const ContactOptions& options, const Flexibility& flexibility);
   /// One body against rigid surfaces: `nodes` of `body` (each must have its 3 DOFs among the
   /// reduced coordinates); `flexibility`: the body's F, size x size.
-  SurfaceContact(const ReducedModel& body, const std::vector<int>& nodes,
-                 std::vector<const BSplineSurface*> surfaces, const ContactOptions& options,
-                 const Flexibility& flexibility);
+  SurfaceContact(const ReducedModel& body, const std::vector<int>& nodes, std::vector<const BSplineSurface*> surfaces,
+                 const ContactOptions& options, const Flexibility& flexibility);
 
   /// Time of the configuration the next correct() / measureGaps() sees (turning surfaces).
   void setTime(double t) { time_ = t; }
@@ -150,8 +149,8 @@ public:
   long long projectionsSkipped() const { return projectionsSkipped_; }
 
   /// Work of the contact forces of the last correction over [t_{n-1}, t_{n+1}] / 2:
-  /// sum_a lambda_a c_a . D_a (qNext - qPrev) / 2 (on both bodies when the surface is carried), c_a = n_a + mu_a t_a the direction the
-  /// correction used (so friction dissipation is negative contact work and the balance is exact).
+  /// sum_a lambda_a c_a . D_a (qNext - qPrev) / 2 (on both bodies when the surface is carried), c_a = n_a + mu_a t_a
+  /// the direction the correction used (so friction dissipation is negative contact work and the balance is exact).
   double workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const;
   /// workIncrement() split into the normal forces' part (lambda_a n_a) and the friction forces'
   /// (lambda_a mu_a t_a), in that order; for diagnoses (a run that stops), not called by the loop.
@@ -173,8 +172,9 @@ public:
   /// unit direction t_a of the friction force (zero when there is none); both stay zero when
   /// ContactOptions::friction = 0.
   Kokkos::View<double*>::HostMirror appliedFriction() const { return muH_; }
-  Kokkos::View<double* [3]>::HostMirror tangent() const { return tangentH_; }
-  int lastIterations() const { return lastIterations_; }
+  Kokkos::View<double* [3]>::HostMirror tangent() const { return tangentH_; } int lastIterations() const {
+    return lastIterations_;
+  }
   /// Passes that added nodes to the active set (lifetime count of steps that needed one).
   int addPasses() const { return lastAddPasses_; }
   /// Stick/slide classification passes of the last friction solve (0 without friction).
@@ -201,10 +201,10 @@ public:
 private:
   void detect(const DenseVector& q, bool all);
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
-  void motionEntries();     // entries of D_k (spline weights) of every node on a surface
-  void relativeColumns();      // the patch nodes' basis and T (what F D^T needs beyond F), then relativeFlexibility()
+  void motionEntries();    // entries of D_k (spline weights) of every node on a surface
+  void relativeColumns();  // the patch nodes' basis and T (what F D^T needs beyond F), then relativeFlexibility()
   void relativeFlexibility(const Kokkos::View<int*>& active);  // C_ab = D_a F D_b^T of the active pairs (uploaded)
-  void controlColumns();    // ctrlF_: F times the carried surfaces' interpolation, once
+  void controlColumns();  // ctrlF_: F times the carried surfaces' interpolation, once
   // construction, in this order:
   // blocks_ checked against the flexibility and filled; returns its host copy
   Kokkos::View<int* [2]>::HostMirror initBlocks(const std::vector<ContactBlock>& blocks,
@@ -227,13 +227,13 @@ private:
   Flexibility::Packed F_;
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactEnforcement> enforcement_;
-  CoatingContact* coating_ = nullptr;     // enforcement_ when a surface has a coating
-  ContactStepViews v_;                    // what the enforcement sees (views shared with the members)
+  CoatingContact* coating_ = nullptr;  // enforcement_ when a surface has a coating
+  ContactStepViews v_;                 // what the enforcement sees (views shared with the members)
   // the detection's views (shared, not copies): per node the selected surface's foot point, normal,
   // gap; per surface R and its turning data
-  Kokkos::View<int* [3]> dof_;            // q index of each contact node DOF
-  Kokkos::View<int*> nodeBlk_;            // block of each node
-  Kokkos::View<int* [2]> blocks_;         // offset, size of each block
+  Kokkos::View<int* [3]> dof_;     // q index of each contact node DOF
+  Kokkos::View<int*> nodeBlk_;     // block of each node
+  Kokkos::View<int* [2]> blocks_;  // offset, size of each block
   // carried surfaces, concatenated: per surface s, grid DOFs from gridOff_(s), interpolation
   // operators B_u, B_v (row-major) from opOff_(s, 0..1); info_(s) = {block (-1: rigid), nu, nv,
   // input nv, periodic u, periodic v}
@@ -242,13 +242,13 @@ private:
   Kokkos::View<int* [2]> opOff_;
   Kokkos::View<double*> ops_;
   Kokkos::View<int* [6]> info_;
-  Kokkos::View<double* [2]> foot_;        // foot point (u, v) on the selected surface
-  Kokkos::View<double**> wu_, wv_;        // spline weights of the active nodes' foot points
-  Kokkos::View<int** [3]> entDof_;        // entries of D_k: DOF triples, weights, count
+  Kokkos::View<double* [2]> foot_;  // foot point (u, v) on the selected surface
+  Kokkos::View<double**> wu_, wv_;  // spline weights of the active nodes' foot points
+  Kokkos::View<int** [3]> entDof_;  // entries of D_k: DOF triples, weights, count
   Kokkos::View<double**> entW_;
   Kokkos::View<int*> entN_;
-  Kokkos::View<int*> patch_;              // per node: its surface's block if that has control columns, else -1
-  Kokkos::View<double* [3][3]> entRot_;   // R of each node's surface when its entries were made
+  Kokkos::View<int*> patch_;             // per node: its surface's block if that has control columns, else -1
+  Kokkos::View<double* [3][3]> entRot_;  // R of each node's surface when its entries were made
   // F D_k^T, column 3 k + e, is never formed: its part on node k's own dense block is F's columns
   // at k's DOFs, read in place; a carried surface on a diagonal block has no dense rows; a patch
   // node's part on its surface's block is needed only on that block's grids (T_: no contact node
@@ -257,9 +257,9 @@ private:
   // and first control point
   Kokkos::View<double* [8]> pbasis_;
   Kokkos::View<int* [2]> pcell_;
-  Kokkos::View<double** [3][3]> C_;       // C_ab = D_a F D_b^T (active pairs)
-  Kokkos::View<int*> known_;              // per node: its row and column of C made at this step
-  Kokkos::View<int**> fixedC_;            // per pair: C_ab made from their own entries alone (constant)
+  Kokkos::View<double** [3][3]> C_;  // C_ab = D_a F D_b^T (active pairs)
+  Kokkos::View<int*> known_;         // per node: its row and column of C made at this step
+  Kokkos::View<int**> fixedC_;       // per pair: C_ab made from their own entries alone (constant)
   // per carried surface with control columns (tOff_(s) >= 0): F D_k^T on its grid contracted with
   // the rows [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
   // tOff_(s) + 3 nv A + 3 q + e2
@@ -286,29 +286,29 @@ private:
   int maxGrid_[2] = {0, 0};
   long long projections_ = 0, projectionsSkipped_ = 0;
   double time_ = 0.0;
-  Kokkos::View<double* [3][3]> rot_;            // per surface: R(omega t)
-  Kokkos::View<double* [9]> turn_;              // per surface: omega, axis, center, ...
-  Kokkos::View<double* [3]> footX_;             // foot point in the bodies' frame
-  DenseVector dq_;                        // the correction F G lambda
-  Kokkos::View<int*> corrected_;          // nodes added to the active set by the last check
-  Kokkos::View<int*> skipped_, refine_;   // detection: projection skipped, asked again
-  Kokkos::View<double*> bound_;           // detection: lower bound of a skipped node's gap
+  Kokkos::View<double* [3][3]> rot_;     // per surface: R(omega t)
+  Kokkos::View<double* [9]> turn_;       // per surface: omega, axis, center, ...
+  Kokkos::View<double* [3]> footX_;      // foot point in the bodies' frame
+  DenseVector dq_;                       // the correction F G lambda
+  Kokkos::View<int*> corrected_;         // nodes added to the active set by the last check
+  Kokkos::View<int*> skipped_, refine_;  // detection: projection skipped, asked again
+  Kokkos::View<double*> bound_;          // detection: lower bound of a skipped node's gap
   double gapTolerance_ = 0.0;
   static constexpr int kMaxAddPasses = 10;
   int lastAddPasses_ = 0;
-  Kokkos::View<double* [3]> x_;           // current positions
+  Kokkos::View<double* [3]> x_;  // current positions
   Kokkos::View<double* [3]> normal_;
-  Kokkos::View<double* [3]> tangent_;     // t_a (unit, or zero)
-  Kokkos::View<double* [3]> dir_;         // c_a = n_a + mu_a t_a (VCT, eq. 2.31)
-  Kokkos::View<double*> mu_;              // mu_a applied
-  int lastFrictionPasses_ = 0;  // passes of the last stick/slide classification
+  Kokkos::View<double* [3]> tangent_;  // t_a (unit, or zero)
+  Kokkos::View<double* [3]> dir_;      // c_a = n_a + mu_a t_a (VCT, eq. 2.31)
+  Kokkos::View<double*> mu_;           // mu_a applied
+  int lastFrictionPasses_ = 0;         // passes of the last stick/slide classification
   Kokkos::View<double*>::HostMirror muH_;
   Kokkos::View<double* [3]>::HostMirror tangentH_;
   Kokkos::View<double*> gap_, force_;
   Kokkos::View<int*> surf_;
   Kokkos::View<double*>::HostMirror gapH_, forceH_;
   Kokkos::View<int*>::HostMirror surfH_;
-  Kokkos::View<int*> active_;             // indices of active nodes
+  Kokkos::View<int*> active_;  // indices of active nodes
   std::vector<int> activeH_;
   int numActive_ = 0;
   int lastIterations_ = 0;

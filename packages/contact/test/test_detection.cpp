@@ -71,8 +71,8 @@ TEST(ContactDetection, SelectsTheNearestOfAnyNumberOfSurfaces) {
   all[2].surface = wall.get();
   all[3].surface = turned.get();
   all[3].phase = M_PI / 6;
-  const std::vector<double> X = {0.1, 0.2, -0.7,   0.3, -0.1, 0.8,  0.85, 0.0, 0.0,
-                                 0.0, -0.6, 0.05,  0.2, 0.3, -1.2,  -0.4, 0.1, 0.3};
+  const std::vector<double> X = {0.1, 0.2,  -0.7, 0.3, -0.1, 0.8,  0.85, 0.0, 0.0,
+                                 0.0, -0.6, 0.05, 0.2, 0.3,  -1.2, -0.4, 0.1, 0.3};
   const int nc = 6;
   ContactDetection together(dofsOf(nc), X, all, {});
   DenseVector q("q", 3 * nc);
@@ -181,8 +181,8 @@ TEST(ContactDetection, RefineProjectsExactlyTheFlaggedNodes) {
   d.detect(q, 1e-3, false);
   EXPECT_EQ(d.lastProjected(), 0);
   EXPECT_EQ(d.views().skipped(0), 1);
-  EXPECT_NEAR(d.views().bound(0), 0.4, 1e-14);   // the last gap less the motion since
-  EXPECT_NEAR(d.views().gap(0), 0.5, 1e-14);  // the last projection's
+  EXPECT_NEAR(d.views().bound(0), 0.4, 1e-14);  // the last gap less the motion since
+  EXPECT_NEAR(d.views().gap(0), 0.5, 1e-14);    // the last projection's
   d.views().refine(0) = 1;
   EXPECT_EQ(d.refine(), 1);
   EXPECT_EQ(d.views().skipped(0), 0);
@@ -242,7 +242,8 @@ TEST(ContactDetection, RadialTurnRateIsTheCasingsSlope) {
     for (int i = 0; i < nu; ++i)
       for (int j = 0; j < nv; ++j) {
         const double phi = 2 * M_PI * i / nu, rho = R - c * (1 - std::cos(2 * phi)) / 2;
-        g.insert(g.end(), {shift[0] + rho * std::cos(phi), shift[1] + rho * std::sin(phi), shift[2] - 0.03 + 0.015 * j});
+        g.insert(g.end(),
+                 {shift[0] + rho * std::cos(phi), shift[1] + rho * std::sin(phi), shift[2] - 0.03 + 0.015 * j});
       }
     SurfaceOptions o;
     o.closureU = Closure::Periodic;
@@ -253,7 +254,7 @@ TEST(ContactDetection, RadialTurnRateIsTheCasingsSlope) {
   const double rate = radialTurnRate(casing(origin), z, origin);
   EXPECT_GE(rate, c);
   EXPECT_LE(rate, 1.5 * c * 1.01);
-  EXPECT_NEAR(radialTurnRate(casing(shift), z, shift), rate, 1e-9 * rate);   // about its own axis
+  EXPECT_NEAR(radialTurnRate(casing(shift), z, shift), rate, 1e-9 * rate);  // about its own axis
   // about an axis it is not round about, or one it does not close around at constant z: none
   EXPECT_TRUE(std::isinf(radialTurnRate(casing(shift), z, origin)));
   EXPECT_TRUE(std::isinf(radialTurnRate(casing(origin), {1, 0, 0}, origin)));

@@ -22,7 +22,6 @@ using test::floorPlane;
 
 namespace {
 
-
 constexpr double kF = 2e-4;  // F = h^2 / m per DOF (m = 5 kg, h = 1e-3 s... any positive value)
 
 /// n free point masses at z = 0 (x spread along x), F = kF I.
@@ -60,7 +59,7 @@ TEST(ContactEnforcement, TheFactoryMakesTheLawTheOptionsAskFor) {
   EXPECT_STREQ(makeContactEnforcement(options(ContactMethod::Penalty), 4)->name(), "Penalty");
   auto f = makeContactEnforcement(options(ContactMethod::Penalty, 0.3), 4);
   EXPECT_STREQ(f->name(), "Coulomb friction");
-  EXPECT_DOUBLE_EQ(f->addedStiffness(), 1e6);   // the normal law's
+  EXPECT_DOUBLE_EQ(f->addedStiffness(), 1e6);  // the normal law's
   EXPECT_FALSE(f->closesGaps());
   EXPECT_TRUE(makeContactEnforcement(options(ContactMethod::Lagrange, 0.3), 4)->closesGaps());
   EXPECT_THROW(makeContactEnforcement(options(ContactMethod::Lagrange, -0.1), 4), Error);
@@ -73,7 +72,8 @@ TEST(ContactEnforcement, EachStrategyOwnsItsKeysAndTheContactListHasThemAll) {
   const auto all = contactValidParameters();
   for (const auto& part : {ForwardIncrementLagrange::getValidParameters(), PenaltyContact::getValidParameters(),
                            CoulombFriction::getValidParameters(), ContactDetection::getValidParameters()})
-    for (auto it = part->begin(); it != part->end(); ++it) EXPECT_TRUE(all->isParameter(part->name(it))) << part->name(it);
+    for (auto it = part->begin(); it != part->end(); ++it)
+      EXPECT_TRUE(all->isParameter(part->name(it))) << part->name(it);
   EXPECT_TRUE(all->isParameter("Method"));
   Teuchos::ParameterList deck("Contact");
   deck.setParameters(*all);
@@ -227,8 +227,8 @@ TEST(ContactEnforcement, CarriedSurfaceOnADenseBlockCorrectsAsItsEntriesDo) {
       SurfaceContact c = scene.make(dense == 1, mu);
       DenseVector q("q", CarriedPlane::kN), qn("qn", CarriedPlane::kN);
       for (int k = 0; k < CarriedPlane::kNodes; ++k) {
-        q(3 * k + 2) = -1e-3 * (1 + k);                   // pressed in
-        q(3 * k) = 2e-4 * k;                                // and sliding or not
+        q(3 * k + 2) = -1e-3 * (1 + k);  // pressed in
+        q(3 * k) = 2e-4 * k;             // and sliding or not
         qn(3 * k) = 1e-4 * k;
       }
       for (int g = 0; g < CarriedPlane::kGridDofs; g += 3) q(3 * CarriedPlane::kNodes + g + 2) = 2e-5 * std::cos(g);
@@ -246,6 +246,7 @@ TEST(ContactEnforcement, CarriedSurfaceOnADenseBlockCorrectsAsItsEntriesDo) {
     ASSERT_GT(fmax, 0.0);
     for (std::size_t k = 0; k < forces[0].size(); ++k)
       EXPECT_NEAR(forces[1][k], forces[0][k], 1e-9 * fmax) << "mu = " << mu << ", node " << k;
-    for (std::size_t i = 0; i < dq[0].size(); ++i) EXPECT_NEAR(dq[1][i], dq[0][i], 1e-9 * dmax) << "mu = " << mu << ", DOF " << i;
+    for (std::size_t i = 0; i < dq[0].size(); ++i)
+      EXPECT_NEAR(dq[1][i], dq[0][i], 1e-9 * dmax) << "mu = " << mu << ", DOF " << i;
   }
 }

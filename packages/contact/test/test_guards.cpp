@@ -36,8 +36,8 @@ struct Scene {
     Kokkos::deep_copy(d, 2e-4);
     ContactOptions o;
     o.timeStep = kH;
-    return SurfaceContact(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, int(3 * z.size())}},
-                          o, Flexibility::diagonal(d));
+    return SurfaceContact(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, int(3 * z.size())}}, o,
+                          Flexibility::diagonal(d));
   }
 };
 
@@ -127,7 +127,8 @@ TEST(ContactGuards, BodiesThatStartInsideASurfaceAreRefusedWithTheDeepestNode) {
     const std::string m = e.what();
     EXPECT_NE(m.find("2 contact node(s) lie inside a surface"), std::string::npos) << m;  // a touch is not one
     EXPECT_NE(m.find("node 13 of body 'Bar' at (0.5, 0.1, -0.03) m, is 0.03 m inside surface 'floor'"),
-              std::string::npos) << m;
+              std::string::npos)
+        << m;
   }
   Scene t({0.2, 0.0, -1e-7 * kL});  // touching, and within the tolerance 1e-6 L
   SurfaceContact ct = t.make();

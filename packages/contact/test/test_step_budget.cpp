@@ -21,7 +21,6 @@ using test::floorPlane;
 
 namespace {
 
-
 constexpr int kNodes = 12, kN = 3 * kNodes;
 
 /// 12 nodes on a 4 x 3 grid at z = 0.01, with a dense coupled flexibility (diagonal 1e-3 plus a
@@ -86,10 +85,11 @@ TEST(StepBudget, LagrangeAndFrictionStepsAllocateNothingAndLaunchABoundedNumberO
     step(c, q, qn, 0);  // warm-up
     const Counts k = step(c, q, qn, 1);
     EXPECT_EQ(c.numActive(), kNodes / 2);
-    std::printf("%s step, %d of %d nodes active: %lld parallel regions, %lld allocations, %lld deep copies "
-                "(friction passes %d)\n",
-                mu > 0 ? "friction" : "Lagrange", c.numActive(), kNodes, static_cast<long long>(k.launches),
-                static_cast<long long>(k.allocations), static_cast<long long>(k.deepCopies), c.lastFrictionPasses());
+    std::printf(
+        "%s step, %d of %d nodes active: %lld parallel regions, %lld allocations, %lld deep copies "
+        "(friction passes %d)\n",
+        mu > 0 ? "friction" : "Lagrange", c.numActive(), kNodes, static_cast<long long>(k.launches),
+        static_cast<long long>(k.allocations), static_cast<long long>(k.deepCopies), c.lastFrictionPasses());
     EXPECT_EQ(k.allocations, 0) << "the step allocates";
     // Budgets (measured at the time of writing: 9 regions frictionless, 14 with one friction pass):
     // a change of structure that adds launches must say so here.
@@ -102,9 +102,11 @@ TEST(StepBudget, LagrangeAndFrictionStepsAllocateNothingAndLaunchABoundedNumberO
     step(c, q, qn, 0);
     const Counts k = step(c, q, qn, 1);
     const int passes = c.coating()->lastBranchPasses();
-    std::printf("coated Lagrange step, %d active: %lld parallel regions, %lld allocations (branch passes %d), wear "
-                "%.3g m\n", c.numActive(), static_cast<long long>(k.launches), static_cast<long long>(k.allocations),
-                passes, c.coatingViews().wear(c.detection().views().element(1)));
+    std::printf(
+        "coated Lagrange step, %d active: %lld parallel regions, %lld allocations (branch passes %d), wear "
+        "%.3g m\n",
+        c.numActive(), static_cast<long long>(k.launches), static_cast<long long>(k.allocations), passes,
+        c.coatingViews().wear(c.detection().views().element(1)));
     EXPECT_EQ(c.numActive(), kNodes / 2);
     EXPECT_GT(c.coatingViews().wear(c.detection().views().element(1)), 0.0);  // plastic: the law ran
     EXPECT_EQ(k.allocations, 0) << "the coated step allocates";

@@ -21,8 +21,8 @@
 namespace epaphe::deck {
 namespace {
 
-using Teuchos::ParameterList;
 using Teuchos::ParameterEntry;
+using Teuchos::ParameterList;
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -69,8 +69,7 @@ int lineOf(const std::string& text, const std::string& key) {
   return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(pos), '\n'));
 }
 
-std::string where(const std::string& origin, const std::string& text, const ParameterList& pl,
-                  const std::string& key) {
+std::string where(const std::string& origin, const std::string& text, const ParameterList& pl, const std::string& key) {
   std::ostringstream os;
   os << origin;
   if (int l = lineOf(text, key)) os << ":" << l;
@@ -106,16 +105,14 @@ void checkEntry(ParameterList& user, const std::string& key, const ParameterEntr
   ParameterEntry& f = user.getEntry(key);
   if (typeName(f) != expected) {
     ErrorBuilder eb;
-    eb << where(origin, text, user, key) << " has type " << typeName(f) << " (value " << valueText(f)
-       << "), expected " << expected << "; write it as <Parameter name=\"" << key << "\" type=\""
-       << expected << "\" value=\"...\"/>";
+    eb << where(origin, text, user, key) << " has type " << typeName(f) << " (value " << valueText(f) << "), expected "
+       << expected << "; write it as <Parameter name=\"" << key << "\" type=\"" << expected << "\" value=\"...\"/>";
     eb.raise();
   }
 
   auto validator = validEntry.validator();
   if (validator.is_null()) return;
-  if (auto dv = Teuchos::rcp_dynamic_cast<const Teuchos::EnhancedNumberValidator<double>>(validator);
-      !dv.is_null()) {
+  if (auto dv = Teuchos::rcp_dynamic_cast<const Teuchos::EnhancedNumberValidator<double>>(validator); !dv.is_null()) {
     const double v = f.getValue<double>(nullptr);
     if (!(v >= dv->getMin() && v <= dv->getMax())) {
       ErrorBuilder eb;
@@ -128,12 +125,12 @@ void checkEntry(ParameterList& user, const std::string& key, const ParameterEntr
     const int v = f.getValue<int>(nullptr);
     if (v < iv->getMin() || v > iv->getMax()) {
       ErrorBuilder eb;
-      eb << where(origin, text, user, key) << " = " << v << " is out of range: allowed values are in ["
-         << iv->getMin() << ", " << iv->getMax() << "]";
+      eb << where(origin, text, user, key) << " = " << v << " is out of range: allowed values are in [" << iv->getMin()
+         << ", " << iv->getMax() << "]";
       eb.raise();
     }
-  } else if (auto sv = Teuchos::rcp_dynamic_cast<const Teuchos::StringToIntegralParameterEntryValidator<int>>(
-                 validator);
+  } else if (auto sv =
+                 Teuchos::rcp_dynamic_cast<const Teuchos::StringToIntegralParameterEntryValidator<int>>(validator);
              !sv.is_null()) {
     const std::string v = f.getValue<std::string>(nullptr);
     std::vector<std::string> allowed(sv->validStringValues()->begin(), sv->validStringValues()->end());
@@ -148,8 +145,8 @@ void checkEntry(ParameterList& user, const std::string& key, const ParameterEntr
   f.setValidator(validator);
 }
 
-void validateList(ParameterList& user, const ParameterList& valid, const std::string& origin,
-                  const std::string& text, const std::string& path) {
+void validateList(ParameterList& user, const ParameterList& valid, const std::string& origin, const std::string& text,
+                  const std::string& path) {
   user.setName(path);  // messages cite "Epaphe->Time->Time step" whatever the parser called it
   const bool hasTemplate = valid.isSublist("*");
   // 1. Every user key must be known.
@@ -164,8 +161,10 @@ void validateList(ParameterList& user, const ParameterList& valid, const std::st
     if (int l = lineOf(text, key)) eb << ":" << l;
     eb << ": unknown parameter '" << key << "' in list '" << user.name() << "'";
     const std::string near = nearest(key, candidates);
-    if (!near.empty()) eb << "; did you mean '" << near << "'?";
-    else eb << "; valid keys are " << joined(candidates);
+    if (!near.empty())
+      eb << "; did you mean '" << near << "'?";
+    else
+      eb << "; valid keys are " << joined(candidates);
     eb << " (run with --print-parameters for the documentation of every key)";
     eb.raise();
   }
@@ -218,8 +217,8 @@ void checkNumbers(const std::string& xml, const std::string& origin) {
       const std::string v = lower(a["value"]);
       if (v != "true" && v != "false" && v != "yes" && v != "no" && v != "0" && v != "1") {
         ErrorBuilder eb;
-        eb << origin << ":" << lineHere() << ": parameter '" << a["name"] << "' of type bool has value \""
-           << a["value"] << "\"; write true or false";
+        eb << origin << ":" << lineHere() << ": parameter '" << a["name"] << "' of type bool has value \"" << a["value"]
+           << "\"; write true or false";
         eb.raise();
       }
       continue;
@@ -245,12 +244,13 @@ void checkNumbers(const std::string& xml, const std::string& origin) {
       if (first == std::string::npos) {
         if (array) continue;
       }
-      const std::string tk = first == std::string::npos ? "" : token.substr(first, token.find_last_not_of(" \t\n") - first + 1);
+      const std::string tk =
+          first == std::string::npos ? "" : token.substr(first, token.find_last_not_of(" \t\n") - first + 1);
       char* end = nullptr;
       errno = 0;
       const double d = isInt ? double(std::strtoll(tk.c_str(), &end, 10)) : std::strtod(tk.c_str(), &end);
-      const bool intRange = !isInt || (errno != ERANGE && d >= std::numeric_limits<int>::min() &&
-                                       d <= std::numeric_limits<int>::max());
+      const bool intRange =
+          !isInt || (errno != ERANGE && d >= std::numeric_limits<int>::min() && d <= std::numeric_limits<int>::max());
       if (!tk.empty() && *end == '\0' && !intRange) {
         ErrorBuilder eb;
         eb << origin << ":" << lineHere() << ": parameter '" << a["name"] << "' of type " << type << " has value \""
@@ -309,7 +309,10 @@ std::string nearest(const std::string& key, const std::vector<std::string>& cand
   const std::string k = lower(key);
   for (const auto& c : candidates) {
     const std::size_t d = levenshtein(k, lower(c));
-    if (d < bestD) { bestD = d; best = c; }
+    if (d < bestD) {
+      bestD = d;
+      best = c;
+    }
   }
   // Close enough: at most a third of the key's letters differ.
   if (best.empty() || bestD > std::max<std::size_t>(2, key.size() / 3)) return "";
@@ -337,27 +340,25 @@ void printDocumentation(std::ostream& os, const Teuchos::ParameterList& valid, i
       os << " in [" << iv->getMin() << ", " << iv->getMax() << "]";
     else if (auto sv = Teuchos::rcp_dynamic_cast<const Teuchos::StringToIntegralParameterEntryValidator<int>>(v);
              !sv.is_null())
-      os << " one of " << joined(std::vector<std::string>(sv->validStringValues()->begin(),
-                                                          sv->validStringValues()->end()));
+      os << " one of "
+         << joined(std::vector<std::string>(sv->validStringValues()->begin(), sv->validStringValues()->end()));
     os << "\n" << pad << "    " << e.docString() << "\n";
   }
 }
 
-void addDouble(Teuchos::ParameterList& pl, const std::string& name, double def, const std::string& doc,
-               double min, double max) {
+void addDouble(Teuchos::ParameterList& pl, const std::string& name, double def, const std::string& doc, double min,
+               double max) {
   auto v = Teuchos::rcp(new Teuchos::EnhancedNumberValidator<double>(min, max));
   pl.set(name, def, doc, v);
 }
-void addInt(Teuchos::ParameterList& pl, const std::string& name, int def, const std::string& doc, int min,
-            int max) {
+void addInt(Teuchos::ParameterList& pl, const std::string& name, int def, const std::string& doc, int min, int max) {
   auto v = Teuchos::rcp(new Teuchos::EnhancedNumberValidator<int>(min, max));
   pl.set(name, def, doc, v);
 }
 void addBool(Teuchos::ParameterList& pl, const std::string& name, bool def, const std::string& doc) {
   pl.set(name, def, doc);
 }
-void addString(Teuchos::ParameterList& pl, const std::string& name, const std::string& def,
-               const std::string& doc) {
+void addString(Teuchos::ParameterList& pl, const std::string& name, const std::string& def, const std::string& doc) {
   pl.set(name, def, doc);
 }
 void addDoubleArray(Teuchos::ParameterList& pl, const std::string& name, const std::vector<double>& def,

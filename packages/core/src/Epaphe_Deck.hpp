@@ -44,14 +44,13 @@ void addDouble(Teuchos::ParameterList& pl, const std::string& name, double def, 
 void addInt(Teuchos::ParameterList& pl, const std::string& name, int def, const std::string& doc,
             int min = std::numeric_limits<int>::min(), int max = std::numeric_limits<int>::max());
 void addBool(Teuchos::ParameterList& pl, const std::string& name, bool def, const std::string& doc);
-void addString(Teuchos::ParameterList& pl, const std::string& name, const std::string& def,
-               const std::string& doc);
+void addString(Teuchos::ParameterList& pl, const std::string& name, const std::string& def, const std::string& doc);
 void addDoubleArray(Teuchos::ParameterList& pl, const std::string& name, const std::vector<double>& def,
                     const std::string& doc);
 void addIntArray(Teuchos::ParameterList& pl, const std::string& name, const std::vector<int>& def,
                  const std::string& doc);
-void addStringArray(Teuchos::ParameterList& pl, const std::string& name,
-                    const std::vector<std::string>& def, const std::string& doc);
+void addStringArray(Teuchos::ParameterList& pl, const std::string& name, const std::vector<std::string>& def,
+                    const std::string& doc);
 /// A string chosen among `names`, stored as the integral value of the matching `values`.
 void addEnum(Teuchos::ParameterList& pl, const std::string& name, const std::string& def,
              const std::vector<std::string>& names, const std::vector<int>& values, const std::string& doc);

@@ -16,9 +16,14 @@ public:
 ///   throw_error() << "deck " << file << ": 'Time step' = " << h << " must be > 0";
 class ErrorBuilder {
 public:
-  template <class T> ErrorBuilder& operator<<(const T& v) { os_ << v; return *this; }
+  template <class T>
+  ErrorBuilder& operator<<(const T& v) {
+    os_ << v;
+    return *this;
+  }
   [[noreturn]] void raise() const { throw Error(os_.str()); }
   std::string str() const { return os_.str(); }
+
 private:
   std::ostringstream os_;
 };
@@ -26,7 +31,11 @@ private:
 }  // namespace epaphe
 
 /// EPAPHE_REQUIRE(condition, message stream): throws epaphe::Error with the message when false.
-#define EPAPHE_REQUIRE(cond, msg)                                    \
-  do {                                                               \
-    if (!(cond)) { ::epaphe::ErrorBuilder eb__; eb__ << msg; eb__.raise(); } \
+#define EPAPHE_REQUIRE(cond, msg)  \
+  do {                             \
+    if (!(cond)) {                 \
+      ::epaphe::ErrorBuilder eb__; \
+      eb__ << msg;                 \
+      eb__.raise();                \
+    }                              \
   } while (0)

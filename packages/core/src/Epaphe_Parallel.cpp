@@ -12,13 +12,13 @@ namespace epaphe {
 
 namespace {
 long readSerialWorkNs() {
-    const char* e = std::getenv("EPAPHE_SERIAL_WORK_NS");
-    if (!e || !*e) return kDefaultSerialWorkNs;
-    char* end = nullptr;
-    const long v = std::strtol(e, &end, 10);
-    EPAPHE_REQUIRE(end && *end == '\0' && v >= 0, "EPAPHE_SERIAL_WORK_NS = '" << e
-                                                      << "'; give a whole number of nanoseconds >= 0 (0: always parallel)");
-    return v;
+  const char* e = std::getenv("EPAPHE_SERIAL_WORK_NS");
+  if (!e || !*e) return kDefaultSerialWorkNs;
+  char* end = nullptr;
+  const long v = std::strtol(e, &end, 10);
+  EPAPHE_REQUIRE(end && *end == '\0' && v >= 0,
+                 "EPAPHE_SERIAL_WORK_NS = '" << e << "'; give a whole number of nanoseconds >= 0 (0: always parallel)");
+  return v;
 }
 std::atomic<long> gSerialWorkNs{-1};
 }  // namespace
@@ -48,7 +48,9 @@ void onBegin(const char* name, const std::uint32_t, std::uint64_t* id) {
   ++gNames[name ? name : "?"];
 }
 void onEnd(std::uint64_t) {}
-void onAllocate(const Kokkos_Profiling_SpaceHandle, const char*, const void*, const std::uint64_t) { ++gAllocations; }
+void onAllocate(const Kokkos_Profiling_SpaceHandle, const char*, const void*, const std::uint64_t) {
+  ++gAllocations;
+}
 void onDeepCopy(Kokkos_Profiling_SpaceHandle, const char*, const void*, Kokkos_Profiling_SpaceHandle, const char*,
                 const void*, std::uint64_t) {
   ++gDeepCopies;
@@ -79,9 +81,15 @@ KernelCounter::~KernelCounter() {
   gActive = false;
 }
 
-std::int64_t KernelCounter::launches() const { return gLaunches; }
-std::int64_t KernelCounter::allocations() const { return gAllocations; }
-std::int64_t KernelCounter::deepCopies() const { return gDeepCopies; }
+std::int64_t KernelCounter::launches() const {
+  return gLaunches;
+}
+std::int64_t KernelCounter::allocations() const {
+  return gAllocations;
+}
+std::int64_t KernelCounter::deepCopies() const {
+  return gDeepCopies;
+}
 void KernelCounter::reset() {
   gLaunches = gAllocations = gDeepCopies = 0;
   const std::lock_guard<std::mutex> lock(gNamesMutex);

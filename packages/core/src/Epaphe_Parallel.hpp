@@ -35,8 +35,7 @@ namespace parallel_detail {
 constexpr bool kHostAccessible =
     Kokkos::SpaceAccessibility<Kokkos::HostSpace, Kokkos::DefaultExecutionSpace::memory_space>::accessible;
 inline bool serial(long n, long nsPerItem) {
-  return kHostAccessible &&
-         (Kokkos::DefaultExecutionSpace().concurrency() == 1 || n * nsPerItem < serialWorkNs());
+  return kHostAccessible && (Kokkos::DefaultExecutionSpace().concurrency() == 1 || n * nsPerItem < serialWorkNs());
 }
 /// While alive, copies of views on this thread do not count references, as inside a Kokkos parallel
 /// region (a kernel body that copies a struct of views per item would otherwise pay two atomic
@@ -138,21 +137,24 @@ void reduce(const char* name, long n, long nsPerItem, const F& f, const R& reduc
 template <class X, class Y>
 double dot(const X& x, const Y& y) {
   double s = 0.0;
-  reduce("epaphe::dot", static_cast<long>(x.extent(0)), 2,
-         KOKKOS_LAMBDA(const int i, double& t) { t += x(i) * y(i); }, Kokkos::Sum<double>(s));
+  reduce(
+      "epaphe::dot", static_cast<long>(x.extent(0)), 2, KOKKOS_LAMBDA(const int i, double& t) { t += x(i) * y(i); },
+      Kokkos::Sum<double>(s));
   return s;
 }
 
 /// y = a x + b y for 1-D views.
 template <class X, class Y>
 void axpby(double a, const X& x, double b, const Y& y) {
-  forEach("epaphe::axpby", static_cast<long>(y.extent(0)), 1, KOKKOS_LAMBDA(const int i) { y(i) = a * x(i) + b * y(i); });
+  forEach(
+      "epaphe::axpby", static_cast<long>(y.extent(0)), 1, KOKKOS_LAMBDA(const int i) { y(i) = a * x(i) + b * y(i); });
 }
 
 /// x(i) = value for a 1-D view.
 template <class X, class T>
 void fill(const X& x, T value) {
-  forEach("epaphe::fill", static_cast<long>(x.extent(0)), 1, KOKKOS_LAMBDA(const int i) { x(i) = value; });
+  forEach(
+      "epaphe::fill", static_cast<long>(x.extent(0)), 1, KOKKOS_LAMBDA(const int i) { x(i) = value; });
 }
 
 /// Counts, while alive, the Kokkos parallel regions (for, reduce, scan), allocations and deep

@@ -100,23 +100,38 @@ void Runtime::initializeKokkos(int threads) {
 int Runtime::threads() const {
   return Kokkos::is_initialized() ? Kokkos::DefaultHostExecutionSpace::concurrency() : 0;
 }
-int Runtime::rank() const { return comm_->getRank(); }
-int Runtime::size() const { return comm_->getSize(); }
-Teuchos::RCP<const Teuchos::Comm<int>> Runtime::comm() const { return comm_; }
+int Runtime::rank() const {
+  return comm_->getRank();
+}
+int Runtime::size() const {
+  return comm_->getSize();
+}
+Teuchos::RCP<const Teuchos::Comm<int>> Runtime::comm() const {
+  return comm_;
+}
 // An MpiComm, not a SerialComm: Amesos2's MUMPS adapter takes the raw MPI communicator.
 void Runtime::useOwnCommunicator() {
   comm_ = Teuchos::rcp(new Teuchos::MpiComm<int>(Teuchos::opaqueWrapper<MPI_Comm>(MPI_COMM_SELF)));
 }
-Teuchos::RCP<const Teuchos::Comm<int>> Runtime::worldComm() const { return Teuchos::DefaultComm<int>::getComm(); }
-std::ostream& Runtime::out() const { return rank() == 0 ? std::cout : nullStream; }
+Teuchos::RCP<const Teuchos::Comm<int>> Runtime::worldComm() const {
+  return Teuchos::DefaultComm<int>::getComm();
+}
+std::ostream& Runtime::out() const {
+  return rank() == 0 ? std::cout : nullStream;
+}
 
 std::string formatDuration(double s) {
   char buf[64];
-  if (s >= 3600) std::snprintf(buf, sizeof buf, "%d h %02d min", int(s / 3600), int(s / 60) % 60);
-  else if (s >= 60) std::snprintf(buf, sizeof buf, "%d min %02d s", int(s / 60), int(s) % 60);
-  else if (s >= 1) std::snprintf(buf, sizeof buf, "%.2f s", s);
-  else if (s >= 1e-3) std::snprintf(buf, sizeof buf, "%.2f ms", s * 1e3);
-  else std::snprintf(buf, sizeof buf, "%.1f us", s * 1e6);
+  if (s >= 3600)
+    std::snprintf(buf, sizeof buf, "%d h %02d min", int(s / 3600), int(s / 60) % 60);
+  else if (s >= 60)
+    std::snprintf(buf, sizeof buf, "%d min %02d s", int(s / 60), int(s) % 60);
+  else if (s >= 1)
+    std::snprintf(buf, sizeof buf, "%.2f s", s);
+  else if (s >= 1e-3)
+    std::snprintf(buf, sizeof buf, "%.2f ms", s * 1e3);
+  else
+    std::snprintf(buf, sizeof buf, "%.1f us", s * 1e6);
   return buf;
 }
 

@@ -16,7 +16,9 @@
 #include <x86intrin.h>
 #endif
 
-namespace Teuchos { class GlobalMPISession; }
+namespace Teuchos {
+class GlobalMPISession;
+}
 
 namespace epaphe {
 
@@ -109,7 +111,7 @@ private:
   }
   std::chrono::steady_clock::time_point t0_;
   std::uint64_t k0_;
-  std::vector<std::pair<const char*, int>> keys_;   // name addresses seen, and their slot
+  std::vector<std::pair<const char*, int>> keys_;  // name addresses seen, and their slot
   std::vector<std::string> names_;
   std::vector<std::uint64_t> ticks_;
 };
@@ -117,9 +119,7 @@ private:
 class Stopwatch {
 public:
   Stopwatch() : t0_(std::chrono::steady_clock::now()) {}
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-  }
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
   void restart() { t0_ = std::chrono::steady_clock::now(); }
 
 private:

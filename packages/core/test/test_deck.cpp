@@ -45,14 +45,16 @@ TEST(Deck, DefaultsAndEnums) {
 }
 
 TEST(Deck, IntegerAcceptedForDouble) {
-  const std::string xml = "<ParameterList name=\"Top\"><Parameter name=\"Time step\" type=\"int\" value=\"1\"/></ParameterList>";
+  const std::string xml =
+      "<ParameterList name=\"Top\"><Parameter name=\"Time step\" type=\"int\" value=\"1\"/></ParameterList>";
   auto user = deck::readXmlString(xml, "deck.xml");
   deck::validateAndSetDefaults(*user, valid(), "deck.xml", xml);
   EXPECT_EQ(user->get<double>("Time step"), 1.0);
 }
 
 TEST(Deck, UnknownKeyNamesNearestAndLine) {
-  const std::string e = errorOf("<ParameterList name=\"Top\">\n<Parameter name=\"Time stpe\" type=\"double\" value=\"1\"/>\n</ParameterList>");
+  const std::string e = errorOf(
+      "<ParameterList name=\"Top\">\n<Parameter name=\"Time stpe\" type=\"double\" value=\"1\"/>\n</ParameterList>");
   EXPECT_NE(e.find("deck.xml:2"), std::string::npos) << e;
   EXPECT_NE(e.find("unknown parameter 'Time stpe'"), std::string::npos) << e;
   EXPECT_NE(e.find("did you mean 'Time step'"), std::string::npos) << e;
@@ -66,19 +68,23 @@ TEST(Deck, UnknownKeyInTemplateList) {
 }
 
 TEST(Deck, WrongTypeNamesValueAndExpected) {
-  const std::string e = errorOf("<ParameterList name=\"Top\"><Parameter name=\"Modes\" type=\"string\" value=\"ten\"/></ParameterList>");
+  const std::string e =
+      errorOf("<ParameterList name=\"Top\"><Parameter name=\"Modes\" type=\"string\" value=\"ten\"/></ParameterList>");
   EXPECT_NE(e.find("'Top->Modes' has type string (value ten), expected int"), std::string::npos) << e;
 }
 
 TEST(Deck, OutOfRangeNamesRange) {
-  const std::string e = errorOf("<ParameterList name=\"Top\"><Parameter name=\"Modes\" type=\"int\" value=\"101\"/></ParameterList>");
+  const std::string e =
+      errorOf("<ParameterList name=\"Top\"><Parameter name=\"Modes\" type=\"int\" value=\"101\"/></ParameterList>");
   EXPECT_NE(e.find("= 101 is out of range: allowed values are in [0, 100]"), std::string::npos) << e;
-  const std::string f = errorOf("<ParameterList name=\"Top\"><Parameter name=\"Time step\" type=\"double\" value=\"0\"/></ParameterList>");
+  const std::string f = errorOf(
+      "<ParameterList name=\"Top\"><Parameter name=\"Time step\" type=\"double\" value=\"0\"/></ParameterList>");
   EXPECT_NE(f.find("'Top->Time step' = 0 is out of range"), std::string::npos) << f;
 }
 
 TEST(Deck, EnumTypoSuggests) {
-  const std::string e = errorOf("<ParameterList name=\"Top\"><Parameter name=\"Color\" type=\"string\" value=\"Blu\"/></ParameterList>");
+  const std::string e =
+      errorOf("<ParameterList name=\"Top\"><Parameter name=\"Color\" type=\"string\" value=\"Blu\"/></ParameterList>");
   EXPECT_NE(e.find("is not one of 'Red', 'Blue'; did you mean 'Blue'?"), std::string::npos) << e;
 }
 

@@ -17,7 +17,7 @@ namespace epaphe {
 BodyOperator BodyOperator::dense(const std::vector<double>& a, int n, const std::string& label) {
   BodyOperator op;
   op.kind_ = Kind::Dense;
-  op.dense_ = DenseMatrix(label, n, n);   // A's rows, each contiguous: column i holds row i
+  op.dense_ = DenseMatrix(label, n, n);  // A's rows, each contiguous: column i holds row i
   auto h = Kokkos::create_mirror_view(op.dense_);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) h(j, i) = a[static_cast<std::size_t>(j) * n + i];
@@ -29,7 +29,7 @@ void BodyOperator::assignDense(const std::vector<double>& a) {
   const int n = static_cast<int>(dense_.extent(0));
   EPAPHE_REQUIRE(kind_ == Kind::Dense && a.size() == static_cast<std::size_t>(n) * n,
                  "BodyOperator::assignDense: " << a.size() << " entries for a dense operator of size " << n);
-  auto h = Kokkos::create_mirror_view(dense_);   // host memory: the view itself, nothing allocated
+  auto h = Kokkos::create_mirror_view(dense_);  // host memory: the view itself, nothing allocated
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) h(j, i) = a[static_cast<std::size_t>(j) * n + i];
   Kokkos::deep_copy(dense_, h);
@@ -81,19 +81,24 @@ BodyOperator BodyOperator::denseOrDiagonal(const std::vector<double>& a, int n, 
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const double v = a[static_cast<std::size_t>(j) * n + i];
-      if (i == j) d[i] = v;
-      else if (v != 0.0) return dense(a, n, label);
+      if (i == j)
+        d[i] = v;
+      else if (v != 0.0)
+        return dense(a, n, label);
     }
   return diagonal(d, label);
 }
 
 std::size_t BodyOperator::bytes() const {
   switch (kind_) {
-    case Kind::Dense: return dense_.span() * sizeof(double);
+    case Kind::Dense:
+      return dense_.span() * sizeof(double);
     case Kind::Sparse:
       return sparse_.nnz() * (sizeof(double) + sizeof(int)) + (sparse_.numRows() + 1) * sizeof(std::size_t);
-    case Kind::Diagonal: return diagonal_.span() * sizeof(double);
-    default: return 0;
+    case Kind::Diagonal:
+      return diagonal_.span() * sizeof(double);
+    default:
+      return 0;
   }
 }
 
@@ -126,10 +131,11 @@ void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const 
       const double* A = dense_.data();
       const double* xv = x.data();
       double* yv = y.data();
-      operatorRowBlocks("epaphe::dynamics::gemv", n, bytes(), [=](int r0, int r1) {   // rows r0..r1: columns of the storage
-        Teuchos::BLAS<int, double>().GEMV(Teuchos::TRANS, n, r1 - r0, alpha, A + static_cast<std::size_t>(r0) * n, n, xv, 1,
-                                          beta, yv + r0, 1);
-      });
+      operatorRowBlocks(
+          "epaphe::dynamics::gemv", n, bytes(), [=](int r0, int r1) {  // rows r0..r1: columns of the storage
+            Teuchos::BLAS<int, double>().GEMV(Teuchos::TRANS, n, r1 - r0, alpha, A + static_cast<std::size_t>(r0) * n,
+                                              n, xv, 1, beta, yv + r0, 1);
+          });
       break;
     }
     case Kind::Sparse: {
@@ -199,22 +205,26 @@ void BodyOperator::apply2(const DenseMatrix& x, const DenseMatrix& y) const {
 }
 
 void rayleighFromRatios(double f1, double xi1, double f2, double xi2, double& alpha, double& beta) {
-  EPAPHE_REQUIRE(f1 > 0 && f2 > f1, "Rayleigh damping: frequencies " << f1 << " and " << f2
-                                                                      << " Hz; give 0 < f1 < f2");
+  EPAPHE_REQUIRE(f1 > 0 && f2 > f1, "Rayleigh damping: frequencies " << f1 << " and " << f2 << " Hz; give 0 < f1 < f2");
   const double w1 = 2 * M_PI * f1, w2 = 2 * M_PI * f2;
   beta = 2 * (xi2 * w2 - xi1 * w1) / (w2 * w2 - w1 * w1);
   alpha = 2 * w1 * w2 * (xi1 * w2 - xi2 * w1) / (w2 * w2 - w1 * w1);
-  EPAPHE_REQUIRE(alpha >= 0 && beta >= 0, "Rayleigh damping: ratios " << xi1 << " at " << f1 << " Hz and " << xi2
-                     << " at " << f2 << " Hz give alpha = " << alpha << ", beta = " << beta
+  EPAPHE_REQUIRE(alpha >= 0 && beta >= 0,
+                 "Rayleigh damping: ratios "
+                     << xi1 << " at " << f1 << " Hz and " << xi2 << " at " << f2 << " Hz give alpha = " << alpha
+                     << ", beta = " << beta
                      << "; a negative coefficient would feed energy into some modes: choose closer ratios");
 }
 
 std::vector<double> modalDamping(const ReducedModel& model, const DampingOptions& damping) {
   std::vector<double> d;
   for (double w2 : model.modalStiffness()) {
-    if (damping.type == DampingType::Rayleigh) d.push_back(damping.alpha + damping.beta * w2);
-    else if (damping.type == DampingType::Modal) d.push_back(2 * damping.ratio * std::sqrt(w2));
-    else d.push_back(0.0);
+    if (damping.type == DampingType::Rayleigh)
+      d.push_back(damping.alpha + damping.beta * w2);
+    else if (damping.type == DampingType::Modal)
+      d.push_back(2 * damping.ratio * std::sqrt(w2));
+    else
+      d.push_back(0.0);
   }
   return d;
 }
@@ -237,7 +247,8 @@ std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOption
     blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, 1.0, model.M.data(), n, V.data(), n, 0.0, MV.data(), n);
     for (int j = 0; j < n; ++j) {
       const double c = 2 * damping.ratio * std::sqrt(std::max(w[j], 0.0));
-      for (int i = 0; i < n; ++i) MVs[static_cast<std::size_t>(j) * n + i] = c * MV[static_cast<std::size_t>(j) * n + i];
+      for (int i = 0; i < n; ++i)
+        MVs[static_cast<std::size_t>(j) * n + i] = c * MV[static_cast<std::size_t>(j) * n + i];
     }
     blas.GEMM(Teuchos::NO_TRANS, Teuchos::TRANS, n, n, n, 1.0, MVs.data(), n, MV.data(), n, 0.0, D.data(), n);
   }
@@ -263,7 +274,7 @@ double lastComponent(const std::vector<double>& alpha, const std::vector<double>
     for (double& v : d) v -= shift;
     lapack.GTTRF(m, dl.data(), d.data(), du.data(), du2.data(), ipiv.data(), &info);
   }
-  if (info != 0) return 1.0;   // no factor: the bound beta_j itself, which never declares convergence early
+  if (info != 0) return 1.0;  // no factor: the bound beta_j itself, which never declares convergence early
   x.assign(static_cast<std::size_t>(m), 1.0);
   for (int pass = 0; pass < 2; ++pass) {
     lapack.GTTRS('N', m, 1, dl.data(), d.data(), du.data(), du2.data(), ipiv.data(), x.data(), m, &info);
@@ -306,7 +317,7 @@ HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector
     norm += x * x;
   }
   for (double& x : v) x /= std::sqrt(norm);
-  std::vector<double> alpha, beta;   // T: diagonal alpha, off-diagonal beta
+  std::vector<double> alpha, beta;  // T: diagonal alpha, off-diagonal beta
   Teuchos::LAPACK<int, double> lapack;
   const int maxIterations = std::min(n, 1000);
   double betaPrev = 0;
@@ -320,7 +331,7 @@ HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector
     }
     double b = 0;
     for (int i = 0; i < n; ++i) {
-      w[i] -= a * v[i] + betaPrev * vPrev[i];   // w = A v_j - alpha_j v_j - beta_{j-1} v_{j-1}
+      w[i] -= a * v[i] + betaPrev * vPrev[i];  // w = A v_j - alpha_j v_j - beta_{j-1} v_{j-1}
       b += w[i] * w[i];
     }
     b = std::sqrt(b);
@@ -335,7 +346,8 @@ HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector
       std::vector<double> d(alpha), e(beta), none(1);
       int info = 0;
       lapack.STEQR('N', m, d.data(), e.data(), none.data(), 1, none.data(), &info);
-      EPAPHE_REQUIRE(info == 0, "stable step of body '" << model.name << "': LAPACK dsteqr failed (info " << info << ")");
+      EPAPHE_REQUIRE(info == 0,
+                     "stable step of body '" << model.name << "': LAPACK dsteqr failed (info " << info << ")");
       r.ritz = d[m - 1];
       r.residual = b * lastComponent(alpha, beta, r.ritz);
       if (r.residual <= 1e-10 * r.ritz) {
@@ -343,7 +355,7 @@ HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector
         break;
       }
     }
-    if (b == 0.0) break;   // an invariant subspace without convergence: the Gershgorin bound
+    if (b == 0.0) break;  // an invariant subspace without convergence: the Gershgorin bound
     beta.push_back(b);
     betaPrev = b;
     for (int i = 0; i < n; ++i) {
@@ -363,8 +375,9 @@ StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& s
   } else if (model.massless()) {
     // The retained DOFs carry no mass: the last kept mode sets the step. (Penalty springs, which would
     // stiffen the modes through Phi_b, are refused for such a body: see Simulation's checkReductions.)
-    EPAPHE_REQUIRE(addedStiffness == 0.0, "body '" << model.name << "' has a massless boundary: no penalty springs "
-                                                     "on it (use Lagrange contact)");
+    EPAPHE_REQUIRE(addedStiffness == 0.0, "body '" << model.name
+                                                   << "' has a massless boundary: no penalty springs "
+                                                      "on it (use Lagrange contact)");
     s.omegaMax = 2 * M_PI * model.modeFrequencies.back();
   } else {
     const int n = model.size;
@@ -441,14 +454,15 @@ MasslessOperators masslessOperators(const ReducedModel& model, double h, const D
   const auto& Phi = model.boundaryModes;
   auto phi = [&](int c, int k) { return Phi[static_cast<std::size_t>(k) * nb + c]; };
   auto at = [n](std::vector<double>& X, int i, int j) -> double& { return X[static_cast<std::size_t>(j) * n + i]; };
-  std::vector<double> Ginv = spdInverse(model.residualFlexibility, nb, "the residual flexibility of body '" +
-                                        model.name + "'", "keep fewer modes, or recompute the reduction");
+  std::vector<double> Ginv =
+      spdInverse(model.residualFlexibility, nb, "the residual flexibility of body '" + model.name + "'",
+                 "keep fewer modes, or recompute the reduction");
   std::vector<double> P(static_cast<std::size_t>(n) * n, 0.0), Kmid(static_cast<std::size_t>(n), 0.0),
       Pe(static_cast<std::size_t>(m)), Ae1(Pe.size()), Be1(Pe.size());
   for (int k = 0; k < m; ++k) {
     Pe[k] = 1.0 / (1.0 / (h * h) + d[k] / (2 * h));
-    Ae1[k] = 1.0 - Pe[k] * w2[k];       // I + A_e, A_e = -P_e Omega^2
-    Be1[k] = 1.0 - Pe[k] * d[k] / h;    // I + B_e, B_e = -P_e D_e / h
+    Ae1[k] = 1.0 - Pe[k] * w2[k];     // I + A_e, A_e = -P_e Omega^2
+    Be1[k] = 1.0 - Pe[k] * d[k] / h;  // I + B_e, B_e = -P_e D_e / h
     at(P, nb + k, nb + k) = 0.5 * Pe[k];
     Kmid[nb + k] = w2[k];
     for (int c = 0; c < nb; ++c) {
@@ -476,8 +490,8 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     for (int i = 0; i < n; ++i) {
       const double m = model.lumpedMass[i];
       D[i] = alpha * m;
-      P[i] = 1.0 / (m / (h * h) + D[i] / (2 * h));   // P = [M/h^2 + D/2h]^{-1}
-      B[i] = -P[i] * D[i] / h;                        // B = -P D / h
+      P[i] = 1.0 / (m / (h * h) + D[i] / (2 * h));  // P = [M/h^2 + D/2h]^{-1}
+      B[i] = -P[i] * D[i] / h;                      // B = -P D / h
     }
     // A q_n = -P (K q_n): predict() applies K and keeps K q_n for energies() (no second matrix)
     K_ = BodyOperator::sparse(model.sparseK, "epaphe::dynamics::K");
@@ -490,11 +504,11 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     // q = [u_b, eta]: the modes step by the central difference under the boundary's averaged force,
     // the boundary is static (masslessOperators, where it is derived)
     MasslessOperators o = masslessOperators(model, h, damping);
-    damped_ = true;   // the exchange is counted with damping
+    damped_ = true;  // the exchange is counted with damping
     // A, B and D are applied by their factors (predict(), dampingIncrement())
-    K_ = BodyOperator::dense(model.K, n, "epaphe::dynamics::K");   // = K_res + diag(Kmid)
+    K_ = BodyOperator::dense(model.K, n, "epaphe::dynamics::K");  // = K_res + diag(Kmid)
     Kmid_ = BodyOperator::diagonal(o.Kmid, "epaphe::dynamics::Kmid");
-    M_ = BodyOperator::denseOrDiagonal(model.M, n, "epaphe::dynamics::M");   // diag(0, I)
+    M_ = BodyOperator::denseOrDiagonal(model.M, n, "epaphe::dynamics::M");  // diag(0, I)
     P_ = BodyOperator::dense(o.P, n, "epaphe::dynamics::P");
     boundary_ = model.boundarySize();
     residual_ = true;
@@ -505,7 +519,7 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     pe_ = std::move(o.Pe);
     modalDamping_ = std::move(o.d);
     ginv_ = std::move(o.Ginv);
-    for (Residual& r : residuals_) {   // sized once: residual() allocates nothing
+    for (Residual& r : residuals_) {  // sized once: residual() allocates nothing
       r.q.assign(static_cast<std::size_t>(n), 0.0);
       r.r.assign(static_cast<std::size_t>(boundary_), 0.0);
       r.z.assign(static_cast<std::size_t>(boundary_), 0.0);
@@ -560,8 +574,8 @@ void CentralDifference::setConstantForce(const std::vector<double>& f) {
     // alone and in full at t_n, P_e f_eta, the boundary following; P holds half of that for the
     // boundary's averaged force (constructor), hence the factor 2.
     for (int c = 0; c < boundary_; ++c)
-      EPAPHE_REQUIRE(f[c] == 0.0, "a constant force on the massless boundary's DOF " << c << " (" << f[c]
-                                      << "): only the modes carry mass and take body forces");
+      EPAPHE_REQUIRE(f[c] == 0.0, "a constant force on the massless boundary's DOF "
+                                      << c << " (" << f[c] << "): only the modes carry mass and take body forces");
     epaphe::axpby(0.0, Pf_, 2.0, Pf_);
   }
 }
@@ -582,18 +596,18 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
     double* eta = qs + nb;
     const Residual& prev = residual(q1);
     Teuchos::BLAS<int, double> blas;
-    blas.GEMV(Teuchos::TRANS, nb, m, 1.0, phiB_.data(), nb, prev.z.data(), 1, 0.0, eta, 1);   // Phi_b^T z_{n-1}
+    blas.GEMV(Teuchos::TRANS, nb, m, 1.0, phiB_.data(), nb, prev.z.data(), 1, 0.0, eta, 1);  // Phi_b^T z_{n-1}
     for (int k = 0; k < m; ++k)
       eta[k] = 0.5 * pe_[k] * eta[k] + ae1_[k] * q0[nb + k] + be1_[k] * (q0[nb + k] - q1[nb + k]);
-    blas.GEMV(Teuchos::NO_TRANS, nb, m, 1.0, phiB_.data(), nb, eta, 1, 0.0, qs, 1);   // Phi_b eta*
+    blas.GEMV(Teuchos::NO_TRANS, nb, m, 1.0, phiB_.data(), nb, eta, 1, 0.0, qs, 1);  // Phi_b eta*
     if (forced_) {
       const double* pf = Pf_.data();
       for (int i = 0; i < n; ++i) qs[i] += pf[i];
     }
     return;
   }
-  for (int i = 0; i < n; ++i) qs[i] = 2.0 * q0[i] - q1[i];                          // 2 q_n - q_{n-1}
-  if (kqn_.extent(0) > 0) {                                                         // + A q_n = -P (K q_n), K q_n kept
+  for (int i = 0; i < n; ++i) qs[i] = 2.0 * q0[i] - q1[i];  // 2 q_n - q_{n-1}
+  if (kqn_.extent(0) > 0) {                                 // + A q_n = -P (K q_n), K q_n kept
     K_.apply(1.0, qn, 0.0, kqn_);
     fence();
     const double* kq = kqn_.data();
@@ -603,12 +617,12 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
   } else {
     A_.apply(1.0, qn, 1.0, qstar);
   }
-  if (damped_) {                                                                    // + B (q_n - q_{n-1})
+  if (damped_) {  // + B (q_n - q_{n-1})
     double* d = tmp_.data();
     for (int i = 0; i < n; ++i) d[i] = q0[i] - q1[i];
     B_.apply(1.0, tmp_, 1.0, qstar);
   }
-  if (forced_) {                                                                    // + P f
+  if (forced_) {  // + P f
     const double* pf = Pf_.data();
     for (int i = 0; i < n; ++i) qs[i] += pf[i];
   }
@@ -617,7 +631,7 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
 const CentralDifference::Residual& CentralDifference::residual(const double* q) const {
   const std::size_t n = static_cast<std::size_t>(boundary_ + modes_);
   ++residualUses_;
-  for (Residual& s : residuals_)   // the same values give the same z: a pure function of q
+  for (Residual& s : residuals_)  // the same values give the same z: a pure function of q
     if (s.used > 0 && std::memcmp(s.q.data(), q, n * sizeof(double)) == 0) {
       s.used = residualUses_;
       return s;
@@ -630,8 +644,8 @@ const CentralDifference::Residual& CentralDifference::residual(const double* q) 
   std::copy(q, q + n, s.q.data());
   std::copy(q, q + nb, s.r.data());
   Teuchos::BLAS<int, double> blas;
-  blas.GEMV(Teuchos::NO_TRANS, nb, m, -1.0, phiB_.data(), nb, q + nb, 1, 1.0, s.r.data(), 1);     // r = u_b - Phi_b eta
-  blas.GEMV(Teuchos::NO_TRANS, nb, nb, 1.0, ginv_.data(), nb, s.r.data(), 1, 0.0, s.z.data(), 1);   // z = G^{-1} r
+  blas.GEMV(Teuchos::NO_TRANS, nb, m, -1.0, phiB_.data(), nb, q + nb, 1, 1.0, s.r.data(), 1);  // r = u_b - Phi_b eta
+  blas.GEMV(Teuchos::NO_TRANS, nb, nb, 1.0, ginv_.data(), nb, s.r.data(), 1, 0.0, s.z.data(), 1);  // z = G^{-1} r
   return s;
 }
 
@@ -650,7 +664,7 @@ void CentralDifference::setStiffness(const std::vector<double>& K) {
 }
 
 double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const {
-  return energies(qn, qnp1, qnp1).total;   // (any third vector: only E_{n+1/2} is read)
+  return energies(qn, qnp1, qnp1).total;  // (any third vector: only E_{n+1/2} is read)
 }
 
 double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
@@ -662,7 +676,7 @@ double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseV
     const double* a = qnp1.data();
     const double* b = qnm1.data();
     const Residual& za = residual(a);
-    const Residual& zb = residual(b);   // (za stays valid: the least recently used entry is replaced)
+    const Residual& zb = residual(b);  // (za stays valid: the least recently used entry is replaced)
     double modal = 0.0;
     for (int k = 0; k < m; ++k) modal += modalDamping_[k] * (a[nb + k] - b[nb + k]) * (a[nb + k] - b[nb + k]);
     double exchange = 0.0;
@@ -688,7 +702,7 @@ double CentralDifference::strain(const DenseVector& q) const {
 }
 
 CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn, const DenseVector& qnp1,
-                                                          const DenseVector& v) const {
+                                                           const DenseVector& v) const {
   const int n = static_cast<int>(qn.extent(0));
   double* X = pair_.data();
   const double* Y = image_.data();
@@ -712,7 +726,7 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
   if (!residual_) {
     // One product K q_n serves both terms, K being symmetric: q_n^T K q_{n+1} = q_{n+1}^T (K q_n);
     // a lumped model takes it from the predictor, without a product.
-    const bool kept = kqnOf_ == a;   // the step's own q_n: predict() made K q_n
+    const bool kept = kqnOf_ == a;  // the step's own q_n: predict() made K q_n
     if (!kept) K_.apply(1.0, qn, 0.0, tmp_);
     const double* Kqn = kept ? kqn_.data() : tmp_.data();
     e.total = kinHalf + 0.5 * dotColumn(b, Kqn);
@@ -722,7 +736,7 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
   // massless boundary: K = K_res + diag(Kmid), q^T K_res q = r^T G^{-1} r = r . z (the residual's
   // force z, made for the exchange); E_{n+1/2} as in halfStepEnergy()
   const Residual& rn = residual(a);
-  const Residual& rn1 = residual(b);   // (rn stays valid: the least recently used entry is replaced)
+  const Residual& rn1 = residual(b);  // (rn stays valid: the least recently used entry is replaced)
   const double* km = Kmid_.diagonalEntries().data();
   double mid = 0.0, own = 0.0;
   for (int i = 0; i < n; ++i) {

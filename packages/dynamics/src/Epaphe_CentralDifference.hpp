@@ -43,9 +43,9 @@ enum class DampingType { None = 0, Rayleigh = 1, Modal = 2 };
 
 struct DampingOptions {
   DampingType type = DampingType::None;
-  double alpha = 0.0;   // Rayleigh: D = alpha M + beta K (eq. 4.3)
+  double alpha = 0.0;  // Rayleigh: D = alpha M + beta K (eq. 4.3)
   double beta = 0.0;
-  double ratio = 0.0;   // Modal: xi, the same on every mode (eqs. 4.4-4.5)
+  double ratio = 0.0;  // Modal: xi, the same on every mode (eqs. 4.4-4.5)
 };
 
 /// Rayleigh coefficients giving damping ratio xi1 at f1 and xi2 at f2 (Hz), from
@@ -102,8 +102,8 @@ std::vector<double> modalDamping(const ReducedModel& model, const DampingOptions
 std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOptions& damping);
 
 struct StableStep {
-  double omegaMax = 0;      // highest circular frequency of (K + added stiffness, M), rad/s
-  double critical = 0;      // largest stable step of the central difference, s
+  double omegaMax = 0;  // highest circular frequency of (K + added stiffness, M), rad/s
+  double critical = 0;  // largest stable step of the central difference, s
 };
 
 /// Central difference is stable for h <= 2/omega_max (thesis Table 2.1); with damping ratio xi on
@@ -120,10 +120,10 @@ StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& s
 std::string fullModelDampingProblem(const DampingOptions& damping);
 
 struct HighestEigenvalue {
-  double value = 0;        // the estimate used: Ritz value + residual bound, or the Gershgorin bound
-  double ritz = 0;         // largest Ritz value (a lower bound)
-  double residual = 0;     // its residual bound: an eigenvalue lies within it
-  double gershgorin = 0;   // max_i sum_j |K_ij| / m_i, an upper bound of every eigenvalue
+  double value = 0;       // the estimate used: Ritz value + residual bound, or the Gershgorin bound
+  double ritz = 0;        // largest Ritz value (a lower bound)
+  double residual = 0;    // its residual bound: an eigenvalue lies within it
+  double gershgorin = 0;  // max_i sum_j |K_ij| / m_i, an upper bound of every eigenvalue
   int iterations = 0;
   bool converged = false;  // false: `value` is the Gershgorin bound
 };
@@ -160,12 +160,12 @@ public:
   /// Bytes of the operators one predict() reads (A, and B when damped): the memory traffic floor of
   /// a step's integration.
   std::size_t predictBytes() const {
-    if (residual_) return (ginv_.size() + phiB_.size()) * sizeof(double);   // Phi_b, and G^{-1} for z_{n-1}
-    return (kqn_.extent(0) > 0 ? K_ : A_).bytes() + (damped_ ? B_.bytes() : 0);   // lumped: K, not A
+    if (residual_) return (ginv_.size() + phiB_.size()) * sizeof(double);        // Phi_b, and G^{-1} for z_{n-1}
+    return (kqn_.extent(0) > 0 ? K_ : A_).bytes() + (damped_ ? B_.bytes() : 0);  // lumped: K, not A
   }
 
   /// Energy terms of the identity above.
-  double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;   // E_{n+1/2}
+  double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;  // E_{n+1/2}
   double dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
   double externalWorkIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
   /// Kinetic energy 1/2 v^T M v and strain energy 1/2 q^T K q.
@@ -184,11 +184,11 @@ private:
   double h_;
   bool damped_ = false;
   bool forced_ = false;
-  bool residual_ = false;    // massless boundary: energy by Kmid_ and the residual's r . z, exchange by z
-  int boundary_ = 0;         // massless boundary: its DOFs, q's first entries
-  int modes_ = 0;            // massless boundary: the modes, q's last entries
+  bool residual_ = false;  // massless boundary: energy by Kmid_ and the residual's r . z, exchange by z
+  int boundary_ = 0;       // massless boundary: its DOFs, q's first entries
+  int modes_ = 0;          // massless boundary: the modes, q's last entries
   std::vector<double> phiB_, ae1_, be1_, pe_;  // massless boundary: predict()'s factors (masslessOperators)
-  std::vector<double> modalDamping_, ginv_;     // and dampingIncrement()'s
+  std::vector<double> modalDamping_, ginv_;    // and dampingIncrement()'s
   /// Massless boundary: the residual r = u_b - Phi_b eta of a q and its force z = G^{-1} r (nb m + nb^2
   /// products), made once per q: a step reads z of q_{n+1} (the exchange), of q_{n-1} (the predictor)
   /// and at a record of q_n and q_{n+1} (the energy). Found by q's values, not its buffer: whatever
@@ -196,18 +196,18 @@ private:
   /// replaced: a reference stays valid over the next call.
   struct Residual {
     std::vector<double> q, r, z;
-    long long used = 0;   // the call that last returned it (0: empty)
+    long long used = 0;  // the call that last returned it (0: empty)
   };
   const Residual& residual(const double* q) const;
   mutable std::array<Residual, 3> residuals_;
   mutable long long residualUses_ = 0;
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_;
-  std::vector<double> pDense_, aDense_;   // a dense model's P (column-major) and setStiffness()'s -P K
+  std::vector<double> pDense_, aDense_;  // a dense model's P (column-major) and setStiffness()'s -P K
   DenseVector f_, Pf_;
   mutable DenseVector tmp_, tmp2_;
-  mutable DenseVector kqn_;                     // lumped mass: K q_n of the last predict()
-  mutable const double* kqnOf_ = nullptr;       // and the q_n buffer it was made from
-  mutable DenseMatrix pair_, image_;   // n x 2: energies()' vectors and their images
+  mutable DenseVector kqn_;                // lumped mass: K q_n of the last predict()
+  mutable const double* kqnOf_ = nullptr;  // and the q_n buffer it was made from
+  mutable DenseMatrix pair_, image_;       // n x 2: energies()' vectors and their images
 };
 
 }  // namespace epaphe

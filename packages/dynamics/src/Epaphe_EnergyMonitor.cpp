@@ -8,7 +8,8 @@ namespace epaphe {
 
 EnergyMonitor::EnergyMonitor(const ExplicitLoop& loop, const EnergyMonitorOptions& options) : opt_(options) {
   for (std::size_t b = 0; b < loop.bodies().size(); ++b) {
-    e0_.push_back(loop.bodies()[b].integrator->halfStepEnergy(loop.part(loop.previous(), b), loop.part(loop.current(), b)));
+    e0_.push_back(
+        loop.bodies()[b].integrator->halfStepEnergy(loop.part(loop.previous(), b), loop.part(loop.current(), b)));
     energyRef_ += std::abs(e0_.back());
   }
   energyRef_ = std::max(energyRef_, 1e-300);

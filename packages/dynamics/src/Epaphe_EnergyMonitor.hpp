@@ -16,7 +16,7 @@ namespace epaphe {
 struct EnergySnapshot {
   double time = 0;
   long long step = 0;
-  double kinetic = 0, strain = 0, total = 0;  // J: sum over the bodies; total = E_{n+1/2}
+  double kinetic = 0, strain = 0, total = 0;                           // J: sum over the bodies; total = E_{n+1/2}
   double contactWork = 0, externalWork = 0, damping = 0, initial = 0;  // J
   double driveWork = 0;                                                // J, a run-up's
   double balance = 0;                                                  // relative
@@ -31,20 +31,20 @@ struct EnergySnapshot {
 /// strain energies grow, which an unstable step does).
 struct EnergyGrowth {
   bool unbounded = false;
-  int records = 0;                 // records of the rise
-  double t0 = 0, t1 = 0;           // s
-  double e0 = 0, e1 = 0;           // J, kinetic + strain
-  double efolding = 0;             // s
+  int records = 0;                                                   // records of the rise
+  double t0 = 0, t1 = 0;                                             // s
+  double e0 = 0, e1 = 0;                                             // J, kinetic + strain
+  double efolding = 0;                                               // s
   double contactWork = 0, externalWork = 0, damping = 0, total = 0;  // J, changes over the rise
-  double balance = 0;              // relative balance error at the last record
+  double balance = 0;                                                // relative balance error at the last record
   /// "contact work", "external work" or "the integrator"
   std::string source() const;
 };
 
 struct EnergyMonitorOptions {
-  int every = 1;                    // Output->Every: the steps measured (and the last)
-  double tolerance = 1e-2;          // Output->Energy balance tolerance
-  double penaltyStiffness = 0;      // > 0: check the penalty bound (penalty contact, no turning surface)
+  int every = 1;                // Output->Every: the steps measured (and the last)
+  double tolerance = 1e-2;      // Output->Energy balance tolerance
+  double penaltyStiffness = 0;  // > 0: check the penalty bound (penalty contact, no turning surface)
 };
 
 class EnergyMonitor : public LoopObserver {
@@ -54,9 +54,7 @@ public:
   EnergyMonitor(const ExplicitLoop& loop, const EnergyMonitorOptions& options);
 
   /// True at the steps the monitor measures (and the history records).
-  bool measures(const ExplicitLoop& loop) const {
-    return loop.step() % opt_.every == 0 || loop.lastStep();
-  }
+  bool measures(const ExplicitLoop& loop) const { return loop.step() % opt_.every == 0 || loop.lastStep(); }
   /// The last measurement (valid from afterCorrect of a measured step).
   const EnergySnapshot& last() const { return last_; }
   /// How the energy grew over the last records this run measured (at most 32 are kept).

@@ -18,8 +18,8 @@ std::vector<double> LoopAccumulators::values(double time) const {
 }
 
 std::vector<std::string> LoopAccumulators::names(const std::vector<LoopBody>& bodies) {
-  std::vector<std::string> v = {"time", "contact_work", "first_contact", "last_contact", "impulse", "max_force",
-                                "max_balance_error"};
+  std::vector<std::string> v = {"time",    "contact_work", "first_contact",    "last_contact",
+                                "impulse", "max_force",    "max_balance_error"};
   for (const auto& b : bodies) {
     v.push_back(b.name + "/damping");
     v.push_back(b.name + "/external_work");
@@ -47,10 +47,15 @@ void LoopAccumulators::restore(const std::vector<double>& v, const std::string& 
 
 ExplicitLoop::ExplicitLoop(std::vector<LoopBody> bodies, double h, long long numSteps, SurfaceContact* contact,
                            const ContactGuards* guards, CostSplit& cost, std::ostream& out)
-    : bodies_(std::move(bodies)), h_(h), numSteps_(numSteps), contact_(contact), guards_(guards), cost_(cost),
+    : bodies_(std::move(bodies)),
+      h_(h),
+      numSteps_(numSteps),
+      contact_(contact),
+      guards_(guards),
+      cost_(cost),
       out_(out) {
-  EPAPHE_REQUIRE(h > 0 && numSteps > 0, "ExplicitLoop: time step " << h << " s and " << numSteps
-                                                                     << " steps; both must be positive");
+  EPAPHE_REQUIRE(h > 0 && numSteps > 0,
+                 "ExplicitLoop: time step " << h << " s and " << numSteps << " steps; both must be positive");
   EPAPHE_REQUIRE(!contact || guards, "ExplicitLoop: a contact needs its run guards");
   int size = 0;
   for (const auto& b : bodies_) {
@@ -70,8 +75,8 @@ ExplicitLoop::ExplicitLoop(std::vector<LoopBody> bodies, double h, long long num
 
 void ExplicitLoop::setFirstStep(long long first) {
   EPAPHE_REQUIRE(!started_, "ExplicitLoop::setFirstStep after the loop started");
-  EPAPHE_REQUIRE(first >= 0 && first <= numSteps_, "ExplicitLoop: first step " << first << " outside [0, " << numSteps_
-                                                                               << "]");
+  EPAPHE_REQUIRE(first >= 0 && first <= numSteps_,
+                 "ExplicitLoop: first step " << first << " outside [0, " << numSteps_ << "]");
   firstStep_ = n_ = done_ = first;
 }
 
@@ -127,7 +132,7 @@ bool ExplicitLoop::advance() {
     }
   }
   {
-    ScopedPhase phase(cost_, "energy");   // one phase for the step's work and dissipation increments
+    ScopedPhase phase(cost_, "energy");  // one phase for the step's work and dissipation increments
     if (contact_) {
       acc_.contactWork += contact_->workIncrement(Q_[iNext_], Q_[iPrev_]);
       totalForce_ = contact_->totalForce();

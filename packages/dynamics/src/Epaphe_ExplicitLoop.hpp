@@ -31,7 +31,7 @@ struct LoopBody {
   std::string name;
   const CentralDifference* integrator = nullptr;
   int offset = 0, size = 0;
-  bool driven = false;   // its speed follows a law (Epaphe_RunUp.hpp): the loop keeps its drive work
+  bool driven = false;  // its speed follows a law (Epaphe_RunUp.hpp): the loop keeps its drive work
 };
 
 /// What the loop sums over the run: everything a checkpoint must keep to continue it exactly.

@@ -11,9 +11,13 @@ namespace {
 
 volatile std::sig_atomic_t stopSignal = 0;
 
-extern "C" void onStopSignal(int sig) { stopSignal = sig; }
+extern "C" void onStopSignal(int sig) {
+  stopSignal = sig;
+}
 
-const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal"; }
+const char* signalName(int sig) {
+  return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
+}
 
 }  // namespace
 
@@ -49,8 +53,8 @@ void ProgressReport::endStep(ExplicitLoop& loop) {
   const double rate = (n + 1 - loop.firstStep()) / loop.seconds();
   char line[200];
   std::snprintf(line, sizeof line, "  t = %.4e s (%3.0f %%)  %.0f steps/s  %s left  active contacts %d\n", loop.time(),
-                100.0 * (n + 1) / loop.numSteps(), rate,
-                formatDuration((loop.numSteps() - n - 1) / rate).c_str(), loop.activeContacts());
+                100.0 * (n + 1) / loop.numSteps(), rate, formatDuration((loop.numSteps() - n - 1) / rate).c_str(),
+                loop.activeContacts());
   loop.out() << line << std::flush;
 }
 

@@ -15,7 +15,7 @@ std::vector<double> RunUpModel::stiffnessAt(long long l) const {
   const double xi = xiOf(l);
   std::vector<double> K = stiffness.front();
   double p = 1;
-  for (std::size_t k = 1; k < stiffness.size(); ++k) {   // K_r(xi) = sum_k xi^k R_k
+  for (std::size_t k = 1; k < stiffness.size(); ++k) {  // K_r(xi) = sum_k xi^k R_k
     p *= xi;
     for (std::size_t i = 0; i < K.size(); ++i) K[i] += p * stiffness[k][i];
   }
@@ -26,7 +26,7 @@ std::vector<double> RunUpModel::positionsAt(long long l) const {
   const double xi = xiOf(l);
   std::vector<double> x = restX;
   double p = 1;
-  for (std::size_t k = 0; k < growth.size(); ++k) {   // X + u_s(xi), u_s = sum_k xi^k g_k
+  for (std::size_t k = 0; k < growth.size(); ++k) {  // X + u_s(xi), u_s = sum_k xi^k g_k
     for (std::size_t i = 0; i < x.size(); ++i) x[i] += p * growth[k][i];
     p *= xi;
   }

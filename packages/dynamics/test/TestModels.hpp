@@ -38,7 +38,9 @@ inline std::vector<double> noise(int n, unsigned seed) {
 }
 
 /// One free node of mass m (K = 0).
-inline ReducedModel pointMass(double m) { return oscillator(m, 0.0); }
+inline ReducedModel pointMass(double m) {
+  return oscillator(m, 0.0);
+}
 
 /// The terms of the discrete energy balance over `steps` free steps of `cd` from q_{-1} = qm,
 /// q_0 = q: E_{-1/2}, the last E_{n+1/2} and the damping work (E + damping = E_{-1/2} exactly).

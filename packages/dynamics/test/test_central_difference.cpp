@@ -71,8 +71,8 @@ TEST(CentralDifference, RayleighEnergyBalanceIsExact) {
   set(qm, 0.0, 0.0, 0.0);
   set(q, 0.01, 0.02, -0.01);
   const auto b = test::freeSteps(cd, qm, q, 2000);
-  EXPECT_LT(b.end, 0.01 * b.start);                            // it decays
-  EXPECT_NEAR(b.end + b.damping, b.start, 1e-12 * b.start);    // and every joule is accounted for
+  EXPECT_LT(b.end, 0.01 * b.start);                          // it decays
+  EXPECT_NEAR(b.end + b.damping, b.start, 1e-12 * b.start);  // and every joule is accounted for
 }
 
 namespace {
@@ -102,10 +102,10 @@ TEST(SurfaceContact, LagrangeClosesTheGapExactly) {
   CostSplit cost;
   c.correct(qp, cost);
   EXPECT_EQ(c.numActive(), 1);
-  EXPECT_NEAR(c.gap()(0), -0.5 * h * v, 1e-12);                 // predicted penetration
-  EXPECT_NEAR(r.coords[0][0] + at(qp, 0), 0.0, 1e-12);          // corrected onto the wall
+  EXPECT_NEAR(c.gap()(0), -0.5 * h * v, 1e-12);                  // predicted penetration
+  EXPECT_NEAR(r.coords[0][0] + at(qp, 0), 0.0, 1e-12);           // corrected onto the wall
   EXPECT_NEAR(c.force()(0), 0.5 * m * v / h, 1e-6 * m * v / h);  // lambda = -g* / (h^2/m)
-  EXPECT_NEAR(at(qp, 1), 0.0, 1e-15);                           // frictionless: no tangential push
+  EXPECT_NEAR(at(qp, 1), 0.0, 1e-15);                            // frictionless: no tangential push
 }
 
 TEST(SurfaceContact, PenaltyForceIsKpTimesPenetration) {
@@ -124,8 +124,8 @@ TEST(SurfaceContact, PenaltyForceIsKpTimesPenetration) {
   CostSplit cost;
   c.correct(qp, cost);
   const double pen = 0.5 * h * v;
-  EXPECT_NEAR(c.force()(0), kp * pen, 1e-9 * kp * pen);                       // eq. 2.34
-  EXPECT_NEAR(at(qp, 0), h * v - h * h / m * kp * pen, 1e-12);                // eq. 2.35
+  EXPECT_NEAR(c.force()(0), kp * pen, 1e-9 * kp * pen);         // eq. 2.34
+  EXPECT_NEAR(at(qp, 0), h * v - h * h / m * kp * pen, 1e-12);  // eq. 2.35
 }
 
 TEST(SurfaceContact, SeparatedNodeFeelsNothing) {
@@ -170,7 +170,10 @@ TEST(CentralDifference, ModalDampingGivesTwoXiOmegaOnEveryMode) {
 TEST(CentralDifference, RayleighFromTwoRatios) {
   double a = 0, b = 0;
   rayleighFromRatios(100.0, 0.01, 1000.0, 0.02, a, b);
-  auto xi = [&](double f) { const double w = 2 * M_PI * f; return a / (2 * w) + b * w / 2; };
+  auto xi = [&](double f) {
+    const double w = 2 * M_PI * f;
+    return a / (2 * w) + b * w / 2;
+  };
   EXPECT_NEAR(xi(100.0), 0.01, 1e-14);
   EXPECT_NEAR(xi(1000.0), 0.02, 1e-14);
   EXPECT_THROW(rayleighFromRatios(100.0, 0.05, 1000.0, 0.001, a, b), Error);  // would need alpha or beta < 0

@@ -64,8 +64,8 @@ TEST(ExplicitLoop, HooksRunInOrderAroundEveryStep) {
   loop.addObserver(&hooks);
   EXPECT_TRUE(loop.run());
   const std::vector<std::string> expected = {"beginRun:0", "beginStep:0", "afterPredict:0", "afterCorrect:0",
-                                             "endStep:1", "beginStep:1", "afterPredict:1", "afterCorrect:1",
-                                             "endStep:2", "endRun:2"};
+                                             "endStep:1",  "beginStep:1", "afterPredict:1", "afterCorrect:1",
+                                             "endStep:2",  "endRun:2"};
   EXPECT_EQ(hooks.log, expected);
   EXPECT_EQ(loop.stepsDone(), 2);
   EXPECT_FALSE(loop.advance());  // finished: no further step
@@ -122,9 +122,9 @@ TEST(EnergyMonitor, BalancesADampedOscillatorAndRefusesATightTolerance) {
     loop.addObserver(&monitor);
     EXPECT_TRUE(loop.run());
     const EnergySnapshot& e = monitor.last();
-    EXPECT_EQ(e.step, 499);  // the last step is always measured
+    EXPECT_EQ(e.step, 499);                 // the last step is always measured
     EXPECT_GT(e.damping, 0.5 * e.initial);  // most of the energy is dissipated over 500 ms...
-    EXPECT_LT(std::abs(e.balance), 1e-12);   // ...and accounted for
+    EXPECT_LT(std::abs(e.balance), 1e-12);  // ...and accounted for
     EXPECT_LT(loop.accumulators().maxBalanceError, 1e-12);
   }
   {  // the same run with a wrong external work (1e-6 J added at step 100) is stopped

@@ -19,8 +19,8 @@
 #include <vector>
 
 using namespace epaphe;
-using epaphe::test::pointMass;
 using epaphe::test::floorPlane;
+using epaphe::test::pointMass;
 
 namespace {
 
@@ -50,7 +50,6 @@ ReducedModel coupledPair() {
   r.retainedNodes = {0, 1};
   return r;
 }
-
 
 void set(const DenseVector& v, const std::vector<double>& a) {
   auto h = Kokkos::create_mirror_view(v);
@@ -112,7 +111,7 @@ TEST(Friction, SlidingNodeDeceleratesAtMuGThenSticks) {
     run.step();  // now q = q_{n+1}, qm = q_n
     const std::vector<double> a = get(run.qm), b = get(run.q);
     ASSERT_EQ(run.c.numActive(), 1) << "step " << n;
-    EXPECT_NEAR(b[2], 0.0, 1e-12) << "step " << n;  // held on the floor
+    EXPECT_NEAR(b[2], 0.0, 1e-12) << "step " << n;                                 // held on the floor
     EXPECT_NEAR(run.c.force()(0), kMass * kG, 1e-6 * kMass * kG) << "step " << n;  // lambda = m g
     const double wx = (b[0] - a[0]) / kH, wy = (b[1] - a[1]) / kH;
     const double speed = std::hypot(wx, wy), before = std::hypot(vx, vy);
@@ -129,7 +128,7 @@ TEST(Friction, SlidingNodeDeceleratesAtMuGThenSticks) {
         xStop = b;
         EXPECT_LT(run.c.appliedFriction()(0), kMu);  // sticking: less than the full friction
       }
-      EXPECT_LE(speed, 1e-12 * v0) << "step " << n;                  // at rest: no chattering
+      EXPECT_LE(speed, 1e-12 * v0) << "step " << n;                      // at rest: no chattering
       EXPECT_GE(wx * kVx + wy * kVy, -1e-12 * v0 * v0) << "step " << n;  // never reversed
     }
     vx = wx;
@@ -275,7 +274,8 @@ TEST(Friction, ZeroFrictionReproducesTheFrictionlessCorrection) {
     double correction = 0.0;
     for (int i = 0; i < 6; ++i) correction = std::max(correction, std::fabs(frictionless[i] - qStar[i]));
     CentralDifference cd(r, h, {});
-    SurfaceContact c(r, {0, 1}, {&s}, withFriction(mu, variant == 0 ? ContactMethod::Lagrange : ContactMethod::Penalty, kp),
+    SurfaceContact c(r, {0, 1}, {&s},
+                     withFriction(mu, variant == 0 ? ContactMethod::Lagrange : ContactMethod::Penalty, kp),
                      cd.flexibility());
     DenseVector qm("qm", 6), q("q", 6), qp("qp", 6);
     std::vector<double> m(6);
@@ -327,7 +327,7 @@ TEST(Friction, EnergyBalanceIsExactAndFrictionDissipates) {
     }
     const double e = run.cd.halfStepEnergy(run.qm, run.q);
     EXPECT_NEAR(e - e0, work, 1e-10 * e0) << which;  // every joule accounted for
-    EXPECT_LT(contactWork, -0.9 * e0) << which;     // friction took the kinetic energy
+    EXPECT_LT(contactWork, -0.9 * e0) << which;      // friction took the kinetic energy
     if (method == ContactMethod::Lagrange) {
       EXPECT_NEAR(contactWork, -e0, 1e-6 * e0);  // ... all of it: the node is at rest on the floor
       EXPECT_NEAR(e, 0.0, 1e-6 * e0);
@@ -476,7 +476,7 @@ TEST(Friction, CoupledStuckNodesDoNotCreep) {
     if (mu > 0)
       EXPECT_LE(maxTangential, 1e-12);  // stuck: no creep at all
     else
-      EXPECT_GT(maxTangential, 1e-3);   // frictionless: the sideways loads move them
+      EXPECT_GT(maxTangential, 1e-3);  // frictionless: the sideways loads move them
   }
 }
 

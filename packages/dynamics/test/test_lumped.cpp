@@ -29,7 +29,9 @@ using test::bar;
 using test::noise;
 using test::steel;
 
-FullModel cantilever(int nx) { return bar(nx, true); }
+FullModel cantilever(int nx) {
+  return bar(nx, true);
+}
 
 /// The lumped model as a dense ReducedModel (the reference the sparse code must reproduce).
 ReducedModel denseCopy(const ReducedModel& sparse) {
@@ -113,8 +115,10 @@ TEST(LumpedMass, FrequenciesApproachTheConsistentOnesAsTheMeshIsRefined) {
       EXPECT_LT(fl[k], fc[k]) << n << " elements, mode " << k;
       worst = std::max(worst, (fc[k] - fl[k]) / fc[k]);
     }
-    std::printf("cube %2d x %2d x %2d: lumped vs consistent mass, 6 lowest elastic frequencies, largest difference "
-                "%.3e (first: %.1f / %.1f Hz)\n", n, n, n, worst, fl[6], fc[6]);
+    std::printf(
+        "cube %2d x %2d x %2d: lumped vs consistent mass, 6 lowest elastic frequencies, largest difference "
+        "%.3e (first: %.1f / %.1f Hz)\n",
+        n, n, n, worst, fl[6], fc[6]);
     EXPECT_LT(worst, 0.4 * previous) << n << " elements";
     previous = worst;
   }
@@ -129,7 +133,7 @@ TEST(LumpedCentralDifference, FreeVibrationConservesEnergyAndMatchesTheDenseStep
   CentralDifference cs(sparse, h, {}), cdn(dense, h, {});
   DenseVector a[3] = {DenseVector("a0", n), DenseVector("a1", n), DenseVector("a2", n)};
   DenseVector b[3] = {DenseVector("b0", n), DenseVector("b1", n), DenseVector("b2", n)};
-  auto u0 = noise(n, 7), u1 = noise(n, 8);   // every mode excited, the highest ones too
+  auto u0 = noise(n, 7), u1 = noise(n, 8);  // every mode excited, the highest ones too
   for (int i = 0; i < n; ++i) u1[i] = 1e-6 * u0[i] + 1e-9 * u1[i];
   for (int i = 0; i < n; ++i) u0[i] *= 1e-6;
   set(a[0], u0), set(a[1], u1), set(b[0], u0), set(b[1], u1);
@@ -149,8 +153,10 @@ TEST(LumpedCentralDifference, FreeVibrationConservesEnergyAndMatchesTheDenseStep
     diff = std::max(diff, std::abs(qa[i] - qb[i]));
     scale = std::max(scale, std::abs(qb[i]));
   }
-  std::printf("sparse lumped step: energy drift %.2e over 4000 steps, largest difference to the dense steps %.2e "
-              "of %.2e\n", drift, diff, scale);
+  std::printf(
+      "sparse lumped step: energy drift %.2e over 4000 steps, largest difference to the dense steps %.2e "
+      "of %.2e\n",
+      drift, diff, scale);
   EXPECT_LT(drift, 1e-11);
   EXPECT_LT(diff, 1e-9 * scale);
   EXPECT_NEAR(cs.strain(a[cur]), cdn.strain(b[cur]), 1e-9 * cdn.strain(b[cur]));
@@ -189,11 +195,12 @@ TEST(LumpedCentralDifference, LanczosCriticalStepMatchesLapackAndIsSafe) {
     const HighestEigenvalue l = highestEigenvalue(sparse, springs, kp);
     const StableStep exact = criticalTimeStep(dense, springs, kp, {});
     const StableStep estimate = criticalTimeStep(sparse, springs, kp, {});
-    std::printf("kp %.0e: Lanczos %d iterations, critical step %.6e s (LAPACK %.6e s), Gershgorin bound %.3f x "
-                "lambda_max\n", kp, l.iterations, estimate.critical, exact.critical,
-                l.gershgorin / (exact.omegaMax * exact.omegaMax));
+    std::printf(
+        "kp %.0e: Lanczos %d iterations, critical step %.6e s (LAPACK %.6e s), Gershgorin bound %.3f x "
+        "lambda_max\n",
+        kp, l.iterations, estimate.critical, exact.critical, l.gershgorin / (exact.omegaMax * exact.omegaMax));
     EXPECT_TRUE(l.converged);
-    EXPECT_LE(estimate.critical, exact.critical * (1 + 1e-12));   // never above the true critical step
+    EXPECT_LE(estimate.critical, exact.critical * (1 + 1e-12));  // never above the true critical step
     EXPECT_NEAR(estimate.critical, exact.critical, 1e-8 * exact.critical);
     EXPECT_GE(l.gershgorin, l.value);
   }
@@ -213,8 +220,10 @@ TEST(LumpedCentralDifference, LanczosCriticalStepMatchesLapackAndIsSafe) {
     }
     double big = 0;
     for (double x : get(q)) big = std::max(big, std::abs(x));
-    if (f < 1) EXPECT_LT(big, 1e-6) << "h = " << f << " h_crit";
-    else EXPECT_GT(big, 1.0) << "h = " << f << " h_crit";
+    if (f < 1)
+      EXPECT_LT(big, 1e-6) << "h = " << f << " h_crit";
+    else
+      EXPECT_GT(big, 1.0) << "h = " << f << " h_crit";
   }
 }
 
@@ -233,8 +242,8 @@ struct NodeOnPlate {
     o.closureU = o.closureV = Closure::Open;
     plate = std::make_unique<BSplineSurface>("plate", 4, 4, grid, o);
     q.assign(51, 0.0);
-    q[2] = -0.0015;              // the node (at z = 0.001 - 0.0015) has crossed the plate
-    q[3 + 3 * 5 + 2] = 0.0002;   // which bends a little towards it
+    q[2] = -0.0015;             // the node (at z = 0.001 - 0.0015) has crossed the plate
+    q[3 + 3 * 5 + 2] = 0.0002;  // which bends a little towards it
   }
   std::vector<double> correct(bool diagonal, ContactMethod method, std::vector<double>* force) {
     ContactNodes nodes;

@@ -27,7 +27,9 @@ namespace {
 using test::noise;
 
 /// The steel bar (TestBar.hpp), clamped at x = 0 unless told otherwise.
-FullModel bar(int nx, bool clamped = true) { return test::bar(nx, clamped); }
+FullModel bar(int nx, bool clamped = true) {
+  return test::bar(nx, clamped);
+}
 
 /// x = A^{-1} b for a dense symmetric positive definite A (column-major).
 std::vector<double> solve(std::vector<double> A, std::vector<double> b) {
@@ -150,7 +152,7 @@ TEST(MasslessBoundary, FreeBodyKeepsRigidModesAndTheInertiaReliefFlexibility) {
   ASSERT_EQ(red.numModes, 6 + kept);
   ASSERT_EQ(n, nb + 6 + kept);
 
-  std::vector<double> V;   // every mode of the full model, M-orthonormal, ascending
+  std::vector<double> V;  // every mode of the full model, M-orthonormal, ascending
   const std::vector<double> w2 = denseEigenpairs(ref.K, ref.M, N, &V);
   const double top = w2.back();
   for (int k = 0; k < 6; ++k) ASSERT_LT(std::abs(w2[k]), 1e-9 * top) << "rigid mode " << k;
@@ -164,7 +166,7 @@ TEST(MasslessBoundary, FreeBodyKeepsRigidModesAndTheInertiaReliefFlexibility) {
   for (int k = 6; k < 6 + kept; ++k) EXPECT_NEAR(fr[k], std::sqrt(w2[k]) / (2 * M_PI), 1e-8 * fr[k]) << "mode " << k;
 
   // G = sum over the discarded elastic modes of phi_b phi_b^T / omega^2 (stated: 1e-8 of its largest entry)
-  std::vector<int> bRow(static_cast<std::size_t>(nb));   // retained DOF c -> full model row
+  std::vector<int> bRow(static_cast<std::size_t>(nb));  // retained DOF c -> full model row
   for (int node : full.mesh.nodeSet("x+", "test"))
     for (int d = 0; d < 3; ++d) bRow[red.nodeDof[3 * node + d]] = full.eq[3 * node + d];
   auto v = [&](int row, int k) { return V[static_cast<std::size_t>(k) * N + row]; };
@@ -179,7 +181,8 @@ TEST(MasslessBoundary, FreeBodyKeepsRigidModesAndTheInertiaReliefFlexibility) {
     }
   EXPECT_LT(worstG, 1e-8 * largestG) << "largest G entry " << largestG;
 
-  // A static residual r = u_b - Phi_b eta = G f (eta = 0) recovers every node's u = sum_discarded phi phi_b^T f / omega^2.
+  // A static residual r = u_b - Phi_b eta = G f (eta = 0) recovers every node's u = sum_discarded phi phi_b^T f /
+  // omega^2.
   const std::vector<double> f = noise(nb, 11);
   std::vector<double> q(static_cast<std::size_t>(n), 0.0);
   for (int c = 0; c < nb; ++c)
@@ -253,7 +256,7 @@ TEST(MasslessCentralDifference, BoundaryFollowsModesCorrectionLeavesResidualAndE
     for (int c = 0; c < nb; ++c)
       for (int k = 0; k < m; ++k) start[c] += phi(c, k) * start[nb + k];
     set(q0, start);
-    set(q1, start);   // at rest
+    set(q1, start);  // at rest
     const double e0 = cd.halfStepEnergy(q0, q1);
     double work = 0, diss = 0, worstBalance = 0, worstFollow = 0, worstResidual = 0, worstFree = 0;
     std::vector<double> f(static_cast<std::size_t>(nb), 0.0);
@@ -285,10 +288,12 @@ TEST(MasslessCentralDifference, BoundaryFollowsModesCorrectionLeavesResidualAndE
         for (int c2 = 0; c2 < nb; ++c2) g[c] += G(c, c2) * f[c2];
       }
       for (int c = 0; c < nb; ++c) {
-        if (maxAbs(f) > 0) worstResidual = std::max(worstResidual, std::abs(r[c] - g[c]) / maxAbs(g));
-        else worstFree = std::max(worstFree, std::abs(r[c]) / maxAbs(ub));
+        if (maxAbs(f) > 0)
+          worstResidual = std::max(worstResidual, std::abs(r[c] - g[c]) / maxAbs(g));
+        else
+          worstFree = std::max(worstFree, std::abs(r[c]) / maxAbs(ub));
       }
-      for (int c = 0; c < nb; ++c) work += f[c] * (q2(c) - q0(c)) / 2;   // the contact work's formula
+      for (int c = 0; c < nb; ++c) work += f[c] * (q2(c) - q0(c)) / 2;  // the contact work's formula
       diss += cd.dampingIncrement(q2, q0);
       const double balance = cd.halfStepEnergy(q1, q2) - e0 + diss - work;
       worstBalance = std::max(worstBalance, std::abs(balance) / std::max({std::abs(e0), std::abs(work), 1e-30}));

@@ -64,7 +64,10 @@ struct Scene {
   /// The node at X (its body's frame), the plane turned by phase + omega t about z.
   Scene(const std::array<double, 3>& X, double mNode, double mGrid, double kSpring, double step, double omega,
         double phase, const ContactOptions& options)
-      : h(step), node(test::pointMass(mNode)), carrier(freeNodes(kGrid, mGrid, kSpring)), cdNode(node, h, {}),
+      : h(step),
+        node(test::pointMass(mNode)),
+        carrier(freeNodes(kGrid, mGrid, kSpring)),
+        cdNode(node, h, {}),
         cdCarrier(carrier, h, {}) {
     F = cdNode.flexibility();  // block diagonal: the node's 3 DOFs, then the carrier's
     F.append(cdCarrier.flexibility());
@@ -113,7 +116,8 @@ TEST(TurningCarriedSurface, NodeIsPushedAlongTheTurnedNormalTheCarrierAlongItsOw
   // The carrier, in its own frame: h^2/m lambda w_pq (-n_s) = along +x only, summing to lambda.
   double fx = 0, fy = 0, fz = 0, fmax = 0;
   for (int g = 0; g < kGrid; ++g) {
-    const double f[3] = {dq[3 + 3 * g] * mGrid / (h * h), dq[4 + 3 * g] * mGrid / (h * h), dq[5 + 3 * g] * mGrid / (h * h)};
+    const double f[3] = {dq[3 + 3 * g] * mGrid / (h * h), dq[4 + 3 * g] * mGrid / (h * h),
+                         dq[5 + 3 * g] * mGrid / (h * h)};
     fx += f[0];
     fy += f[1];
     fz += f[2];
@@ -182,10 +186,10 @@ TEST(TurningCarriedSurface, EnergyBalanceIsExactWhileTheSurfaceTurns) {
       std::swap(prev, cur);
       std::swap(cur, next);
     }
-    EXPECT_GT(contacts, 250) << "mu = " << mu;          // pressed on the plane almost all along
+    EXPECT_GT(contacts, 250) << "mu = " << mu;  // pressed on the plane almost all along
     std::printf("mu = %g: %d steps in contact, carrier moved by %.3g m, contact work %.3g J, energy %.3g J\n", mu,
                 contacts, gridMotion, contactWork, scale);
-    EXPECT_GT(gridMotion, 1e-4) << "mu = " << mu;       // the carrier gave way
+    EXPECT_GT(gridMotion, 1e-4) << "mu = " << mu;  // the carrier gave way
     EXPECT_GT(std::fabs(contactWork), 1e-3 * scale) << "mu = " << mu;
   }
 }
@@ -278,11 +282,12 @@ TEST(TurningRigidDrum, FrictionDragsAFreeBodyTowardsTheSurfaceSpeed) {
     EXPECT_NEAR(e1 - e0, work, 1e-10 * std::max(e0, e1)) << "v0 = " << v0;
     const double W = m * V * (V - v0), dK = 0.5 * m * (V * V - v0 * v0), D = 0.5 * m * (V - v0) * (V - v0);
     EXPECT_NEAR(e1 - e0, dK, 2e-3 * std::fabs(dK)) << "v0 = " << v0;
-    EXPECT_NEAR(surfaceWork, W, 2e-3 * std::fabs(W)) << "v0 = " << v0;           // the surface's work
-    EXPECT_NEAR(surfaceWork - work, D, 5e-3 * D) << "v0 = " << v0;               // dissipated by friction
+    EXPECT_NEAR(surfaceWork, W, 2e-3 * std::fabs(W)) << "v0 = " << v0;  // the surface's work
+    EXPECT_NEAR(surfaceWork - work, D, 5e-3 * D) << "v0 = " << v0;      // dissipated by friction
     EXPECT_NEAR(W, dK + D, 1e-12 * std::fabs(W));
-    std::printf("drum: v0 = %g m/s, V = %g m/s: velocity within %.2g of v0/(1 - s mu v0 t/R); surface work %.6g J "
-                "(closed form %g), kinetic energy change %.6g J (%g), dissipated %.6g J (%g)\n",
-                v0, V, worst, surfaceWork, W, e1 - e0, dK, surfaceWork - work, D);
+    std::printf(
+        "drum: v0 = %g m/s, V = %g m/s: velocity within %.2g of v0/(1 - s mu v0 t/R); surface work %.6g J "
+        "(closed form %g), kinetic energy change %.6g J (%g), dissipated %.6g J (%g)\n",
+        v0, V, worst, surfaceWork, W, e1 - e0, dK, surfaceWork - work, D);
   }
 }

@@ -12,10 +12,10 @@
 namespace epaphe {
 namespace {
 
-using Details::TextLines;
 using Details::parseDouble;
 using Details::parseInt;
 using Details::splitFields;
+using Details::TextLines;
 using Details::trim;
 using Details::upper;
 
@@ -46,11 +46,14 @@ Keyword parseKeyword(const std::string& line) {
   while (start <= line.size()) {
     const auto comma = line.find(',', start);
     const std::string field = trim(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (first) k.name = upper(field);
+    if (first)
+      k.name = upper(field);
     else if (!field.empty()) {
       const auto eq = field.find('=');
-      if (eq == std::string::npos) k.param[upper(field)] = "";
-      else k.param[upper(trim(field.substr(0, eq)))] = trim(field.substr(eq + 1));
+      if (eq == std::string::npos)
+        k.param[upper(field)] = "";
+      else
+        k.param[upper(trim(field.substr(0, eq)))] = trim(field.substr(eq + 1));
     }
     first = false;
     if (comma == std::string::npos) break;
@@ -125,7 +128,8 @@ struct InputParser {
           nset = it != k.param.end() ? &set(it->second) : nullptr;
         } else if (k.name == "ELEMENT") {
           auto it = k.param.find("TYPE");
-          EPAPHE_REQUIRE(it != k.param.end(), in.where() << ": *ELEMENT without TYPE=; supported types: " << supportedElementTypes());
+          EPAPHE_REQUIRE(it != k.param.end(),
+                         in.where() << ": *ELEMENT without TYPE=; supported types: " << supportedElementTypes());
           type = nullptr;
           for (const auto& et : kElementTypes)
             if (upper(it->second) == et.name) type = &et;
@@ -149,7 +153,8 @@ struct InputParser {
       const auto f = splitFields(t);
       if (f.empty()) continue;
       switch (mode) {
-        case Mode::Skip: break;
+        case Mode::Skip:
+          break;
         case Mode::Node: {
           long long id = 0;
           double x[3] = {0, 0, 0};
@@ -172,8 +177,8 @@ struct InputParser {
           }
           for (; c < f.size(); ++c) {
             long long node = 0;
-            EPAPHE_REQUIRE(parseInt(f[c], node) && node > 0,
-                           in.where() << ": node '" << f[c] << "' of element " << pending.id << " is not a node number");
+            EPAPHE_REQUIRE(parseInt(f[c], node) && node > 0, in.where() << ": node '" << f[c] << "' of element "
+                                                                        << pending.id << " is not a node number");
             EPAPHE_REQUIRE(static_cast<int>(pending.nodes.size()) < type->nodes,
                            in.where() << ": element " << pending.id << " of type " << type->name << " lists more than "
                                       << type->nodes << " nodes");
@@ -197,10 +202,13 @@ struct InputParser {
           }
           for (const auto& item : f) {
             long long n = 0;
-            if (parseInt(item, n)) { nset->push_back({n, in.where()}); continue; }
+            if (parseInt(item, n)) {
+              nset->push_back({n, in.where()});
+              continue;
+            }
             auto it = sets.find(upper(item));
-            EPAPHE_REQUIRE(it != sets.end(), in.where() << ": '" << item
-                                                        << "' is neither a node number nor a node set defined above");
+            EPAPHE_REQUIRE(it != sets.end(),
+                           in.where() << ": '" << item << "' is neither a node number nor a node set defined above");
             const auto members = it->second;  // copy: the set may be the one being filled
             nset->insert(nset->end(), members.begin(), members.end());
           }
@@ -209,10 +217,11 @@ struct InputParser {
         case Mode::Boundary: {
           long long a = 0, b = 0;
           double value = 0;
-          EPAPHE_REQUIRE(f.size() >= 2 && f.size() <= 4 && parseInt(f[1], a) && (f.size() < 3 || parseInt(f[2], b)) &&
-                             (f.size() < 4 || parseDouble(f[3], value)),
-                         in.where() << ": expected 'node or set, first DOF[, last DOF[, value]]' under *BOUNDARY, read '"
-                                    << t << "'");
+          EPAPHE_REQUIRE(
+              f.size() >= 2 && f.size() <= 4 && parseInt(f[1], a) && (f.size() < 3 || parseInt(f[2], b)) &&
+                  (f.size() < 4 || parseDouble(f[3], value)),
+              in.where() << ": expected 'node or set, first DOF[, last DOF[, value]]' under *BOUNDARY, read '" << t
+                         << "'");
           if (f.size() < 3) b = a;
           EPAPHE_REQUIRE(a >= 1 && b >= a && b <= 3,
                          in.where() << ": *BOUNDARY fixes DOFs " << a << " to " << b
@@ -238,8 +247,8 @@ CalculixInput readCalculixInput(const std::string& path) {
   std::unordered_map<long long, int> index;
   for (std::size_t n = 0; n < p.ids.size(); ++n) {
     auto [it, fresh] = index.emplace(p.ids[n], static_cast<int>(n));
-    EPAPHE_REQUIRE(fresh, p.nodeWhere[n] << ": node " << p.ids[n] << " is defined twice (first at " << p.nodeWhere[it->second]
-                                         << "); node numbers must be unique");
+    EPAPHE_REQUIRE(fresh, p.nodeWhere[n] << ": node " << p.ids[n] << " is defined twice (first at "
+                                         << p.nodeWhere[it->second] << "); node numbers must be unique");
   }
   EPAPHE_REQUIRE(!p.ids.empty(), path << ": no *NODE found; the input deck must define the mesh (or *INCLUDE it)");
   auto nodeOf = [&](long long id, const std::string& where, const char* who) {
@@ -255,9 +264,12 @@ CalculixInput readCalculixInput(const std::string& path) {
       out.used[n[a]] = 1;
     }
     // Corners as a hexahedron: wedges collapse the faces' last corner, tetrahedra the top face.
-    if (e.type->corners == 8) mesh.hexes.push_back({n[0], n[1], n[2], n[3], n[4], n[5], n[6], n[7]});
-    else if (e.type->corners == 6) mesh.hexes.push_back({n[0], n[1], n[2], n[2], n[3], n[4], n[5], n[5]});
-    else mesh.hexes.push_back({n[0], n[1], n[2], n[2], n[3], n[3], n[3], n[3]});
+    if (e.type->corners == 8)
+      mesh.hexes.push_back({n[0], n[1], n[2], n[3], n[4], n[5], n[6], n[7]});
+    else if (e.type->corners == 6)
+      mesh.hexes.push_back({n[0], n[1], n[2], n[2], n[3], n[4], n[5], n[5]});
+    else
+      mesh.hexes.push_back({n[0], n[1], n[2], n[2], n[3], n[3], n[3], n[3]});
   }
   for (const auto& [key, members] : p.sets) {
     std::vector<int> nodes;
@@ -274,7 +286,8 @@ CalculixInput readCalculixInput(const std::string& path) {
   for (const auto& b : p.boundaries) {
     std::vector<int> nodes;
     long long id = 0;
-    if (parseInt(b.target, id)) nodes.push_back(nodeOf(id, b.where, "*BOUNDARY"));
+    if (parseInt(b.target, id))
+      nodes.push_back(nodeOf(id, b.where, "*BOUNDARY"));
     else {
       auto it = mesh.nodeSets.find(p.setNames.count(upper(b.target)) ? p.setNames[upper(b.target)] : b.target);
       EPAPHE_REQUIRE(it != mesh.nodeSets.end(), b.where << ": *BOUNDARY names '" << b.target
@@ -306,17 +319,19 @@ FullModel importCalculix(const CalculixFiles& files, const std::string& name,
             if (t.empty()) continue;
             const auto dot = t.find('.');
             long long node = 0, dir = 0;
-            EPAPHE_REQUIRE(dot != std::string::npos && parseInt(t.substr(0, dot), node) && parseInt(t.substr(dot + 1), dir) &&
-                               dir >= 1 && dir <= 3,
+            EPAPHE_REQUIRE(dot != std::string::npos && parseInt(t.substr(0, dot), node) &&
+                               parseInt(t.substr(dot + 1), dir) && dir >= 1 && dir <= 3,
                            in.where() << ": expected 'node.direction' (direction 1, 2 or 3, e.g. 12.3), read '" << t
                                       << "'; is this the .dof file of a *FREQUENCY, SOLVER=MATRIXSTORAGE run?");
             auto it = index.find(static_cast<int>(node));
-            EPAPHE_REQUIRE(it != index.end(), in.where() << ": node " << node << " is not in the mesh of " << files.input
-                                                         << "; the matrices and the input deck must be of the same model");
+            EPAPHE_REQUIRE(it != index.end(), in.where()
+                                                  << ": node " << node << " is not in the mesh of " << files.input
+                                                  << "; the matrices and the input deck must be of the same model");
             const int d = 3 * it->second + static_cast<int>(dir) - 1;
-            EPAPHE_REQUIRE(!input.fixed[d], in.where() << ": node " << node << " direction " << dir << " has a matrix row but "
-                                                       << files.input << " fixes it by *BOUNDARY; "
-                                                       << "the matrices and the input deck must be of the same model");
+            EPAPHE_REQUIRE(!input.fixed[d], in.where()
+                                                << ": node " << node << " direction " << dir << " has a matrix row but "
+                                                << files.input << " fixes it by *BOUNDARY; "
+                                                << "the matrices and the input deck must be of the same model");
             raw.rowDof.push_back(d);
             raw.rowLine.push_back(in.line());
             hasRow[d] = 1;
@@ -324,15 +339,16 @@ FullModel importCalculix(const CalculixFiles& files, const std::string& name,
         }
         for (int n = 0; n < nn; ++n)
           for (int d = 0; d < 3; ++d)
-            EPAPHE_REQUIRE(!input.used[n] || hasRow[3 * n + d] || input.fixed[3 * n + d],
-                           files.input << ": node " << input.mesh.nodeId(n) << " direction " << d + 1
-                                       << " belongs to an element but has no row in " << raw.dofPath
-                                       << " and no *BOUNDARY: CalculiX eliminates DOFs tied by *EQUATION, MPCs or rigid "
-                                          "bodies, which Epaphe does not import; fix such DOFs by *BOUNDARY or remove the ties");
+            EPAPHE_REQUIRE(
+                !input.used[n] || hasRow[3 * n + d] || input.fixed[3 * n + d],
+                files.input << ": node " << input.mesh.nodeId(n) << " direction " << d + 1
+                            << " belongs to an element but has no row in " << raw.dofPath
+                            << " and no *BOUNDARY: CalculiX eliminates DOFs tied by *EQUATION, MPCs or rigid "
+                               "bodies, which Epaphe does not import; fix such DOFs by *BOUNDARY or remove the ties");
         const int n = static_cast<int>(raw.rowDof.size());
-        Details::readSparsePair({files.matrices + ".sti", "stiffness matrix", Details::Storage::Triangle, n, raw.dofPath},
-                                {files.matrices + ".mas", "mass matrix", Details::Storage::Triangle, n, raw.dofPath}, raw.K,
-                                raw.M);
+        Details::readSparsePair(
+            {files.matrices + ".sti", "stiffness matrix", Details::Storage::Triangle, n, raw.dofPath},
+            {files.matrices + ".mas", "mass matrix", Details::Storage::Triangle, n, raw.dofPath}, raw.K, raw.M);
         raw.constrained = std::move(input.fixed);
         raw.mesh = std::move(input.mesh);
         return raw;
@@ -355,8 +371,10 @@ std::vector<double> readCalculixEigenvalues(const std::string& datPath) {
     const auto f = splitFields(line);
     long long mode = 0;
     double value = 0;
-    if (f.size() >= 2 && parseInt(f[0], mode) && parseDouble(f[1], value)) lambda.push_back(value);
-    else if (!lambda.empty()) break;
+    if (f.size() >= 2 && parseInt(f[0], mode) && parseDouble(f[1], value))
+      lambda.push_back(value);
+    else if (!lambda.empty())
+      break;
   }
   EPAPHE_REQUIRE(!lambda.empty(), datPath << ": no EIGENVALUE OUTPUT block; run a *FREQUENCY step to get one");
   return lambda;
@@ -397,7 +415,10 @@ std::vector<double> readCalculixDisplacements(const std::string& datPath, const 
   bool inBlock = false, eigen = false;
   while (in.next(line) && !eigen) {
     const std::string t = trim(line);
-    if (t.rfind("displacements (vx,vy,vz) for set", 0) == 0) { inBlock = true; continue; }
+    if (t.rfind("displacements (vx,vy,vz) for set", 0) == 0) {
+      inBlock = true;
+      continue;
+    }
     if (t.find("E I G E N V A L U E") != std::string::npos) eigen = true;  // a frequency step's output follows
     if (t.empty() || !inBlock) continue;
     const auto f = splitFields(t);

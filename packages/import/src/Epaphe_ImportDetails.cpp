@@ -22,7 +22,8 @@ namespace epaphe {
 namespace Details {
 
 TextLines::TextLines(const std::string& path, const std::string& what) : path_(path), in_(path) {
-  EPAPHE_REQUIRE(in_.good(), path << ": cannot open the " << what << " file (" << (errno ? std::strerror(errno) : "unreadable")
+  EPAPHE_REQUIRE(in_.good(), path << ": cannot open the " << what << " file ("
+                                  << (errno ? std::strerror(errno) : "unreadable")
                                   << "); check the path and that the FE code wrote it");
 }
 
@@ -72,7 +73,7 @@ bool parseDouble(const std::string& token, double& value) {
   if (token.empty()) return false;
   std::string t = token;
   for (char& c : t)
-    if (c == 'd' || c == 'D') c = 'e';   // Fortran 1.0D+03
+    if (c == 'd' || c == 'D') c = 'e';  // Fortran 1.0D+03
   char* end = nullptr;
   value = std::strtod(t.c_str(), &end);
   return end == t.c_str() + t.size();
@@ -202,8 +203,8 @@ SparseEntries readSparse(const std::string& path, const std::string& what, Stora
     if (upper(t).rfind("%%MATRIXMARKET", 0) == 0) {
       const auto f = splitFields(upper(t));
       EPAPHE_REQUIRE(f.size() == 5 && f[1] == "MATRIX" && f[2] == "COORDINATE",
-                     in.where() << ": Matrix Market header '" << t << "' is not 'matrix coordinate'; write the "
-                                << what << " as a sparse coordinate matrix");
+                     in.where() << ": Matrix Market header '" << t << "' is not 'matrix coordinate'; write the " << what
+                                << " as a sparse coordinate matrix");
       EPAPHE_REQUIRE(f[3] == "REAL" || f[3] == "INTEGER" || f[3] == "DOUBLE",
                      in.where() << ": the " << what << " has field '" << f[3] << "'; only real matrices are read");
       EPAPHE_REQUIRE(f[4] == "GENERAL" || f[4] == "SYMMETRIC",
@@ -217,14 +218,15 @@ SparseEntries readSparse(const std::string& path, const std::string& what, Stora
     const auto f = splitFields(t);
     if (header && !sizeLine) {
       long long m = 0, n = 0;
-      EPAPHE_REQUIRE(f.size() == 3 && parseInt(f[0], m) && parseInt(f[1], n) && parseInt(f[2], declared) && m >= 0 &&
-                         declared >= 0,
-                     in.where() << ": expected the size line 'rows columns entries' of the " << what << ", read '" << t << "'");
+      EPAPHE_REQUIRE(
+          f.size() == 3 && parseInt(f[0], m) && parseInt(f[1], n) && parseInt(f[2], declared) && m >= 0 &&
+              declared >= 0,
+          in.where() << ": expected the size line 'rows columns entries' of the " << what << ", read '" << t << "'");
       EPAPHE_REQUIRE(m == n, in.where() << ": the " << what << " is " << m << " x " << n
                                         << "; stiffness and mass matrices must be square");
-      EPAPHE_REQUIRE(size < 0 || m == size, in.where() << ": the " << what << " is " << m << " x " << n << " but "
-                                                      << sizeSource << " has " << size
-                                                      << " DOFs; export the matrices and the DOF map of the same model");
+      EPAPHE_REQUIRE(size < 0 || m == size,
+                     in.where() << ": the " << what << " is " << m << " x " << n << " but " << sizeSource << " has "
+                                << size << " DOFs; export the matrices and the DOF map of the same model");
       A.size = static_cast<int>(m);
       sizeLine = true;
       continue;
@@ -256,14 +258,15 @@ SparseEntries readSparse(const std::string& path, const std::string& what, Stora
   }
   const bool both = above < A.val.size() && below < A.val.size();
   if (storage == Storage::Triangle)
-    EPAPHE_REQUIRE(!both, path << ": the " << what << " is stored as one triangle (symmetric) but line " << A.line[above]
-                               << " holds (" << A.row[above] + 1 << ", " << A.col[above] + 1 << ") above and line "
-                               << A.line[below] << " holds (" << A.row[below] + 1 << ", " << A.col[below] + 1
+    EPAPHE_REQUIRE(!both, path << ": the " << what << " is stored as one triangle (symmetric) but line "
+                               << A.line[above] << " holds (" << A.row[above] + 1 << ", " << A.col[above] + 1
+                               << ") above and line " << A.line[below] << " holds (" << A.row[below] + 1 << ", "
+                               << A.col[below] + 1
                                << ") below the diagonal; store one triangle, or declare the file 'general'");
   A.triangle = storage == Storage::Triangle || (storage == Storage::Detect && !both);
   if (storage == Storage::Detect && both)
-    A.storageNote = " (read as a full matrix since line " + std::to_string(A.line[above]) + " holds an entry above and line " +
-                    std::to_string(A.line[below]) + " one below the diagonal)";
+    A.storageNote = " (read as a full matrix since line " + std::to_string(A.line[above]) +
+                    " holds an entry above and line " + std::to_string(A.line[below]) + " one below the diagonal)";
   if (!A.triangle) checkSymmetric(A);
   return A;
 }
@@ -276,17 +279,23 @@ void checkSymmetric(const SparseEntries& A) {
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return A.row[a] != A.row[b] ? A.row[a] < A.row[b] : A.col[a] < A.col[b];
   });
-  struct E { int i, j, line; double v; };
+  struct E {
+    int i, j, line;
+    double v;
+  };
   std::vector<E> e;
   std::vector<double> diag(static_cast<std::size_t>(A.size), 0.0);
   for (std::size_t k : order) {
-    if (!e.empty() && e.back().i == A.row[k] && e.back().j == A.col[k]) e.back().v += A.val[k];
-    else e.push_back({A.row[k], A.col[k], A.line[k], A.val[k]});
+    if (!e.empty() && e.back().i == A.row[k] && e.back().j == A.col[k])
+      e.back().v += A.val[k];
+    else
+      e.push_back({A.row[k], A.col[k], A.line[k], A.val[k]});
     if (A.row[k] == A.col[k]) diag[A.row[k]] += A.val[k];
   }
   auto find = [&](int i, int j) -> const E* {
-    auto it = std::lower_bound(e.begin(), e.end(), std::make_pair(i, j),
-                               [](const E& x, const std::pair<int, int>& p) { return x.i != p.first ? x.i < p.first : x.j < p.second; });
+    auto it = std::lower_bound(e.begin(), e.end(), std::make_pair(i, j), [](const E& x, const std::pair<int, int>& p) {
+      return x.i != p.first ? x.i < p.first : x.j < p.second;
+    });
     return it != e.end() && it->i == i && it->j == j ? &*it : nullptr;
   };
   for (const E& x : e) {
@@ -294,10 +303,11 @@ void checkSymmetric(const SparseEntries& A) {
     const E* y = find(x.j, x.i);
     const double w = y ? y->v : 0.0;
     // Round-off of an assembly: relative to the entries and to the diagonal scale of the pair.
-    const double tol = 1e-10 * std::max(std::abs(x.v), std::abs(w)) + 1e-12 * std::sqrt(std::abs(diag[x.i] * diag[x.j]));
+    const double tol =
+        1e-10 * std::max(std::abs(x.v), std::abs(w)) + 1e-12 * std::sqrt(std::abs(diag[x.i] * diag[x.j]));
     EPAPHE_REQUIRE(std::abs(x.v - w) <= tol,
-                   A.path << ":" << x.line << ": the " << A.what << " is not symmetric: entry (" << x.i + 1 << ", " << x.j + 1
-                          << ") = " << x.v << " but (" << x.j + 1 << ", " << x.i + 1 << ") = " << w
+                   A.path << ":" << x.line << ": the " << A.what << " is not symmetric: entry (" << x.i + 1 << ", "
+                          << x.j + 1 << ") = " << x.v << " but (" << x.j + 1 << ", " << x.i + 1 << ") = " << w
                           << (y ? " (line " + std::to_string(y->line) + ")" : std::string(" (absent)")) << A.storageNote
                           << "; Epaphe needs symmetric K and M: export the symmetric matrix, or one triangle of it");
   }
@@ -331,11 +341,13 @@ std::string receiveString(const Teuchos::Comm<int>& comm, int from) {
   return s;
 }
 
-template <class T> void sendArray(const Teuchos::Comm<int>& comm, const std::vector<T>& v, int to) {
+template <class T>
+void sendArray(const Teuchos::Comm<int>& comm, const std::vector<T>& v, int to) {
   if (!v.empty()) Teuchos::send(comm, static_cast<int>(v.size()), v.data(), to);
 }
 
-template <class T> void receiveArray(const Teuchos::Comm<int>& comm, std::vector<T>& v, int count, int from) {
+template <class T>
+void receiveArray(const Teuchos::Comm<int>& comm, std::vector<T>& v, int count, int from) {
   v.resize(static_cast<std::size_t>(count));
   if (count > 0) Teuchos::receive(comm, from, count, v.data());
 }
@@ -431,7 +443,8 @@ void readSparsePair(const SparseFile& k, const SparseFile& m, SparseEntries& K, 
     readHelper->asked = true;
     const Teuchos::Comm<int>& comm = *readHelper->comm;
     if (askRead(comm, m)) return readKThen([&] { return collectRead(comm, m); });
-  } else if (readHelper == nullptr && Kokkos::is_initialized() && Kokkos::DefaultHostExecutionSpace::concurrency() >= 2) {
+  } else if (readHelper == nullptr && Kokkos::is_initialized() &&
+             Kokkos::DefaultHostExecutionSpace::concurrency() >= 2) {
     auto mass = std::async(std::launch::async, read, m);
     return readKThen([&] { return mass.get(); });
   }
@@ -482,7 +495,8 @@ void readNodeSets(const std::string& path, Mesh& mesh) {
     auto& set = mesh.nodeSets[f[0]];
     for (std::size_t k = 1; k < f.size(); ++k) {
       long long id = 0;
-      EPAPHE_REQUIRE(parseInt(f[k], id), in.where() << ": node set '" << f[0] << "': '" << f[k] << "' is not a node id");
+      EPAPHE_REQUIRE(parseInt(f[k], id), in.where()
+                                             << ": node set '" << f[0] << "': '" << f[k] << "' is not a node id");
       auto it = index.find(static_cast<int>(id));
       EPAPHE_REQUIRE(it != index.end(), in.where() << ": node set '" << f[0] << "' names node " << id
                                                    << ", which the node coordinates do not define");
@@ -501,8 +515,8 @@ RawModel readListedModel(const ListedModelFiles& files, const std::string& name,
   if (!files.nodeSets.empty()) readNodeSets(files.nodeSets, raw.mesh);
   readDofMap(files.dofs, raw, lagrangeRows != nullptr, lagrangeRows);
   const int n = static_cast<int>(raw.rowDof.size());
-  readSparsePair({files.stiffness, "stiffness matrix", storage, n, files.dofs}, {files.mass, "mass matrix", storage, n, files.dofs},
-                 raw.K, raw.M);
+  readSparsePair({files.stiffness, "stiffness matrix", storage, n, files.dofs},
+                 {files.mass, "mass matrix", storage, n, files.dofs}, raw.K, raw.M);
   return raw;
 }
 
@@ -528,14 +542,18 @@ void readDofMap(const std::string& path, RawModel& raw, bool lagrange, std::vect
     const bool numeric = f.size() == 2 && parseInt(f[1], comp);
     const bool isLagrange = c.rfind("LAGR", 0) == 0 || (numeric && comp <= 0);
     if (isLagrange) {
-      EPAPHE_REQUIRE(lagrange, in.where() << ": '" << t << "' is a Lagrange multiplier row; this format takes physical DOFs "
-                                          << "only (use the code_aster importer, which drops them)");
+      EPAPHE_REQUIRE(lagrange, in.where()
+                                   << ": '" << t << "' is a Lagrange multiplier row; this format takes physical DOFs "
+                                   << "only (use the code_aster importer, which drops them)");
       int dof = -1;
       if (f.size() == 2 && nodeNumber(f[0], node) && node > 0) {
         auto it = index.find(static_cast<int>(node));
-        EPAPHE_REQUIRE(it != index.end(), in.where() << ": Lagrange row of node " << node << ", which is not in the mesh");
+        EPAPHE_REQUIRE(it != index.end(), in.where()
+                                              << ": Lagrange row of node " << node << ", which is not in the mesh");
         const auto colon = c.find_first_of(":_");
-        const int d = numeric ? static_cast<int>(-comp) - 1 : colon == std::string::npos ? -1 : parseDirection(c.substr(colon + 1));
+        const int d = numeric                      ? static_cast<int>(-comp) - 1
+                      : colon == std::string::npos ? -1
+                                                   : parseDirection(c.substr(colon + 1));
         if (d >= 0 && d < 3) dof = 3 * it->second + d;
       }
       raw.rowDof.push_back(-1);
@@ -547,8 +565,9 @@ void readDofMap(const std::string& path, RawModel& raw, bool lagrange, std::vect
     EPAPHE_REQUIRE(f.size() == 2 && nodeNumber(f[0], node) && d >= 0,
                    in.where() << ": expected " << grammar << ", read '" << t << "'");
     auto it = index.find(static_cast<int>(node));
-    EPAPHE_REQUIRE(it != index.end(), in.where() << ": node " << node << " is not in the mesh (" << raw.mesh.numNodes()
-                                                 << " nodes read); the DOF map and the node coordinates must be of the same model");
+    EPAPHE_REQUIRE(it != index.end(),
+                   in.where() << ": node " << node << " is not in the mesh (" << raw.mesh.numNodes()
+                              << " nodes read); the DOF map and the node coordinates must be of the same model");
     raw.rowDof.push_back(3 * it->second + d);
     raw.rowLine.push_back(in.line());
   }
@@ -556,7 +575,9 @@ void readDofMap(const std::string& path, RawModel& raw, bool lagrange, std::vect
 
 namespace {
 
-const char* directionName(int d) { return d == 0 ? "x" : d == 1 ? "y" : "z"; }
+const char* directionName(int d) {
+  return d == 0 ? "x" : d == 1 ? "y" : "z";
+}
 
 /// Matrix entries in free-DOF numbering; `mirror`: one triangle, (j, i) stands also for (i, j).
 struct Triplets {
@@ -570,8 +591,9 @@ void freeSystem(RawModel& raw, FullModel& m, Triplets& K, Triplets& M) {
   const int n = static_cast<int>(raw.rowDof.size());
   const int nn = raw.mesh.numNodes();
   for (const SparseEntries* A : {&raw.K, &raw.M})
-    EPAPHE_REQUIRE(A->size == n, A->path << ": the " << A->what << " is " << A->size << " x " << A->size << " but the DOF map "
-                                         << raw.dofPath << " has " << n << " lines; export both from the same model");
+    EPAPHE_REQUIRE(A->size == n, A->path << ": the " << A->what << " is " << A->size << " x " << A->size
+                                         << " but the DOF map " << raw.dofPath << " has " << n
+                                         << " lines; export both from the same model");
   raw.constrained.resize(3 * static_cast<std::size_t>(nn), 0);
   m.name = raw.name;
   m.eq.assign(3 * static_cast<std::size_t>(nn), -1);
@@ -579,15 +601,17 @@ void freeSystem(RawModel& raw, FullModel& m, Triplets& K, Triplets& M) {
   for (int r = 0; r < n; ++r) {
     const int d = raw.rowDof[r];
     if (d < 0) continue;
-    EPAPHE_REQUIRE(firstRow[d] < 0, raw.dofPath << ":" << raw.rowLine[r] << ": node " << raw.mesh.nodeId(d / 3) << " direction "
-                                                << directionName(d % 3) << " is named twice (also at line "
+    EPAPHE_REQUIRE(firstRow[d] < 0, raw.dofPath << ":" << raw.rowLine[r] << ": node " << raw.mesh.nodeId(d / 3)
+                                                << " direction " << directionName(d % 3)
+                                                << " is named twice (also at line "
                                                 << (firstRow[d] >= 0 ? raw.rowLine[firstRow[d]] : 0)
                                                 << "); each DOF has one matrix row");
     firstRow[d] = r;
     if (raw.constrained[d]) continue;
     m.eq[d] = rowFree[r] = m.numFree++;
   }
-  EPAPHE_REQUIRE(m.numFree > 0, raw.dofPath << ": every DOF of body '" << raw.name << "' is constrained; nothing can move");
+  EPAPHE_REQUIRE(m.numFree > 0,
+                 raw.dofPath << ": every DOF of body '" << raw.name << "' is constrained; nothing can move");
 
   for (int which = 0; which < 2; ++which) {
     const SparseEntries& A = which == 0 ? raw.K : raw.M;
@@ -601,29 +625,35 @@ void freeSystem(RawModel& raw, FullModel& m, Triplets& K, Triplets& M) {
     for (std::size_t k = 0; k < A.val.size(); ++k) {
       const int fi = rowFree[A.row[k]], fj = rowFree[A.col[k]];
       if (fi < 0 || fj < 0) continue;
-      T.row.push_back(fi); T.col.push_back(fj); T.val.push_back(A.val[k]);
-      if (fi == fj) { diag[fi] += A.val[k]; if (!diagLine[fi]) diagLine[fi] = A.line[k]; }
+      T.row.push_back(fi);
+      T.col.push_back(fj);
+      T.val.push_back(A.val[k]);
+      if (fi == fj) {
+        diag[fi] += A.val[k];
+        if (!diagLine[fi]) diagLine[fi] = A.line[k];
+      }
     }
     const char sym = which == 0 ? 'K' : 'M';
     for (int r = 0; r < n; ++r) {
       const int f = rowFree[r];
       if (f < 0) continue;
       const int d = raw.rowDof[r];
-      EPAPHE_REQUIRE(diag[f] >= 0, A.path << ":" << diagLine[f] << ": the " << A.what << " has a negative diagonal " << sym << "("
-                                          << r + 1 << ", " << r + 1 << ") = " << diag[f] << " at node " << raw.mesh.nodeId(d / 3)
-                                          << " direction " << directionName(d % 3)
+      EPAPHE_REQUIRE(diag[f] >= 0, A.path << ":" << diagLine[f] << ": the " << A.what << " has a negative diagonal "
+                                          << sym << "(" << r + 1 << ", " << r + 1 << ") = " << diag[f] << " at node "
+                                          << raw.mesh.nodeId(d / 3) << " direction " << directionName(d % 3)
                                           << ": the matrix is indefinite; check the export (sign, a flipped element, "
                                              "K and M swapped)");
-      EPAPHE_REQUIRE(diag[f] > 0, A.path << ": the " << A.what << " has no diagonal " << sym << "(" << r + 1 << ", " << r + 1
-                                         << ") at node " << raw.mesh.nodeId(d / 3) << " direction " << directionName(d % 3)
-                                         << " (DOF map line " << raw.rowLine[r]
+      EPAPHE_REQUIRE(diag[f] > 0, A.path << ": the " << A.what << " has no diagonal " << sym << "(" << r + 1 << ", "
+                                         << r + 1 << ") at node " << raw.mesh.nodeId(d / 3) << " direction "
+                                         << directionName(d % 3) << " (DOF map line " << raw.rowLine[r]
                                          << "); a free DOF needs stiffness and mass: constrain it or check the model");
     }
   }
   m.mesh = std::move(raw.mesh);
 }
 
-template <class T> void broadcastVector(const Teuchos::Comm<int>& comm, std::vector<T>& v) {
+template <class T>
+void broadcastVector(const Teuchos::Comm<int>& comm, std::vector<T>& v) {
   int n = static_cast<int>(v.size());
   Teuchos::broadcast(comm, 0, &n);
   v.resize(static_cast<std::size_t>(n));

@@ -49,18 +49,18 @@ std::string siblingPath(const std::string& relativeTo, const std::string& file);
 
 /// How a coordinate file stores a symmetric matrix.
 enum class Storage {
-  General,    // every nonzero, both triangles; symmetry is checked
-  Triangle,   // one triangle (either one), mirrored
-  Detect      // Triangle when every entry lies in one triangle, else General
+  General,   // every nonzero, both triangles; symmetry is checked
+  Triangle,  // one triangle (either one), mirrored
+  Detect     // Triangle when every entry lies in one triangle, else General
 };
 
 /// Entries of a square sparse matrix as read, 0-based, with the line each came from.
 struct SparseEntries {
   std::string path;
-  std::string what;            // "stiffness matrix"
-  int size = -1;               // rows = columns; -1 while unknown
-  bool triangle = false;       // one triangle stored: mirror off-diagonal entries on use
-  std::string storageNote;     // why a file without header was read in full (for messages)
+  std::string what;         // "stiffness matrix"
+  int size = -1;            // rows = columns; -1 while unknown
+  bool triangle = false;    // one triangle stored: mirror off-diagonal entries on use
+  std::string storageNote;  // why a file without header was read in full (for messages)
   std::vector<int> row, col, line;
   std::vector<double> val;
 };
@@ -94,10 +94,10 @@ void checkSymmetric(const SparseEntries& A);
 struct RawModel {
   std::string name;
   Mesh mesh;
-  std::vector<int> rowDof;          // per matrix row: 3 * node + direction, or -1 for a row to drop
-  std::vector<int> rowLine;         // per matrix row: the line of the DOF map that names it
-  std::string dofPath;              // the DOF map (for messages)
-  std::vector<char> constrained;    // 3 * numNodes: DOFs fixed by boundary conditions (rows dropped)
+  std::vector<int> rowDof;        // per matrix row: 3 * node + direction, or -1 for a row to drop
+  std::vector<int> rowLine;       // per matrix row: the line of the DOF map that names it
+  std::string dofPath;            // the DOF map (for messages)
+  std::vector<char> constrained;  // 3 * numNodes: DOFs fixed by boundary conditions (rows dropped)
   SparseEntries K, M;
 };
 
@@ -114,7 +114,7 @@ void readNodeSets(const std::string& path, Mesh& mesh);
 /// A row of the DOF map that is a Lagrange multiplier (code_aster's dualized conditions).
 struct LagrangeRow {
   int row, line;
-  int dof;   // 3 * node + direction it says it ties, or -1 when the line does not say
+  int dof;  // 3 * node + direction it says it ties, or -1 when the line does not say
 };
 
 /// One line per matrix row: "node direction", node as a number or a code_aster name "N12",
@@ -132,10 +132,10 @@ struct ListedModelFiles {
 RawModel readListedModel(const ListedModelFiles& files, const std::string& name, Storage storage,
                          std::vector<LagrangeRow>* lagrangeRows);
 
-/// Runs `read` on rank 0 only (rank 1 may parse a matrix for it: readSparsePair), then gives every rank the same FullModel: free DOFs numbered in
-/// the order of the matrix rows (rows of constrained DOFs and dropped rows left out), row map
-/// contiguous and uniform. An Error on rank 0 is raised on every rank with the same message.
-/// Checks: matrix sizes against the DOF map, a DOF named twice, positive diagonals of K and M.
+/// Runs `read` on rank 0 only (rank 1 may parse a matrix for it: readSparsePair), then gives every rank the same
+/// FullModel: free DOFs numbered in the order of the matrix rows (rows of constrained DOFs and dropped rows left out),
+/// row map contiguous and uniform. An Error on rank 0 is raised on every rank with the same message. Checks: matrix
+/// sizes against the DOF map, a DOF named twice, positive diagonals of K and M.
 FullModel distributeModel(const std::function<RawModel()>& read, const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
 
 }  // namespace Details

@@ -30,7 +30,9 @@ FullModel importMatrixMarket(const MatrixMarketFiles& files, const std::string& 
 namespace {
 
 struct FileCloser {
-  void operator()(std::FILE* f) const { if (f) std::fclose(f); }
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
 };
 using File = std::unique_ptr<std::FILE, FileCloser>;
 
@@ -61,7 +63,8 @@ void writeMatrix(const CrsMatrix& A, const std::string& path, const char* what) 
   for (LO l = 0; l < static_cast<LO>(A.getNodeNumRows()); ++l) {
     A.getLocalRowView(l, idx, val);
     for (std::size_t k = 0; k < idx.extent(0); ++k)
-      std::fprintf(f.get(), "%d %d %.17g\n", rowMap->getGlobalElement(l) + 1, colMap->getGlobalElement(idx(k)) + 1, val(k));
+      std::fprintf(f.get(), "%d %d %.17g\n", rowMap->getGlobalElement(l) + 1, colMap->getGlobalElement(idx(k)) + 1,
+                   val(k));
   }
   EPAPHE_REQUIRE(!std::ferror(f.get()), path << ": write error (disk full?)");
 }
@@ -90,7 +93,8 @@ void writeMatrixMarket(const FullModel& model, const MatrixMarketFiles& files) {
         File f = openForWriting(files.nodes);
         std::fprintf(f.get(), "# id x y z\n");
         for (int n = 0; n < mesh.numNodes(); ++n)
-          std::fprintf(f.get(), "%d %.17g %.17g %.17g\n", mesh.nodeId(n), mesh.coords[n][0], mesh.coords[n][1], mesh.coords[n][2]);
+          std::fprintf(f.get(), "%d %.17g %.17g %.17g\n", mesh.nodeId(n), mesh.coords[n][0], mesh.coords[n][1],
+                       mesh.coords[n][2]);
       }
       if (!files.nodeSets.empty()) {
         File f = openForWriting(files.nodeSets);

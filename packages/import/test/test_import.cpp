@@ -28,7 +28,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Teuchos::RCP<const Teuchos::Comm<int>> comm() { return Teuchos::DefaultComm<int>::getComm(); }
+Teuchos::RCP<const Teuchos::Comm<int>> comm() {
+  return Teuchos::DefaultComm<int>::getComm();
+}
 
 std::string env(const char* name) {
   const char* v = std::getenv(name);
@@ -37,7 +39,8 @@ std::string env(const char* name) {
 
 /// A fresh directory under the test's work directory, made by rank 0, seen by all.
 std::string workDir(const std::string& name) {
-  const fs::path dir = fs::path(env("EPAPHE_IMPORT_WORKDIR").empty() ? "import-work" : env("EPAPHE_IMPORT_WORKDIR")) / name;
+  const fs::path dir =
+      fs::path(env("EPAPHE_IMPORT_WORKDIR").empty() ? "import-work" : env("EPAPHE_IMPORT_WORKDIR")) / name;
   if (comm()->getRank() == 0) {
     fs::remove_all(dir);
     fs::create_directories(dir);
@@ -82,7 +85,7 @@ TEST(MatrixMarket, RoundTripOfABuiltInModelIsExact) {
   EXPECT_EQ(got.mesh.nodeSets, ref.mesh.nodeSets);
   EXPECT_TRUE(got.K->getRowMap()->isContiguous());
   EXPECT_TRUE(got.K->getRowMap()->isSameAs(*ref.K->getRowMap()));
-  EXPECT_EQ(gatherDense(*got.K), gatherDense(*ref.K));   // bit for bit
+  EXPECT_EQ(gatherDense(*got.K), gatherDense(*ref.K));  // bit for bit
   EXPECT_EQ(gatherDense(*got.M), gatherDense(*ref.M));
 }
 
@@ -92,7 +95,7 @@ TEST(MatrixMarket, RoundTripOfABuiltInModelIsExact) {
 TEST(SparseFile, LinesAcrossBlocksAndLongerThanABlockAreReadExactly) {
   const std::string path = workDir("sparse-blocks") + "/A.mtx";  // collective
   if (comm()->getRank() != 0) return;                            // the file is read on rank 0
-  const int n = 400, entries = 250000;  // about 7 MB: two block boundaries
+  const int n = 400, entries = 250000;                           // about 7 MB: two block boundaries
   std::vector<int> rows, cols;
   std::vector<double> vals;
   {
@@ -130,7 +133,10 @@ TEST(MatrixMarket, ShuffledRepeatedEntriesGiveTpetrasOwnMatrix) {
   const auto& files = box.files;
   const int n = box.n;
   const auto& K = box.K;
-  struct E { int i, j; double v; };
+  struct E {
+    int i, j;
+    double v;
+  };
   std::vector<E> entries;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i)
@@ -224,7 +230,8 @@ TEST(MatrixMarket, OneTriangleIsMirrored) {
           body << i + 1 << " " << j + 1 << " " << K[static_cast<std::size_t>(j) * n + i] << "\n";
           ++count;
         }
-    std::ofstream(files.stiffness) << "%%MatrixMarket matrix coordinate real symmetric\n" << n << " " << n << " " << count << "\n"
+    std::ofstream(files.stiffness) << "%%MatrixMarket matrix coordinate real symmetric\n"
+                                   << n << " " << n << " " << count << "\n"
                                    << body.str();
   }
   comm()->barrier();
@@ -251,7 +258,8 @@ TEST(CodeAster, LagrangeDofsAreDroppedAndTheirDofsClamped) {
   const int n = freeFree.numFree;
   const auto K = gatherDense(*freeFree.K), M = gatherDense(*freeFree.M);
   const std::string dir = workDir("aster-lagrange");
-  CodeAsterFiles files{dir + "/BStiff.mat", dir + "/BMass.mat", dir + "/BDof.txt", dir + "/Body.dat", "", dir + "/sets.txt"};
+  CodeAsterFiles files{dir + "/BStiff.mat", dir + "/BMass.mat", dir + "/BDof.txt", dir + "/Body.dat", "",
+                       dir + "/sets.txt"};
   if (comm()->getRank() == 0) {
     std::vector<char> fixed(static_cast<std::size_t>(mesh.numNodes()), 0);
     for (int c : clamped) fixed[c] = 1;
@@ -262,16 +270,21 @@ TEST(CodeAster, LagrangeDofsAreDroppedAndTheirDofsClamped) {
     std::vector<int> row(static_cast<std::size_t>(n));  // physical DOF -> equation (1-based)
     int eq = 0;
     const double a = 1e11;
-    std::vector<std::array<int, 3>> lagrange;            // l1, u, l2
+    std::vector<std::array<int, 3>> lagrange;  // l1, u, l2
     for (int node = 0; node < mesh.numNodes(); ++node) {
-      nodes << node + 1 << " " << mesh.coords[node][0] << " " << mesh.coords[node][1] << " " << mesh.coords[node][2] << "\n";
+      nodes << node + 1 << " " << mesh.coords[node][0] << " " << mesh.coords[node][1] << " " << mesh.coords[node][2]
+            << "\n";
       for (int d = 0; d < 3; ++d) {
         const char* comp[3] = {"DX", "DY", "DZ"};
         if (fixed[node]) dofs << "N" << node + 1 << " LAGR:" << comp[d] << "\n";
         dofs << "N" << node + 1 << " " << comp[d] << "\n";
-        if (fixed[node]) dofs << node + 1 << " " << -(d + 1) << "\n";   // code_aster's DEEQ form
-        if (fixed[node]) { lagrange.push_back({eq + 1, eq + 2, eq + 3}); row[3 * node + d] = eq + 2; eq += 3; }
-        else row[3 * node + d] = ++eq;
+        if (fixed[node]) dofs << node + 1 << " " << -(d + 1) << "\n";  // code_aster's DEEQ form
+        if (fixed[node]) {
+          lagrange.push_back({eq + 1, eq + 2, eq + 3});
+          row[3 * node + d] = eq + 2;
+          eq += 3;
+        } else
+          row[3 * node + d] = ++eq;
       }
     }
     for (int j = 0; j < n; ++j)
@@ -281,10 +294,14 @@ TEST(CodeAster, LagrangeDofsAreDroppedAndTheirDofsClamped) {
         if (m != 0.0) Mf << row[i] << " " << row[j] << " " << m << "\n";
       }
     for (const auto& l : lagrange)
-      Kf << l[0] << " " << l[1] << " " << a << "\n" << l[1] << " " << l[0] << " " << a << "\n"
-         << l[2] << " " << l[1] << " " << a << "\n" << l[1] << " " << l[2] << " " << a << "\n"
-         << l[0] << " " << l[0] << " " << -a << "\n" << l[2] << " " << l[2] << " " << -a << "\n"
-         << l[0] << " " << l[2] << " " << a << "\n" << l[2] << " " << l[0] << " " << a << "\n";
+      Kf << l[0] << " " << l[1] << " " << a << "\n"
+         << l[1] << " " << l[0] << " " << a << "\n"
+         << l[2] << " " << l[1] << " " << a << "\n"
+         << l[1] << " " << l[2] << " " << a << "\n"
+         << l[0] << " " << l[0] << " " << -a << "\n"
+         << l[2] << " " << l[2] << " " << -a << "\n"
+         << l[0] << " " << l[2] << " " << a << "\n"
+         << l[2] << " " << l[0] << " " << a << "\n";
     sets << "x+";
     for (int node : mesh.nodeSets.at("x+")) sets << " " << node + 1;
     sets << "\n";
@@ -318,9 +335,12 @@ std::vector<ErrorCase> errorCases() {
     std::ifstream in(entry.path() / "expect.txt");
     std::string line;
     while (std::getline(in, line)) {
-      if (line.rfind("format: ", 0) == 0) c.format = line.substr(8);
-      else if (line.rfind("missing: ", 0) == 0) c.missing = line.substr(9);
-      else if (!line.empty()) c.expect.push_back(line);
+      if (line.rfind("format: ", 0) == 0)
+        c.format = line.substr(8);
+      else if (line.rfind("missing: ", 0) == 0)
+        c.missing = line.substr(9);
+      else if (!line.empty())
+        c.expect.push_back(line);
     }
     cases.push_back(c);
   }
@@ -347,10 +367,12 @@ std::string assembleCase(const std::string& format, const std::string& caseName,
 
 FullModel importFixture(const std::string& format, const std::string& dir) {
   if (format == "mm")
-    return importMatrixMarket({dir + "/K.mtx", dir + "/M.mtx", dir + "/dofs.txt", dir + "/nodes.txt", ""}, "fixture", comm());
+    return importMatrixMarket({dir + "/K.mtx", dir + "/M.mtx", dir + "/dofs.txt", dir + "/nodes.txt", ""}, "fixture",
+                              comm());
   if (format == "calculix") return importCalculix({dir + "/model.inp", dir + "/model"}, "fixture", comm());
   if (format == "aster")
-    return importCodeAster({dir + "/K.txt", dir + "/M.txt", dir + "/dofs.txt", dir + "/nodes.txt", "", ""}, "fixture", comm());
+    return importCodeAster({dir + "/K.txt", dir + "/M.txt", dir + "/dofs.txt", dir + "/nodes.txt", "", ""}, "fixture",
+                           comm());
   throw Error("unknown fixture format '" + format + "'");
 }
 
@@ -364,7 +386,7 @@ TEST(Fixtures, BasesImport) {
   EXPECT_EQ(ccx.numFree, 12);
   EXPECT_EQ(ccx.mesh.hexes.size(), 1u);
   EXPECT_EQ(ccx.mesh.nodeSets.at("TIP"), (std::vector<int>{1, 2, 5, 6}));
-  EXPECT_EQ(ccx.eq[0], -1);   // node 1 clamped
+  EXPECT_EQ(ccx.eq[0], -1);  // node 1 clamped
   const FullModel aster = importFixture("aster", assembleCase("aster", "", ""));
   EXPECT_EQ(aster.numFree, 5);
   EXPECT_EQ(aster.eq[0], -1);  // x of node 1 fixed by its Lagrange equations
@@ -383,7 +405,8 @@ TEST(Fixtures, EachMalformedInputIsAClearError) {
       message = e.what();
     }
     ASSERT_FALSE(message.empty()) << c.name << ": no error raised";
-    for (const auto& s : c.expect) EXPECT_NE(message.find(s), std::string::npos) << c.name << ": '" << s << "' not in: " << message;
+    for (const auto& s : c.expect)
+      EXPECT_NE(message.find(s), std::string::npos) << c.name << ": '" << s << "' not in: " << message;
     if (comm()->getRank() == 0 && env("EPAPHE_IMPORT_VERBOSE") == "1") std::cout << c.name << ": " << message << "\n";
   }
 }

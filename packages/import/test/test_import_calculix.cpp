@@ -27,7 +27,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Teuchos::RCP<const Teuchos::Comm<int>> comm() { return Teuchos::DefaultComm<int>::getComm(); }
+Teuchos::RCP<const Teuchos::Comm<int>> comm() {
+  return Teuchos::DefaultComm<int>::getComm();
+}
 
 std::string env(const char* name) {
   const char* v = std::getenv(name);
@@ -93,7 +95,8 @@ struct BeamDeck {
     mesh << "*ELEMENT, TYPE=" << type << ", ELSET=EALL\n";
     for (std::size_t e = 0; e < elements.size(); ++e) {
       mesh << e + 1;
-      for (std::size_t a = 0; a < elements[e].size(); ++a) mesh << (a == 10 ? ",\n" : ", ") << elements[e][a];  // continuation line
+      for (std::size_t a = 0; a < elements[e].size(); ++a)
+        mesh << (a == 10 ? ",\n" : ", ") << elements[e][a];  // continuation line
       mesh << "\n";
     }
     for (const char* set : {"FIX", "TIP"}) {
@@ -103,13 +106,17 @@ struct BeamDeck {
         if (where[n - 1][0] == (set[0] == 'F' ? 0 : 2 * cells[0])) {
           mesh << (onLine ? ", " : "") << n;
           ++count;
-          if (++onLine == 12) { mesh << ",\n"; onLine = 0; }
+          if (++onLine == 12) {
+            mesh << ",\n";
+            onLine = 0;
+          }
         }
       if (onLine) mesh << "\n";
       if (set[0] == 'F') numFixed = count;
     }
-    const std::string common = "*INCLUDE, INPUT=mesh.inp\n*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7800.\n"
-                               "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*BOUNDARY\nFIX, 1, 3\n*STEP\n";
+    const std::string common =
+        "*INCLUDE, INPUT=mesh.inp\n*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7800.\n"
+        "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*BOUNDARY\nFIX, 1, 3\n*STEP\n";
     std::ofstream(dir + "/mat.inp") << common << "*FREQUENCY, SOLVER=MATRIXSTORAGE\n*END STEP\n";
     std::ofstream(dir + "/freq.inp") << common << "*FREQUENCY\n10\n*END STEP\n";
   }
@@ -124,8 +131,8 @@ std::string runCcx(BeamDeck& beam, const std::string& name) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     beam.write(dir.string());
-    const std::string cmd = "cd '" + dir.string() + "' && OMP_NUM_THREADS=1 '" + ccx + "' -i mat > mat.log 2>&1 && OMP_NUM_THREADS=1 '" +
-                            ccx + "' -i freq > freq.log 2>&1";
+    const std::string cmd = "cd '" + dir.string() + "' && OMP_NUM_THREADS=1 '" + ccx +
+                            "' -i mat > mat.log 2>&1 && OMP_NUM_THREADS=1 '" + ccx + "' -i freq > freq.log 2>&1";
     status = std::system(cmd.c_str());
   }
   Teuchos::broadcast(*comm(), 0, &status);
@@ -181,8 +188,9 @@ void checkAgainstCcx(const std::string& type, std::array<int, 3> cells) {
   }
   if (comm()->getRank() == 0)
     std::cout << "[import] " << type << " cantilever " << cells[0] << "x" << cells[1] << "x" << cells[2] << ": "
-              << model.numNodes() << " nodes, " << n << " free DOFs, import " << seconds << " s on " << comm()->getSize()
-              << " rank(s); f1 = " << f[0] << " Hz; worst eigenvalue difference to ccx over 10 modes " << worst << "\n";
+              << model.numNodes() << " nodes, " << n << " free DOFs, import " << seconds << " s on "
+              << comm()->getSize() << " rank(s); f1 = " << f[0]
+              << " Hz; worst eigenvalue difference to ccx over 10 modes " << worst << "\n";
 
   // Craig-Bampton takes the imported model unchanged: tip retained, 10 fixed-interface modes.
   CraigBamptonOptions cb;
@@ -197,9 +205,13 @@ void checkAgainstCcx(const std::string& type, std::array<int, 3> cells) {
 
 }  // namespace
 
-TEST(Calculix, C3D20CantileverMatchesCcx) { checkAgainstCcx("C3D20", {6, 2, 2}); }
+TEST(Calculix, C3D20CantileverMatchesCcx) {
+  checkAgainstCcx("C3D20", {6, 2, 2});
+}
 
-TEST(Calculix, C3D15CantileverMatchesCcx) { checkAgainstCcx("C3D15", {6, 2, 2}); }
+TEST(Calculix, C3D15CantileverMatchesCcx) {
+  checkAgainstCcx("C3D15", {6, 2, 2});
+}
 
 // Reports the import time of a larger model (no timed assertion).
 TEST(Calculix, LargerModelImportTime) {
@@ -210,7 +222,8 @@ TEST(Calculix, LargerModelImportTime) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     beam.write(dir.string());
-    status = std::system(("cd '" + dir.string() + "' && OMP_NUM_THREADS=1 '" + env("EPAPHE_CCX") + "' -i mat > mat.log 2>&1").c_str());
+    status = std::system(
+        ("cd '" + dir.string() + "' && OMP_NUM_THREADS=1 '" + env("EPAPHE_CCX") + "' -i mat > mat.log 2>&1").c_str());
   }
   Teuchos::broadcast(*comm(), 0, &status);
   ASSERT_EQ(status, 0);

@@ -60,15 +60,19 @@ std::string hdf5ErrorText() {
   eb.raise();
 }
 
-std::string sq(const std::string& s) { return "'" + s + "'"; }
+std::string sq(const std::string& s) {
+  return "'" + s + "'";
+}
 
 std::string dimsText(const std::vector<hsize_t>& dims) {
   std::ostringstream os;
   os << '{';
   for (std::size_t i = 0; i < dims.size(); ++i) {
     if (i) os << ',';
-    if (dims[i] == H5S_UNLIMITED) os << "unlimited";
-    else os << dims[i];
+    if (dims[i] == H5S_UNLIMITED)
+      os << "unlimited";
+    else
+      os << dims[i];
   }
   os << '}';
   return os.str();
@@ -99,6 +103,7 @@ public:
     if (id_ >= 0 && closer_ != nullptr) closer_(id_);
     id_ = H5I_INVALID_HID;
   }
+
 private:
   hid_t id_ = H5I_INVALID_HID;
   Closer closer_ = nullptr;
@@ -107,15 +112,14 @@ private:
 // ---- object paths ----------------------------------------------------------------------------
 
 std::vector<std::string> components(const std::string& file, const std::string& path) {
-  if (path.empty())
-    fail(file, "empty object path; use '/' for the root group or '/group/name' for an object", false);
+  if (path.empty()) fail(file, "empty object path; use '/' for the root group or '/group/name' for an object", false);
   std::vector<std::string> parts;
   std::string part;
   for (std::size_t i = 0; i <= path.size(); ++i) {
     if (i == path.size() || path[i] == '/') {
       if (part == "." || part == "..")
-        fail(file, "object path " + sq(path) + " contains '" + part +
-                       "'; use absolute paths such as '/contact/gap'", false);
+        fail(file, "object path " + sq(path) + " contains '" + part + "'; use absolute paths such as '/contact/gap'",
+             false);
       if (!part.empty()) parts.push_back(part);
       part.clear();
     } else {
@@ -186,10 +190,14 @@ enum class Kind { None, Group, Dataset, Other };
 
 const char* kindName(Kind k) {
   switch (k) {
-    case Kind::None: return "nothing";
-    case Kind::Group: return "a group";
-    case Kind::Dataset: return "a dataset";
-    case Kind::Other: return "a named datatype";
+    case Kind::None:
+      return "nothing";
+    case Kind::Group:
+      return "a group";
+    case Kind::Dataset:
+      return "a dataset";
+    case Kind::Other:
+      return "a named datatype";
   }
   return "?";
 }
@@ -198,9 +206,12 @@ Kind kindOfExisting(const FileState& f, const std::string& path) {
   Handle obj(H5Oopen(f.fid, path.c_str(), H5P_DEFAULT), H5Oclose);
   if (!obj.valid()) fail(f.path, "cannot open object " + sq(path));
   switch (H5Iget_type(obj.get())) {
-    case H5I_GROUP: return Kind::Group;
-    case H5I_DATASET: return Kind::Dataset;
-    default: return Kind::Other;
+    case H5I_GROUP:
+      return Kind::Group;
+    case H5I_DATASET:
+      return Kind::Dataset;
+    default:
+      return Kind::Other;
   }
 }
 
@@ -237,15 +248,18 @@ void ensureParents(const FileState& f, const std::string& path) {
     }
     const Kind k = kindOfExisting(f, prefix);
     if (k != Kind::Group)
-      fail(f.path, "cannot create " + sq(path) + ": " + sq(prefix) + " is " + kindName(k) +
-                       ", not a group; choose another path", false);
+      fail(
+          f.path,
+          "cannot create " + sq(path) + ": " + sq(prefix) + " is " + kindName(k) + ", not a group; choose another path",
+          false);
   }
 }
 
 void requireWritable(const FileState& f, const std::string& obj, const char* operation) {
   if (f.mode == Hdf5File::Mode::ReadOnly)
-    fail(f.path, std::string("cannot ") + operation + " " + sq(obj) +
-                     ": the file is opened ReadOnly; open it with Hdf5File::Mode::ReadWrite to modify it",
+    fail(f.path,
+         std::string("cannot ") + operation + " " + sq(obj) +
+             ": the file is opened ReadOnly; open it with Hdf5File::Mode::ReadWrite to modify it",
          false);
 }
 
@@ -257,9 +271,11 @@ void requireWritable(const FileState& f, const std::string& obj, const char* ope
 void flushSeries(SeriesState& s) {
   if (s.buffered == 0) return;
   if (s.file == nullptr || !s.dset.valid())
-    fail(s.filePath, "cannot write " + std::to_string(s.buffered) + " buffered records of series " +
-                         sq(s.path) + ": the file was closed before the series was flushed; "
-                         "flush or destroy the Series before closing its Hdf5File", false);
+    fail(s.filePath,
+         "cannot write " + std::to_string(s.buffered) + " buffered records of series " + sq(s.path) +
+             ": the file was closed before the series was flushed; "
+             "flush or destroy the Series before closing its Hdf5File",
+         false);
   const std::string& file = s.file->path;
   const std::size_t rank = 1 + s.fileRecordDims.size();
   std::vector<hsize_t> newDims(rank), start(rank, 0), count(rank);
@@ -269,8 +285,8 @@ void flushSeries(SeriesState& s) {
   for (std::size_t i = 1; i < rank; ++i) newDims[i] = count[i] = s.fileRecordDims[i - 1];
 
   if (H5Dset_extent(s.dset.get(), newDims.data()) < 0)
-    fail(file, "cannot extend series " + sq(s.path) + " to " + dimsText(newDims) +
-                   " (disk full or file not writable?)");
+    fail(file,
+         "cannot extend series " + sq(s.path) + " to " + dimsText(newDims) + " (disk full or file not writable?)");
   Handle fspace(H5Dget_space(s.dset.get()), H5Sclose);
   if (!fspace.valid()) fail(file, "cannot get the dataspace of series " + sq(s.path));
   if (H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr) < 0)
@@ -295,8 +311,9 @@ void flushSeriesAt(FileState& f, const std::string& path) {
 void requireNoLiveSeries(const FileState& f, const std::string& path, const char* operation) {
   for (const SeriesState* s : f.series)
     if (s->path == path)
-      fail(f.path, std::string(operation) + " " + sq(path) +
-                       ": a Series is writing that dataset; destroy the Series first or choose another path",
+      fail(f.path,
+           std::string(operation) + " " + sq(path) +
+               ": a Series is writing that dataset; destroy the Series first or choose another path",
            false);
 }
 
@@ -327,8 +344,11 @@ Handle openDataset(const FileState& f, const std::string& path) {
   const Kind k = kindOf(f, path);
   if (k == Kind::None) missingDataset(f, path);
   if (k != Kind::Dataset)
-    fail(f.path, sq(path) + " is " + kindName(k) + ", not a dataset (the file may be from another "
-                 "program or an older version)", false);
+    fail(f.path,
+         sq(path) + " is " + kindName(k) +
+             ", not a dataset (the file may be from another "
+             "program or an older version)",
+         false);
   Handle d(H5Dopen2(f.fid, path.c_str(), H5P_DEFAULT), H5Dclose);
   if (!d.valid()) fail(f.path, "cannot open dataset " + sq(path));
   return d;
@@ -368,39 +388,50 @@ H5T_class_t typeClass(const FileState& f, const std::string& what, hid_t type) {
 
 const char* className(H5T_class_t c) {
   switch (c) {
-    case H5T_INTEGER: return "integer";
-    case H5T_FLOAT: return "floating-point";
-    case H5T_STRING: return "string";
-    case H5T_COMPOUND: return "compound";
-    case H5T_ENUM: return "enum";
-    case H5T_ARRAY: return "array";
-    case H5T_VLEN: return "variable-length";
-    default: return "non-numeric";
+    case H5T_INTEGER:
+      return "integer";
+    case H5T_FLOAT:
+      return "floating-point";
+    case H5T_STRING:
+      return "string";
+    case H5T_COMPOUND:
+      return "compound";
+    case H5T_ENUM:
+      return "enum";
+    case H5T_ARRAY:
+      return "array";
+    case H5T_VLEN:
+      return "variable-length";
+    default:
+      return "non-numeric";
   }
 }
 
 /// Writes a whole numeric array, replacing any dataset at `path`.
-void writeArray(FileState& f, const std::string& rawPath, const std::vector<std::uint64_t>& dims64,
-                const void* data, hid_t fileType, hid_t memType, const char* operation) {
+void writeArray(FileState& f, const std::string& rawPath, const std::vector<std::uint64_t>& dims64, const void* data,
+                hid_t fileType, hid_t memType, const char* operation) {
   const std::string path = normalize(f.path, rawPath);
   requireWritable(f, path, operation);
   if (path == "/") fail(f.path, std::string(operation) + ": '/' is the root group, not a dataset path", false);
   const std::vector<hsize_t> dims(dims64.begin(), dims64.end());
   if (dims.empty() || dims.size() > H5S_MAX_RANK)
-    fail(f.path, std::string(operation) + " " + sq(path) + ": rank " + std::to_string(dims.size()) +
-                     " is not supported; give 1 to " + std::to_string(H5S_MAX_RANK) + " dimensions", false);
+    fail(f.path,
+         std::string(operation) + " " + sq(path) + ": rank " + std::to_string(dims.size()) +
+             " is not supported; give 1 to " + std::to_string(H5S_MAX_RANK) + " dimensions",
+         false);
   const std::uint64_t n = elementCount(f.path, path, dims);
   if (n > 0 && data == nullptr)
-    fail(f.path, std::string(operation) + " " + sq(path) + ": null data pointer for shape " +
-                     dimsText(dims), false);
+    fail(f.path, std::string(operation) + " " + sq(path) + ": null data pointer for shape " + dimsText(dims), false);
   requireNoLiveSeries(f, path, operation);
   ensureParents(f, path);
 
   const Kind k = kindOf(f, path);
   if (k == Kind::Group || k == Kind::Other)
-    fail(f.path, std::string(operation) + " " + sq(path) + ": it is " + kindName(k) +
-                     " (an attribute set on a path before the dataset was written creates a group "
-                     "there); choose another path or write the dataset first", false);
+    fail(f.path,
+         std::string(operation) + " " + sq(path) + ": it is " + kindName(k) +
+             " (an attribute set on a path before the dataset was written creates a group "
+             "there); choose another path or write the dataset first",
+         false);
   Handle dset;
   if (k == Kind::Dataset) {
     // Same type class and size and same shape: overwrite in place (no file space lost).
@@ -424,18 +455,18 @@ void writeArray(FileState& f, const std::string& rawPath, const std::vector<std:
   if (!dset.valid()) {
     Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
     if (!space.valid()) fail(f.path, "cannot create a dataspace of shape " + dimsText(dims) + " for " + sq(path));
-    dset = Handle(H5Dcreate2(f.fid, path.c_str(), fileType, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                  H5Dclose);
+    dset =
+        Handle(H5Dcreate2(f.fid, path.c_str(), fileType, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
     if (!dset.valid()) fail(f.path, "cannot create dataset " + sq(path) + " of shape " + dimsText(dims));
   }
   if (n > 0 && H5Dwrite(dset.get(), memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    fail(f.path, "cannot write dataset " + sq(path) + " of shape " + dimsText(dims) +
-                     " (disk full or file not writable?)");
+    fail(f.path,
+         "cannot write dataset " + sq(path) + " of shape " + dimsText(dims) + " (disk full or file not writable?)");
 }
 
 template <class T>
-std::vector<T> readArray(FileState& f, const std::string& rawPath, std::vector<std::uint64_t>* dimsOut,
-                         hid_t memType, bool integersOnly) {
+std::vector<T> readArray(FileState& f, const std::string& rawPath, std::vector<std::uint64_t>* dimsOut, hid_t memType,
+                         bool integersOnly) {
   const std::string path = normalize(f.path, rawPath);
   flushSeriesAt(f, path);
   Handle dset = openDataset(f, path);
@@ -443,9 +474,11 @@ std::vector<T> readArray(FileState& f, const std::string& rawPath, std::vector<s
   if (!type.valid()) fail(f.path, "cannot get the datatype of " + sq(path));
   const H5T_class_t c = typeClass(f, sq(path), type.get());
   if (c != H5T_INTEGER && !(c == H5T_FLOAT && !integersOnly))
-    fail(f.path, "dataset " + sq(path) + " holds " + className(c) + " values, not " +
-                     (integersOnly ? "integers; read it with readDoubles" : "numbers") +
-                     (c == H5T_STRING ? " (read it with readString)" : ""), false);
+    fail(f.path,
+         "dataset " + sq(path) + " holds " + className(c) + " values, not " +
+             (integersOnly ? "integers; read it with readDoubles" : "numbers") +
+             (c == H5T_STRING ? " (read it with readString)" : ""),
+         false);
   std::uint64_t n = 0;
   const auto dims = datasetDims(f, path, dset.get(), &n);
   if (n > std::numeric_limits<std::size_t>::max() / sizeof(T))
@@ -473,28 +506,26 @@ std::string readStringFrom(const FileState& f, const std::string& what, hid_t ob
   if (!type.valid()) fail(f.path, "cannot get the datatype of " + what);
   const H5T_class_t c = typeClass(f, what, type.get());
   if (c != H5T_STRING)
-    fail(f.path, what + " holds " + className(c) + " values, not a string" +
-                     (c == H5T_FLOAT || c == H5T_INTEGER
-                          ? (isAttribute ? "; read it with doubleAttribute or intAttribute"
-                                         : "; read it with readDoubles or readInts")
-                          : ""),
+    fail(f.path,
+         what + " holds " + className(c) + " values, not a string" +
+             (c == H5T_FLOAT || c == H5T_INTEGER ? (isAttribute ? "; read it with doubleAttribute or intAttribute"
+                                                                : "; read it with readDoubles or readInts")
+                                                 : ""),
          false);
   Handle space(isAttribute ? H5Aget_space(obj) : H5Dget_space(obj), H5Sclose);
   if (!space.valid()) fail(f.path, "cannot get the dataspace of " + what);
   const hssize_t n = H5Sget_simple_extent_npoints(space.get());
-  if (n != 1)
-    fail(f.path, what + " holds " + std::to_string(n) + " strings, expected one (a scalar)", false);
+  if (n != 1) fail(f.path, what + " holds " + std::to_string(n) + " strings, expected one (a scalar)", false);
 
   const htri_t variable = H5Tis_variable_str(type.get());
   if (variable < 0) fail(f.path, "cannot inspect the string type of " + what);
   if (variable > 0) {
     Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
-    if (!mem.valid() || H5Tset_size(mem.get(), H5T_VARIABLE) < 0 ||
-        H5Tset_cset(mem.get(), H5Tget_cset(type.get())) < 0)
+    if (!mem.valid() || H5Tset_size(mem.get(), H5T_VARIABLE) < 0 || H5Tset_cset(mem.get(), H5Tget_cset(type.get())) < 0)
       fail(f.path, "cannot make a variable-length string type to read " + what);
     char* buf = nullptr;
-    const herr_t rc = isAttribute ? H5Aread(obj, mem.get(), &buf)
-                                  : H5Dread(obj, mem.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &buf);
+    const herr_t rc =
+        isAttribute ? H5Aread(obj, mem.get(), &buf) : H5Dread(obj, mem.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &buf);
     if (rc < 0) fail(f.path, "cannot read " + what);
     std::string text = buf != nullptr ? std::string(buf) : std::string();
 #if H5_VERSION_GE(1, 12, 0)
@@ -530,8 +561,10 @@ Handle openAttributeHolder(FileState& f, const std::string& path, const std::str
   const Kind k = kindOf(f, path);
   if (k == Kind::None) {
     if (!create)
-      fail(f.path, "no group or dataset " + sq(path) + " to read attribute " + sq(name) +
-                       " from (the file may be incomplete or from an older version)", false);
+      fail(f.path,
+           "no group or dataset " + sq(path) + " to read attribute " + sq(name) +
+               " from (the file may be incomplete or from an older version)",
+           false);
     ensureParents(f, path);
     Handle g(H5Gcreate2(f.fid, path.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     if (!g.valid()) fail(f.path, "cannot create group " + sq(path) + " for attribute " + sq(name));
@@ -545,8 +578,8 @@ void checkAttributeName(const FileState& f, const std::string& path, const std::
   if (name.empty()) fail(f.path, "empty attribute name on " + sq(path) + "; give a name", false);
 }
 
-void writeAttribute(FileState& f, const std::string& rawPath, const std::string& name, hid_t fileType,
-                    hid_t memType, const void* value) {
+void writeAttribute(FileState& f, const std::string& rawPath, const std::string& name, hid_t fileType, hid_t memType,
+                    const void* value) {
   const std::string path = normalize(f.path, rawPath);
   requireWritable(f, path, ("set attribute " + sq(name) + " on").c_str());
   checkAttributeName(f, path, name);
@@ -561,8 +594,7 @@ void writeAttribute(FileState& f, const std::string& rawPath, const std::string&
   if (!attr.valid())
     fail(f.path, "cannot create attribute " + sq(name) + " on " + sq(path) +
                      " (attributes are limited to 64 KiB; store long text with writeString)");
-  if (H5Awrite(attr.get(), memType, value) < 0)
-    fail(f.path, "cannot write attribute " + sq(name) + " on " + sq(path));
+  if (H5Awrite(attr.get(), memType, value) < 0) fail(f.path, "cannot write attribute " + sq(name) + " on " + sq(path));
 }
 
 Handle openAttribute(FileState& f, const std::string& path, const std::string& name, Handle* holder) {
@@ -571,8 +603,8 @@ Handle openAttribute(FileState& f, const std::string& path, const std::string& n
   const htri_t exists = H5Aexists(holder->get(), name.c_str());
   if (exists < 0) fail(f.path, "cannot look up attribute " + sq(name) + " of " + sq(path));
   if (exists == 0)
-    fail(f.path, sq(path) + " has no attribute " + sq(name) +
-                     " (the file may be incomplete or from an older version)", false);
+    fail(f.path, sq(path) + " has no attribute " + sq(name) + " (the file may be incomplete or from an older version)",
+         false);
   Handle attr(H5Aopen(holder->get(), name.c_str(), H5P_DEFAULT), H5Aclose);
   if (!attr.valid()) fail(f.path, "cannot open attribute " + sq(name) + " of " + sq(path));
   return attr;
@@ -589,10 +621,10 @@ void readNumericAttribute(FileState& f, const std::string& rawPath, const std::s
   if (!type.valid()) fail(f.path, "cannot get the datatype of " + what);
   const H5T_class_t c = typeClass(f, what, type.get());
   if (c != H5T_INTEGER && !(c == H5T_FLOAT && !integersOnly))
-    fail(f.path, what + " holds " + className(c) + " values, not " +
-                     (integersOnly ? "an integer" : "a number") +
-                     (c == H5T_STRING ? "; read it with stringAttribute"
-                                      : (c == H5T_FLOAT ? "; read it with doubleAttribute" : "")),
+    fail(f.path,
+         what + " holds " + className(c) + " values, not " + (integersOnly ? "an integer" : "a number") +
+             (c == H5T_STRING ? "; read it with stringAttribute"
+                              : (c == H5T_FLOAT ? "; read it with doubleAttribute" : "")),
          false);
   Handle space(H5Aget_space(attr.get()), H5Sclose);
   if (!space.valid()) fail(f.path, "cannot get the dataspace of " + what);
@@ -611,8 +643,10 @@ void Hdf5File::checkCreatable(const std::string& path) {
   fs::path dir = p.parent_path();
   if (dir.empty()) dir = ".";
   if (!fs::exists(dir, ec))
-    fail(path, "cannot create the file: directory " + sq(dir.string()) +
-                   " does not exist; create it (mkdir -p " + dir.string() + ") or choose another path", false);
+    fail(path,
+         "cannot create the file: directory " + sq(dir.string()) + " does not exist; create it (mkdir -p " +
+             dir.string() + ") or choose another path",
+         false);
   if (!fs::is_directory(dir, ec))
     fail(path, "cannot create the file: " + sq(dir.string()) + " is not a directory", false);
   if (fs::is_directory(p, ec))
@@ -643,9 +677,9 @@ Hdf5File::Hdf5File(const std::string& path, Mode mode) : state_(std::make_unique
   }
   if (!fs::exists(p, ec)) {
     const fs::path cwd = fs::current_path(ec);
-    fail(path, "no such file; check the path" +
-                   (p.is_relative() ? " (relative to the working directory " + sq(cwd.string()) + ")"
-                                    : std::string()),
+    fail(path,
+         "no such file; check the path" +
+             (p.is_relative() ? " (relative to the working directory " + sq(cwd.string()) + ")" : std::string()),
          false);
   }
   if (fs::is_directory(p, ec)) fail(path, "is a directory, not an HDF5 file", false);
@@ -693,8 +727,7 @@ Hdf5File& Hdf5File::operator=(Hdf5File&& other) noexcept {
 
 FileState& Hdf5File::state(const char* operation) const {
   if (!state_)
-    fail("Hdf5File", std::string(operation) + ": the object was moved from; use the Hdf5File it was moved to",
-         false);
+    fail("Hdf5File", std::string(operation) + ": the object was moved from; use the Hdf5File it was moved to", false);
   if (state_->fid < 0)
     fail(state_->path, std::string(operation) + ": the file was closed; open it again with a new Hdf5File", false);
   return *state_;
@@ -705,11 +738,17 @@ const std::string& Hdf5File::path() const {
   return state_ ? state_->path : none;
 }
 
-Hdf5File::Mode Hdf5File::mode() const { return state("mode").mode; }
+Hdf5File::Mode Hdf5File::mode() const {
+  return state("mode").mode;
+}
 
-bool Hdf5File::isOpen() const { return state_ && state_->fid >= 0; }
+bool Hdf5File::isOpen() const {
+  return state_ && state_->fid >= 0;
+}
 
-void Hdf5File::setSeriesCompression(bool on) { state("setSeriesCompression").compressSeries = on; }
+void Hdf5File::setSeriesCompression(bool on) {
+  state("setSeriesCompression").compressSeries = on;
+}
 
 void Hdf5File::flush() {
   FileState& f = state("flush");
@@ -864,17 +903,23 @@ Series::Series(Hdf5File& file, const std::string& rawPath, std::vector<std::uint
   s.recordDims = std::move(recordDims);
   s.fileRecordDims.assign(s.recordDims.begin(), s.recordDims.end());
   if (s.fileRecordDims.size() + 1 > H5S_MAX_RANK)
-    fail(f.path, "series " + sq(s.path) + ": record rank " + std::to_string(s.recordDims.size()) +
-                     " is too large; at most " + std::to_string(H5S_MAX_RANK - 1), false);
+    fail(f.path,
+         "series " + sq(s.path) + ": record rank " + std::to_string(s.recordDims.size()) + " is too large; at most " +
+             std::to_string(H5S_MAX_RANK - 1),
+         false);
   for (hsize_t d : s.fileRecordDims)
     if (d == 0)
-      fail(f.path, "series " + sq(s.path) + ": record shape " + dimsText(s.fileRecordDims) +
-                       " has a zero dimension; every record dimension must be >= 1", false);
+      fail(f.path,
+           "series " + sq(s.path) + ": record shape " + dimsText(s.fileRecordDims) +
+               " has a zero dimension; every record dimension must be >= 1",
+           false);
   const std::uint64_t rs = elementCount(f.path, s.path, s.fileRecordDims);
   if (rs > (std::uint64_t(1) << 28))
-    fail(f.path, "series " + sq(s.path) + ": records of shape " + dimsText(s.fileRecordDims) +
-                     " are too large (more than 2^28 values, the chunk size limit); write them with "
-                     "writeDoubles instead", false);
+    fail(f.path,
+         "series " + sq(s.path) + ": records of shape " + dimsText(s.fileRecordDims) +
+             " are too large (more than 2^28 values, the chunk size limit); write them with "
+             "writeDoubles instead",
+         false);
   s.recordSize = static_cast<std::size_t>(rs);
   if (bufferRecords == 0)
     fail(f.path, "series " + sq(s.path) + ": bufferRecords = 0; give at least 1 (1024 by default)", false);
@@ -900,11 +945,13 @@ Series::Series(Hdf5File& file, const std::string& rawPath, std::vector<std::uint
       fail(f.path, "cannot get the shape of " + sq(s.path));
     const bool sameRecord = sameRank && std::equal(dims.begin() + 1, dims.end(), s.fileRecordDims.begin());
     if (!sameRecord || maxDims[0] != H5S_UNLIMITED || H5Tget_class(type.get()) != H5T_FLOAT)
-      fail(f.path, "series " + sq(s.path) + ": a dataset " +
-                       (sameRank ? "of shape " + dimsText(dims) + " (max " + dimsText(maxDims) + ")"
-                                 : "of rank " + std::to_string(r)) +
-                       " is already there and is no series of records " + dimsText(s.fileRecordDims) +
-                       " of doubles; choose another path or create the file anew", false);
+      fail(f.path,
+           "series " + sq(s.path) + ": a dataset " +
+               (sameRank ? "of shape " + dimsText(dims) + " (max " + dimsText(maxDims) + ")"
+                         : "of rank " + std::to_string(r)) +
+               " is already there and is no series of records " + dimsText(s.fileRecordDims) +
+               " of doubles; choose another path or create the file anew",
+           false);
     s.written = dims[0];
   } else {
     std::vector<hsize_t> dims(rank), maxDims(rank), chunk(rank);
@@ -919,9 +966,8 @@ Series::Series(Hdf5File& file, const std::string& rawPath, std::vector<std::uint
       fail(f.path, "cannot set chunks " + dimsText(chunk) + " for series " + sq(s.path));
     if (f.compressSeries && deflateAvailable() && (H5Pset_shuffle(dcpl.get()) < 0 || H5Pset_deflate(dcpl.get(), 1) < 0))
       fail(f.path, "cannot set compression for series " + sq(s.path));
-    s.dset = Handle(H5Dcreate2(f.fid, s.path.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(),
-                               H5P_DEFAULT),
-                    H5Dclose);
+    s.dset = Handle(
+        H5Dcreate2(f.fid, s.path.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), H5Dclose);
     if (!s.dset.valid()) fail(f.path, "cannot create series dataset " + sq(s.path));
   }
   s.buffer.resize(s.bufferRecords * s.recordSize);
@@ -970,8 +1016,10 @@ SeriesState& Series::state(const char* operation) const {
 void Series::append(const double* record) {
   SeriesState& s = state("append");
   if (s.file == nullptr)
-    fail(s.filePath, "cannot append to series " + sq(s.path) +
-                         ": its Hdf5File was closed; keep the file open while the series is in use", false);
+    fail(s.filePath,
+         "cannot append to series " + sq(s.path) +
+             ": its Hdf5File was closed; keep the file open while the series is in use",
+         false);
   if (record == nullptr) fail(s.filePath, "append to series " + sq(s.path) + ": null record pointer", false);
   std::copy(record, record + s.recordSize, s.buffer.begin() + static_cast<std::ptrdiff_t>(s.buffered * s.recordSize));
   ++s.buffered;
@@ -981,33 +1029,42 @@ void Series::append(const double* record) {
 void Series::append(const std::vector<double>& record) {
   SeriesState& s = state("append");
   if (record.size() != s.recordSize)
-    fail(s.filePath, "append to series " + sq(s.path) + ": record has " + std::to_string(record.size()) +
-                         " values, expected " + std::to_string(s.recordSize) + " (record shape " +
-                         dimsText(s.fileRecordDims) + ")", false);
+    fail(s.filePath,
+         "append to series " + sq(s.path) + ": record has " + std::to_string(record.size()) + " values, expected " +
+             std::to_string(s.recordSize) + " (record shape " + dimsText(s.fileRecordDims) + ")",
+         false);
   append(record.data());
 }
 
-std::size_t Series::recordSize() const { return state("recordSize").recordSize; }
+std::size_t Series::recordSize() const {
+  return state("recordSize").recordSize;
+}
 
 std::size_t Series::size() const {
   const SeriesState& s = state("size");
   return static_cast<std::size_t>(s.written) + s.buffered;
 }
 
-const std::vector<std::uint64_t>& Series::recordDims() const { return state("recordDims").recordDims; }
+const std::vector<std::uint64_t>& Series::recordDims() const {
+  return state("recordDims").recordDims;
+}
 
-const std::string& Series::path() const { return state("path").path; }
+const std::string& Series::path() const {
+  return state("path").path;
+}
 
-void Series::flush() { flushSeries(state("flush")); }
+void Series::flush() {
+  flushSeries(state("flush"));
+}
 
 void Series::truncate(std::size_t records) {
   SeriesState& s = state("truncate");
-  if (s.file == nullptr)
-    fail(s.filePath, "cannot truncate series " + sq(s.path) + ": its Hdf5File was closed", false);
+  if (s.file == nullptr) fail(s.filePath, "cannot truncate series " + sq(s.path) + ": its Hdf5File was closed", false);
   const std::size_t total = static_cast<std::size_t>(s.written) + s.buffered;
   if (records > total)
-    fail(s.filePath, "cannot truncate series " + sq(s.path) + " to " + std::to_string(records) +
-                         " records: it holds " + std::to_string(total) + " (the file is shorter than its checkpoint)",
+    fail(s.filePath,
+         "cannot truncate series " + sq(s.path) + " to " + std::to_string(records) + " records: it holds " +
+             std::to_string(total) + " (the file is shorter than its checkpoint)",
          false);
   if (records >= s.written) {  // only buffered records go
     s.buffered = records - static_cast<std::size_t>(s.written);

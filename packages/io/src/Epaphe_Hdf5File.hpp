@@ -28,9 +28,9 @@ class Series;
 class Hdf5File {
 public:
   enum class Mode {
-    Create,     ///< create, or truncate an existing file
-    ReadOnly,   ///< open an existing file for reading
-    ReadWrite   ///< open an existing file for reading and writing
+    Create,    ///< create, or truncate an existing file
+    ReadOnly,  ///< open an existing file for reading
+    ReadWrite  ///< open an existing file for reading and writing
   };
 
   /// Opens or creates `path`. Errors: directory missing or unwritable (Create), file missing,
@@ -74,8 +74,8 @@ public:
   void setAttribute(const std::string& objPath, const std::string& name, double value);
   void setAttribute(const std::string& objPath, const std::string& name, long long value);
   /// Any other integer type is stored as a 64-bit integer (avoids int -> double/long long ambiguity).
-  template <class T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, bool> &&
-                                          !std::is_same_v<T, long long>, int> = 0>
+  template <class T, std::enable_if_t<
+                         std::is_integral_v<T> && !std::is_same_v<T, bool> && !std::is_same_v<T, long long>, int> = 0>
   void setAttribute(const std::string& objPath, const std::string& name, T value) {
     setAttribute(objPath, name, static_cast<long long>(value));
   }

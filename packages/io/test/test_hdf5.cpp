@@ -121,9 +121,9 @@ TEST(Hdf5File, OverwriteDatasetsAndReadWrite) {
   {
     Hdf5File f(path, Hdf5File::Mode::Create);
     f.writeDoubles("/x", {3}, ramp(3, 1.0).data());
-    f.writeDoubles("/x", {3}, ramp(3, 2.0).data());        // same shape: in place
+    f.writeDoubles("/x", {3}, ramp(3, 2.0).data());  // same shape: in place
     f.writeDoubles("/y", {2}, ramp(2, 1.0).data());
-    f.writeDoubles("/y", {2, 2}, ramp(4, 3.0).data());     // new shape: replaced
+    f.writeDoubles("/y", {2, 2}, ramp(4, 3.0).data());  // new shape: replaced
     f.writeString("/s", "first");
     f.writeString("/s", "second, longer");
   }
@@ -320,7 +320,7 @@ TEST(Series, TruncateDropsRecordsInTheFileAndBuffered) {
     Hdf5File f(path, Hdf5File::Mode::Create);
     Series s(f, "/t", {2}, 4);
     for (int r = 0; r < 10; ++r) s.append(std::vector<double>{double(r), -double(r)});  // 8 written, 2 buffered
-    s.truncate(9);  // within the buffer
+    s.truncate(9);                                                                      // within the buffer
     EXPECT_EQ(s.size(), 9u);
     s.truncate(6);  // within the file
     EXPECT_EQ(s.size(), 6u);

@@ -23,7 +23,8 @@ namespace {
 /// Y = (K - sigma M)^{-1} M X.
 class ShiftInvertOperator final : public Operator {
 public:
-  ShiftInvertOperator(Teuchos::RCP<const CrsMatrix> M, const SparseSolver& solver) : M_(std::move(M)), solver_(solver) {}
+  ShiftInvertOperator(Teuchos::RCP<const CrsMatrix> M, const SparseSolver& solver)
+      : M_(std::move(M)), solver_(solver) {}
   Teuchos::RCP<const Map> getDomainMap() const override { return M_->getDomainMap(); }
   Teuchos::RCP<const Map> getRangeMap() const override { return M_->getRangeMap(); }
   void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp = Teuchos::NO_TRANS, double alpha = 1.0,
@@ -111,10 +112,10 @@ EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuch
     } catch (const Error&) {
       throw;
     } catch (const std::exception& e) {
-      EPAPHE_REQUIRE(attempt < 3 && numBlocks < largest,
-                     "Anasazi's Krylov-Schur failed for " << opt.count << " eigenpairs with a space of " << numBlocks
-                                                          << " blocks of " << blockSize << " (" << e.what()
-                                                          << "); try a few modes more or fewer");
+      EPAPHE_REQUIRE(attempt < 3 && numBlocks < largest, "Anasazi's Krylov-Schur failed for "
+                                                             << opt.count << " eigenpairs with a space of " << numBlocks
+                                                             << " blocks of " << blockSize << " (" << e.what()
+                                                             << "); try a few modes more or fewer");
       numBlocks = std::min(largest, 2 * numBlocks);
     }
   }

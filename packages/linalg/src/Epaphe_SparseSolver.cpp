@@ -75,8 +75,8 @@ class BelosCgSolver final : public SparseSolver {
 public:
   BelosCgSolver(const Teuchos::RCP<const CrsMatrix>& A, double tolerance, const std::string& what)
       : A_(A), prec_(Teuchos::rcp(new JacobiOperator(*A))), tolerance_(tolerance), what_(what) {
-    EPAPHE_REQUIRE(tolerance > 0 && tolerance < 1, "Belos CG tolerance " << tolerance << " for " << what
-                                                                         << "; use a value in (0, 1), e.g. 1e-12");
+    EPAPHE_REQUIRE(tolerance > 0 && tolerance < 1,
+                   "Belos CG tolerance " << tolerance << " for " << what << "; use a value in (0, 1), e.g. 1e-12");
   }
 
   void solve(const MultiVector& B, MultiVector& X) const override {
@@ -97,10 +97,11 @@ public:
     Belos::BlockCGSolMgr<double, MV, OP> mgr(problem, pl);
     const Belos::ReturnType ret = mgr.solve();
     iterations_ += mgr.getNumIters();
-    EPAPHE_REQUIRE(ret == Belos::Converged, "Belos CG on " << what_ << " (" << n << " rows) did not reach the relative "
-                                                           << "residual " << tolerance_ << " in " << mgr.getNumIters()
-                                                           << " iterations (reached " << mgr.achievedTol()
-                                                           << "); use a direct solver (MUMPS) or a larger 'Iterative tolerance'");
+    EPAPHE_REQUIRE(ret == Belos::Converged, "Belos CG on "
+                                                << what_ << " (" << n << " rows) did not reach the relative "
+                                                << "residual " << tolerance_ << " in " << mgr.getNumIters()
+                                                << " iterations (reached " << mgr.achievedTol()
+                                                << "); use a direct solver (MUMPS) or a larger 'Iterative tolerance'");
   }
   std::string name() const override { return "Belos CG"; }
   long iterations() const override { return iterations_; }
@@ -122,9 +123,12 @@ std::unique_ptr<SparseSolver> makeBelosCgSolver(const Teuchos::RCP<const CrsMatr
 
 std::string solverName(LinearSolver solver) {
   switch (solver) {
-    case LinearSolver::Mumps: return "MUMPS";
-    case LinearSolver::Klu2: return "KLU2";
-    case LinearSolver::BelosCg: return "Belos CG";
+    case LinearSolver::Mumps:
+      return "MUMPS";
+    case LinearSolver::Klu2:
+      return "KLU2";
+    case LinearSolver::BelosCg:
+      return "Belos CG";
   }
   return "?";
 }
@@ -141,8 +145,8 @@ std::unique_ptr<SparseSolver> makeSolver(const Teuchos::RCP<const CrsMatrix>& A,
   return makeDirectSolver(A, solverName(solver), what);
 }
 
-std::unique_ptr<SparseSolver> makeDirectSolver(const Teuchos::RCP<const CrsMatrix>& A,
-                                               const std::string& solverName, const std::string& what) {
+std::unique_ptr<SparseSolver> makeDirectSolver(const Teuchos::RCP<const CrsMatrix>& A, const std::string& solverName,
+                                               const std::string& what) {
   return std::make_unique<Amesos2Solver>(A, solverName, what);
 }
 

@@ -25,8 +25,8 @@ public:
 /// `solverName`: "MUMPS" (default; correct on any number of MPI ranks) or "KLU2" (one rank only:
 /// in Trilinos 13.2 it returns wrong solutions when the matrix is distributed). `what` names the
 /// matrix in error messages.
-std::unique_ptr<SparseSolver> makeDirectSolver(const Teuchos::RCP<const CrsMatrix>& A,
-                                               const std::string& solverName, const std::string& what);
+std::unique_ptr<SparseSolver> makeDirectSolver(const Teuchos::RCP<const CrsMatrix>& A, const std::string& solverName,
+                                               const std::string& what);
 
 /// Belos block conjugate gradients preconditioned by Jacobi (the inverse diagonal of A, a Tpetra
 /// operator: this Trilinos has no Ifpack2). A must be symmetric positive definite. Nothing is

@@ -11,7 +11,8 @@
 
 namespace epaphe {
 
-SpinAxis spinAxis(const std::array<double, 3>& point, const std::array<double, 3>& direction, const std::string& context) {
+SpinAxis spinAxis(const std::array<double, 3>& point, const std::array<double, 3>& direction,
+                  const std::string& context) {
   const double len = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2]);
   for (int d = 0; d < 3; ++d)
     EPAPHE_REQUIRE(std::isfinite(point[d]) && std::isfinite(direction[d]),
@@ -43,9 +44,15 @@ CentrifugalTerms assembleCentrifugal(const FullModel& model, const SpinAxis& axi
   double P[3][3], A[3][3];  // P = I - a a^T, A v = a x v
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) P[i][j] = (i == j ? 1.0 : 0.0) - a[i] * a[j];
-  A[0][0] = 0;     A[0][1] = -a[2]; A[0][2] = a[1];
-  A[1][0] = a[2];  A[1][1] = 0;     A[1][2] = -a[0];
-  A[2][0] = -a[1]; A[2][1] = a[0];  A[2][2] = 0;
+  A[0][0] = 0;
+  A[0][1] = -a[2];
+  A[0][2] = a[1];
+  A[1][0] = a[2];
+  A[1][1] = 0;
+  A[1][2] = -a[0];
+  A[2][0] = -a[1];
+  A[2][1] = a[0];
+  A[2][2] = 0;
 
   CentrifugalTerms t;
   t.perpendicularMass = Teuchos::rcp(new CrsMatrix(rows, 81));
@@ -54,7 +61,7 @@ CentrifugalTerms assembleCentrifugal(const FullModel& model, const SpinAxis& axi
   auto load = t.load->getDataNonConst(0);
   double Ke[24 * 24], Me[24 * 24], Mp[24 * 24], Gc[24 * 24];
   for (int i = 0; i < 24 * 24; ++i) Mp[i] = Gc[i] = 0;
-  forEachOwnedHex(model, *rows, [&](const std::array<int, 8>& hex, const double (&x)[8][3]) {
+  forEachOwnedHex(model, *rows, [&](const std::array<int, 8>& hex, const double(&x)[8][3]) {
     hex8StiffnessMass(x, *model.material, Ke, Me);
     // The consistent mass is m_ab I_3 per node pair: M_perp,ab = m_ab P, G_ab / 2 = m_ab [a]_x.
     for (int p = 0; p < 8; ++p)
@@ -91,7 +98,7 @@ Teuchos::RCP<CrsMatrix> assembleGeometricStiffness(const FullModel& model, const
   const auto rows = model.K->getRowMap();
   auto Ks = Teuchos::rcp(new CrsMatrix(rows, 81));
   double ue[24], Kg[24 * 24];
-  forEachOwnedHex(model, *rows, [&](const std::array<int, 8>& hex, const double (&x)[8][3]) {
+  forEachOwnedHex(model, *rows, [&](const std::array<int, 8>& hex, const double(&x)[8][3]) {
     for (int p = 0; p < 8; ++p)
       for (int d = 0; d < 3; ++d) ue[3 * p + d] = u[3 * static_cast<std::size_t>(hex[p]) + d];
     hex8GeometricStiffness(x, *model.material, ue, Kg);

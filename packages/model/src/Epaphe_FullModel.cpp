@@ -21,7 +21,10 @@ void forEachOwnedHex(const FullModel& m, const Map& rows,
     for (int a = 0; a < 8 && !mine; ++a)
       for (int d = 0; d < 3; ++d) {
         const int g = m.eq[3 * hex[a] + d];
-        if (g >= 0 && rows.isNodeGlobalElement(g)) { mine = true; break; }
+        if (g >= 0 && rows.isNodeGlobalElement(g)) {
+          mine = true;
+          break;
+        }
       }
     if (!mine) continue;
     for (int a = 0; a < 8; ++a)
@@ -48,8 +51,8 @@ void insertElementMatrix(const FullModel& m, const std::array<int, 8>& hex, cons
   }
 }
 
-FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& mat,
-                           const std::vector<int>& clamped, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& mat, const std::vector<int>& clamped,
+                           const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   checkMaterial(mat, ("body '" + name + "'").c_str());
   FullModel m;
   m.name = name;
@@ -58,7 +61,8 @@ FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& m
   const int nn = m.mesh.numNodes();
   std::vector<char> fixed(static_cast<std::size_t>(nn), 0);
   for (int n : clamped) {
-    EPAPHE_REQUIRE(n >= 0 && n < nn, "body '" << name << "': clamped node " << n << " is not in the mesh (0.." << nn - 1 << ")");
+    EPAPHE_REQUIRE(n >= 0 && n < nn,
+                   "body '" << name << "': clamped node " << n << " is not in the mesh (0.." << nn - 1 << ")");
     fixed[n] = 1;
   }
   m.eq.assign(3 * static_cast<std::size_t>(nn), -1);
@@ -72,7 +76,7 @@ FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& m
   m.K = Teuchos::rcp(new CrsMatrix(map, 81));
   m.M = Teuchos::rcp(new CrsMatrix(map, 81));
   double Ke[24 * 24], Me[24 * 24];
-  forEachOwnedHex(m, *map, [&](const std::array<int, 8>& hex, const double (&x)[8][3]) {
+  forEachOwnedHex(m, *map, [&](const std::array<int, 8>& hex, const double(&x)[8][3]) {
     hex8StiffnessMass(x, mat, Ke, Me);
     insertElementMatrix(m, hex, Ke, *m.K);
     insertElementMatrix(m, hex, Me, *m.M);
@@ -100,12 +104,13 @@ std::vector<double> gatherDense(const CrsMatrix& A) {
 }
 
 MultiVector rigidTranslations(const FullModel& model) {
-  MultiVector t(model.M->getDomainMap(), 3);   // zero-filled
+  MultiVector t(model.M->getDomainMap(), 3);  // zero-filled
   auto th = t.getLocalViewHost(Tpetra::Access::ReadWrite);
   const auto map = t.getMap();
   for (int n = 0; n < model.numNodes(); ++n)
     for (int d = 0; d < 3; ++d)
-      if (const int g = model.eq[3 * n + d]; g >= 0 && map->isNodeGlobalElement(g)) th(map->getLocalElement(g), d) = 1.0;
+      if (const int g = model.eq[3 * n + d]; g >= 0 && map->isNodeGlobalElement(g))
+        th(map->getLocalElement(g), d) = 1.0;
   return t;
 }
 
@@ -118,7 +123,6 @@ double rigidMass(const FullModel& model, int direction) {
   t->dot(Mt, dot());
   return dot[0];
 }
-
 
 FullModel withLumpedMass(const FullModel& model) {
   const CrsMatrix& M = *model.M;

@@ -20,9 +20,9 @@ namespace epaphe {
 struct FullModel {
   std::string name;
   Mesh mesh;
-  std::vector<int> eq;      // 3 * node + direction -> free DOF index, or -1 when constrained
+  std::vector<int> eq;  // 3 * node + direction -> free DOF index, or -1 when constrained
   int numFree = 0;
-  Teuchos::RCP<CrsMatrix> K, M;   // over the free DOFs, row map contiguous and uniform
+  Teuchos::RCP<CrsMatrix> K, M;  // over the free DOFs, row map contiguous and uniform
   /// The material of a model assembled from its elements (assembleHexModel), so that terms of the
   /// same elements can be added later (the centrifugal load, the geometric stiffness); empty for an
   /// imported model, whose elements Epaphe does not know.
@@ -33,8 +33,8 @@ struct FullModel {
 
 /// Assembles K and M of a hexahedral mesh of one material; `clamped` nodes have all three
 /// directions fixed. Each rank inserts the rows it owns.
-FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& mat,
-                           const std::vector<int>& clamped, const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
+FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& mat, const std::vector<int>& clamped,
+                           const Teuchos::RCP<const Teuchos::Comm<int>>& comm);
 
 /// Calls fn(hex, x) for each hexahedron of the mesh with a free DOF in `rows` (the rows this rank
 /// inserts), x its nodes' coordinates.

@@ -41,8 +41,8 @@ double gaussPoint(const double x[8][3], int gp, double N[8], double dx[8][3]) {
                      J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
                      J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
   EPAPHE_REQUIRE(det > 0, "hexahedron with first node at (" << x[0][0] << ", " << x[0][1] << ", " << x[0][2]
-                              << ") is inverted or degenerate (det J = " << det
-                              << "); check the node order (C3D8 / VTK_HEXAHEDRON)");
+                                                            << ") is inverted or degenerate (det J = " << det
+                                                            << "); check the node order (C3D8 / VTK_HEXAHEDRON)");
   double Ji[3][3];
   Ji[0][0] = (J[1][1] * J[2][2] - J[1][2] * J[2][1]) / det;
   Ji[0][1] = (J[0][2] * J[2][1] - J[0][1] * J[2][2]) / det;

@@ -17,8 +17,8 @@ using namespace epaphe;
 
 namespace {
 // A distorted hexahedron (no face parallel to another).
-const double X[8][3] = {{0, 0, 0},       {1.1, 0.1, 0},     {1.2, 0.9, 0.1}, {-0.1, 1.0, 0},
-                        {0.1, -0.1, 1.0}, {1.0, 0.0, 1.2},  {1.1, 1.1, 0.9}, {0.0, 0.9, 1.1}};
+const double X[8][3] = {{0, 0, 0},        {1.1, 0.1, 0},   {1.2, 0.9, 0.1}, {-0.1, 1.0, 0},
+                        {0.1, -0.1, 1.0}, {1.0, 0.0, 1.2}, {1.1, 1.1, 0.9}, {0.0, 0.9, 1.1}};
 const Material steel{7800, 2.1e11, 0.3};
 }  // namespace
 
@@ -31,10 +31,18 @@ TEST(Hex8, RigidBodyMotionsAreStressFree) {
     for (int a = 0; a < 8; ++a) {
       const double* x = X[a];
       double r[3] = {0, 0, 0};
-      if (mode < 3) r[mode] = 1;
-      else if (mode == 3) { r[1] = -x[2]; r[2] = x[1]; }
-      else if (mode == 4) { r[0] = x[2]; r[2] = -x[0]; }
-      else { r[0] = -x[1]; r[1] = x[0]; }
+      if (mode < 3)
+        r[mode] = 1;
+      else if (mode == 3) {
+        r[1] = -x[2];
+        r[2] = x[1];
+      } else if (mode == 4) {
+        r[0] = x[2];
+        r[2] = -x[0];
+      } else {
+        r[0] = -x[1];
+        r[1] = x[0];
+      }
       for (int d = 0; d < 3; ++d) u[3 * a + d] = r[d];
     }
     double fmax = 0;
@@ -174,7 +182,8 @@ TEST(Mesh, CasingIsClosedAroundTheAxisAndFollowsTheClearanceLaw) {
   // Inner nodes on the cone plus the law, written out here: gap = c - A2(z) cos 2 theta - A6(z) cos 6 theta.
   auto law = [&](double th, double z) {
     const double w = (z + 0.03) / 0.06;
-    return 0.3 + (z - 0.01) * std::tan(5 * M_PI / 180) + 5e-5 - 1e-4 * (1 - w) * std::cos(2 * th) - 1e-4 * w * std::cos(6 * th);
+    return 0.3 + (z - 0.01) * std::tan(5 * M_PI / 180) + 5e-5 - 1e-4 * (1 - w) * std::cos(2 * th) -
+           1e-4 * w * std::cos(6 * th);
   };
   for (const char* face : {"inner", "outer"})
     for (int n : m.nodeSet(face, "test")) {
@@ -212,8 +221,8 @@ TEST(Mesh, CasingIsClosedAroundTheAxisAndFollowsTheClearanceLaw) {
   CasingGeometry c;
   c.radius = 0.3;
   c.axialRange = {0.0, 0.06};
-  const FullModel full = assembleHexModel("casing", makeCasingMesh(c, t, {1, 48, 2}), steel, {},
-                                          Teuchos::DefaultComm<int>::getComm());
+  const FullModel full =
+      assembleHexModel("casing", makeCasingMesh(c, t, {1, 48, 2}), steel, {}, Teuchos::DefaultComm<int>::getComm());
   const double exact = 7800 * M_PI * (0.31 * 0.31 - 0.3 * 0.3) * 0.06;
   EXPECT_NEAR(rigidMass(full, 0), exact, 0.005 * exact);
   // Fewer than 4 elements around, or a law that crosses the axis, are refused.
@@ -236,7 +245,8 @@ double smallestCornerJacobian(const Mesh& m) {
       double d[3][3];
       for (int k = 0; k < 3; ++k)
         for (int c = 0; c < 3; ++c) d[k][c] = m.coords[e[nb[a][k]]][c] - m.coords[e[a]][c];
-      const double det = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
+      const double det = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) -
+                         d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
                          d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
       lo = std::min(lo, det);
       hi = std::max(hi, det);
@@ -272,7 +282,8 @@ TEST(Mesh, SphereVolumeConvergesJacobiansPositiveNodeSets) {
         EXPECT_EQ(set.size(), std::size_t(n + 1) * (n + 1)) << cap;
         for (int node : set)
           EXPECT_NEAR(std::hypot(m.coords[node][0] - c[0], m.coords[node][1] - c[1], m.coords[node][2] - c[2]), R,
-                      1e-14) << cap << " node " << node;
+                      1e-14)
+              << cap << " node " << node;
         const NodeGrid& g = m.nodeGrids.at(cap);
         ASSERT_EQ(g.nu, n + 1);
         ASSERT_EQ(g.nv, n + 1);
@@ -281,7 +292,8 @@ TEST(Mesh, SphereVolumeConvergesJacobiansPositiveNodeSets) {
             const auto& p = m.coords[g.nodes[i * g.nv + j]];
             const auto& pu = m.coords[g.nodes[(i + 1) * g.nv + j]];
             const auto& pv = m.coords[g.nodes[i * g.nv + j + 1]];
-            const double u[3] = {pu[0] - p[0], pu[1] - p[1], pu[2] - p[2]}, v[3] = {pv[0] - p[0], pv[1] - p[1], pv[2] - p[2]};
+            const double u[3] = {pu[0] - p[0], pu[1] - p[1], pu[2] - p[2]},
+                         v[3] = {pv[0] - p[0], pv[1] - p[1], pv[2] - p[2]};
             const double nrm[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
             EXPECT_GT(nrm[0] * (p[0] - c[0]) + nrm[1] * (p[1] - c[1]) + nrm[2] * (p[2] - c[2]), 0.0) << cap;
           }
@@ -297,7 +309,8 @@ TEST(Mesh, SphereVolumeConvergesJacobiansPositiveNodeSets) {
   // Grading refines the lower pole: its first element is about g times as deep (0.32 here).
   const Mesh uniform = makeSphereMesh(c, R, {16, 16, 16}, 1.0), graded = makeSphereMesh(c, R, {16, 16, 16}, 0.3);
   const int pole = 8 + 17 * 8, above = pole + 17 * 17;
-  EXPECT_LT(graded.coords[above][2] - graded.coords[pole][2], 0.6 * (uniform.coords[above][2] - uniform.coords[pole][2]));
+  EXPECT_LT(graded.coords[above][2] - graded.coords[pole][2],
+            0.6 * (uniform.coords[above][2] - uniform.coords[pole][2]));
   // an odd count across the axis (no pole node) and a grading outside [0.02, 1] are refused
   EXPECT_THROW(makeSphereMesh(c, R, {5, 6, 6}, 1.0), Error);
   EXPECT_THROW(makeSphereMesh(c, R, {6, 6, 6}, 0.01), Error);

@@ -91,54 +91,57 @@ std::vector<int> Mesh::nodeSet(const std::string& spec, const std::string& conte
 Mesh makeBoxMesh(const std::array<double, 3>& origin, const std::array<double, 3>& lengths,
                  const std::array<int, 3>& elements) {
   for (int d = 0; d < 3; ++d) {
-    EPAPHE_REQUIRE(lengths[d] > 0, "box mesh: length along " << "xyz"[d] << " is " << lengths[d] << ", it must be > 0");
-    EPAPHE_REQUIRE(elements[d] >= 1, "box mesh: " << elements[d] << " elements along " << "xyz"[d] << ", at least 1 is needed");
+    EPAPHE_REQUIRE(lengths[d] > 0, "box mesh: length along "
+                                       << "xyz"[d] << " is " << lengths[d] << ", it must be > 0");
+    EPAPHE_REQUIRE(elements[d] >= 1, "box mesh: " << elements[d] << " elements along "
+                                                  << "xyz"[d] << ", at least 1 is needed");
   }
-  return structuredMesh(
-      elements,
-      [&](int i, int j, int k) -> std::array<double, 3> {
-        return {origin[0] + lengths[0] * i / elements[0], origin[1] + lengths[1] * j / elements[1],
-                origin[2] + lengths[2] * k / elements[2]};
-      },
-      {"x-", "x+", "y-", "y+", "z-", "z+"});
+  return structuredMesh(elements,
+                        [&](int i, int j, int k) -> std::array<double, 3> {
+                          return {origin[0] + lengths[0] * i / elements[0], origin[1] + lengths[1] * j / elements[1],
+                                  origin[2] + lengths[2] * k / elements[2]};
+                        },
+                        {"x-", "x+", "y-", "y+", "z-", "z+"});
 }
 
 Mesh makeRingSegmentMesh(const std::array<double, 3>& center, double innerRadius, double thickness,
                          const std::array<double, 2>& angles, const std::array<double, 2>& axial,
                          const std::array<int, 3>& elements) {
-  EPAPHE_REQUIRE(innerRadius > 0 && thickness > 0, "ring segment mesh: inner radius " << innerRadius << " m and thickness "
-                                                       << thickness << " m must both be > 0");
+  EPAPHE_REQUIRE(innerRadius > 0 && thickness > 0, "ring segment mesh: inner radius "
+                                                       << innerRadius << " m and thickness " << thickness
+                                                       << " m must both be > 0");
   EPAPHE_REQUIRE(angles[1] > angles[0] && angles[1] - angles[0] < 360.0,
                  "ring segment mesh: angles {" << angles[0] << ", " << angles[1]
                                                << "} degrees; give {first, last} with 0 < last - first < 360");
   EPAPHE_REQUIRE(axial[1] > axial[0], "ring segment mesh: axial range {" << axial[0] << ", " << axial[1]
-                                                                      << "}; give {first, last} with last > first");
+                                                                         << "}; give {first, last} with last > first");
   for (int d = 0; d < 3; ++d)
     EPAPHE_REQUIRE(elements[d] >= 1, "ring segment mesh: " << elements[d] << " elements "
-                                                           << (d == 0 ? "through the thickness" : d == 1 ? "along the arc" : "along the axis")
+                                                           << (d == 0   ? "through the thickness"
+                                                               : d == 1 ? "along the arc"
+                                                                        : "along the axis")
                                                            << ", at least 1 is needed");
   const int nr = elements[0], nt = elements[1], nz = elements[2];
   // i radial, j angular, k axial: r x theta = z keeps every hexahedron right-handed.
-  return structuredMesh(
-      elements,
-      [&](int i, int j, int k) -> std::array<double, 3> {
-        const double r = innerRadius + thickness * i / nr;
-        const double a = (angles[0] + (angles[1] - angles[0]) * j / nt) * M_PI / 180.0;
-        return {center[0] + r * std::cos(a), center[1] + r * std::sin(a),
-                center[2] + axial[0] + (axial[1] - axial[0]) * k / nz};
-      },
-      {"inner", "outer", "end-", "end+", "z-", "z+"});
+  return structuredMesh(elements,
+                        [&](int i, int j, int k) -> std::array<double, 3> {
+                          const double r = innerRadius + thickness * i / nr;
+                          const double a = (angles[0] + (angles[1] - angles[0]) * j / nt) * M_PI / 180.0;
+                          return {center[0] + r * std::cos(a), center[1] + r * std::sin(a),
+                                  center[2] + axial[0] + (axial[1] - axial[0]) * k / nz};
+                        },
+                        {"inner", "outer", "end-", "end+", "z-", "z+"});
 }
 
 Mesh makeSphereMesh(const std::array<double, 3>& center, double radius, const std::array<int, 3>& elements,
                     double poleGrading) {
   EPAPHE_REQUIRE(radius > 0, "sphere mesh: radius " << radius << " m; it must be > 0");
-  EPAPHE_REQUIRE(poleGrading >= 0.02 && poleGrading <= 1, "sphere mesh: pole grading " << poleGrading
-                                                              << "; give a ratio in [0.02, 1] (1: no grading)");
+  EPAPHE_REQUIRE(poleGrading >= 0.02 && poleGrading <= 1,
+                 "sphere mesh: pole grading " << poleGrading << "; give a ratio in [0.02, 1] (1: no grading)");
   for (int d = 0; d < 2; ++d)
     EPAPHE_REQUIRE(elements[d] >= 2 && elements[d] % 2 == 0,
-                   "sphere mesh: " << elements[d] << " elements along " << "xy"[d]
-                                   << "; give an even number >= 2 (the lower pole must be a node)");
+                   "sphere mesh: " << elements[d] << " elements along "
+                                   << "xy"[d] << "; give an even number >= 2 (the lower pole must be a node)");
   EPAPHE_REQUIRE(elements[2] >= 2, "sphere mesh: " << elements[2] << " elements along z; give at least 2");
   // H(u) = (exp(l u) - 1) / (exp(l) - 1), geometric spacing with H'(0) = l / (exp(l) - 1) = g:
   // l solved by bisection (g decreases with l); g = 1 is l = 0, H(u) = u
@@ -180,14 +183,18 @@ Mesh makeSphereMesh(const std::array<double, 3>& center, double radius, const st
 }
 
 Mesh makeBladeMesh(const BladeGeometry& g, const std::array<int, 3>& elements) {
-  EPAPHE_REQUIRE(g.hubRadius > 0 && g.tipRadius > g.hubRadius, "blade mesh: hub radius " << g.hubRadius << " m and tip radius "
-                                                                 << g.tipRadius << " m; 0 < hub < tip is needed");
-  EPAPHE_REQUIRE(g.chord > 0 && g.thickness > 0, "blade mesh: chord " << g.chord << " m and thickness " << g.thickness
-                                                                      << " m must both be > 0");
-  EPAPHE_REQUIRE(std::abs(g.coneAngle) < 60.0, "blade mesh: cone angle " << g.coneAngle << " degrees; keep it within 60");
+  EPAPHE_REQUIRE(g.hubRadius > 0 && g.tipRadius > g.hubRadius, "blade mesh: hub radius "
+                                                                   << g.hubRadius << " m and tip radius " << g.tipRadius
+                                                                   << " m; 0 < hub < tip is needed");
+  EPAPHE_REQUIRE(g.chord > 0 && g.thickness > 0,
+                 "blade mesh: chord " << g.chord << " m and thickness " << g.thickness << " m must both be > 0");
+  EPAPHE_REQUIRE(std::abs(g.coneAngle) < 60.0,
+                 "blade mesh: cone angle " << g.coneAngle << " degrees; keep it within 60");
   for (int d = 0; d < 3; ++d)
     EPAPHE_REQUIRE(elements[d] >= 1, "blade mesh: " << elements[d] << " elements "
-                                                    << (d == 0 ? "along the span" : d == 1 ? "along the chord" : "through the thickness")
+                                                    << (d == 0   ? "along the span"
+                                                        : d == 1 ? "along the chord"
+                                                                 : "through the thickness")
                                                     << ", at least 1 is needed");
   const double deg = M_PI / 180.0, tanCone = std::tan(g.coneAngle * deg);
   Mesh m = structuredMesh(
@@ -226,10 +233,11 @@ double CasingGeometry::radiusAt(double theta, double z) const {
 }
 
 Mesh makeCasingMesh(const CasingGeometry& g, double thickness, const std::array<int, 3>& elements) {
-  EPAPHE_REQUIRE(g.radius > 0 && thickness > 0, "casing mesh: radius " << g.radius << " m and thickness " << thickness
-                                                                       << " m must both be > 0");
-  EPAPHE_REQUIRE(g.axialRange[1] > g.axialRange[0], "casing mesh: axial range {" << g.axialRange[0] << ", " << g.axialRange[1]
-                                                                                 << "}; give {first, last} with last > first");
+  EPAPHE_REQUIRE(g.radius > 0 && thickness > 0,
+                 "casing mesh: radius " << g.radius << " m and thickness " << thickness << " m must both be > 0");
+  EPAPHE_REQUIRE(g.axialRange[1] > g.axialRange[0], "casing mesh: axial range {"
+                                                        << g.axialRange[0] << ", " << g.axialRange[1]
+                                                        << "}; give {first, last} with last > first");
   EPAPHE_REQUIRE(g.law != ClearanceLaw::Harmonics ||
                      (g.amplitudesFirst.size() == g.orders.size() && g.amplitudesLast.size() == g.orders.size()),
                  "casing mesh: " << g.orders.size() << " harmonic orders but " << g.amplitudesFirst.size() << " and "
@@ -242,10 +250,11 @@ Mesh makeCasingMesh(const CasingGeometry& g, double thickness, const std::array<
   for (int k = 0; k <= nz; ++k)
     for (int j = 0; j < nt; ++j)
       EPAPHE_REQUIRE(g.radiusAt(2.0 * M_PI * j / nt, g.axialStation(k, nz + 1)) > 0,
-                     "casing mesh: the inner radius at " << 360.0 * j / nt << " degrees, z = " << g.axialStation(k, nz + 1)
-                                                         << " m is " << g.radiusAt(2.0 * M_PI * j / nt, g.axialStation(k, nz + 1))
-                                                         << " m; the cone and the clearance law must keep it > 0 "
-                                                            "(raise the radius, or lower the clearance or the amplitudes)");
+                     "casing mesh: the inner radius at "
+                         << 360.0 * j / nt << " degrees, z = " << g.axialStation(k, nz + 1) << " m is "
+                         << g.radiusAt(2.0 * M_PI * j / nt, g.axialStation(k, nz + 1))
+                         << " m; the cone and the clearance law must keep it > 0 "
+                            "(raise the radius, or lower the clearance or the amplitudes)");
   // i radial, j around the axis, k axial: r x theta = z keeps every hexahedron right-handed.
   return structuredMesh(
       elements,

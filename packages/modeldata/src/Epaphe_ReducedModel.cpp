@@ -50,12 +50,14 @@ std::vector<double> ReducedModel::modalStiffness() const {
 
 std::vector<double> ReducedModel::residualStiffness() const {
   const int nb = boundarySize(), n = size;
-  const std::vector<double> Ginv = spdInverse(residualFlexibility, nb, "the residual flexibility of body '" + name + "'",
-                                              "keep fewer modes, or recompute the reduction (delete its cache file)");
+  const std::vector<double> Ginv =
+      spdInverse(residualFlexibility, nb, "the residual flexibility of body '" + name + "'",
+                 "keep fewer modes, or recompute the reduction (delete its cache file)");
   std::vector<double> L(static_cast<std::size_t>(nb) * n, 0.0), GL(L.size(), 0.0), K(static_cast<std::size_t>(n) * n);
   for (int c = 0; c < nb; ++c) {
     L[static_cast<std::size_t>(c) * nb + c] = 1.0;
-    for (int k = 0; k < numModes; ++k) L[static_cast<std::size_t>(nb + k) * nb + c] = -boundaryModes[static_cast<std::size_t>(k) * nb + c];
+    for (int k = 0; k < numModes; ++k)
+      L[static_cast<std::size_t>(nb + k) * nb + c] = -boundaryModes[static_cast<std::size_t>(k) * nb + c];
   }
   Teuchos::BLAS<int, double> blas;
   blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, nb, n, nb, 1.0, Ginv.data(), nb, L.data(), nb, 0.0, GL.data(), nb);
@@ -76,11 +78,16 @@ std::vector<int> ReducedModel::recoveryIndex(const std::vector<int>& nodes) cons
 
 const char* reductionName(ReductionKind kind) {
   switch (kind) {
-    case ReductionKind::CraigBampton: return "Craig-Bampton";
-    case ReductionKind::Guyan: return "Guyan";
-    case ReductionKind::None: return "None";
-    case ReductionKind::FullLumped: return "Full, lumped mass";
-    case ReductionKind::MasslessBoundary: return "Massless boundary";
+    case ReductionKind::CraigBampton:
+      return "Craig-Bampton";
+    case ReductionKind::Guyan:
+      return "Guyan";
+    case ReductionKind::None:
+      return "None";
+    case ReductionKind::FullLumped:
+      return "Full, lumped mass";
+    case ReductionKind::MasslessBoundary:
+      return "Massless boundary";
   }
   return "?";
 }
@@ -91,7 +98,6 @@ ReductionKind reductionKindNamed(const std::string& name) {
     if (name == reductionName(k)) return k;
   throw Error("reduction '" + name + "': give Craig-Bampton, Guyan, None, Full, lumped mass or Massless boundary");
 }
-
 
 extern "C" void dsygvd_(const int* itype, const char* jobz, const char* uplo, const int* n, double* a, const int* lda,
                         double* b, const int* ldb, double* w, double* work, const int* lwork, int* iwork,
@@ -114,7 +120,7 @@ std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vec
   dsygvd_(&itype, &jobz, "U", &n, A.data(), &n, B.data(), &n, w.data(), work.data(), &lwork, iwork.data(), &liwork,
           &info);
   EPAPHE_REQUIRE(info == 0, "dense eigenvalue problem of size " << n << " failed (LAPACK dsygvd info = " << info
-                                << "): the mass matrix is not positive definite");
+                                                                << "): the mass matrix is not positive definite");
   if (vectors) *vectors = std::move(A);
   return w;
 }

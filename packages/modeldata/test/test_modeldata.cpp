@@ -17,7 +17,7 @@ TEST(ModelData, NodeSetsResolveUnionsAndNameTheKnownOnesOtherwise) {
   const auto xm = box.nodeSet("x-", "test"), xp = box.nodeSet("x+", "test");
   EXPECT_EQ(xm.size(), 4u);
   EXPECT_EQ(box.nodeSet("x-, x+", "test").size(), xm.size() + xp.size());  // disjoint faces
-  EXPECT_EQ(box.nodeSet("x-, x-", "test"), xm);                              // no repeats
+  EXPECT_EQ(box.nodeSet("x-, x-", "test"), xm);                            // no repeats
   try {
     box.nodeSet("tip", "body 'Bar'");
     FAIL() << "an unknown node set was accepted";

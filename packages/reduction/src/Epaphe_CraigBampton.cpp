@@ -38,8 +38,8 @@ std::vector<double> transposeProduct(const MultiVector& A, const MultiVector& B)
 /// The blocks of one matrix X (K or M) split by retained (R) and condensed (C) DOFs.
 struct Blocks {
   Teuchos::RCP<CrsMatrix> CC;
-  Teuchos::RCP<MultiVector> CR;   // nC x nR, dense columns
-  std::vector<double> RR;         // nR x nR, column-major, replicated
+  Teuchos::RCP<MultiVector> CR;  // nC x nR, dense columns
+  std::vector<double> RR;        // nR x nR, column-major, replicated
 };
 
 Blocks split(const CrsMatrix& X, const std::vector<int>& rIndex, const std::vector<int>& cIndex,
@@ -71,8 +71,12 @@ Blocks split(const CrsMatrix& X, const std::vector<int>& rIndex, const std::vect
     vals.clear();
     for (std::size_t k = 0; k < idx.extent(0); ++k) {
       const GO gc = colMap->getGlobalElement(idx(k));
-      if (rIndex[gc] >= 0) cr(lc, rIndex[gc]) += val(k);
-      else { cols.push_back(cIndex[gc]); vals.push_back(val(k)); }
+      if (rIndex[gc] >= 0)
+        cr(lc, rIndex[gc]) += val(k);
+      else {
+        cols.push_back(cIndex[gc]);
+        vals.push_back(val(k));
+      }
     }
     b.CC->insertGlobalValues(cIndex[g], Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
   }
@@ -88,8 +92,8 @@ std::vector<double> project(const Blocks& X, const MultiVector& Psi, const Multi
   auto at = [&](int i, int j) -> double& { return red[static_cast<std::size_t>(j) * n + i]; };
   MultiVector XPsi(Psi.getMap(), Psi.getNumVectors());
   X.CC->apply(Psi, XPsi);
-  const auto a = transposeProduct(Psi, *X.CR);   // Psi^T X_CR
-  const auto b = transposeProduct(Psi, XPsi);    // Psi^T X_CC Psi
+  const auto a = transposeProduct(Psi, *X.CR);  // Psi^T X_CR
+  const auto b = transposeProduct(Psi, XPsi);   // Psi^T X_CC Psi
   for (int j = 0; j < nR; ++j)
     for (int i = 0; i < nR; ++i)
       at(i, j) = X.RR[static_cast<std::size_t>(j) * nR + i] + a[static_cast<std::size_t>(j) * nR + i] +
@@ -156,8 +160,10 @@ public:
     auto c = xC.getLocalViewHost(Tpetra::Access::OverwriteAll);
     for (std::size_t l = 0; l < row_.size(); ++l)
       for (int j = 0; j < k; ++j) {
-        if (row_[l] >= 0) local[static_cast<std::size_t>(j) * nR_ + row_[l]] = x(l, j);
-        else c(-1 - row_[l], j) = x(l, j);
+        if (row_[l] >= 0)
+          local[static_cast<std::size_t>(j) * nR_ + row_[l]] = x(l, j);
+        else
+          c(-1 - row_[l], j) = x(l, j);
       }
     Teuchos::reduceAll(*rowMap_->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(),
                        xR.data());
@@ -179,7 +185,8 @@ private:
 };
 
 /// A dense nR x k array (column-major, replicated) as a multivector on a locally replicated map.
-MultiVector replicated(const std::vector<double>& a, int rows, int cols, const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
+MultiVector replicated(const std::vector<double>& a, int rows, int cols,
+                       const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   MultiVector m(Tpetra::createLocalMap<LO, GO>(rows, comm), static_cast<std::size_t>(cols));
   auto h = m.getLocalViewHost(Tpetra::Access::OverwriteAll);
   for (int j = 0; j < cols; ++j)
@@ -202,7 +209,8 @@ public:
     Teuchos::LAPACK<int, double> lapack;
     int info = 0;
     lapack.POTRF('L', split.retained(), L_.data(), split.retained(), &info);
-    EPAPHE_REQUIRE(info == 0, "the Guyan stiffness is not positive definite (Cholesky failed at column " << info << ")");
+    EPAPHE_REQUIRE(info == 0,
+                   "the Guyan stiffness is not positive definite (Cholesky failed at column " << info << ")");
   }
   void solve(const MultiVector& B, MultiVector& X) const override {
     const int nR = split_.retained(), k = static_cast<int>(B.getNumVectors());
@@ -245,8 +253,9 @@ ReducedModel retainedShell(const FullModel& full, const std::vector<int>& retain
   rIndex.assign(static_cast<std::size_t>(full.numFree), -1);
   nR = 0;
   for (int node : retained) {
-    EPAPHE_REQUIRE(node >= 0 && node < full.numNodes(),
-                   "body '" << full.name << "': retained node " << node << " is not in the model (0.." << full.numNodes() - 1 << ")");
+    EPAPHE_REQUIRE(node >= 0 && node < full.numNodes(), "body '" << full.name << "': retained node " << node
+                                                                 << " is not in the model (0.." << full.numNodes() - 1
+                                                                 << ")");
     for (int d = 0; d < 3; ++d) {
       const int g = full.eq[3 * node + d];
       if (g < 0) continue;
@@ -256,7 +265,8 @@ ReducedModel retainedShell(const FullModel& full, const std::vector<int>& retain
       ++nR;
     }
   }
-  EPAPHE_REQUIRE(nR > 0, "body '" << full.name << "': no free DOF is retained; name a retained node set with free nodes");
+  EPAPHE_REQUIRE(nR > 0,
+                 "body '" << full.name << "': no free DOF is retained; name a retained node set with free nodes");
   return red;
 }
 
@@ -297,12 +307,14 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
   ReductionReport rep;
   const auto comm = full.K->getComm();
   const int nFree = full.numFree;
-  EPAPHE_REQUIRE(opt.modes >= 0, "body '" << full.name << "': " << opt.modes << " fixed-interface modes asked; use 0 or more");
+  EPAPHE_REQUIRE(opt.modes >= 0,
+                 "body '" << full.name << "': " << opt.modes << " fixed-interface modes asked; use 0 or more");
 
   // Retained DOFs in the order (retained node, direction): q = [x_R, eta].
   std::vector<int> rIndex, cIndex(static_cast<std::size_t>(nFree), -1);
   int nR = 0;
-  ReducedModel red = retainedShell(full, retained, opt.modes > 0 ? ReductionKind::CraigBampton : ReductionKind::Guyan, rIndex, nR);
+  ReducedModel red =
+      retainedShell(full, retained, opt.modes > 0 ? ReductionKind::CraigBampton : ReductionKind::Guyan, rIndex, nR);
   int nC = 0;
   for (int g = 0; g < nFree; ++g)
     if (rIndex[g] < 0) cIndex[g] = nC++;
@@ -415,7 +427,7 @@ Teuchos::RCP<MultiVector> rigidBodyModes(const FullModel& full) {
         r(l, d) = 1.0;
         // rotation about axis a: u = e_a x (x - c); component d of it
         for (int a = 0; a < 3; ++a) {
-          const int b = (a + 1) % 3, e = (a + 2) % 3;   // e_a x y = y_b e_e - y_e e_b
+          const int b = (a + 1) % 3, e = (a + 2) % 3;  // e_a x y = y_b e_e - y_e e_b
           if (d == e) r(l, 3 + a) = full.mesh.coords[node][b] - c[b];
           if (d == b) r(l, 3 + a) = -(full.mesh.coords[node][e] - c[e]);
         }
@@ -423,13 +435,15 @@ Teuchos::RCP<MultiVector> rigidBodyModes(const FullModel& full) {
   }
   MultiVector MR(map, 6);
   full.M->apply(*R, MR);
-  std::vector<double> L = transposeProduct(*R, MR);   // Gram matrix R^T M R, then its Cholesky factor
+  std::vector<double> L = transposeProduct(*R, MR);  // Gram matrix R^T M R, then its Cholesky factor
   Teuchos::LAPACK<int, double> lapack;
   int info = 0;
   lapack.POTRF('L', 6, L.data(), 6, &info);
-  EPAPHE_REQUIRE(info == 0, "body '" << full.name << "': its six rigid-body motions are not independent in the mass "
-                                        "inner product (column " << info << "): are its nodes on one line?");
-  lapack.TRTRI('L', 'N', 6, L.data(), 6, &info);     // L^{-1}; Phi_r = R L^{-T}
+  EPAPHE_REQUIRE(info == 0, "body '" << full.name
+                                     << "': its six rigid-body motions are not independent in the mass "
+                                        "inner product (column "
+                                     << info << "): are its nodes on one line?");
+  lapack.TRTRI('L', 'N', 6, L.data(), 6, &info);  // L^{-1}; Phi_r = R L^{-T}
   std::vector<double> LinvT(36, 0.0);
   for (int j = 0; j < 6; ++j)
     for (int i = j; i < 6; ++i) LinvT[static_cast<std::size_t>(i) * 6 + j] = L[static_cast<std::size_t>(j) * 6 + i];
@@ -454,13 +468,13 @@ public:
   /// X = Q X: the rigid-body parts removed.
   void deflate(MultiVector& X) const {
     const int r = static_cast<int>(rigid_.getNumVectors()), k = static_cast<int>(X.getNumVectors());
-    const auto c = transposeProduct(Mrigid_, X);     // Phi_r^T M X
+    const auto c = transposeProduct(Mrigid_, X);  // Phi_r^T M X
     X.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, rigid_, replicated(c, r, k, X.getMap()->getComm()), 1.0);
   }
   /// F = P F, P = I - M Phi_r Phi_r^T: forces balanced by the rigid-body inertia they set off.
   void balance(MultiVector& F) const {
     const int r = static_cast<int>(rigid_.getNumVectors()), k = static_cast<int>(F.getNumVectors());
-    const auto c = transposeProduct(rigid_, F);      // Phi_r^T F
+    const auto c = transposeProduct(rigid_, F);  // Phi_r^T F
     F.multiply(Teuchos::NO_TRANS, Teuchos::NO_TRANS, -1.0, Mrigid_, replicated(c, r, k, F.getMap()->getComm()), 1.0);
   }
   std::string name() const override { return shifted_.name() + ", rigid-body modes deflated"; }
@@ -486,8 +500,9 @@ MultiVector inertiaReliefResponses(const FullModel& full, const RigidDeflatedSol
   S.balance(PE);
   // sigma M U's contribution shrinks by `rate` a pass: stop when it can no longer change U's digits.
   const int passes = rate <= 0 ? 1 : std::max(1, static_cast<int>(std::ceil(std::log(1e-16) / std::log(rate))) + 1);
-  EPAPHE_REQUIRE(rate < 0.5, "body '" << full.name << "': the inertia-relief iteration would converge at " << rate
-                                      << " per pass; the shift is too close to the lowest elastic mode (a bug: report it)");
+  EPAPHE_REQUIRE(rate < 0.5,
+                 "body '" << full.name << "': the inertia-relief iteration would converge at " << rate
+                          << " per pass; the shift is too close to the lowest elastic mode (a bug: report it)");
   for (int it = 0; it < passes; ++it) {
     full.M->apply(U, MU);
     B.update(1.0, PE, sigma, MU, 0.0);
@@ -593,8 +608,8 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   const auto comm = full.K->getComm();
   const int nFree = full.numFree, m = opt.modes;
   const std::string body = "body '" + full.name + "'";
-  EPAPHE_REQUIRE(m > 0, body << ": the massless-boundary reduction keeps the body's mass in its modes only, but "
-                             << m << " modes are asked; set 'Fixed-interface modes' > 0");
+  EPAPHE_REQUIRE(m > 0, body << ": the massless-boundary reduction keeps the body's mass in its modes only, but " << m
+                             << " modes are asked; set 'Fixed-interface modes' > 0");
   // A body with no boundary condition is free: its six rigid-body modes join the kept modes (with
   // Omega = 0) and the static part is the inertia-relief flexibility.
   const bool free = std::none_of(full.eq.begin(), full.eq.end(), [](int g) { return g < 0; });
@@ -653,17 +668,18 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   }
   const double top = er.lambda.back();
   for (int k = 0; k < nRigid + m; ++k)
-    EPAPHE_REQUIRE((k < nRigid) == (std::abs(er.lambda[k]) <= 1e-8 * top),
-                   body << ": eigenvalue " << k + 1 << " is " << er.lambda[k] << " (the largest kept " << top << "); "
-                        << (free ? "a free body has exactly 6 rigid-body modes, this one has "
-                                 : "a body held by its boundary conditions has none, this one has ")
-                        << std::count_if(er.lambda.begin(), er.lambda.end(), [&](double l) { return std::abs(l) <= 1e-8 * top; })
-                        << ": the model has a mechanism; clamp it fully, or remove every clamp");
+    EPAPHE_REQUIRE(
+        (k < nRigid) == (std::abs(er.lambda[k]) <= 1e-8 * top),
+        body << ": eigenvalue " << k + 1 << " is " << er.lambda[k] << " (the largest kept " << top << "); "
+             << (free ? "a free body has exactly 6 rigid-body modes, this one has "
+                      : "a body held by its boundary conditions has none, this one has ")
+             << std::count_if(er.lambda.begin(), er.lambda.end(), [&](double l) { return std::abs(l) <= 1e-8 * top; })
+             << ": the model has a mechanism; clamp it fully, or remove every clamp");
   er.lambda.erase(er.lambda.begin(), er.lambda.begin() + nRigid);
   Teuchos::RCP<MultiVector> elastic = er.vectors->subCopy(Teuchos::Range1D(nRigid, nRigid + m - 1));
   if (free) deflated->deflate(*elastic);
   const auto rowMap = full.K->getRowMap();
-  MultiVector Phi = joinedModes(rigid.get(), *elastic, *full.M);   // [Phi_r, Phi_e]
+  MultiVector Phi = joinedModes(rigid.get(), *elastic, *full.M);  // [Phi_r, Phi_e]
   rep.eigenIterations = er.restarts;
   rep.eigenSolves = er.operatorVectors;
   rep.eigenSolveSeconds = er.operatorSeconds;
@@ -681,8 +697,10 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
       if (const int r = rIndex[rowMap->getGlobalElement(l)]; r >= 0) e(l, r) = 1.0;
   }
   MultiVector X(rowMap, static_cast<std::size_t>(nR));
-  if (free) Tpetra::deep_copy(X, inertiaReliefResponses(full, *deflated, E, sigma, sigma / (er.lambda.front() + sigma)));
-  else factor->solve(E, X);
+  if (free)
+    Tpetra::deep_copy(X, inertiaReliefResponses(full, *deflated, E, sigma, sigma / (er.lambda.front() + sigma)));
+  else
+    factor->solve(E, X);
   rep.constraintSeconds = sw.seconds();
   rep.solverIterations = factor->iterations();
 
@@ -693,7 +711,7 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
   red.size = nR + red.numModes;
   const std::vector<double> w2 = red.modalStiffness();
   const int mAll = red.numModes;
-  red.boundaryModes = gatherRows(Phi, rIndex, nR);           // Phi_b, nR x (nRigid + m)
+  red.boundaryModes = gatherRows(Phi, rIndex, nR);  // Phi_b, nR x (nRigid + m)
   std::vector<double> G = gatherRows(X, rIndex, nR);
   auto phib = [&](int i, int j) { return red.boundaryModes[static_cast<std::size_t>(j) * nR + i]; };
   for (int j = 0; j < nR; ++j)

@@ -5,8 +5,8 @@
 //                  [ Psi   Phi  ]     K_CC Phi = M_CC Phi Omega^2 (fixed-interface modes, eq. 2.13)
 //
 // with K_red = R^T K R and M_red = R^T M R (eqs. 2.6-2.7). K_CC is factored once by Amesos2
-// (MUMPS by default; or Belos CG, Jacobi-preconditioned, with no factor); the constraint modes are one multi-RHS solve with that factor, and the
-// fixed-interface modes come from Anasazi with shift-invert through the same factor. Guyan is
+// (MUMPS by default; or Belos CG, Jacobi-preconditioned, with no factor); the constraint modes are one multi-RHS solve
+// with that factor, and the fixed-interface modes come from Anasazi with shift-invert through the same factor. Guyan is
 // Craig-Bampton with zero modes (eq. 2.11).
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_ReducedModel.hpp"
@@ -19,9 +19,9 @@
 namespace epaphe {
 
 struct CraigBamptonOptions {
-  int modes = 0;                       // fixed-interface modes kept
+  int modes = 0;                              // fixed-interface modes kept
   LinearSolver solver = LinearSolver::Mumps;  // K_CC: Amesos2 MUMPS or KLU2 (one factor), or Belos CG (iterative)
-  double iterativeTolerance = 1e-12;   // Belos CG: relative residual of each solve
+  double iterativeTolerance = 1e-12;          // Belos CG: relative residual of each solve
   double eigenTolerance = 1e-10;
   /// Craig-Bampton and Guyan: the full model's lowest `checkFrequencies` frequencies, computed
   /// through the reduction's K_CC factor (no second factorization) into ReducedModel::fullFrequencies
@@ -45,14 +45,14 @@ struct CraigBamptonOptions {
 };
 
 struct ReductionReport {
-  double seconds = 0;                  // wall time of the whole reduction
+  double seconds = 0;  // wall time of the whole reduction
   double factorSeconds = 0, constraintSeconds = 0, eigenSeconds = 0, projectSeconds = 0;
-  double checkSeconds = 0;             // the frequency check (checkFrequencies), not part of `seconds`
+  double checkSeconds = 0;  // the frequency check (checkFrequencies), not part of `seconds`
   int retainedDofs = 0, condensedDofs = 0;
-  int eigenIterations = 0;             // Anasazi iterations
-  long eigenSolves = 0;                // vectors through the shift-invert operator
-  double eigenSolveSeconds = 0;        // of eigenSeconds, the time in the operator (M products and solves)
-  long solverIterations = 0;           // Belos CG: iterations of all solves (constraint modes and Anasazi)
+  int eigenIterations = 0;       // Anasazi iterations
+  long eigenSolves = 0;          // vectors through the shift-invert operator
+  double eigenSolveSeconds = 0;  // of eigenSeconds, the time in the operator (M products and solves)
+  long solverIterations = 0;     // Belos CG: iterations of all solves (constraint modes and Anasazi)
 };
 
 /// `retained`: nodes whose DOFs stay physical (interface, contact nodes). Runs on every rank of
@@ -75,8 +75,8 @@ ReducedModel masslessBoundary(const FullModel& full, const std::vector<int>& ret
 /// modes. The shift-invert spectrum 1/(lambda - sigma) separates the lowest modes only when sigma
 /// is not far below them: `upperBoundsHz`, frequencies of a reduced model of the same body (Rayleigh-
 /// Ritz values, upper bounds of the full model's; a lumped-mass model's are close estimates), give
-/// sigma = -omega_e^2 / 2 with omega_e the lowest elastic one of them. Without them, sigma = -1e-4 max_i K_ii / M_ii, which a fine mesh (large
-/// K_ii / M_ii) puts so far below the lowest modes that Anasazi needs minutes.
+/// sigma = -omega_e^2 / 2 with omega_e the lowest elastic one of them. Without them, sigma = -1e-4 max_i K_ii / M_ii,
+/// which a fine mesh (large K_ii / M_ii) puts so far below the lowest modes that Anasazi needs minutes.
 std::vector<double> fullModelFrequencies(const FullModel& full, int count, LinearSolver solver = LinearSolver::Mumps,
                                          double iterativeTolerance = 1e-12,
                                          const std::vector<double>& upperBoundsHz = {});

@@ -27,23 +27,24 @@ double largestLength(const std::vector<double>& u) {
 
 FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& o, SpeedReport* report) {
   Stopwatch watch;
-  EPAPHE_REQUIRE(std::isfinite(o.speed), "body '" << rest.name << "': rotation speed " << o.speed
-                                                  << " rad/s is not a finite number");
+  EPAPHE_REQUIRE(std::isfinite(o.speed),
+                 "body '" << rest.name << "': rotation speed " << o.speed << " rad/s is not a finite number");
   const double w2 = o.speed * o.speed;
   const CentrifugalTerms c = assembleCentrifugal(rest, o.axis);
 
   // (K_e - Omega^2 M_perp) u_s = Omega^2 f_c
-  auto statics = o.spinSoftening ? Tpetra::MatrixMatrix::add(1.0, false, *rest.K, -w2, false, *c.perpendicularMass)
-                                 : rest.K;
+  auto statics =
+      o.spinSoftening ? Tpetra::MatrixMatrix::add(1.0, false, *rest.K, -w2, false, *c.perpendicularMass) : rest.K;
   MultiVector f(*c.load, Teuchos::Copy), us(c.load->getMap(), 1);
   f.scale(w2);
   const std::string what = " of body '" + rest.name + "' at " + std::to_string(o.speed) +
                            " rad/s (a speed above the first critical one in the plane of rotation makes it singular)";
   // A stress-stiffened state with a starting guess skips the linear one (it is not needed to choose)
-  const bool guessed = o.staticState == StaticState::StressStiffened && o.stressStiffening &&
-                       o.initialState.size() == rest.eq.size();
+  const bool guessed =
+      o.staticState == StaticState::StressStiffened && o.stressStiffening && o.initialState.size() == rest.eq.size();
   std::vector<double> u;
-  if (guessed) u = o.initialState;
+  if (guessed)
+    u = o.initialState;
   else {
     makeSolver(statics, o.solver, "K_e - Omega^2 M_perp" + what)->solve(f, us);
     u = nodalValues(rest, us);
@@ -69,8 +70,9 @@ FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& o, SpeedRep
       last.swap(next);
       if (change <= 1e-8 * size) break;
     }
-    EPAPHE_REQUIRE(passes <= 50, "body '" << rest.name << "' at " << o.speed << " rad/s: the stress-stiffened static "
-                                          << "state did not converge in 50 passes; set 'Rotation->Static state' to Linear");
+    EPAPHE_REQUIRE(passes <= 50, "body '"
+                                     << rest.name << "' at " << o.speed << " rad/s: the stress-stiffened static "
+                                     << "state did not converge in 50 passes; set 'Rotation->Static state' to Linear");
     const double moved = guessed ? 0.0 : std::abs(largestLength(last) / linear - 1);
     stiffened = o.staticState == StaticState::StressStiffened || moved > o.staticTolerance;
     if (report) report->stiffenedChange = moved;
@@ -79,7 +81,8 @@ FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& o, SpeedRep
 
   FullModel at = rest;
   at.K = statics;
-  if (o.stressStiffening) at.K = Tpetra::MatrixMatrix::add(1.0, false, *statics, 1.0, false, *assembleGeometricStiffness(rest, u));
+  if (o.stressStiffening)
+    at.K = Tpetra::MatrixMatrix::add(1.0, false, *statics, 1.0, false, *assembleGeometricStiffness(rest, u));
   for (int n = 0; n < at.numNodes(); ++n)
     for (int d = 0; d < 3; ++d) at.mesh.coords[n][d] += u[3 * static_cast<std::size_t>(n) + d];
 

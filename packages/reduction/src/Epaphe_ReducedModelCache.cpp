@@ -38,8 +38,9 @@ void writeAtomically(const std::string& path, const std::function<void(io::Hdf5F
     write(f);
     f.close();
   }
-  EPAPHE_REQUIRE(std::rename(tmp.c_str(), path.c_str()) == 0,
-                 "cannot move the reduced-model cache " << tmp << " to " << path << ": check the directory's permissions");
+  EPAPHE_REQUIRE(std::rename(tmp.c_str(), path.c_str()) == 0, "cannot move the reduced-model cache "
+                                                                  << tmp << " to " << path
+                                                                  << ": check the directory's permissions");
 }
 
 void writeReducedModel(io::Hdf5File& f, const ReducedModel& r, const std::string& key) {
@@ -112,13 +113,13 @@ bool readReducedModel(const io::Hdf5File& f, const std::string& path, ReducedMod
   r.modalTranslation.clear();
   r.translationMass = {0, 0, 0};
   if (r.massless()) {
-    if (!f.exists("/modalTranslation")) return false;   // written before free bodies: reduce again
+    if (!f.exists("/modalTranslation")) return false;  // written before free bodies: reduce again
     r.boundaryModes = f.readDoubles("/boundaryModes");
     r.residualFlexibility = f.readDoubles("/residualFlexibility");
     r.modalTranslation = f.readDoubles("/modalTranslation");
     const auto tm = f.readDoubles("/translationMass");
     EPAPHE_REQUIRE(tm.size() == 3, "reduced-model cache " << path << ": /translationMass has " << tm.size()
-                                                         << " entries, not 3; delete the file to reduce again");
+                                                          << " entries, not 3; delete the file to reduce again");
     for (int d = 0; d < 3; ++d) r.translationMass[d] = tm[d];
   }
   r.nodeSets.clear();
@@ -133,8 +134,9 @@ bool readReducedModel(const io::Hdf5File& f, const std::string& path, ReducedMod
     const std::string name = grids.substr(b, e - b);
     std::vector<std::uint64_t> dims;
     const auto nodes = toInts(f.readInts("/nodeGrids/" + name, &dims));
-    EPAPHE_REQUIRE(dims.size() == 2, "reduced-model cache " << path << ": node grid '" << name << "' is not 2-D; "
-                                                            "delete the file to rebuild it");
+    EPAPHE_REQUIRE(dims.size() == 2, "reduced-model cache " << path << ": node grid '" << name
+                                                            << "' is not 2-D; "
+                                                               "delete the file to rebuild it");
     r.nodeGrids[name] = NodeGrid{static_cast<int>(dims[0]), static_cast<int>(dims[1]), nodes};
   }
   return true;
@@ -176,7 +178,8 @@ void saveParametricModel(const SpeedParametricModel& p, const std::string& path,
 
 bool loadParametricModel(const std::string& path, const std::string& key, SpeedParametricModel& p) {
   std::unique_ptr<io::Hdf5File> f;
-  if (!openWithKey(path, key, f) || !readReducedModel(*f, path, p.base) || !f->exists("/parametric/speeds")) return false;
+  if (!openWithKey(path, key, f) || !readReducedModel(*f, path, p.base) || !f->exists("/parametric/speeds"))
+    return false;
   p.speeds = f->readDoubles("/parametric/speeds");
   p.boundarySize = static_cast<int>(f->intAttribute("/", "boundarySize"));
   p.staticState = static_cast<StaticState>(f->intAttribute("/", "staticState"));
@@ -184,7 +187,8 @@ bool loadParametricModel(const std::string& path, const std::string& key, SpeedP
   p.growth.clear();
   for (std::size_t k = 1; k < p.speeds.size(); ++k)
     p.stiffness.push_back(f->readDoubles("/parametric/stiffness" + std::to_string(k)));
-  for (std::size_t k = 0; k < p.speeds.size(); ++k) p.growth.push_back(f->readDoubles("/parametric/growth" + std::to_string(k)));
+  for (std::size_t k = 0; k < p.speeds.size(); ++k)
+    p.growth.push_back(f->readDoubles("/parametric/growth" + std::to_string(k)));
   return true;
 }
 

@@ -23,7 +23,8 @@ using Dense = std::vector<double>;  // column-major unless said
 Dense transposeTimes(const double* A, int lda, const double* B, int ldb, int m, int p, int q) {
   Dense C(static_cast<std::size_t>(p) * q, 0.0);
   if (m > 0 && p > 0 && q > 0)
-    Teuchos::BLAS<int, double>().GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, p, q, m, 1.0, A, lda, B, ldb, 0.0, C.data(), p);
+    Teuchos::BLAS<int, double>().GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, p, q, m, 1.0, A, lda, B, ldb, 0.0, C.data(),
+                                      p);
   return C;
 }
 
@@ -121,8 +122,8 @@ namespace {
 /// The samples of a parametric model: the static state and one reduction at each speed (ascending).
 struct Samples {
   std::vector<ReducedModel> red;
-  std::vector<Dense> grow;                           // u_s, 3 per node
-  std::vector<Teuchos::RCP<const CrsMatrix>> K;      // K(Omega_s) of the full model
+  std::vector<Dense> grow;                       // u_s, 3 per node
+  std::vector<Teuchos::RCP<const CrsMatrix>> K;  // K(Omega_s) of the full model
   StaticState staticState = StaticState::Linear;
   ReductionReport rep;
 };
@@ -133,9 +134,9 @@ using Reduce = std::function<ReducedModel(const FullModel&, ReductionReport*)>;
 Samples reduceAtSamples(SpeedSampleSource& source, std::vector<double>& speeds, const Reduce& reduce) {
   const FullModel& rest = source.reference();
   std::sort(speeds.begin(), speeds.end());
-  EPAPHE_REQUIRE(speeds.size() >= 2 && std::adjacent_find(speeds.begin(), speeds.end()) == speeds.end() &&
-                     speeds.front() >= 0,
-                 "body '" << rest.name << "': a parametric model needs 2 or more distinct sample speeds >= 0");
+  EPAPHE_REQUIRE(
+      speeds.size() >= 2 && std::adjacent_find(speeds.begin(), speeds.end()) == speeds.end() && speeds.front() >= 0,
+      "body '" << rest.name << "': a parametric model needs 2 or more distinct sample speeds >= 0");
   const int S = static_cast<int>(speeds.size());
   const std::size_t rows = rest.eq.size();
   Samples out;
@@ -261,9 +262,8 @@ SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std
   CraigBamptonOptions co = options;
   co.checkFrequencies = 0;
   co.basisOnly = true;
-  Samples samples = reduceAtSamples(source, speeds, [&](const FullModel& at, ReductionReport* r) {
-    return craigBampton(at, retained, co, r);
-  });
+  Samples samples = reduceAtSamples(
+      source, speeds, [&](const FullModel& at, ReductionReport* r) { return craigBampton(at, retained, co, r); });
   const std::vector<ReducedModel>& red = samples.red;
   const int S = static_cast<int>(speeds.size());
   const std::size_t rows = rest.eq.size();  // 3 per node
@@ -359,7 +359,8 @@ SpeedParametricModel parametricMasslessBoundary(SpeedSampleSource& source, const
       for (std::size_t i = 0; i < rows; ++i) norm += red[s].recovery[i * n + j] * red[s].recovery[i * n + j];
       if (norm == 0) continue;
       norm = std::sqrt(norm);
-      for (std::size_t i = 0; i < rows; ++i) Y[static_cast<std::size_t>(col) * rows + i] = red[s].recovery[i * n + j] / norm;
+      for (std::size_t i = 0; i < rows; ++i)
+        Y[static_cast<std::size_t>(col) * rows + i] = red[s].recovery[i * n + j] / norm;
       ++col;
     }
   }
@@ -402,7 +403,8 @@ std::vector<double> SpeedParametricModel::staticDisplacementAt(double speed) con
 std::vector<double> SpeedParametricModel::frequenciesAt(double speed, int count) const {
   std::vector<double> w2 = denseEigenpairs(stiffnessAt(speed), base.M, base.size);
   std::vector<double> f;
-  for (int i = 0; i < count && i < static_cast<int>(w2.size()); ++i) f.push_back(std::sqrt(std::max(w2[i], 0.0)) / (2 * M_PI));
+  for (int i = 0; i < count && i < static_cast<int>(w2.size()); ++i)
+    f.push_back(std::sqrt(std::max(w2[i], 0.0)) / (2 * M_PI));
   return f;
 }
 
@@ -420,7 +422,8 @@ ReducedModel SpeedParametricModel::at(double speed, int modes, const std::string
   auto block = [&](const Dense& A, int r0, int nr, int c0, int nc) {
     Dense B(static_cast<std::size_t>(nr) * nc);
     for (int j = 0; j < nc; ++j)
-      for (int i = 0; i < nr; ++i) B[static_cast<std::size_t>(j) * nr + i] = A[static_cast<std::size_t>(c0 + j) * N + r0 + i];
+      for (int i = 0; i < nr; ++i)
+        B[static_cast<std::size_t>(j) * nr + i] = A[static_cast<std::size_t>(c0 + j) * N + r0 + i];
     return B;
   };
   // S = [I 0; Psi' Phi'], Psi' = -K_ii^-1 K_ib, K_ii Phi' = M_ii Phi' Lambda (the lowest `modes`)
@@ -440,10 +443,12 @@ ReducedModel SpeedParametricModel::at(double speed, int modes, const std::string
   Dense Sm(static_cast<std::size_t>(N) * n, 0.0);  // N x n column-major
   for (int j = 0; j < nb; ++j) {
     Sm[static_cast<std::size_t>(j) * N + j] = 1;
-    for (int i = 0; i < ni; ++i) Sm[static_cast<std::size_t>(j) * N + nb + i] = Psi[static_cast<std::size_t>(j) * ni + i];
+    for (int i = 0; i < ni; ++i)
+      Sm[static_cast<std::size_t>(j) * N + nb + i] = Psi[static_cast<std::size_t>(j) * ni + i];
   }
   for (int k = 0; k < modes; ++k)
-    for (int i = 0; i < ni; ++i) Sm[static_cast<std::size_t>(nb + k) * N + nb + i] = vec[static_cast<std::size_t>(k) * ni + i];
+    for (int i = 0; i < ni; ++i)
+      Sm[static_cast<std::size_t>(nb + k) * N + nb + i] = vec[static_cast<std::size_t>(k) * ni + i];
 
   ReducedModel r = base;
   r.kind = modes == 0 ? ReductionKind::Guyan : ReductionKind::CraigBampton;
@@ -538,7 +543,8 @@ ReducedModel SpeedParametricModel::masslessAt(double speed, int modes, const std
             r.boundaryModes.data(), nb);
   Dense ZW(static_cast<std::size_t>(N) * modes), PW(static_cast<std::size_t>(nb) * modes);
   for (int k = 0; k < modes; ++k)
-    for (int i = 0; i < N; ++i) ZW[static_cast<std::size_t>(k) * N + i] = Z[static_cast<std::size_t>(k) * N + i] / w2[k];
+    for (int i = 0; i < N; ++i)
+      ZW[static_cast<std::size_t>(k) * N + i] = Z[static_cast<std::size_t>(k) * N + i] / w2[k];
   for (int k = 0; k < modes; ++k)
     for (int i = 0; i < nb; ++i)
       PW[static_cast<std::size_t>(k) * nb + i] = r.boundaryModes[static_cast<std::size_t>(k) * nb + i] / w2[k];
@@ -562,7 +568,8 @@ ReducedModel SpeedParametricModel::masslessAt(double speed, int modes, const std
   // recovery on the basis: A = [Res G^-1, Z - Res G^-1 Phi_b] (N x n), then T A, exact on the retained rows
   Dense A(static_cast<std::size_t>(N) * n);
   blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, N, nb, nb, 1.0, Res.data(), N, Ginv.data(), nb, 0.0, A.data(), N);
-  std::copy(Z.begin(), Z.begin() + static_cast<std::ptrdiff_t>(N) * modes, A.begin() + static_cast<std::ptrdiff_t>(N) * nb);
+  std::copy(Z.begin(), Z.begin() + static_cast<std::ptrdiff_t>(N) * modes,
+            A.begin() + static_cast<std::ptrdiff_t>(N) * nb);
   blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, N, modes, nb, -1.0, A.data(), N, r.boundaryModes.data(), nb, 1.0,
             A.data() + static_cast<std::size_t>(N) * nb, N);
   r.recovery.assign(rows * n, 0.0);

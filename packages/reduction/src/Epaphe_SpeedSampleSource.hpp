@@ -13,13 +13,13 @@
 namespace epaphe {
 
 struct SpeedSample {
-  FullModel model;                          // K(Omega) and M over the reference's DOF numbering
-  std::vector<double> staticDisplacement;   // u_s(Omega), 3 per node (mesh order)
-  double seconds = 0;                       // time to build or read it
+  FullModel model;                         // K(Omega) and M over the reference's DOF numbering
+  std::vector<double> staticDisplacement;  // u_s(Omega), 3 per node (mesh order)
+  double seconds = 0;                      // time to build or read it
 };
 
 class SpeedSampleSource {
- public:
+public:
   virtual ~SpeedSampleSource() = default;
   /// The model whose mesh, DOF numbering and mass matrix every sample shares.
   virtual const FullModel& reference() const = 0;
@@ -36,7 +36,7 @@ class SpeedSampleSource {
 /// kept for the others, so that u_s(Omega) and K_sigma are interpolated across one model; a
 /// stress-stiffened fixed point starts at the previous sample's state scaled by (Omega / Omega_prev)^2.
 class BuiltInSpeedSource : public SpeedSampleSource {
- public:
+public:
   BuiltInSpeedSource(const FullModel& rest, const RotationOptions& rotation) : rest_(rest), common_(rotation) {}
   const FullModel& reference() const override { return rest_; }
   SpeedSample sample(double speed) override;
@@ -44,7 +44,7 @@ class BuiltInSpeedSource : public SpeedSampleSource {
     return common_.staticState == StaticState::Automatic ? StaticState::Linear : common_.staticState;
   }
 
- private:
+private:
   const FullModel& rest_;
   RotationOptions common_;
   double previousSpeed_ = 0;

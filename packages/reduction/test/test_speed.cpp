@@ -79,7 +79,8 @@ TEST(ModelAtSpeed, SpinSofteningOfAFreeTranslationIsMinusOmegaSquared) {
   const double omega = 700;
   const SpinAxis axis = spinAxis({0.01, -0.02, 0}, {0, 0, 2}, "test");
   const CentrifugalTerms c = assembleCentrifugal(body, axis);
-  const auto K = gatherDense(*Tpetra::MatrixMatrix::add(1.0, false, *body.K, -omega * omega, false, *c.perpendicularMass));
+  const auto K =
+      gatherDense(*Tpetra::MatrixMatrix::add(1.0, false, *body.K, -omega * omega, false, *c.perpendicularMass));
   const auto M = gatherDense(*body.M);
   for (int d = 0; d < 3; ++d) {
     std::vector<double> t(static_cast<std::size_t>(body.numFree), 0.0);
@@ -112,9 +113,9 @@ TEST(ModelAtSpeed, RadialBarStretchesAsTheClosedForm) {
     const FullModel at = modelAtSpeed(bar, o, &rep);
     for (double s : {0.25 * L, 0.5 * L, L}) {
       const double r = R + s;
-      const double exact = softening ? R * std::cos(k * s) + (1 + R * k * std::sin(k * L)) / (k * std::cos(k * L)) *
-                                                                 std::sin(k * s) - r
-                                     : k * k * ((R + L) * (R + L) * s - (r * r * r - R * R * R) / 3) / 2;
+      const double exact =
+          softening ? R * std::cos(k * s) + (1 + R * k * std::sin(k * L)) / (k * std::cos(k * L)) * std::sin(k * s) - r
+                    : k * k * ((R + L) * (R + L) * s - (r * r * r - R * R * R) / 3) / 2;
       double mean = 0;
       int count = 0;
       for (int n = 0; n < bar.numNodes(); ++n)
@@ -125,8 +126,8 @@ TEST(ModelAtSpeed, RadialBarStretchesAsTheClosedForm) {
         }
       ASSERT_EQ(count, 4);
       mean /= count;
-      std::printf("radial bar, r = %.2f m%s: u = %.6e m, closed form %.6e m (%.2e)\n", r, softening ? "" : ", no softening",
-                  mean, exact, mean / exact - 1);
+      std::printf("radial bar, r = %.2f m%s: u = %.6e m, closed form %.6e m (%.2e)\n", r,
+                  softening ? "" : ", no softening", mean, exact, mean / exact - 1);
       EXPECT_NEAR(mean, exact, 1e-4 * std::abs(exact)) << "r = " << r << (softening ? "" : ", no spin softening");
     }
   }
@@ -283,8 +284,10 @@ TEST(ModelAtSpeed, TheMasslessBoundaryParametricModelIsExactAtItsSamplesAndClose
     const double flex = largestRelative(boundaryFlexibility(pr), boundaryFlexibility(direct));
     const double growth = w > 0 ? largestRelative(pr.staticDisplacement, sr.staticDisplacement) : 0.0;
     const bool sample = w == samples[0] || w == samples[1] || w == samples[2];
-    std::printf("massless boundary, Omega = %.1f rad/s (%s): frequencies %.2e, boundary flexibility %.2e, static "
-                "state %.2e\n", w, sample ? "sample" : "between", freq, flex, growth);
+    std::printf(
+        "massless boundary, Omega = %.1f rad/s (%s): frequencies %.2e, boundary flexibility %.2e, static "
+        "state %.2e\n",
+        w, sample ? "sample" : "between", freq, flex, growth);
     // the model runs: K positive semi-definite on the boundary, recovery exact on the retained DOFs
     for (int r = 0; r < pr.boundarySize(); ++r) EXPECT_GT(pr.K[static_cast<std::size_t>(r) * pr.size + r], 0.0);
     if (sample) {

@@ -30,7 +30,9 @@ std::string canonical(const ParameterList& pl) {
   return os.str();
 }
 
-bool isImported(MeshType t) { return t == MeshType::Calculix || t == MeshType::MatrixMarket || t == MeshType::CodeAster; }
+bool isImported(MeshType t) {
+  return t == MeshType::Calculix || t == MeshType::MatrixMarket || t == MeshType::CodeAster;
+}
 
 std::string deckDirectory(const std::string& deckPath) {
   const auto slash = deckPath.find_last_of('/');
@@ -48,16 +50,20 @@ std::string fileKey(const ParameterList& mesh, const std::string& key, bool requ
   const std::string value = mesh.get<std::string>(key);
   const std::string where = deckPath + ": body '" + body + "', '" + deck::pathOf(mesh, key) + "'";
   if (value.empty()) {
-    EPAPHE_REQUIRE(!required, where << " is empty but Mesh Type " << type << " needs it; name the file, relative to "
+    EPAPHE_REQUIRE(!required, where << " is empty but Mesh Type " << type
+                                    << " needs it; name the file, relative to "
                                        "the deck's directory");
     return "";
   }
   const std::string path = value[0] == '/' ? value : deckDirectory(deckPath) + value;
-  for (const std::string& s : suffixes.empty() ? std::vector<std::string>{""} : std::vector<std::string>{".sti", ".mas", ".dof"})
-    EPAPHE_REQUIRE(isFile(path + s), where << " = '" << value << "': no file " << path + s
-                                           << (suffixes.empty() ? "" : " (the job's .sti, .mas and .dof are read; run "
-                                                                       "ccx on a deck with *FREQUENCY, SOLVER=MATRIXSTORAGE)")
-                                           << "; paths are relative to the deck's directory");
+  for (const std::string& s :
+       suffixes.empty() ? std::vector<std::string>{""} : std::vector<std::string>{".sti", ".mas", ".dof"})
+    EPAPHE_REQUIRE(isFile(path + s), where
+                                         << " = '" << value << "': no file " << path + s
+                                         << (suffixes.empty() ? ""
+                                                              : " (the job's .sti, .mas and .dof are read; run "
+                                                                "ccx on a deck with *FREQUENCY, SOLVER=MATRIXSTORAGE)")
+                                         << "; paths are relative to the deck's directory");
   return path;
 }
 
@@ -66,7 +72,7 @@ struct ImportFiles {
   CalculixFiles ccx;
   MatrixMarketFiles mm;
   CodeAsterFiles aster;
-  std::vector<std::string> all;   // every file read
+  std::vector<std::string> all;  // every file read
 };
 
 ImportFiles importFiles(const std::string& body, const ParameterList& bp, const std::string& deckPath) {
@@ -78,8 +84,9 @@ ImportFiles importFiles(const std::string& body, const ParameterList& bp, const 
   // Keys of the other types (or of the built-in meshes) left set are mistakes worth naming.
   auto unused = [&](std::initializer_list<const char*> keys) {
     for (const char* k : keys)
-      EPAPHE_REQUIRE(mp.get<std::string>(k).empty(), ctx << ", '" << deck::pathOf(mp, k) << "' = '" << mp.get<std::string>(k)
-                                                          << "' is not read by Mesh Type " << type << "; remove it");
+      EPAPHE_REQUIRE(mp.get<std::string>(k).empty(), ctx << ", '" << deck::pathOf(mp, k) << "' = '"
+                                                         << mp.get<std::string>(k) << "' is not read by Mesh Type "
+                                                         << type << "; remove it");
   };
   if (!isImported(f.type)) {
     unused({"Input file", "Matrix job", "Stiffness file", "Mass file", "DOF file", "Node file", "Node set file",
@@ -96,13 +103,14 @@ ImportFiles importFiles(const std::string& body, const ParameterList& bp, const 
     std::string job = mp.get<std::string>("Matrix job");
     if (job.empty()) {
       const auto dot = f.ccx.input.rfind('.'), slash = f.ccx.input.rfind('/');
-      f.ccx.matrices = (dot != std::string::npos && (slash == std::string::npos || dot > slash)) ? f.ccx.input.substr(0, dot)
-                                                                                              : f.ccx.input;
+      f.ccx.matrices = (dot != std::string::npos && (slash == std::string::npos || dot > slash))
+                           ? f.ccx.input.substr(0, dot)
+                           : f.ccx.input;
       for (const char* s : {".sti", ".mas", ".dof"})
-        EPAPHE_REQUIRE(isFile(f.ccx.matrices + s), ctx << ", 'Mesh->Matrix job' is empty, so the matrices are read from "
-                                                       << f.ccx.matrices << ".sti/.mas/.dof, but " << f.ccx.matrices + s
-                                                       << " does not exist; run ccx on " << f.ccx.input
-                                                       << " (with *FREQUENCY, SOLVER=MATRIXSTORAGE) or set 'Matrix job'");
+        EPAPHE_REQUIRE(isFile(f.ccx.matrices + s),
+                       ctx << ", 'Mesh->Matrix job' is empty, so the matrices are read from " << f.ccx.matrices
+                           << ".sti/.mas/.dof, but " << f.ccx.matrices + s << " does not exist; run ccx on "
+                           << f.ccx.input << " (with *FREQUENCY, SOLVER=MATRIXSTORAGE) or set 'Matrix job'");
     } else {
       f.ccx.matrices = fileKey(mp, "Matrix job", true, deckPath, body, type, "sti");
     }
@@ -192,11 +200,11 @@ CasingGeometry casingGeometry(const ParameterList& pl, const std::string& radius
   g.amplitudesFirst = deck::getDoubles(pl, "Amplitudes at first end");
   g.amplitudesLast = deck::getDoubles(pl, "Amplitudes at last end");
   if (g.law == ClearanceLaw::Harmonics)
-    EPAPHE_REQUIRE(!g.orders.empty() && g.amplitudesFirst.size() == g.orders.size() &&
-                       g.amplitudesLast.size() == g.orders.size(),
-                   origin << ": '" << deck::pathOf(pl, "Harmonic orders") << "' has " << g.orders.size()
-                          << " orders, the amplitudes " << g.amplitudesFirst.size() << " and " << g.amplitudesLast.size()
-                          << "; give one amplitude per order at each end");
+    EPAPHE_REQUIRE(
+        !g.orders.empty() && g.amplitudesFirst.size() == g.orders.size() && g.amplitudesLast.size() == g.orders.size(),
+        origin << ": '" << deck::pathOf(pl, "Harmonic orders") << "' has " << g.orders.size()
+               << " orders, the amplitudes " << g.amplitudesFirst.size() << " and " << g.amplitudesLast.size()
+               << "; give one amplitude per order at each end");
   return g;
 }
 
@@ -208,7 +216,8 @@ void checkCasingMesh(const std::string& body, const ParameterList& mp, const std
   EPAPHE_REQUIRE(el[1] >= 4, where << ": " << el[1] << " element(s) around the circumference; a Casing needs at least "
                                    << "4 (its inner face is a closed bicubic B-spline through one node per element): "
                                    << "give e.g. {" << el[0] << ", 48, " << el[2] << "}");
-  EPAPHE_REQUIRE(el[0] >= 1 && el[2] >= 1, where << "; give at least 1 element through the thickness and along the axis");
+  EPAPHE_REQUIRE(el[0] >= 1 && el[2] >= 1,
+                 where << "; give at least 1 element through the thickness and along the axis");
   casingGeometry(mp, "Inner radius", origin);
 }
 
@@ -247,7 +256,8 @@ Mesh buildBodyMesh(const std::string& body, const ParameterList& bp, const std::
   } else if (type == MeshType::Casing) {
     checkCasingMesh(body, mp, deckPath);
     try {
-      mesh = makeCasingMesh(casingGeometry(mp, "Inner radius", deckPath), mp.get<double>("Thickness"), {el[0], el[1], el[2]});
+      mesh = makeCasingMesh(casingGeometry(mp, "Inner radius", deckPath), mp.get<double>("Thickness"),
+                            {el[0], el[1], el[2]});
     } catch (const Error& e) {
       throw Error(ctx + ", Mesh Type Casing: " + e.what());
     }
@@ -256,15 +266,15 @@ Mesh buildBodyMesh(const std::string& body, const ParameterList& bp, const std::
       mesh = makeSphereMesh(deck::getVec3(mp, "Center", deckPath), mp.get<double>("Radius"), {el[0], el[1], el[2]},
                             mp.get<double>("Pole grading"));
     } catch (const Error& e) {
-      throw Error(ctx + ", Mesh Type Sphere ('" + deck::pathOf(mp, "Elements") + "', 'Radius', 'Pole grading'): " +
-                  e.what());
+      throw Error(ctx + ", Mesh Type Sphere ('" + deck::pathOf(mp, "Elements") +
+                  "', 'Radius', 'Pole grading'): " + e.what());
     }
   } else {
     const auto ang = deck::getDoubles(mp, "Angles"), ax = deck::getDoubles(mp, "Axial range");
     EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2, ctx << ": 'Mesh->Angles' and 'Mesh->Axial range' must each "
                                                              "be {first, last}");
-    mesh = makeRingSegmentMesh(deck::getVec3(mp, "Origin", deckPath), mp.get<double>("Inner radius"), mp.get<double>("Thickness"),
-                               {ang[0], ang[1]}, {ax[0], ax[1]}, {el[0], el[1], el[2]});
+    mesh = makeRingSegmentMesh(deck::getVec3(mp, "Origin", deckPath), mp.get<double>("Inner radius"),
+                               mp.get<double>("Thickness"), {ang[0], ang[1]}, {ax[0], ax[1]}, {el[0], el[1], el[2]});
   }
   return mesh;
 }
@@ -316,13 +326,15 @@ std::string rotationKeyText(const ParameterList& rotation) {
   t << "point=";
   for (double x : deck::getDoubles(rotation, "Axis point")) t << x << " ";
   t << "stiffening=" << rotation.get<bool>("Stress stiffening") << " softening=" << rotation.get<bool>("Spin softening")
-    << " static=" << rotation.get<std::string>("Static state") << " tolerance=" << rotation.get<double>("Static tolerance");
+    << " static=" << rotation.get<std::string>("Static state")
+    << " tolerance=" << rotation.get<double>("Static tolerance");
   return t.str();
 }
 
 CraigBamptonOptions reductionOptions(const ParameterList& rp) {
   CraigBamptonOptions o;
-  o.modes = deck::getEnum<ReductionMethod>(rp, "Method") == ReductionMethod::Guyan ? 0 : rp.get<int>("Fixed-interface modes");
+  o.modes =
+      deck::getEnum<ReductionMethod>(rp, "Method") == ReductionMethod::Guyan ? 0 : rp.get<int>("Fixed-interface modes");
   o.solver = deck::getEnum<LinearSolver>(rp, "Linear solver");
   o.iterativeTolerance = rp.get<double>("Iterative tolerance");
   o.checkFrequencies = rp.get<int>("Frequency check");
@@ -353,8 +365,8 @@ ReducedModel reduceBody(const FullModel& full, const std::vector<int>& retainedN
   throw Error("body '" + full.name + "': unknown '" + deck::pathOf(rp, "Method") + "'");
 }
 
-FrequencyCheck frequencyCheck(const FullModel& full, const ReducedModel& model, const CraigBamptonOptions& o,
-                              int count, const ReductionReport& report) {
+FrequencyCheck frequencyCheck(const FullModel& full, const ReducedModel& model, const CraigBamptonOptions& o, int count,
+                              const ReductionReport& report) {
   FrequencyCheck c;
   Stopwatch sw;
   count = std::min(count, full.numFree - 1);

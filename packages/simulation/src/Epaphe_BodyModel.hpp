@@ -41,7 +41,8 @@ FullModel buildBodyModel(const std::string& body, const Teuchos::ParameterList& 
 
 /// The casing geometry and clearance law of `pl`: a Casing surface (radiusKey "Radius") or a Casing
 /// mesh ("Inner radius"). An Error names `origin` (the deck), the key, its value and the fix.
-CasingGeometry casingGeometry(const Teuchos::ParameterList& pl, const std::string& radiusKey, const std::string& origin);
+CasingGeometry casingGeometry(const Teuchos::ParameterList& pl, const std::string& radiusKey,
+                              const std::string& origin);
 
 /// Checks a body's Casing mesh (element counts, clearance law keys) with errors naming the deck key;
 /// called before any body is built.

@@ -19,7 +19,11 @@ std::vector<double> hostCopy(const DenseVector& v) {
 
 Checkpoints::Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, HistoryOutput& history, FieldOutput* fields,
                          const CheckpointOptions& options, const std::vector<io::Series*>& more)
-    : file_(file), history_(history), fields_(fields), opt_(options), series_(history.series()),
+    : file_(file),
+      history_(history),
+      fields_(fields),
+      opt_(options),
+      series_(history.series()),
       accumulatorNames_(LoopAccumulators::names(loop.bodies())) {
   if (fields_)
     for (io::Series* s : fields_->series()) series_.push_back(s);
@@ -49,8 +53,9 @@ void Checkpoints::write(const ExplicitLoop& loop, long long nextStep) {
   file_.writeDoubles(c + "/accumulators", loop.accumulators().values(static_cast<double>(nextStep) * loop.timeStep()));
   if (SurfaceContact* contact = loop.contact()) {
     const auto uv = contact->warmStarts();
-    file_.writeDoubles(c + "/warm_start", {uv.size() / (2 * contact->numNodes()),
-                                           static_cast<std::uint64_t>(contact->numNodes()), 2}, uv.data());
+    file_.writeDoubles(c + "/warm_start",
+                       {uv.size() / (2 * contact->numNodes()), static_cast<std::uint64_t>(contact->numNodes()), 2},
+                       uv.data());
     file_.writeDoubles(c + "/detection_state", contact->detectionState());
     if (contact->coating()) file_.writeDoubles(c + "/coating_state", contact->coatingState());
     contact->resetWarmStarts();  // as a restart from here will: friction starts anew
@@ -104,7 +109,8 @@ long long Checkpoints::restore(ExplicitLoop& loop, const std::string& what) {
     if (file_.exists(c + "/detection_state"))  // (a checkpoint without it: every node projects)
       contact->setDetectionState(file_.readDoubles(c + "/detection_state"));
     if (contact->coating()) {
-      EPAPHE_REQUIRE(file_.exists(c + "/coating_state"), what << ": " << c << " has no coating state; run the deck anew");
+      EPAPHE_REQUIRE(file_.exists(c + "/coating_state"),
+                     what << ": " << c << " has no coating state; run the deck anew");
       contact->setCoatingState(file_.readDoubles(c + "/coating_state"));
     }
   }

@@ -4,9 +4,9 @@
 // A checkpoint holds everything the next steps depend on (fixed shapes): the step to run next,
 // q_{n-1} and q_n of the system, the loop's accumulators (contact work, per body damping and
 // external work, contact times, impulse, peak force, worst balance error), the contact's warm
-// starts and skipping state, a coating's wear and dissipation, and the records of every series. Between checkpoints nothing is written to the file: the
-// series buffers (1024 records, 16 field frames) never fill, a checkpoint being taken when they
-// are one record short. A checkpoint first writes and flushes (H5Fflush) the buffered records, then
+// starts and skipping state, a coating's wear and dissipation, and the records of every series. Between checkpoints
+// nothing is written to the file: the series buffers (1024 records, 16 field frames) never fill, a checkpoint being
+// taken when they are one record short. A checkpoint first writes and flushes (H5Fflush) the buffered records, then
 // overwrites the older of two slots, /checkpoint/0 and /checkpoint/1, flushes, and only then points
 // /checkpoint/current at it and flushes again. A process killed at any moment thus leaves a
 // complete checkpoint in the slot /checkpoint/current names; with uncompressed series
@@ -23,8 +23,8 @@
 namespace epaphe {
 
 struct CheckpointOptions {
-  int every = 0;          // Output->Checkpoint every (steps; 0: none on this count)
-  double interval = 0;    // Output->Checkpoint interval (s of wall time; 0: none on time)
+  int every = 0;        // Output->Checkpoint every (steps; 0: none on this count)
+  double interval = 0;  // Output->Checkpoint interval (s of wall time; 0: none on time)
 };
 
 class Checkpoints : public LoopObserver {

@@ -23,7 +23,8 @@ namespace {
 void addClearanceLaw(Teuchos::ParameterList& pl, const std::string& who, const std::string& radiusKey) {
   addEnum(pl, "Clearance law", "None", {"None", "Two-lobe", "Harmonics"},
           {int(ClearanceLaw::None), int(ClearanceLaw::TwoLobe), int(ClearanceLaw::Harmonics)},
-          who + ": radius = " + radiusKey + " + (z - Axial position) tan(Cone angle) + gap(theta, z), theta from +x towards "
+          who + ": radius = " + radiusKey +
+              " + (z - Axial position) tan(Cone angle) + gap(theta, z), theta from +x towards "
               "+y. None: gap = Clearance; Two-lobe (NASA rotor 37, Piollet, Nyssen & Batailly 2019, eqs. 3-4): gap = "
               "c (1 - 2 exp(-((mod(theta, pi)/pi - 0.5)/0.15)^2)), c = Clearance; Harmonics: gap = Clearance - "
               "sum_k A_k(z) cos(n_k theta), A_k linear in z between its values at the two ends of the Axial range");
@@ -37,16 +38,19 @@ void addClearanceLaw(Teuchos::ParameterList& pl, const std::string& who, const s
 void addRunParameters(Teuchos::ParameterList& pl) {
   auto& run = pl.sublist("Run", false, "What the run is called and how it uses the machine");
   addString(run, "Name", "epaphe", "Name of the run, printed and stored in the output");
-  addInt(run, "Threads", 1, "OpenMP threads of the Kokkos kernels (0: OMP_NUM_THREADS, else all cores); the "
-                            "command line option --threads overrides it. A loop of less than 20 us of work runs on "
-                            "one thread whatever this says (EPAPHE_SERIAL_WORK_NS), so 2 threads are never much "
-                            "slower than 1; they pay off where a step has much contact work (the cube between two "
-                            "flexible rings: 1.5x)", 0, 1024);
+  addInt(run, "Threads", 1,
+         "OpenMP threads of the Kokkos kernels (0: OMP_NUM_THREADS, else all cores); the "
+         "command line option --threads overrides it. A loop of less than 20 us of work runs on "
+         "one thread whatever this says (EPAPHE_SERIAL_WORK_NS), so 2 threads are never much "
+         "slower than 1; they pay off where a step has much contact work (the cube between two "
+         "flexible rings: 1.5x)",
+         0, 1024);
   addDouble(run, "Progress interval", 2.0, "Wall-clock seconds between progress lines (0: none)", 0.0);
-  addBool(run, "Divergence step check", true, "When a run stops with its energy growing without bound, run the deck "
-                                              "again at half the time step up to twice the stop time (one MPI rank, "
-                                              "a scratch output) and say whether the step changes the divergence "
-                                              "(docs/user/divergence.md)");
+  addBool(run, "Divergence step check", true,
+          "When a run stops with its energy growing without bound, run the deck "
+          "again at half the time step up to twice the stop time (one MPI rank, "
+          "a scratch output) and say whether the step changes the divergence "
+          "(docs/user/divergence.md)");
 }
 
 /// Bodies-><name>->Mesh: the body's finite-element mesh (built-in or imported).
@@ -74,39 +78,50 @@ void addMeshParameters(Teuchos::ParameterList& body) {
           "CalculiX, Matrix Market, code_aster: K and M imported from the files below (paths relative to the deck "
           "file's directory); the body's Material is then unused, its boundary conditions and node sets are the "
           "files' own (CalculiX *BOUNDARY and *NSET; a node set file), plus node set 'all'");
-  addString(mesh, "Input file", "", "CalculiX: the input deck jobname.inp (mesh, *NSET, *BOUNDARY, *INCLUDEs) of "
-                                    "the run with *FREQUENCY, SOLVER=MATRIXSTORAGE");
-  addString(mesh, "Matrix job", "", "CalculiX: path without extension of that run's jobname.sti (K), .mas (M) and "
-                                    ".dof (DOF of each row); empty: the Input file without its .inp");
-  addString(mesh, "Stiffness file", "", "Matrix Market: K.mtx (%%MatrixMarket coordinate, general or symmetric); "
-                                        "code_aster: K as 'row column value' lines (one triangle or both)");
+  addString(mesh, "Input file", "",
+            "CalculiX: the input deck jobname.inp (mesh, *NSET, *BOUNDARY, *INCLUDEs) of "
+            "the run with *FREQUENCY, SOLVER=MATRIXSTORAGE");
+  addString(mesh, "Matrix job", "",
+            "CalculiX: path without extension of that run's jobname.sti (K), .mas (M) and "
+            ".dof (DOF of each row); empty: the Input file without its .inp");
+  addString(mesh, "Stiffness file", "",
+            "Matrix Market: K.mtx (%%MatrixMarket coordinate, general or symmetric); "
+            "code_aster: K as 'row column value' lines (one triangle or both)");
   addString(mesh, "Mass file", "", "Matrix Market, code_aster: M, as the Stiffness file");
-  addString(mesh, "DOF file", "", "Matrix Market: 'node direction' per matrix row; code_aster: the DOF numbering "
-                                  "of every equation ('N12 DX', Lagrange rows 'N12 LAGR:DX', dropped)");
+  addString(mesh, "DOF file", "",
+            "Matrix Market: 'node direction' per matrix row; code_aster: the DOF numbering "
+            "of every equation ('N12 DX', Lagrange rows 'N12 LAGR:DX', dropped)");
   addString(mesh, "Node file", "", "Matrix Market, code_aster: 'id x y z' per node");
   addString(mesh, "Node set file", "", "Matrix Market, code_aster (optional): 'name id id ...' per line");
-  addString(mesh, "Clamped node file", "", "code_aster (optional): node ids fixed in every direction, besides "
-                                           "the DOFs code_aster dualized");
-  addDoubleArray(mesh, "Origin", {0, 0, 0}, "Box: corner with the smallest coordinates; Ring segment: a point of "
-                                            "its axis (m)");
+  addString(mesh, "Clamped node file", "",
+            "code_aster (optional): node ids fixed in every direction, besides "
+            "the DOFs code_aster dualized");
+  addDoubleArray(mesh, "Origin", {0, 0, 0},
+                 "Box: corner with the smallest coordinates; Ring segment: a point of "
+                 "its axis (m)");
   addDoubleArray(mesh, "Lengths", {0.2, 0.02, 0.02}, "Box: edge lengths along x, y, z (m)");
-  addIntArray(mesh, "Elements", {100, 1, 1}, "Box: hexahedra along x, y, z; Ring segment: through the "
-                                             "thickness, along the arc, along the axis; Casing: through the "
-                                             "thickness, around the circumference, along the axis; Sphere: "
-                                             "hexahedra along x, y, z of the mapped cube (x, y even)");
-  addDouble(mesh, "Inner radius", 0.15, "Ring segment: inner radius; Casing: radius of the inner cone at the Axial "
-                                        "position, before the clearance law (m)", 1e-300);
+  addIntArray(mesh, "Elements", {100, 1, 1},
+              "Box: hexahedra along x, y, z; Ring segment: through the "
+              "thickness, along the arc, along the axis; Casing: through the "
+              "thickness, around the circumference, along the axis; Sphere: "
+              "hexahedra along x, y, z of the mapped cube (x, y even)");
+  addDouble(mesh, "Inner radius", 0.15,
+            "Ring segment: inner radius; Casing: radius of the inner cone at the Axial "
+            "position, before the clearance law (m)",
+            1e-300);
   addDouble(mesh, "Thickness", 0.03, "Ring segment, Casing: radial thickness (m)", 1e-300);
   addDoubleArray(mesh, "Angles", {135, 225}, "Ring segment: first and last angle (degrees, from +x to +y)");
-  addDoubleArray(mesh, "Axial range", {-0.05, 0.05}, "Ring segment: first and last z, from Origin; Casing: first "
-                                                     "and last z (m)");
+  addDoubleArray(mesh, "Axial range", {-0.05, 0.05},
+                 "Ring segment: first and last z, from Origin; Casing: first "
+                 "and last z (m)");
   addDoubleArray(mesh, "Center", {0, 0, 0}, "Sphere: centre of the ball (m)");
   addDouble(mesh, "Radius", 0.01, "Sphere: radius of the ball (m)", 1e-300);
-  addDouble(mesh, "Pole grading", 1.0, "Sphere: element size at the lower pole (and across the z axis) as a "
-                                       "fraction of the uniform size, in [0.02, 1]; 1: no grading. Geometric "
-                                       "spacing: the elements grow away from the pole and the axis (to 3.2 "
-                                       "times the uniform size for 0.15). Refines where a ball dropped along -z "
-                                       "touches (Hertz contact radius sqrt(R delta))",
+  addDouble(mesh, "Pole grading", 1.0,
+            "Sphere: element size at the lower pole (and across the z axis) as a "
+            "fraction of the uniform size, in [0.02, 1]; 1: no grading. Geometric "
+            "spacing: the elements grow away from the pole and the axis (to 3.2 "
+            "times the uniform size for 0.15). Refines where a ball dropped along -z "
+            "touches (Hertz contact radius sqrt(R delta))",
             0.02, 1.0);
   addDouble(mesh, "Hub radius", 0.2, "Blade: radius of the root (m)", 1e-300);
   addDouble(mesh, "Tip radius", 0.3, "Blade: radius of the tip at the Axial position (m)", 1e-300);
@@ -115,10 +130,13 @@ void addMeshParameters(Teuchos::ParameterList& body) {
   addDouble(mesh, "Stagger", 30.0, "Blade: angle of the root chord to the engine axis (degrees)");
   addDouble(mesh, "Twist", 20.0, "Blade: stagger added from root to tip (degrees)");
   addDouble(mesh, "Camber", 0.05, "Blade: height of the parabolic camber line, as a fraction of the chord");
-  addDouble(mesh, "Cone angle", 0.0, "Blade: half-angle of the tip cone; Casing: of the inner cone (degrees; the "
-                                     "radius grows by tan(angle) per metre along z)", -60.0, 60.0);
-  addDouble(mesh, "Axial position", 0.0, "Blade: z of mid-chord; Casing: z where the inner cone's radius is the "
-                                         "Inner radius (m)");
+  addDouble(mesh, "Cone angle", 0.0,
+            "Blade: half-angle of the tip cone; Casing: of the inner cone (degrees; the "
+            "radius grows by tan(angle) per metre along z)",
+            -60.0, 60.0);
+  addDouble(mesh, "Axial position", 0.0,
+            "Blade: z of mid-chord; Casing: z where the inner cone's radius is the "
+            "Inner radius (m)");
   addClearanceLaw(mesh, "Casing", "Inner radius");
 }
 
@@ -140,19 +158,24 @@ void addReductionParameters(Teuchos::ParameterList& body) {
           "and its static part is the inertia-relief flexibility; an initial velocity is projected onto the "
           "modes, exactly for a free body, and the log says the kinetic energy a held body loses; Lagrange "
           "contact only)");
-  addInt(red, "Fixed-interface modes", 20, "Modes kept: Craig-Bampton's fixed-interface modes, or for Massless "
-                                           "boundary the body's elastic normal modes with the retained nodes free", 0, 100000);
-  addInt(red, "Candidate modes", 0, "Massless boundary: compute this many of the lowest elastic modes and keep "
-                                    "the 'Fixed-interface modes' of them that a load along 'Load direction' on every "
-                                    "retained node excites most (their generalized force, Kammer & Triller's effective "
-                                    "mass); 0: the lowest modes, as many as kept", 0, 100000);
+  addInt(red, "Fixed-interface modes", 20,
+         "Modes kept: Craig-Bampton's fixed-interface modes, or for Massless "
+         "boundary the body's elastic normal modes with the retained nodes free",
+         0, 100000);
+  addInt(red, "Candidate modes", 0,
+         "Massless boundary: compute this many of the lowest elastic modes and keep "
+         "the 'Fixed-interface modes' of them that a load along 'Load direction' on every "
+         "retained node excites most (their generalized force, Kammer & Triller's effective "
+         "mass); 0: the lowest modes, as many as kept",
+         0, 100000);
   addEnum(red, "Eigensolver", "Anasazi", {"Anasazi", "LAPACK dense"}, {0, 1},
           "Massless boundary: Anasazi (block Krylov-Schur, shift-invert through the factor: the lowest modes of "
           "any model) or LAPACK dense (every mode at once by dsygvd on the dense K and M: models of at most "
           "6000 DOFs; with 'Candidate modes', the whole spectrum to choose from for the cost of a few Anasazi "
           "pairs)");
-  addDoubleArray(red, "Load direction", {0, 0, 0}, "Massless boundary with 'Candidate modes': the direction of the "
-                                                   "load the contact puts on the retained nodes, e.g. a wall's normal");
+  addDoubleArray(red, "Load direction", {0, 0, 0},
+                 "Massless boundary with 'Candidate modes': the direction of the "
+                 "load the contact puts on the retained nodes, e.g. a wall's normal");
   addString(red, "Retained node set", "", "Nodes kept as physical DOFs (empty: the contact node set)");
   addEnum(red, "Linear solver", "MUMPS", {"MUMPS", "KLU2", "Belos CG"},
           {int(LinearSolver::Mumps), int(LinearSolver::Klu2), int(LinearSolver::BelosCg)},
@@ -160,26 +183,33 @@ void addReductionParameters(Teuchos::ParameterList& body) {
           "direct; KLU2 one MPI rank only), or Belos CG (Belos block conjugate gradients, Jacobi-preconditioned, "
           "no factor stored: less memory, usually slower; see 'Iterative tolerance')");
   addDouble(red, "Iterative tolerance", 1e-12, "Belos CG: relative residual at which a solve stops", 1e-300, 1e-2);
-  addBool(red, "Cache", true, "Store the reduced model in HDF5 and reuse it while the model and reduction "
-                              "parameters are unchanged");
+  addBool(red, "Cache", true,
+          "Store the reduced model in HDF5 and reuse it while the model and reduction "
+          "parameters are unchanged");
   addString(red, "Cache file", "", "Cache path (empty: <output file stem>.<body>.rom.h5)");
-  addInt(red, "Frequency check", 10, "Compare this many frequencies of the reduced model with the full "
-                                     "model's (Anasazi); 0: skip", 0, 1000);
+  addInt(red, "Frequency check", 10,
+         "Compare this many frequencies of the reduced model with the full "
+         "model's (Anasazi); 0: skip",
+         0, 1000);
 }
 
 /// Bodies: one sublist per flexible body (mesh, material, boundary conditions, contact nodes, reduction).
 void addBodyParameters(Teuchos::ParameterList& pl) {
-  auto& body = pl.sublist("Bodies", false, "One sublist per flexible body, named by the user").sublist(
-      "*", false, "A flexible body: mesh, material, reduction, contact nodes");
+  auto& body = pl.sublist("Bodies", false, "One sublist per flexible body, named by the user")
+                   .sublist("*", false, "A flexible body: mesh, material, reduction, contact nodes");
   addMeshParameters(body);
-  auto& mat = body.sublist("Material", false, "Isotropic linear elastic material of the built-in meshes (unused, and optional, for imported models)");
+  auto& mat = body.sublist(
+      "Material", false,
+      "Isotropic linear elastic material of the built-in meshes (unused, and optional, for imported models)");
   addDouble(mat, "Density", 7800, "Mass density (kg/m^3)", 1e-300);
   addDouble(mat, "Young's modulus", 2.1e11, "Young's modulus (Pa)", 1e-300);
   addDouble(mat, "Poisson's ratio", 0.3, "Poisson's ratio", -0.999999, 0.499999);
-  addString(body, "Clamped node set", "", "Node set fixed in all directions (empty: none); built-in meshes only (an "
-                                          "imported model carries its own boundary conditions)");
-  addDoubleArray(body, "Initial velocity", {0, 0, 0}, "Uniform initial velocity of the body (m/s); a Massless "
-                                                       "boundary model takes its projection onto the modes");
+  addString(body, "Clamped node set", "",
+            "Node set fixed in all directions (empty: none); built-in meshes only (an "
+            "imported model carries its own boundary conditions)");
+  addDoubleArray(body, "Initial velocity", {0, 0, 0},
+                 "Uniform initial velocity of the body (m/s); a Massless "
+                 "boundary model takes its projection onto the modes");
   addDoubleArray(body, "Gravity", {0, 0, 0},
                  "Uniform acceleration of gravity on the body (m/s^2), e.g. {0, 0, -9.81}: the constant reduced "
                  "force f = sum_d g_d T^T M e_d, exact when a rigid translation is a motion of the model (a body "
@@ -187,40 +217,52 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
                  "refused otherwise. Its work is the run's external work in the energy balance");
   addString(body, "Contact node set", "", "Nodes checked against every surface (empty: no contact)");
   addStringArray(body, "Watched node sets", {}, "Node sets whose displacement and velocity are written");
-  auto& rot = body.sublist("Rotation", false, "The body turns at a steady speed and is modelled in its own frame, "
-                                              "where the centrifugal load is static (the casing turns around it)");
-  addDouble(rot, "Speed", 0.0, "Omega (rad/s) about the Axis; 0: the body at rest. Built-in meshes: the model is "
-                               "the tangent at the centrifugal static state ('Static state'), K_e + K_sigma - "
-                               "Omega^2 M_perp, and the nodes start at their static position (the tip growth)");
+  auto& rot = body.sublist("Rotation", false,
+                           "The body turns at a steady speed and is modelled in its own frame, "
+                           "where the centrifugal load is static (the casing turns around it)");
+  addDouble(rot, "Speed", 0.0,
+            "Omega (rad/s) about the Axis; 0: the body at rest. Built-in meshes: the model is "
+            "the tangent at the centrifugal static state ('Static state'), K_e + K_sigma - "
+            "Omega^2 M_perp, and the nodes start at their static position (the tip growth)");
   addDoubleArray(rot, "Axis", {0, 0, 1}, "Direction of the rotation axis (need not be unit)");
   addDoubleArray(rot, "Axis point", {0, 0, 0}, "A point of the rotation axis (m)");
-  addDoubleArray(rot, "Speed range", {}, "{minimum, maximum} (rad/s): build one parametric reduced model over "
-                                        "the range from Craig-Bampton (or massless-boundary) reductions at 'Sample "
-                                        "speeds' and take the "
-                                        "model at 'Speed' from it (a speed sweep then reduces nothing per speed); "
-                                        "empty: reduce at 'Speed' directly");
-  addInt(rot, "Sample speeds", 3, "Speeds of the range reduced directly (Chebyshev-Lobatto points in Omega^2, "
-                                  "both ends included)", 2, 12);
-  addDoubleArray(rot, "Imported speeds", {}, "A CalculiX model (Mesh Type CalculiX) at speed: the speeds (rad/s, "
-                                            "increasing) of the ccx runs of 'Imported jobs', the samples of the "
-                                            "parametric model over 'Speed range' = {first, last}; empty: none");
-  addStringArray(rot, "Imported jobs", {}, "One ccx job per 'Imported speeds' (path without extension, relative to "
-                                           "the deck): its .sti, .mas, .dof from a perturbation step with *FREQUENCY, "
-                                           "SOLVER=MATRIXSTORAGE after the centrifugal static step, its .dat the static "
-                                           "displacement of every node (*NODE PRINT U)");
-  addEnum(rot, "Static state", "Automatic", {"Linear", "Stress-stiffened", "Automatic"}, {0, 1, 2},
-          "The centrifugal static state: Linear, (K_e - Omega^2 M_perp) u_s = Omega^2 f_c; Stress-stiffened, "
-          "K_sigma(u_s) added to the left side by fixed point (the tension that untwists a blade stiffens it against its "
-          "own load: close to a geometrically nonlinear static step); Automatic, the stress-stiffened state where it "
-          "moves the largest static displacement by more than 'Static tolerance' of the linear one");
-  addDouble(rot, "Static tolerance", 0.01, "Automatic static state: the relative change of the largest static "
-                                           "displacement above which the stress-stiffened state is kept", 0.0, 1.0);
+  addDoubleArray(rot, "Speed range", {},
+                 "{minimum, maximum} (rad/s): build one parametric reduced model over "
+                 "the range from Craig-Bampton (or massless-boundary) reductions at 'Sample "
+                 "speeds' and take the "
+                 "model at 'Speed' from it (a speed sweep then reduces nothing per speed); "
+                 "empty: reduce at 'Speed' directly");
+  addInt(rot, "Sample speeds", 3,
+         "Speeds of the range reduced directly (Chebyshev-Lobatto points in Omega^2, "
+         "both ends included)",
+         2, 12);
+  addDoubleArray(rot, "Imported speeds", {},
+                 "A CalculiX model (Mesh Type CalculiX) at speed: the speeds (rad/s, "
+                 "increasing) of the ccx runs of 'Imported jobs', the samples of the "
+                 "parametric model over 'Speed range' = {first, last}; empty: none");
+  addStringArray(rot, "Imported jobs", {},
+                 "One ccx job per 'Imported speeds' (path without extension, relative to "
+                 "the deck): its .sti, .mas, .dof from a perturbation step with *FREQUENCY, "
+                 "SOLVER=MATRIXSTORAGE after the centrifugal static step, its .dat the static "
+                 "displacement of every node (*NODE PRINT U)");
+  addEnum(
+      rot, "Static state", "Automatic", {"Linear", "Stress-stiffened", "Automatic"}, {0, 1, 2},
+      "The centrifugal static state: Linear, (K_e - Omega^2 M_perp) u_s = Omega^2 f_c; Stress-stiffened, "
+      "K_sigma(u_s) added to the left side by fixed point (the tension that untwists a blade stiffens it against its "
+      "own load: close to a geometrically nonlinear static step); Automatic, the stress-stiffened state where it "
+      "moves the largest static displacement by more than 'Static tolerance' of the linear one");
+  addDouble(rot, "Static tolerance", 0.01,
+            "Automatic static state: the relative change of the largest static "
+            "displacement above which the stress-stiffened state is kept",
+            0.0, 1.0);
   addBool(rot, "Stress stiffening", true, "Keep the geometric stiffness K_sigma of the centrifugal prestress");
-  addBool(rot, "Spin softening", true, "Keep -Omega^2 M_perp, the change of the centrifugal load with the "
-                                       "displacement, in the static state and in the stiffness");
-  auto& law = rot.sublist("Speed law", false, "A run-up: the body's speed follows a law in time, its model and "
-                                              "static state taken from the parametric model at each speed, and the "
-                                              "turning surfaces follow the same law (docs/user/rotating-bodies.md)");
+  addBool(rot, "Spin softening", true,
+          "Keep -Omega^2 M_perp, the change of the centrifugal load with the "
+          "displacement, in the static state and in the stiffness");
+  auto& law = rot.sublist("Speed law", false,
+                          "A run-up: the body's speed follows a law in time, its model and "
+                          "static state taken from the parametric model at each speed, and the "
+                          "turning surfaces follow the same law (docs/user/rotating-bodies.md)");
   addEnum(law, "Type", "Constant", {"Constant", "Ramp"}, {0, 1},
           "Constant: the body turns at 'Speed'; Ramp: from 'Start speed' at 'Start time' to 'End speed' at 'End "
           "time' linearly, constant before and after (needs 'Speed range' holding both speeds, and 'Speed' = "
@@ -234,52 +276,61 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
 
 /// Surfaces: one sublist per surface, rigid or carried by a flexible body.
 void addSurfaceParameters(Teuchos::ParameterList& pl) {
-  auto& surf = pl.sublist("Surfaces", false, "One sublist per surface, named by the user").sublist(
-      "*", false, "A surface: bicubic B-spline through a grid of points (thesis section 2.4), rigid or carried "
-                  "by a flexible body");
-  addEnum(surf, "Type", "Plane", {"Plane", "Cylinder arc", "Body face", "Casing"},
-          {int(SurfaceType::Plane), int(SurfaceType::CylinderArc), int(SurfaceType::BodyFace), int(SurfaceType::Casing)},
-          "Plane: a rigid grid of points Origin + i/(nu-1) U + j/(nv-1) V; Cylinder arc: the rigid grid Center + "
-          "Radius (cos a e1 + sin a e2) + s Axis over the Angles and the Axial range (e1 = Reference, e2 = Axis x "
-          "e1); Body face: the node grid 'Node grid' of the flexible body 'Body', rebuilt from its moved nodes at "
-          "every step (its nodes must be retained by the body's reduction; clamped ones stay fixed), the two "
-          "bodies corrected together (eq. 2.33). Each grid is interpolated by the general bicubic B-spline code; "
-          "a grid whose last row repeats the first is closed. Casing: a closed cone about the z axis (Radius, Cone "
-          "angle, Axial position, Axial range, Points {angles, axial}) with a clearance law, facing the axis");
+  auto& surf =
+      pl.sublist("Surfaces", false, "One sublist per surface, named by the user")
+          .sublist("*", false,
+                   "A surface: bicubic B-spline through a grid of points (thesis section 2.4), rigid or carried "
+                   "by a flexible body");
+  addEnum(
+      surf, "Type", "Plane", {"Plane", "Cylinder arc", "Body face", "Casing"},
+      {int(SurfaceType::Plane), int(SurfaceType::CylinderArc), int(SurfaceType::BodyFace), int(SurfaceType::Casing)},
+      "Plane: a rigid grid of points Origin + i/(nu-1) U + j/(nv-1) V; Cylinder arc: the rigid grid Center + "
+      "Radius (cos a e1 + sin a e2) + s Axis over the Angles and the Axial range (e1 = Reference, e2 = Axis x "
+      "e1); Body face: the node grid 'Node grid' of the flexible body 'Body', rebuilt from its moved nodes at "
+      "every step (its nodes must be retained by the body's reduction; clamped ones stay fixed), the two "
+      "bodies corrected together (eq. 2.33). Each grid is interpolated by the general bicubic B-spline code; "
+      "a grid whose last row repeats the first is closed. Casing: a closed cone about the z axis (Radius, Cone "
+      "angle, Axial position, Axial range, Points {angles, axial}) with a clearance law, facing the axis");
   addDouble(surf, "Cone angle", 0.0, "Casing: half-angle of the cone (degrees)", -60.0, 60.0);
   addDouble(surf, "Axial position", 0.0, "Casing: z where the cone's radius is Radius (m)");
   addClearanceLaw(surf, "Casing", "Radius");
   addString(surf, "Body", "", "Body face: the body that carries the surface");
-  addString(surf, "Node grid", "", "Body face: the body's ordered face, e.g. x+ (Box) or outer (Ring segment); "
-                                   "its normal points out of the body");
+  addString(surf, "Node grid", "",
+            "Body face: the body's ordered face, e.g. x+ (Box) or outer (Ring segment); "
+            "its normal points out of the body");
   addDoubleArray(surf, "Origin", {0, 0, 0}, "Plane: corner of the grid (m)");
   addDoubleArray(surf, "U", {0, 1, 0}, "Plane: first edge vector of the grid (m)");
   addDoubleArray(surf, "V", {0, 0, 1}, "Plane: second edge vector of the grid (m)");
-  addIntArray(surf, "Points", {5, 5}, "Grid points along U and V (Plane) or along the arc and the axis "
-                                      "(Cylinder arc); at least 4 each");
+  addIntArray(surf, "Points", {5, 5},
+              "Grid points along U and V (Plane) or along the arc and the axis "
+              "(Cylinder arc); at least 4 each");
   addDoubleArray(surf, "Center", {0, 0, 0}, "Cylinder arc: a point of the axis (m)");
   addDoubleArray(surf, "Axis", {0, 0, 1}, "Cylinder arc: axis direction");
   addDoubleArray(surf, "Reference", {1, 0, 0}, "Cylinder arc: direction of angle 0 (orthogonal to the axis)");
   addDouble(surf, "Radius", 0.18, "Cylinder arc: radius (m)", 1e-300);
   addDoubleArray(surf, "Angles", {-40, 40}, "Cylinder arc: first and last angle of the grid (degrees)");
   addDoubleArray(surf, "Axial range", {-0.05, 0.05}, "Cylinder arc: first and last axial coordinate (m)");
-  addDouble(surf, "Rotation speed", 0.0, "The surface turns at this speed (rad/s) about 'Rotation axis' through "
-                                         "'Rotation center', in the frame of the contact nodes' bodies (thesis "
-                                         "section 3.3: for a blade spinning at +Omega in its casing, the casing "
-                                         "turns at -Omega about the engine axis). A Body face turns with its body's "
-                                         "frame: the carrying body vibrates in its own frame, only the contact sees "
-                                         "the rotation");
-  addDouble(surf, "Initial angle", 0.0, "The angle (degrees) the surface is turned by at t = 0, about the rotation "
-                                        "axis");
+  addDouble(surf, "Rotation speed", 0.0,
+            "The surface turns at this speed (rad/s) about 'Rotation axis' through "
+            "'Rotation center', in the frame of the contact nodes' bodies (thesis "
+            "section 3.3: for a blade spinning at +Omega in its casing, the casing "
+            "turns at -Omega about the engine axis). A Body face turns with its body's "
+            "frame: the carrying body vibrates in its own frame, only the contact sees "
+            "the rotation");
+  addDouble(surf, "Initial angle", 0.0,
+            "The angle (degrees) the surface is turned by at t = 0, about the rotation "
+            "axis");
   addDoubleArray(surf, "Rotation axis", {0, 0, 1}, "Axis of the rotation (need not be unit)");
   addDoubleArray(surf, "Rotation center", {0, 0, 0}, "A point of the rotation axis (m)");
-  surf.sublist("Coating", false, "Rigid surfaces: an abradable coating in front of the surface (Legrand, Batailly "
-                                 "& Pierre 2012): elastic-plastic bar elements whose plastic shortening is the "
-                                 "wear; no 'Elements': none")
+  surf.sublist("Coating", false,
+               "Rigid surfaces: an abradable coating in front of the surface (Legrand, Batailly "
+               "& Pierre 2012): elastic-plastic bar elements whose plastic shortening is the "
+               "wear; no 'Elements': none")
       .setParameters(*CoatingMaterial::getValidParameters());
-  addBool(surf, "Flip normal", false, "The contact side is where U x V points (Plane), away from the axis "
-                                      "(Cylinder arc, the convex side) or out of the body (Body face); set true "
-                                      "for the other side");
+  addBool(surf, "Flip normal", false,
+          "The contact side is where U x V points (Plane), away from the axis "
+          "(Cylinder arc, the convex side) or out of the body (Body face); set true "
+          "for the other side");
 }
 
 /// Contact: the contact treatment, each strategy's own keys.
@@ -293,10 +344,13 @@ void addTimeParameters(Teuchos::ParameterList& pl) {
   auto& time = pl.sublist("Time", false, "Explicit central difference (thesis eq. 2.2)");
   addDouble(time, "Time step", 1e-7, "h (s)", 1e-300);
   addDouble(time, "End time", 1e-4, "Simulated duration (s)", 1e-300);
-  addDouble(time, "End revolutions", 0.0, "When > 0, the duration in revolutions of the fastest turning surface "
-                                          "(replaces End time)", 0.0);
-  addBool(time, "Allow unstable time step", false, "Run even when h exceeds the estimated critical step "
-                                                   "(a warning instead of an error)");
+  addDouble(time, "End revolutions", 0.0,
+            "When > 0, the duration in revolutions of the fastest turning surface "
+            "(replaces End time)",
+            0.0);
+  addBool(time, "Allow unstable time step", false,
+          "Run even when h exceeds the estimated critical step "
+          "(a warning instead of an error)");
   auto& damp = time.sublist("Damping", false, "Damping matrix D");
   addEnum(damp, "Type", "None", {"None", "Rayleigh", "Modal"},
           {int(DampingType::None), int(DampingType::Rayleigh), int(DampingType::Modal)},
@@ -304,8 +358,9 @@ void addTimeParameters(Teuchos::ParameterList& pl) {
           "model, D = M V diag(2 xi omega) V^T M (eqs. 4.4-4.5)");
   addDouble(damp, "Alpha", 0.0, "Rayleigh mass coefficient (1/s)", 0.0);
   addDouble(damp, "Beta", 0.0, "Rayleigh stiffness coefficient (s)", 0.0);
-  addDoubleArray(damp, "Rayleigh frequencies", {}, "Rayleigh: {f1, f2} (Hz) where the ratios below are met; when "
-                                                   "given, Alpha and Beta are computed from them (eqs. 4.1-4.2)");
+  addDoubleArray(damp, "Rayleigh frequencies", {},
+                 "Rayleigh: {f1, f2} (Hz) where the ratios below are met; when "
+                 "given, Alpha and Beta are computed from them (eqs. 4.1-4.2)");
   addDoubleArray(damp, "Rayleigh ratios", {}, "Rayleigh: damping ratios {xi1, xi2} at the two frequencies");
   addDouble(damp, "Ratio", 0.0, "Modal damping ratio xi (0.005 is 0.5 %)", 0.0, 1.0);
 }
@@ -315,26 +370,36 @@ void addOutputParameters(Teuchos::ParameterList& pl) {
   auto& out = pl.sublist("Output", false, "HDF5 history");
   addString(out, "File", "epaphe.h5", "HDF5 output file (relative paths: from the working directory)");
   addInt(out, "Every", 10, "Steps between two records", 1);
-  addInt(out, "Wear every", 0, "Steps between two records of an abradable coating's wear map (/coating/<s>/wear; "
-                               "the last step is always recorded); 0: 100 x Every", 0);
-  addInt(out, "Fields every", 0, "Steps between two frames of the full displacement field of every body, "
-                                 "written to /bodies/<b>/fields with an XDMF file <output stem>.xmf that ParaView "
-                                 "opens (0: none)", 0);
-  addBool(out, "Compression", false, "Compress the histories (shuffle + deflate): smaller files, but a compressed "
-                                     "chunk completed after a checkpoint is written anew elsewhere or in place with "
-                                     "other bytes, so a process killed during that write can damage records already "
-                                     "flushed; uncompressed (the default), a kill -9 at any time leaves every record of "
-                                     "the last checkpoint readable");
-  addInt(out, "Checkpoint every", 0, "Steps between two checkpoints (0: none by step count). A checkpoint stores in "
-                                     "the older of /checkpoint/0 and /checkpoint/1, then names it in /checkpoint/current, what the run needs to continue bit for bit (step, q_{n-1} and q_n, "
-                                     "energy and summary accumulators, the contact's warm starts, the records of every "
-                                     "series) and flushes the file; `epaphe-run DECK --restart FILE` continues from the "
-                                     "last one. Checkpoints are also taken at step 0, every 'Checkpoint interval' "
-                                     "seconds, on SIGINT/SIGTERM, and whenever 1023 records (15 field frames) are "
-                                     "buffered, so that the file is written only at checkpoints and stays readable "
-                                     "after a crash or kill -9 (up to the last checkpoint)", 0);
-  addDouble(out, "Checkpoint interval", 60.0, "Wall-clock seconds between two checkpoints (0: none by time); see "
-                                              "'Checkpoint every'", 0.0);
+  addInt(out, "Wear every", 0,
+         "Steps between two records of an abradable coating's wear map (/coating/<s>/wear; "
+         "the last step is always recorded); 0: 100 x Every",
+         0);
+  addInt(out, "Fields every", 0,
+         "Steps between two frames of the full displacement field of every body, "
+         "written to /bodies/<b>/fields with an XDMF file <output stem>.xmf that ParaView "
+         "opens (0: none)",
+         0);
+  addBool(out, "Compression", false,
+          "Compress the histories (shuffle + deflate): smaller files, but a compressed "
+          "chunk completed after a checkpoint is written anew elsewhere or in place with "
+          "other bytes, so a process killed during that write can damage records already "
+          "flushed; uncompressed (the default), a kill -9 at any time leaves every record of "
+          "the last checkpoint readable");
+  addInt(out, "Checkpoint every", 0,
+         "Steps between two checkpoints (0: none by step count). A checkpoint stores in "
+         "the older of /checkpoint/0 and /checkpoint/1, then names it in /checkpoint/current, what the run needs to "
+         "continue bit for bit (step, q_{n-1} and q_n, "
+         "energy and summary accumulators, the contact's warm starts, the records of every "
+         "series) and flushes the file; `epaphe-run DECK --restart FILE` continues from the "
+         "last one. Checkpoints are also taken at step 0, every 'Checkpoint interval' "
+         "seconds, on SIGINT/SIGTERM, and whenever 1023 records (15 field frames) are "
+         "buffered, so that the file is written only at checkpoints and stays readable "
+         "after a crash or kill -9 (up to the last checkpoint)",
+         0);
+  addDouble(out, "Checkpoint interval", 60.0,
+            "Wall-clock seconds between two checkpoints (0: none by time); see "
+            "'Checkpoint every'",
+            0.0);
   addDouble(out, "Energy balance tolerance", 1e-6,
             "The run stops when |energy balance error| / largest energy exceeds it", 0.0);
 }
@@ -394,7 +459,7 @@ Deck deckAtSpeed(const Deck& deck, double omega, double revolutions, const std::
     }
   }
   EPAPHE_REQUIRE(turning > 0, deck.origin << ": no surface turns (no non-zero 'Surfaces-><name>->Rotation speed'), "
-                                          "so a speed sweep has nothing to vary");
+                                             "so a speed sweep has nothing to vary");
   // A rotating body turns at the sweep's speed too (its sense kept): its model at that speed comes
   // from its parametric model when it has a 'Speed range' (nothing reduced per speed).
   if (raw->isSublist("Bodies")) {
@@ -403,7 +468,8 @@ Deck deckAtSpeed(const Deck& deck, double omega, double revolutions, const std::
       if (!bodies.isSublist(bodies.name(it)) || !bodies.sublist(bodies.name(it)).isSublist("Rotation")) continue;
       Teuchos::ParameterList& rot = bodies.sublist(bodies.name(it)).sublist("Rotation");
       const double speed = rot.isType<double>("Speed") ? rot.get<double>("Speed") : 0.0;
-      if (speed != 0.0 || rot.isParameter("Speed range")) rot.set("Speed", std::copysign(omega, speed == 0.0 ? 1.0 : speed));
+      if (speed != 0.0 || rot.isParameter("Speed range"))
+        rot.set("Speed", std::copysign(omega, speed == 0.0 ? 1.0 : speed));
       // every speed reads the one parametric model: its cache is named after the deck's own output,
       // not after each speed's
       Teuchos::ParameterList& red = bodies.sublist(bodies.name(it)).sublist("Reduction");

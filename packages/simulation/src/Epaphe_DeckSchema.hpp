@@ -1,6 +1,6 @@
 #pragma once
 // The valid parameters of an Epaphe deck, with documentation, defaults and validators.
-#include "Epaphe_Mesh.hpp"  // ClearanceLaw
+#include "Epaphe_Mesh.hpp"          // ClearanceLaw
 #include "Epaphe_ReducedModel.hpp"  // ReductionKind
 #include "Epaphe_LinearSolver.hpp"
 
@@ -11,7 +11,16 @@
 
 namespace epaphe {
 
-enum class MeshType { Box = 0, RingSegment = 1, Blade = 2, Calculix = 3, MatrixMarket = 4, CodeAster = 5, Casing = 6, Sphere = 7 };
+enum class MeshType {
+  Box = 0,
+  RingSegment = 1,
+  Blade = 2,
+  Calculix = 3,
+  MatrixMarket = 4,
+  CodeAster = 5,
+  Casing = 6,
+  Sphere = 7
+};
 // 'Reduction->Method' and 'Linear solver' are the enums the reductions and the solvers take.
 using ReductionMethod = ReductionKind;
 enum class SurfaceType { Plane = 0, CylinderArc = 1, BodyFace = 2, Casing = 3 };
@@ -23,8 +32,8 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters();
 /// Reads, validates and completes a deck with defaults. Errors name the file, line and key.
 struct Deck {
   Teuchos::RCP<Teuchos::ParameterList> params;
-  std::string text;      // the file as read, stored in the output
-  std::string origin;    // its path
+  std::string text;    // the file as read, stored in the output
+  std::string origin;  // its path
 };
 Deck readDeck(const std::string& path);
 Deck readDeckFromString(const std::string& xml, const std::string& origin);

@@ -53,8 +53,8 @@ std::string Simulation::diagnoseDivergence(const ExplicitLoop& loop, const Energ
   std::ostringstream os;
   os << "the bodies' energy (kinetic + strain) grows without bound";
   if (std::isfinite(g.e1))
-    os << ", from " << g.e0 << " to " << g.e1 << " J over the last " << g.records << " records (t = " << g.t0
-       << " to " << g.t1 << " s, e-folding time " << g.efolding << " s)";
+    os << ", from " << g.e0 << " to " << g.e1 << " J over the last " << g.records << " records (t = " << g.t0 << " to "
+       << g.t1 << " s, e-folding time " << g.efolding << " s)";
   else
     os << " (no longer finite)";
   const std::string source = std::isfinite(g.e1) ? g.source() : "the integrator";

@@ -35,7 +35,8 @@ FieldOutput::FieldOutput(io::Hdf5File& file, const std::vector<std::unique_ptr<S
     r->uAll = DenseVector("epaphe::fields::u", 3 * nn);
     r->frame.resize(3 * nn);
     r->position = std::make_unique<io::Series>(file, g + "/fields/position", std::vector<std::uint64_t>{nn, 3}, 16);
-    r->displacement = std::make_unique<io::Series>(file, g + "/fields/displacement", std::vector<std::uint64_t>{nn, 3}, 16);
+    r->displacement =
+        std::make_unique<io::Series>(file, g + "/fields/displacement", std::vector<std::uint64_t>{nn, 3}, 16);
     perBody_.push_back(std::move(r));
   }
   for (const BSplineSurface* surf : drawn_) {
@@ -134,8 +135,9 @@ void FieldOutput::writeXdmf(const std::string& h5path, const std::string& xmfPat
     x << "  <Grid Name=\"" << name << " coating\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     for (long long k = 0; k < nw; ++k)
       x << "   <Grid Name=\"" << name << " coating\" GridType=\"Uniform\"><Time Value=\"" << wt[k] << "\"/>\n"
-        << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << ne << "\"><DataItem Dimensions=\"" << ne
-        << " 4\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" << h5 << ":" << g << "/mesh/quads</DataItem></Topology>\n"
+        << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << ne << "\"><DataItem Dimensions=\""
+        << ne << " 4\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" << h5 << ":" << g
+        << "/mesh/quads</DataItem></Topology>\n"
         << "    <Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"" << 4 * ne << " 3\" NumberType=\"Float\" "
         << "Precision=\"8\" Format=\"HDF\">" << h5 << ":" << g << "/mesh/points</DataItem></Geometry>\n"
         << "    <Attribute Name=\"wear\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem ItemType=\"HyperSlab\" "

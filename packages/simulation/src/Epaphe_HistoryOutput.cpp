@@ -18,10 +18,18 @@ struct HistoryOutput::BodySeries {
 
 HistoryOutput::HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_ptr<SceneBody>>& bodies,
                              SurfaceContact* contact, const EnergyMonitor& monitor, bool fresh)
-    : file_(file), bodies_(bodies), contact_(contact), monitor_(monitor), time_(file, "/time", {}),
-      kinetic_(file, "/energy/kinetic", {}), strain_(file, "/energy/strain", {}), total_(file, "/energy/total", {}),
-      work_(file, "/energy/contact_work", {}), external_(file, "/energy/external_work", {}),
-      damping_(file, "/energy/damping", {}), balance_(file, "/energy/balance_error", {}) {
+    : file_(file),
+      bodies_(bodies),
+      contact_(contact),
+      monitor_(monitor),
+      time_(file, "/time", {}),
+      kinetic_(file, "/energy/kinetic", {}),
+      strain_(file, "/energy/strain", {}),
+      total_(file, "/energy/total", {}),
+      work_(file, "/energy/contact_work", {}),
+      external_(file, "/energy/external_work", {}),
+      damping_(file, "/energy/damping", {}),
+      balance_(file, "/energy/balance_error", {}) {
   if (std::any_of(bodies_.begin(), bodies_.end(), [](const auto& b) { return b->runUp != nullptr; }))
     drive_ = std::make_unique<io::Series>(file, "/energy/drive_work", std::vector<std::uint64_t>{});
   for (const auto& bp : bodies_) {

@@ -44,7 +44,7 @@ private:
   SurfaceContact* contact_;
   const EnergyMonitor& monitor_;
   io::Series time_, kinetic_, strain_, total_, work_, external_, damping_, balance_;
-  std::unique_ptr<io::Series> drive_;   // /energy/drive_work, in a run-up only
+  std::unique_ptr<io::Series> drive_;  // /energy/drive_work, in a run-up only
   std::vector<std::unique_ptr<BodySeries>> perBody_;
   std::vector<double> gapAll_, forceAll_;
 };

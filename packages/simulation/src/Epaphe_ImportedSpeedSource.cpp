@@ -34,7 +34,7 @@ std::string resolved(const std::string& deckPath, const std::string& value) {
 }
 
 class CalculixSpeedSource : public SpeedSampleSource {
- public:
+public:
   CalculixSpeedSource(const ImportedSpeeds& imported, const std::string& body,
                       const Teuchos::RCP<const Teuchos::Comm<int>>& comm)
       : imported_(imported), body_(body), comm_(comm) {
@@ -49,7 +49,7 @@ class CalculixSpeedSource : public SpeedSampleSource {
   }
   StaticState staticState() const override { return StaticState::Linear; }
 
- private:
+private:
   SpeedSample read(std::size_t i) {
     Stopwatch watch;
     SpeedSample s;
@@ -82,19 +82,19 @@ ImportedSpeeds importedSpeeds(const std::string& body, const ParameterList& bp, 
   EPAPHE_REQUIRE(speeds.size() >= 2, ctx << " has " << speeds.size() << " speed; the parametric model needs 2 or more "
                                          << "(3 for the classical K_0 + Omega^2 K_1 + Omega^4 K_2)");
   for (std::size_t i = 0; i < speeds.size(); ++i)
-    EPAPHE_REQUIRE(std::isfinite(speeds[i]) && speeds[i] >= 0 && (i == 0 || speeds[i] > speeds[i - 1]),
-                   ctx << ": speed " << i + 1 << " = " << speeds[i]
-                       << " rad/s; give finite speeds >= 0 in increasing order");
+    EPAPHE_REQUIRE(
+        std::isfinite(speeds[i]) && speeds[i] >= 0 && (i == 0 || speeds[i] > speeds[i - 1]),
+        ctx << ": speed " << i + 1 << " = " << speeds[i] << " rad/s; give finite speeds >= 0 in increasing order");
   const auto range = deck::getDoubles(rot, "Speed range");
   const double tol = 1e-12 * speeds.back();
-  const bool ends = range.size() == 2 && std::abs(range[0] - speeds.front()) <= tol &&
-                    std::abs(range[1] - speeds.back()) <= tol;
+  const bool ends =
+      range.size() == 2 && std::abs(range[0] - speeds.front()) <= tol && std::abs(range[1] - speeds.back()) <= tol;
   const std::string given =
       range.size() == 2 ? " {" + std::to_string(range[0]) + ", " + std::to_string(range[1]) + "}" : "";
   EPAPHE_REQUIRE(ends, ctx << " = {" << speeds.front() << " .. " << speeds.back() << "} rad/s but 'Speed range' has "
-                           << range.size() << " value(s)" << given
-                     << "; set 'Speed range' to {" << speeds.front() << ", " << speeds.back()
-                     << "}: the imported speeds are the samples, the model covers the range between them");
+                           << range.size() << " value(s)" << given << "; set 'Speed range' to {" << speeds.front()
+                           << ", " << speeds.back()
+                           << "}: the imported speeds are the samples, the model covers the range between them");
   out.speeds = speeds;
   for (const auto& j : jobs) {
     EPAPHE_REQUIRE(!j.empty(),
@@ -110,8 +110,8 @@ ImportedSpeeds importedSpeeds(const std::string& body, const ParameterList& bp, 
   const std::string first = fileText(out.jobs[0] + ".dof");
   for (std::size_t i = 1; i < out.jobs.size(); ++i)
     EPAPHE_REQUIRE(fileText(out.jobs[i] + ".dof") == first,
-                   deckPath << ": body '" << body << "', '" << deck::pathOf(rot, "Imported jobs") << "': "
-                            << out.jobs[i] << ".dof numbers other DOFs than " << out.jobs[0]
+                   deckPath << ": body '" << body << "', '" << deck::pathOf(rot, "Imported jobs")
+                            << "': " << out.jobs[i] << ".dof numbers other DOFs than " << out.jobs[0]
                             << ".dof; every job must be the same model (mesh, *BOUNDARY) at another speed");
   out.input = resolved(deckPath, bp.sublist("Mesh").get<std::string>("Input file"));
   return out;

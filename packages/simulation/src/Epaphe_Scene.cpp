@@ -33,13 +33,14 @@ std::string retainedSetOf(const SceneBody& b, const ParameterList& rp) {
 
 void setRotation(ContactSurface& cs, const ParameterList& s, const SpeedLaw& law, const std::string& origin) {
   cs.omega = s.get<double>("Rotation speed");
-  if (law.ramp && cs.omega != 0.0) cs.law = law.scaled(cs.omega > 0 ? 1.0 : -1.0);   // a run-up: checkScene
+  if (law.ramp && cs.omega != 0.0) cs.law = law.scaled(cs.omega > 0 ? 1.0 : -1.0);  // a run-up: checkScene
   cs.phase = s.get<double>("Initial angle") * M_PI / 180.0;
   cs.axis = deck::getVec3(s, "Rotation axis", origin);
   cs.center = deck::getVec3(s, "Rotation center", origin);
   EPAPHE_REQUIRE(cs.axis[0] != 0.0 || cs.axis[1] != 0.0 || cs.axis[2] != 0.0,
-                 origin << ": '" << deck::pathOf(s, "Rotation axis") << "' = {0, 0, 0}; give the axis direction, e.g. "
-                                                                        "{0, 0, 1}");
+                 origin << ": '" << deck::pathOf(s, "Rotation axis")
+                        << "' = {0, 0, 0}; give the axis direction, e.g. "
+                           "{0, 0, 1}");
 }
 
 /// Rank 0 builds or loads; the result is broadcast so every rank holds the same reduced model.
@@ -158,18 +159,20 @@ void Scene::build() {
 /// rotation). Reads the imported files: call it on rank 0.
 std::string Scene::reducedModelKey(const Body& body, const ParameterList& bp) const {
   const ParameterList& rp = bp.sublist("Reduction");
-  return contentKey(bodyModelKeyText(body.name, bp, deck_.origin) + "clamped=" + bp.get<std::string>("Clamped node set") +
-         "\nretained=" + retainedSetOf(body, rp) + "\nmethod=" + rp.get<std::string>("Method") +
-         "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
-         "\ncheck=" + std::to_string(rp.get<int>("Frequency check")) + "\nsolver=" + rp.get<std::string>("Linear solver") +
-         "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")) +
-         "\ncandidates=" + std::to_string(rp.get<int>("Candidate modes")) +
-         "\neigensolver=" + rp.get<std::string>("Eigensolver") + "\nload=" +
-         [&] {
-           std::string t;
-           for (double x : deck::getDoubles(rp, "Load direction")) t += std::to_string(x) + " ";
-           return t;
-         }() + rotationKeyText(bp.sublist("Rotation")));
+  return contentKey(
+      bodyModelKeyText(body.name, bp, deck_.origin) + "clamped=" + bp.get<std::string>("Clamped node set") +
+      "\nretained=" + retainedSetOf(body, rp) + "\nmethod=" + rp.get<std::string>("Method") +
+      "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
+      "\ncheck=" + std::to_string(rp.get<int>("Frequency check")) + "\nsolver=" + rp.get<std::string>("Linear solver") +
+      "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")) +
+      "\ncandidates=" + std::to_string(rp.get<int>("Candidate modes")) +
+      "\neigensolver=" + rp.get<std::string>("Eigensolver") + "\nload=" +
+      [&] {
+        std::string t;
+        for (double x : deck::getDoubles(rp, "Load direction")) t += std::to_string(x) + " ";
+        return t;
+      }() +
+      rotationKeyText(bp.sublist("Rotation")));
 }
 
 /// The body's reduced model: from its cache when the key (model files, mesh, reduction parameters)
@@ -224,8 +227,8 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
 /// The body's reduced model at rest or at its speed ('Rotation->Speed'): from its cache when the key
 /// matches, else built (at speed: Epaphe_ModelAtSpeed.hpp), reduced by the factory (reduceBody),
 /// frequency-checked and cached.
-void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std::string& key, const std::string& cacheFile,
-                                    bool useCache, const RotationOptions& rotation) {
+void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std::string& key,
+                                    const std::string& cacheFile, bool useCache, const RotationOptions& rotation) {
   const std::string& origin = deck_.origin;
   auto comm = rt_.comm();
   std::ostream& out = rt_.out();
@@ -251,7 +254,8 @@ void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std:
     if (rotation.speed != 0) {  // checkScene refused a rotating imported model
       full = modelAtSpeed(full, rotation, &atSpeed);
       out << "[" << b->name << "] at " << rotation.speed << " rad/s: "
-          << (atSpeed.stiffened ? "stress-stiffened (" + std::to_string(atSpeed.passes) + " passes)" : std::string("linear"))
+          << (atSpeed.stiffened ? "stress-stiffened (" + std::to_string(atSpeed.passes) + " passes)"
+                                : std::string("linear"))
           << " static state and K_e + K_sigma - Omega^2 M_perp in " << formatDuration(atSpeed.seconds)
           << "; largest static displacement " << atSpeed.largestDisplacement << " m (node "
           << full.mesh.nodeId(atSpeed.largestNode) << "; linear state " << atSpeed.linearLargest << " m";
@@ -285,8 +289,9 @@ void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std:
       b->rom.fullFrequencies = fc.full;
       if (b->rom.sparse()) b->reducedFrequencies = fc.lumped;
       out << "[" << b->name << "] frequency check: the full model's lowest " << fc.full.size() << " frequencies "
-          << (fc.reused ? std::string("are the reduction's own modes")
-                        : (fc.throughReduction ? "through the reduction's factor in " : "in ") + formatDuration(fc.seconds))
+          << (fc.reused
+                  ? std::string("are the reduction's own modes")
+                  : (fc.throughReduction ? "through the reduction's factor in " : "in ") + formatDuration(fc.seconds))
           << "\n";
     }
     if (useCache && comm->getRank() == 0) saveReducedModel(b->rom, cacheFile, key);
@@ -297,7 +302,8 @@ void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std:
 /// matches (the key leaves out the speed, so that a speed sweep reduces nothing per speed), else
 /// built from direct reductions at the sample speeds and cached. On every rank.
 SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, const std::string& key,
-                                            const std::string& cacheFile, bool useCache, const RotationOptions& rotation) {
+                                            const std::string& cacheFile, bool useCache,
+                                            const RotationOptions& rotation) {
   auto comm = rt_.comm();
   std::ostream& out = rt_.out();
   const ParameterList& rp = bp.sublist("Reduction");
@@ -359,8 +365,8 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
       << (massless ? " massless-boundary" : " Craig-Bampton") << " reductions and "
       << (imported.empty() ? (pm.staticState == StaticState::StressStiffened ? "stress-stiffened" : "linear")
                            : "CalculiX (imported)")
-      << " static states, common basis of " << pm.base.size << " DOFs ("
-      << pm.boundarySize << " retained), in " << formatDuration(built.seconds()) << "\n";
+      << " static states, common basis of " << pm.base.size << " DOFs (" << pm.boundarySize << " retained), in "
+      << formatDuration(built.seconds()) << "\n";
   if (useCache && comm->getRank() == 0) saveParametricModel(pm, cacheFile, key);
   return pm;
 }
@@ -409,9 +415,10 @@ void Scene::setInitialState(Body* b, const ParameterList& bp, double h, const Da
     for (int i = 0; i < b->rom.size; ++i) b->v0[i] += v0[d] * t[i];
   }
   if (b->rom.massless() && b->speed > 0) {
-    double field = 0, kept = 0;   // 1/2 v^T M v of the uniform field (translations are M-orthogonal), 1/2 |eta'|^2
+    double field = 0, kept = 0;  // 1/2 v^T M v of the uniform field (translations are M-orthogonal), 1/2 |eta'|^2
     for (int d = 0; d < 3; ++d) field += 0.5 * v0[d] * v0[d] * b->rom.translationMass[d];
-    for (int k = 0; k < b->rom.numModes; ++k) kept += 0.5 * b->v0[b->rom.boundarySize() + k] * b->v0[b->rom.boundarySize() + k];
+    for (int k = 0; k < b->rom.numModes; ++k)
+      kept += 0.5 * b->v0[b->rom.boundarySize() + k] * b->v0[b->rom.boundarySize() + k];
     rt_.out() << "[" << b->name << "] initial velocity projected onto the " << b->rom.numModes
               << " modes: kinetic energy " << kept << " J of the uniform field's " << field << " J ("
               << 100 * (1 - kept / field) << " % lost)\n";
@@ -490,8 +497,9 @@ void Scene::checkContactAtStart(const ParameterList& cp, double h) {
     CostSplit setupCost;
     const PenetrationReport pr = guards_->checkInitialPenetration(*contact_, q0, h, setupCost);
     if (pr.facing == 0)  // e.g. a surface placed in mm in a deck in m
-      report_.warnings.push_back("no contact node lies over any surface at t = 0 (every projection falls beyond an "
-                                  "open edge): check the surfaces' positions, extents and units");
+      report_.warnings.push_back(
+          "no contact node lies over any surface at t = 0 (every projection falls beyond an "
+          "open edge): check the surfaces' positions, extents and units");
     report_.initialPenetrations = pr.count;
     report_.initialPenetrationDepth = pr.deepest;
     for (const auto& w : report_.warnings) out << "warning: " << w << "\n";
@@ -504,7 +512,7 @@ void Scene::checkContactAtStart(const ParameterList& cp, double h) {
 /// The stable step of each body (with the penalty springs on its contact and carried surface DOFs)
 /// against the deck's time step: an Error, or a warning with 'Allow unstable time step'.
 void Scene::checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, const ContactOptions& copt,
-                                  const DampingOptions& damping) {
+                             const DampingOptions& damping) {
   const std::string& origin = deck_.origin;
   std::ostream& out = rt_.out();
   const ParameterList& tp = deck_.params->sublist("Time");
@@ -563,7 +571,8 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
     if (type == SurfaceType::BodyFace) {
       EPAPHE_REQUIRE(CoatingMaterial::fromParameters(s.sublist("Coating"), origin + ": " + deck::pathOf(s, "Coating"))
                              .elements[0] == 0,
-                     origin << ": '" << deck::pathOf(s, "Coating") << "': a coating is supported on rigid surfaces only "
+                     origin << ": '" << deck::pathOf(s, "Coating")
+                            << "': a coating is supported on rigid surfaces only "
                                "(a rigid casing behind it), not on a Body face; remove the Coating list");
       const std::string bodyName = s.get<std::string>("Body"), gridName = s.get<std::string>("Node grid");
       int ib = 0;  // checkScene: the body exists
@@ -583,9 +592,10 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
         eb.raise();
       }
       const NodeGrid& g = git->second;
-      EPAPHE_REQUIRE(g.nu >= 4 && g.nv >= 4, origin << ": surface '" << name << "': node grid '" << gridName << "' of body '"
-                                                    << bodyName << "' is " << g.nu << " x " << g.nv << " nodes; a bicubic "
-                                                    "surface needs at least 4 in each direction: refine the mesh");
+      EPAPHE_REQUIRE(g.nu >= 4 && g.nv >= 4, origin << ": surface '" << name << "': node grid '" << gridName
+                                                    << "' of body '" << bodyName << "' is " << g.nu << " x " << g.nv
+                                                    << " nodes; a bicubic "
+                                                       "surface needs at least 4 in each direction: refine the mesh");
       ContactSurface cs;
       cs.block = ib;
       const std::set<int> retained(b.rom.retainedNodes.begin(), b.rom.retainedNodes.end());
@@ -593,8 +603,9 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
       for (int node : g.nodes) {
         const bool kept = b.rom.kind == ReductionKind::None || retained.count(node) > 0;
         EPAPHE_REQUIRE(kept, origin << ": surface '" << name << "': node " << node << " of grid '" << gridName
-                                    << "' is not a retained node of body '" << bodyName << "'; add the grid's node set to "
-                                    "its 'Reduction->Retained node set'");
+                                    << "' is not a retained node of body '" << bodyName
+                                    << "'; add the grid's node set to "
+                                       "its 'Reduction->Retained node set'");
         for (int d = 0; d < 3; ++d) {
           const int i = b.rom.nodeDof[3 * node + d];  // -1: clamped
           cs.gridDofs.push_back(i < 0 ? -1 : b.offset + i);
@@ -641,7 +652,8 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
         int dof[3];
         for (int d = 0; d < 3; ++d) {
           const int i = b.rom.nodeDof[3 * node + d];
-          EPAPHE_REQUIRE(i >= 0, origin << ": body '" << b.name << "': contact node " << node << " (direction " << "xyz"[d]
+          EPAPHE_REQUIRE(i >= 0, origin << ": body '" << b.name << "': contact node " << node << " (direction "
+                                        << "xyz"[d]
                                         << ") is not a retained DOF of the reduced model; add it to the retained node "
                                            "set, and do not clamp contact nodes");
           dof[d] = b.offset + i;

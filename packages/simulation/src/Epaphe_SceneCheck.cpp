@@ -31,8 +31,8 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
     const auto L = deck::getVec3(mp, "Lengths", origin);
     for (int d = 0; d < 3; ++d)
       EPAPHE_REQUIRE(L[d] > 0, origin << ": '" << deck::pathOf(mp, "Lengths") << "' = {" << L[0] << ", " << L[1] << ", "
-                                      << L[2] << "}: the length along " << "xyz"[d] << " is " << L[d]
-                                      << "; every edge length must be positive");
+                                      << L[2] << "}: the length along "
+                                      << "xyz"[d] << " is " << L[d] << "; every edge length must be positive");
   }
   const ParameterList& surfs = P.sublist("Surfaces");
   for (auto it = surfs.begin(); it != surfs.end(); ++it) {
@@ -72,8 +72,8 @@ void checkReductions(const ParameterList& P, const DampingOptions& damping, cons
     }
     if (method != ReductionMethod::FullLumped) continue;
     const std::string problem = fullModelDampingProblem(damping);
-    EPAPHE_REQUIRE(problem.empty(), ctx << " with '" << deck::pathOf(dp, "Type") << "' = '" << dp.get<std::string>("Type")
-                                        << "': " << problem);
+    EPAPHE_REQUIRE(problem.empty(), ctx << " with '" << deck::pathOf(dp, "Type") << "' = '"
+                                        << dp.get<std::string>("Type") << "': " << problem);
     EPAPHE_REQUIRE(rp.get<std::string>("Retained node set").empty(),
                    ctx << " keeps every node, but '" << deck::pathOf(rp, "Retained node set") << "' = '"
                        << rp.get<std::string>("Retained node set") << "'; remove the key (or reduce the body)");
@@ -88,8 +88,9 @@ std::vector<double> cylinderArcGrid(const ParameterList& s, int na, int nz, cons
   const double R = s.get<double>("Radius");
   const auto ang = deck::getDoubles(s, "Angles"), ax = deck::getDoubles(s, "Axial range");
   EPAPHE_REQUIRE(ang.size() == 2 && ax.size() == 2 && ang[1] > ang[0] && ax[1] > ax[0],
-                 origin << ": '" << deck::pathOf(s, "Angles") << "' and 'Axial range' must each be {first, last} with "
-                        "last > first");
+                 origin << ": '" << deck::pathOf(s, "Angles")
+                        << "' and 'Axial range' must each be {first, last} with "
+                           "last > first");
   auto norm = [](std::array<double, 3>& v) {
     const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     for (double& x : v) x /= l;
@@ -99,7 +100,8 @@ std::vector<double> cylinderArcGrid(const ParameterList& s, int na, int nz, cons
   const double along = e1[0] * a[0] + e1[1] * a[1] + e1[2] * a[2];
   for (int d = 0; d < 3; ++d) e1[d] -= along * a[d];
   EPAPHE_REQUIRE(norm(e1) > 1e-12, origin << ": '" << deck::pathOf(s, "Reference") << "' is parallel to the axis");
-  const std::array<double, 3> e2 = {a[1] * e1[2] - a[2] * e1[1], a[2] * e1[0] - a[0] * e1[2], a[0] * e1[1] - a[1] * e1[0]};
+  const std::array<double, 3> e2 = {a[1] * e1[2] - a[2] * e1[1], a[2] * e1[0] - a[0] * e1[2],
+                                    a[0] * e1[1] - a[1] * e1[0]};
   std::vector<double> grid;
   for (int i = 0; i < na; ++i) {
     const double t = (ang[0] + (ang[1] - ang[0]) * i / (na - 1)) * M_PI / 180.0;
@@ -166,7 +168,8 @@ void checkBodyFacesNotOwnContact(const ParameterList& P, const std::string& orig
                           << deck::pathOf(bp, "Contact node set") << "' = '" << contactSet
                           << "'): a node cannot touch a surface of its own body"
                           << (s.get<double>("Rotation speed") != 0.0 ? " (nor can a surface turn relative to its own "
-                                                                       "body)" : "")
+                                                                       "body)"
+                                                                     : "")
                           << "; carry the surface by another body, or remove that 'Contact node set'");
   }
 }
@@ -182,7 +185,8 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
   const bool reduced = method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan ||
                        method == ReductionMethod::MasslessBoundary;
 
-  const std::string clampedSet = bp.get<std::string>("Clamped node set"), contactSet = bp.get<std::string>("Contact node set");
+  const std::string clampedSet = bp.get<std::string>("Clamped node set"),
+                    contactSet = bp.get<std::string>("Contact node set");
   std::set<int> clamped;
   if (!clampedSet.empty())
     for (int n : mesh.nodeSet(clampedSet, ctx + ", 'Clamped node set'")) clamped.insert(n);
@@ -195,16 +199,18 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
     for (int n : mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'"))
       if (!clamped.count(n)) retained.insert(n);
   }
-  for (const std::string& ws : deck::getStrings(bp, "Watched node sets")) mesh.nodeSet(ws, ctx + ", 'Watched node sets'");
+  for (const std::string& ws : deck::getStrings(bp, "Watched node sets"))
+    mesh.nodeSet(ws, ctx + ", 'Watched node sets'");
   if (!contactSet.empty())
     for (int n : mesh.nodeSet(contactSet, ctx + ", 'Contact node set'")) {
       EPAPHE_REQUIRE(!clamped.count(n), ctx << ": contact node " << mesh.nodeId(n) << " of '" << contactSet
                                             << "' is clamped by 'Clamped node set' = '" << clampedSet
                                             << "'; a contact node must be free to move: do not clamp contact nodes");
-      EPAPHE_REQUIRE(!reduced || retained.count(n), ctx << ": contact node " << mesh.nodeId(n) << " (of '" << contactSet
-                                                        << "') is not a retained DOF: it is not in 'Reduction->Retained "
-                                                           "node set' = '" << retainedSet
-                                                        << "'; add the contact node set to the retained node set");
+      EPAPHE_REQUIRE(!reduced || retained.count(n),
+                     ctx << ": contact node " << mesh.nodeId(n) << " (of '" << contactSet
+                         << "') is not a retained DOF: it is not in 'Reduction->Retained "
+                            "node set' = '"
+                         << retainedSet << "'; add the contact node set to the retained node set");
     }
 
   const int freeDofs = 3 * (mesh.numNodes() - static_cast<int>(clamped.size()));
@@ -215,16 +221,17 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
                        << " condensed DOFs exist (" << freeDofs << " free, " << retainedDofs << " retained); set '"
                        << deck::pathOf(rp, "Fixed-interface modes") << "' <= " << freeDofs - retainedDofs);
   if (method == ReductionMethod::MasslessBoundary) {
-    const int rigid = clamped.empty() ? 6 : 0;   // a free body keeps its rigid-body modes too
+    const int rigid = clamped.empty() ? 6 : 0;  // a free body keeps its rigid-body modes too
     EPAPHE_REQUIRE(retainedDofs + modes + rigid <= freeDofs,
                    ctx << ": " << retainedDofs << " retained DOFs and " << modes << " modes"
                        << (rigid ? " (and the free body's 6 rigid-body modes)" : "") << " exceed the model's "
                        << freeDofs << " free DOFs; keep fewer modes");
   }
   if (const int candidates = rp.get<int>("Candidate modes"); candidates > 0) {
-    EPAPHE_REQUIRE(method == ReductionMethod::MasslessBoundary,
-                   ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates
-                       << " selects modes for a Massless boundary only; remove it, or set 'Method' to Massless boundary");
+    EPAPHE_REQUIRE(
+        method == ReductionMethod::MasslessBoundary,
+        ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates
+            << " selects modes for a Massless boundary only; remove it, or set 'Method' to Massless boundary");
     EPAPHE_REQUIRE(candidates >= modes, ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates
                                             << " is fewer than the " << modes << " 'Fixed-interface modes' kept");
     const int rigid = clamped.empty() ? 6 : 0;
@@ -233,18 +240,20 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
                        << "model's " << freeDofs << " free DOFs; ask fewer 'Candidate modes'");
     const auto d = deck::getVec3(rp, "Load direction", origin);
     EPAPHE_REQUIRE(d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0,
-                   ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates << " needs the direction "
+                   ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates
+                       << " needs the direction "
                        << "of the contact's load: set '" << deck::pathOf(rp, "Load direction") << "', e.g. {1, 0, 0}");
   }
   const auto g = deck::getVec3(bp, "Gravity", origin);
   if (!clamped.empty() && (method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan))
     for (int d = 0; d < 3; ++d)
-      EPAPHE_REQUIRE(g[d] == 0, ctx << ", 'Gravity' = {" << g[0] << ", " << g[1] << ", " << g[2]
-                                    << "}: a rigid translation along " << "xyz"[d] << " is not a motion of its "
-                                    << rp.get<std::string>("Method") << " model (its rigid translations are held): "
-                                    << "the body is held by 'Clamped node set' = '" << clampedSet
-                                    << "', so M t is not its weight T^T M e; use 'Full, lumped mass' (weight exact with "
-                                       "clamps), or remove the key");
+      EPAPHE_REQUIRE(g[d] == 0,
+                     ctx << ", 'Gravity' = {" << g[0] << ", " << g[1] << ", " << g[2] << "}: a rigid translation along "
+                         << "xyz"[d] << " is not a motion of its " << rp.get<std::string>("Method")
+                         << " model (its rigid translations are held): "
+                         << "the body is held by 'Clamped node set' = '" << clampedSet
+                         << "', so M t is not its weight T^T M e; use 'Full, lumped mass' (weight exact with "
+                            "clamps), or remove the key");
 
   const ParameterList& surfs = P.sublist("Surfaces");
   for (auto it = surfs.begin(); it != surfs.end(); ++it) {
@@ -262,7 +271,8 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
     }
     const NodeGrid& grid = git->second;
     EPAPHE_REQUIRE(grid.nu >= 4 && grid.nv >= 4, origin << ": surface '" << name << "': node grid '" << gridName
-                                                        << "' of body '" << body << "' is " << grid.nu << " x " << grid.nv
+                                                        << "' of body '" << body << "' is " << grid.nu << " x "
+                                                        << grid.nv
                                                         << " nodes; a bicubic surface needs at least 4 in each "
                                                            "direction: refine the mesh");
     int free = 0;
@@ -291,7 +301,7 @@ DampingOptions dampingOptions(const ParameterList& tp, const std::string& origin
   if (const auto f = deck::getDoubles(dp, "Rayleigh frequencies"); !f.empty()) {
     const auto xi = deck::getDoubles(dp, "Rayleigh ratios");
     EPAPHE_REQUIRE(f.size() == 2 && xi.size() == 2, origin << ": 'Time->Damping->Rayleigh frequencies' and "
-                                                            "'Rayleigh ratios' must both have 2 values");
+                                                              "'Rayleigh ratios' must both have 2 values");
     rayleighFromRatios(f[0], xi[0], f[1], xi[1], damping.alpha, damping.beta);
   }
   return damping;
@@ -302,14 +312,16 @@ RigidGrid rigidSurfaceGrid(const ParameterList& s, const std::string& origin) {
   EPAPHE_REQUIRE(pts.size() == 2, origin << ": '" << deck::pathOf(s, "Points") << "' has " << pts.size()
                                          << " values; give the grid size as {nu, nv}");
   EPAPHE_REQUIRE(pts[0] >= 4 && pts[1] >= 4, origin << ": '" << deck::pathOf(s, "Points") << "' = {" << pts[0] << ", "
-                                                    << pts[1] << "}; a bicubic surface needs at least 4 points in each "
-                                                    "direction");
+                                                    << pts[1]
+                                                    << "}; a bicubic surface needs at least 4 points in each "
+                                                       "direction");
   RigidGrid g;
   g.nu = pts[0];
   g.nv = pts[1];
   const auto type = deck::getEnum<SurfaceType>(s, "Type");
   if (type == SurfaceType::Plane) {
-    const auto o = deck::getVec3(s, "Origin", origin), U = deck::getVec3(s, "U", origin), V = deck::getVec3(s, "V", origin);
+    const auto o = deck::getVec3(s, "Origin", origin), U = deck::getVec3(s, "U", origin),
+               V = deck::getVec3(s, "V", origin);
     for (int i = 0; i < g.nu; ++i)
       for (int j = 0; j < g.nv; ++j)
         for (int d = 0; d < 3; ++d) g.points.push_back(o[d] + U[d] * i / (g.nu - 1) + V[d] * j / (g.nv - 1));
@@ -370,10 +382,10 @@ void checkRunUp(const ParameterList& P, const std::string& origin) {
                                           "and 'Rotation->Speed' = 'Start speed'");
     EPAPHE_REQUIRE(law.start > 0 && law.start >= range[0] && law.start <= range[1] && law.end >= range[0] &&
                        law.end <= range[1] && law.t1 > law.t0 && rot.get<double>("Speed") == law.start,
-                   ctx << ": Start speed " << law.start << ", End speed " << law.end << " rad/s, Start time "
-                       << law.t0 << ", End time " << law.t1 << " s, Speed " << rot.get<double>("Speed")
-                       << " rad/s: a ramp needs 0 < Start speed = Speed, both speeds inside 'Speed range' {"
-                       << range[0] << ", " << range[1] << "} and End time > Start time");
+                   ctx << ": Start speed " << law.start << ", End speed " << law.end << " rad/s, Start time " << law.t0
+                       << ", End time " << law.t1 << " s, Speed " << rot.get<double>("Speed")
+                       << " rad/s: a ramp needs 0 < Start speed = Speed, both speeds inside 'Speed range' {" << range[0]
+                       << ", " << range[1] << "} and End time > Start time");
     ++driven;
     for (const auto& s : P.sublist("Surfaces")) {
       const double w = P.sublist("Surfaces").sublist(s.first).get<double>("Rotation speed");
@@ -383,8 +395,9 @@ void checkRunUp(const ParameterList& P, const std::string& origin) {
                             << "the run-up's law, so give it 'Rotation speed' = +/- the 'Start speed'");
     }
   }
-  EPAPHE_REQUIRE(driven <= 1, origin << ": " << driven << " bodies have a 'Speed law' of Type Ramp; the turning "
-                                         "surfaces follow one law, so give one body the ramp");
+  EPAPHE_REQUIRE(driven <= 1, origin << ": " << driven
+                                     << " bodies have a 'Speed law' of Type Ramp; the turning "
+                                        "surfaces follow one law, so give one body the ramp");
 }
 
 }  // namespace
@@ -429,25 +442,29 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
                           "at rest), or import CalculiX matrices at speed ('Rotation->Imported speeds' and 'Imported "
                           "jobs' with a 'Speed range')");
     if (!range.empty()) {
-      EPAPHE_REQUIRE(range.size() == 2 && range[0] >= 0 && range[1] > range[0] && std::isfinite(range[1]),
-                     ctx << "->Speed range has " << range.size() << " value(s)"
-                         << (range.size() == 2 ? " {" + std::to_string(range[0]) + ", " + std::to_string(range[1]) + "}" : "")
-                         << "; give {minimum, maximum} in rad/s with 0 <= minimum < maximum");
+      EPAPHE_REQUIRE(
+          range.size() == 2 && range[0] >= 0 && range[1] > range[0] && std::isfinite(range[1]),
+          ctx << "->Speed range has " << range.size() << " value(s)"
+              << (range.size() == 2 ? " {" + std::to_string(range[0]) + ", " + std::to_string(range[1]) + "}" : "")
+              << "; give {minimum, maximum} in rad/s with 0 <= minimum < maximum");
       EPAPHE_REQUIRE(std::abs(rotation.speed) >= range[0] && std::abs(rotation.speed) <= range[1],
                      ctx << "->Speed = " << rotation.speed << " rad/s is outside 'Speed range' {" << range[0] << ", "
-                         << range[1] << "}: the parametric model covers only its range; widen the range or change the speed");
+                         << range[1]
+                         << "}: the parametric model covers only its range; widen the range or change the speed");
       const auto method = deck::getEnum<ReductionMethod>(bp.sublist("Reduction"), "Method");
       EPAPHE_REQUIRE(method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan ||
                          method == ReductionMethod::MasslessBoundary,
                      ctx << "->Speed range: the parametric model over a speed range is built by Craig-Bampton, "
-                         << "Guyan or the massless boundary, not by '" << bp.sublist("Reduction").get<std::string>("Method")
+                         << "Guyan or the massless boundary, not by '"
+                         << bp.sublist("Reduction").get<std::string>("Method")
                          << "'; set 'Reduction->Method' to Craig-Bampton, or remove 'Speed range' (the model is then "
                             "reduced at 'Speed' directly)");
       if (method == ReductionMethod::MasslessBoundary) {
         const auto& rp = bp.sublist("Reduction");
-        EPAPHE_REQUIRE(!bp.get<std::string>("Clamped node set").empty(),
-                       ctx << "->Speed range: a massless-boundary model over a speed range needs a held body; name a "
-                           << "'Clamped node set' (a free body has rigid-body modes the parametric model does not keep)");
+        EPAPHE_REQUIRE(
+            !bp.get<std::string>("Clamped node set").empty(),
+            ctx << "->Speed range: a massless-boundary model over a speed range needs a held body; name a "
+                << "'Clamped node set' (a free body has rigid-body modes the parametric model does not keep)");
         EPAPHE_REQUIRE(rp.get<int>("Candidate modes") <= rp.get<int>("Fixed-interface modes"),
                        ctx << "->Speed range: a massless-boundary model over a speed range keeps the lowest modes; "
                            << "remove 'Reduction->Candidate modes' (" << rp.get<int>("Candidate modes") << ")");

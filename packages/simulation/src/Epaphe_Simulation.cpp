@@ -35,7 +35,9 @@ void Simulation::setRestart(const std::string& file) {
   output_ = file;
 }
 
-void Simulation::catchSignals() { StopControl::catchStopSignals(); }
+void Simulation::catchSignals() {
+  StopControl::catchStopSignals();
+}
 
 void Simulation::setup() {
   scene_ = std::make_unique<Scene>(deck_, rt_, output_, !restart_.empty());
@@ -144,7 +146,7 @@ const RunSummary& Simulation::run() {
   StopControl stop(stopAfterSteps_, "continue with epaphe-run " + deck_.origin + " --restart " + output_);
   ProgressReport progress(P.sublist("Run").get<double>("Progress interval"));
   for (LoopObserver* o : std::initializer_list<LoopObserver*>{runUp.get(), &monitor, &history, coating.get(),
-                                                               fields.get(), &stop, &checkpoints, &progress})
+                                                              fields.get(), &stop, &checkpoints, &progress})
     if (o != nullptr) loop.addObserver(o);
 
   if (fresh) {
@@ -215,7 +217,8 @@ void Simulation::writeRunFigures(io::Hdf5File& file, const ExplicitLoop& loop, c
   long long bytes = 0;  // what one step's integration must read
   for (const auto& b : scene_->bodies()) bytes += static_cast<long long>(b->integrator->predictBytes());
   file.setAttribute("/run", "step_matrix_bytes", bytes);
-  if (SurfaceContact* contact = scene_->contact()) {  // the correction's detections of this run (output steps' measurements not counted)
+  if (SurfaceContact* contact =
+          scene_->contact()) {  // the correction's detections of this run (output steps' measurements not counted)
     file.setAttribute("/run", "projections", contact->projections());
     file.setAttribute("/run", "projections_skipped", contact->projectionsSkipped());
   }
@@ -225,8 +228,8 @@ void Simulation::writeRunFigures(io::Hdf5File& file, const ExplicitLoop& loop, c
 void Simulation::printSummary(std::ostream& os) const {
   if (rt_.rank() != 0) return;
   char buf[256];
-  os << "\n==== Epaphe summary: " << deck_.params->sublist("Run").get<std::string>("Name") << " ("
-     << deck_.origin << ") ====\n";
+  os << "\n==== Epaphe summary: " << deck_.params->sublist("Run").get<std::string>("Name") << " (" << deck_.origin
+     << ") ====\n";
   for (const auto& b : scene_->bodies()) {
     if (b->rom.sparse())
       os << "body '" << b->name << "': " << b->rom.method() << ", " << b->rom.size << " DOFs (sparse K, "
@@ -267,7 +270,8 @@ void Simulation::printSummary(std::ostream& os) const {
   os << "\n";
   if (summary_.totals.firstContact >= 0) {
     std::snprintf(buf, sizeof buf, "contact: first %.6e s, last %.6e s, max force %.6e N, impulse %.6e N s\n",
-                  summary_.totals.firstContact, summary_.totals.lastContact, summary_.totals.maxForce, summary_.totals.impulse);
+                  summary_.totals.firstContact, summary_.totals.lastContact, summary_.totals.maxForce,
+                  summary_.totals.impulse);
     os << buf;
   } else {
     os << "contact: none\n";
@@ -278,7 +282,8 @@ void Simulation::printSummary(std::ostream& os) const {
     os << buf;
   }
   if (summary_.totals.largeMotionSteps > 0) {
-    std::snprintf(buf, sizeof buf, "warning: %lld step(s) moved a contact node farther than the smallest patch "
+    std::snprintf(buf, sizeof buf,
+                  "warning: %lld step(s) moved a contact node farther than the smallest patch "
                   "(allowed by 'Contact->Allow large motion per step'): contact may have been missed\n",
                   summary_.totals.largeMotionSteps);
     os << buf;

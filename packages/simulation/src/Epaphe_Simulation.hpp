@@ -48,9 +48,9 @@ struct RunSummary {
   std::string status = "not run";
   long long steps = 0;
   double loopSeconds = 0, stepsPerSecond = 0;
-  SetupReport setup;         // time step, critical step, setup time, initial penetrations, warnings
-  LoopAccumulators totals;   // contact times, impulse, peak force, worst balance error (relative),
-                             // steps whose contact-node motion exceeded the smallest patch
+  SetupReport setup;        // time step, critical step, setup time, initial penetrations, warnings
+  LoopAccumulators totals;  // contact times, impulse, peak force, worst balance error (relative),
+                            // steps whose contact-node motion exceeded the smallest patch
   CostSplit cost;
   long long firstStep = 0;           // > 0 when restarted from a checkpoint
   long long checkpoints = 0;         // written by this run

@@ -31,7 +31,7 @@ ReducedModel model(int size, int nodes) {
 }
 
 TEST(NodeRecovery, ColumnsMatchTheSumsAndDoNotDependOnTheThreads) {
-  const int size = 131, nodes = 397, cols = 64;   // 1191 rows: not a multiple of the blocks' 16
+  const int size = 131, nodes = 397, cols = 64;  // 1191 rows: not a multiple of the blocks' 16
   const ReducedModel rom = model(size, nodes);
   std::vector<int> watched(static_cast<std::size_t>(nodes));
   std::iota(watched.begin(), watched.end(), 0);
@@ -46,9 +46,9 @@ TEST(NodeRecovery, ColumnsMatchTheSumsAndDoNotDependOnTheThreads) {
   std::printf("%d threads\n", threads);
   const long threshold = serialWorkNs();
   std::vector<double> serial(R.rows() * cols), split(R.rows() * cols);
-  setSerialWorkNs(1L << 60);   // every loop on the calling thread
+  setSerialWorkNs(1L << 60);  // every loop on the calling thread
   R.applyColumns(X.data(), cols, serial.data());
-  setSerialWorkNs(0);          // every loop a Kokkos kernel over the team
+  setSerialWorkNs(0);  // every loop a Kokkos kernel over the team
   R.applyColumns(X.data(), cols, split.data());
   setSerialWorkNs(threshold);
 

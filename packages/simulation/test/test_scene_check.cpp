@@ -24,14 +24,16 @@ std::string deck(const std::string& body = "", const std::string& extra = "") {
       <Parameter name="Elements" type="Array(int)" value="{10, 1, 1}"/>
     </ParameterList>
     <Parameter name="Contact node set" type="string" value="x+"/>
-    )xml" + body + R"xml(
+    )xml" +
+         body + R"xml(
   </ParameterList></ParameterList>
   <ParameterList name="Surfaces"><ParameterList name="Wall">
     <Parameter name="Origin" type="Array(double)" value="{0.2001, -0.1, -0.1}"/>
     <Parameter name="U" type="Array(double)" value="{0, 0.2, 0}"/>
     <Parameter name="V" type="Array(double)" value="{0, 0, 0.2}"/>
   </ParameterList></ParameterList>
-  )xml" + extra + R"xml(
+  )xml" + extra +
+         R"xml(
 </ParameterList>)xml";
 }
 
@@ -50,8 +52,11 @@ std::string refusal(const std::string& xml, const std::string& output = "out.h5"
 TEST(SceneCheck, AValidSceneAndAFaultOnlyTheReductionSeesPass) {
   EXPECT_EQ(refusal(deck()), "");
   // h = 1e-3 s is far above the bar's critical step: only the reduced model's frequencies show it
-  EXPECT_EQ(refusal(deck("", R"(<ParameterList name="Time"><Parameter name="Time step" type="double" value="1e-3"/></ParameterList>)")),
-            "");
+  EXPECT_EQ(
+      refusal(deck(
+          "",
+          R"(<ParameterList name="Time"><Parameter name="Time step" type="double" value="1e-3"/></ParameterList>)")),
+      "");
 }
 
 TEST(SceneCheck, FaultsWithoutAModelAreRefusedNamingKeyAndValue) {
@@ -70,7 +75,8 @@ TEST(SceneCheck, FaultsWithoutAModelAreRefusedNamingKeyAndValue) {
   const std::string massless = refusal(deck(R"(<ParameterList name="Reduction">
       <Parameter name="Method" type="string" value="Massless boundary"/>
       <Parameter name="Fixed-interface modes" type="int" value="5000"/></ParameterList>)"));
-  EXPECT_NE(massless.find("(and the free body's 6 rigid-body modes) exceed the model's"), std::string::npos) << massless;
+  EXPECT_NE(massless.find("(and the free body's 6 rigid-body modes) exceed the model's"), std::string::npos)
+      << massless;
 
   const std::string output = refusal(deck(), "/nonexistent-epaphe-dir/out.h5");
   EXPECT_NE(output.find("directory '/nonexistent-epaphe-dir' does not exist"), std::string::npos) << output;

@@ -24,8 +24,7 @@ double distance(const double* a, const double* b) {
 /// in),
 ///        row k: (Q_k + 4 Q_{k+1} + Q_{k+2}) / 6 = P_k, unknowns Q_1..Q_n.
 /// Closed: row k: (Q_{k-1} + 4 Q_k + Q_{k+1}) / 6 = P_k cyclic, unknowns Q_0..Q_{N-1}.
-std::vector<double> inverseInterpolation(int n, bool periodic, const std::string& surface,
-                                         char dir) {
+std::vector<double> inverseInterpolation(int n, bool periodic, const std::string& surface, char dir) {
   std::vector<double> A(std::size_t(n) * n, 0.0), X(std::size_t(n) * n, 0.0);  // column-major
   auto a = [&](int r, int c) -> double& { return A[std::size_t(c) * n + r]; };
   for (int k = 0; k < n; ++k) {
@@ -46,9 +45,9 @@ std::vector<double> inverseInterpolation(int n, bool periodic, const std::string
   std::vector<int> ipiv(n);
   int info = 0;
   lapack.GESV(n, n, A.data(), n, ipiv.data(), X.data(), n, &info);
-  EPAPHE_REQUIRE(info == 0, "surface '" << surface << "': LAPACK GESV failed (info = " << info
-                                        << ") on the " << dir << "-interpolation matrix of size "
-                                        << n << "; this is a bug, please report it");
+  EPAPHE_REQUIRE(info == 0, "surface '" << surface << "': LAPACK GESV failed (info = " << info << ") on the " << dir
+                                        << "-interpolation matrix of size " << n
+                                        << "; this is a bug, please report it");
   std::vector<double> inv(std::size_t(n) * n);  // back to row-major
   for (int r = 0; r < n; ++r)
     for (int c = 0; c < n; ++c) inv[std::size_t(r) * n + c] = X[std::size_t(c) * n + r];
@@ -56,15 +55,13 @@ std::vector<double> inverseInterpolation(int n, bool periodic, const std::string
 }
 
 /// Extended operator B (eq. 2.26, B = C [A C]^-1): rows are the control points every patch reads.
-std::vector<double> extendedOperator(int n, bool periodic, const std::string& surface, char dir,
-                                     int& nExt) {
+std::vector<double> extendedOperator(int n, bool periodic, const std::string& surface, char dir, int& nExt) {
   const std::vector<double> inv = inverseInterpolation(n, periodic, surface, dir);
   nExt = periodic ? n + 3 : n + 2;
   std::vector<double> B(std::size_t(nExt) * n, 0.0);
   auto row = [&](int r) { return inv.data() + std::size_t(r) * n; };
   auto put = [&](int e, double ca, int ra, double cb, int rb) {
-    for (int c = 0; c < n; ++c)
-      B[std::size_t(e) * n + c] = ca * row(ra)[c] + (rb >= 0 ? cb * row(rb)[c] : 0.0);
+    for (int c = 0; c < n; ++c) B[std::size_t(e) * n + c] = ca * row(ra)[c] + (rb >= 0 ? cb * row(rb)[c] : 0.0);
   };
   if (periodic) {
     // Qext = [Q_{N-1}, Q_0, ..., Q_{N-1}, Q_0, Q_1]
@@ -82,11 +79,10 @@ std::vector<double> extendedOperator(int n, bool periodic, const std::string& su
   return B;
 }
 
-const double* checkedData(const std::vector<double>& points, int nu, int nv,
-                          const std::string& surface) {
+const double* checkedData(const std::vector<double>& points, int nu, int nv, const std::string& surface) {
   EPAPHE_REQUIRE(points.size() == std::size_t(std::max(nu, 0)) * std::size_t(std::max(nv, 0)) * 3,
-                 "surface '" << surface << "': " << points.size() << " coordinates given for a "
-                             << nu << " x " << nv << " grid, expected " << nu << " * " << nv
+                 "surface '" << surface << "': " << points.size() << " coordinates given for a " << nu << " x " << nv
+                             << " grid, expected " << nu << " * " << nv
                              << " * 3; pass the nodes as x,y,z triplets, i (u) major");
   return points.data();
 }
@@ -97,13 +93,11 @@ BSplineSurface::BSplineSurface(std::string name, int nu, int nv, const std::vect
                                SurfaceOptions options)
     : BSplineSurface(name, nu, nv, checkedData(points, nu, nv, name), options) {}
 
-BSplineSurface::BSplineSurface(std::string name, int nu, int nv, const double* points,
-                               SurfaceOptions options)
+BSplineSurface::BSplineSurface(std::string name, int nu, int nv, const double* points, SurfaceOptions options)
     : name_(std::move(name)), inNu_(nu), inNv_(nv) {
-  EPAPHE_REQUIRE(Kokkos::is_initialized(),
-                 "surface '" << name_
-                             << "': Kokkos is not initialised; call Kokkos::initialize "
-                                "(or create the Epaphe runtime) before building surfaces");
+  EPAPHE_REQUIRE(Kokkos::is_initialized(), "surface '" << name_
+                                                       << "': Kokkos is not initialised; call Kokkos::initialize "
+                                                          "(or create the Epaphe runtime) before building surfaces");
   EPAPHE_REQUIRE(nu >= 4, "surface '" << name_ << "': grid has " << nu
                                       << " points along u, at least 4 are needed (refine the "
                                          "contact surface grid along u)");
@@ -111,9 +105,8 @@ BSplineSurface::BSplineSurface(std::string name, int nu, int nv, const double* p
                                       << " points along v, at least 4 are needed (refine the "
                                          "contact surface grid along v)");
   EPAPHE_REQUIRE(points != nullptr, "surface '" << name_ << "': null grid point array");
-  EPAPHE_REQUIRE(
-      options.orientation == 1 || options.orientation == -1,
-      "surface '" << name_ << "': orientation = " << options.orientation << ", must be +1 or -1");
+  EPAPHE_REQUIRE(options.orientation == 1 || options.orientation == -1,
+                 "surface '" << name_ << "': orientation = " << options.orientation << ", must be +1 or -1");
 
   auto P = [&](int i, int j) { return points + 3 * (std::size_t(i) * nv + j); };
   double lo[3], hi[3];
@@ -125,8 +118,7 @@ BSplineSurface::BSplineSurface(std::string name, int nu, int nv, const double* p
     for (int j = 0; j < nv; ++j)
       for (int c = 0; c < 3; ++c) {
         const double x = P(i, j)[c];
-        EPAPHE_REQUIRE(std::isfinite(x), "surface '" << name_ << "': grid point (" << i << "," << j
-                                                     << ") coordinate "
+        EPAPHE_REQUIRE(std::isfinite(x), "surface '" << name_ << "': grid point (" << i << "," << j << ") coordinate "
                                                      << "xyz"[c] << " = " << x
                                                      << " is not finite; check the node "
                                                         "coordinates of the contact surface");
@@ -141,10 +133,8 @@ BSplineSurface::BSplineSurface(std::string name, int nu, int nv, const double* p
   for (int j = 0; j < nv; ++j) gapU = std::max(gapU, distance(P(nu - 1, j), P(0, j)));
   for (int i = 0; i < nu; ++i) gapV = std::max(gapV, distance(P(i, nv - 1), P(i, 0)));
   const bool repeatU = gapU <= tol, repeatV = gapV <= tol;
-  const bool perU =
-      options.closureU == Closure::Periodic || (options.closureU == Closure::Detect && repeatU);
-  const bool perV =
-      options.closureV == Closure::Periodic || (options.closureV == Closure::Detect && repeatV);
+  const bool perU = options.closureU == Closure::Periodic || (options.closureU == Closure::Detect && repeatU);
+  const bool perV = options.closureV == Closure::Periodic || (options.closureV == Closure::Detect && repeatV);
   const int mu = (perU && repeatU) ? nu - 1 : nu;
   const int mv = (perV && repeatV) ? nv - 1 : nv;
 
@@ -155,23 +145,21 @@ BSplineSurface::BSplineSurface(std::string name, int nu, int nv, const double* p
       const int jn = j + 1 < mv ? j + 1 : (perV ? 0 : -1);
       if (in >= 0) {
         const double d = distance(P(i, j), P(in, j));
-        EPAPHE_REQUIRE(d > tol, "surface '"
-                                    << name_ << "': grid points (" << i << "," << j << ") and ("
-                                    << in << "," << j << ") coincide (distance " << d
-                                    << " <= " << tol << " = 1e-9 x grid size"
-                                    << ")"
-                                    << "; remove the duplicated node or fix the ordering of "
-                                       "the grid along u");
+        EPAPHE_REQUIRE(d > tol, "surface '" << name_ << "': grid points (" << i << "," << j << ") and (" << in << ","
+                                            << j << ") coincide (distance " << d << " <= " << tol
+                                            << " = 1e-9 x grid size"
+                                            << ")"
+                                            << "; remove the duplicated node or fix the ordering of "
+                                               "the grid along u");
       }
       if (jn >= 0) {
         const double d = distance(P(i, j), P(i, jn));
-        EPAPHE_REQUIRE(d > tol, "surface '"
-                                    << name_ << "': grid points (" << i << "," << j << ") and ("
-                                    << i << "," << jn << ") coincide (distance " << d
-                                    << " <= " << tol << " = 1e-9 x grid size"
-                                    << ")"
-                                    << "; remove the duplicated node or fix the ordering of "
-                                       "the grid along v");
+        EPAPHE_REQUIRE(d > tol, "surface '" << name_ << "': grid points (" << i << "," << j << ") and (" << i << ","
+                                            << jn << ") coincide (distance " << d << " <= " << tol
+                                            << " = 1e-9 x grid size"
+                                            << ")"
+                                            << "; remove the duplicated node or fix the ordering of "
+                                               "the grid along v");
       }
     }
 
@@ -196,15 +184,14 @@ BSplineSurface::BSplineSurface(std::string name, int nu, int nv, const double* p
 }
 
 void BSplineSurface::loadGrid(const double* points, const char* where) {
-  EPAPHE_REQUIRE(points != nullptr,
-                 "surface '" << name_ << "': null grid point array in " << where);
+  EPAPHE_REQUIRE(points != nullptr, "surface '" << name_ << "': null grid point array in " << where);
   const int mu = view_.nu, mv = view_.nv;
   for (int i = 0; i < mu; ++i)
     for (int j = 0; j < mv; ++j)
       for (int c = 0; c < 3; ++c) {
         const double x = points[3 * (std::size_t(i) * inNv_ + j) + c];
-        EPAPHE_REQUIRE(std::isfinite(x), "surface '" << name_ << "': " << where << ": grid point ("
-                                                     << i << "," << j << ") coordinate "
+        EPAPHE_REQUIRE(std::isfinite(x), "surface '" << name_ << "': " << where << ": grid point (" << i << "," << j
+                                                     << ") coordinate "
                                                      << "xyz"[c] << " = " << x
                                                      << " is not finite; check the displacement "
                                                         "of the contact surface nodes");
@@ -322,9 +309,8 @@ void BSplineSurface::buildBins() {
 
 void BSplineSurface::update(const std::vector<double>& points) {
   EPAPHE_REQUIRE(points.size() == std::size_t(inNu_) * inNv_ * 3,
-                 "surface '" << name_ << "': update with " << points.size()
-                             << " coordinates, expected " << inNu_ << " * " << inNv_
-                             << " * 3 (same grid as at construction)");
+                 "surface '" << name_ << "': update with " << points.size() << " coordinates, expected " << inNu_
+                             << " * " << inNv_ << " * 3 (same grid as at construction)");
   update(points.data());
 }
 
@@ -336,9 +322,9 @@ void BSplineSurface::setOrientation(int orientation) {
 }
 
 std::array<double, 3> BSplineSurface::gridPoint(int i, int j) const {
-  EPAPHE_REQUIRE(i >= 0 && i < view_.nu && j >= 0 && j < view_.nv,
-                 "surface '" << name_ << "': grid point (" << i << "," << j << ") out of range [0,"
-                             << view_.nu << ") x [0," << view_.nv << ")");
+  EPAPHE_REQUIRE(i >= 0 && i < view_.nu && j >= 0 && j < view_.nv, "surface '" << name_ << "': grid point (" << i << ","
+                                                                               << j << ") out of range [0," << view_.nu
+                                                                               << ") x [0," << view_.nv << ")");
   return {hostGrid_(i, j, 0), hostGrid_(i, j, 1), hostGrid_(i, j, 2)};
 }
 

@@ -22,10 +22,10 @@ template <class MemorySpace>
 struct BasicSurfaceView {
   using memory_space = MemorySpace;
   using Points = Kokkos::View<double***, Kokkos::LayoutRight, MemorySpace>;
-  Points ctrl;  ///< extended control points [nu_ext][nv_ext][3] (see top of file)
-  Points grid;  ///< passing points (grid nodes) [nu][nv][3], duplicate closing row dropped
-  int nu = 0;   ///< number of distinct passing points along u
-  int nv = 0;   ///< number of distinct passing points along v
+  Points ctrl;             ///< extended control points [nu_ext][nv_ext][3] (see top of file)
+  Points grid;             ///< passing points (grid nodes) [nu][nv][3], duplicate closing row dropped
+  int nu = 0;              ///< number of distinct passing points along u
+  int nv = 0;              ///< number of distinct passing points along v
   bool periodicU = false;  ///< closed (C2 across the seam) along u
   bool periodicV = false;  ///< closed along v
   int orientation = 1;     ///< unit normal = orientation * (S_u x S_v) / |S_u x S_v|
@@ -36,8 +36,8 @@ struct BasicSurfaceView {
   // binDims[2] + c and holds the nodes binNodes[binStart[cell] .. binStart[cell+1]), node (i,j)
   // stored as i*nv + j, ascending within a cell. Empty views (hand-built view): no broad phase.
   using Indices = Kokkos::View<int*, MemorySpace>;
-  Indices binStart;            ///< [cells + 1] offsets into binNodes
-  Indices binNodes;            ///< [nu*nv] node indices sorted by cell
+  Indices binStart;                       ///< [cells + 1] offsets into binNodes
+  Indices binNodes;                       ///< [nu*nv] node indices sorted by cell
   double binOrigin[3] = {0.0, 0.0, 0.0};  ///< lower corner of cell (0,0,0) = min of the nodes
   double binUpper[3] = {0.0, 0.0, 0.0};   ///< max of the nodes (node box = [binOrigin, binUpper])
   double binSize = 1.0;                   ///< side of a cell
@@ -57,7 +57,7 @@ namespace surface_detail {
 /// Eq. 2.22 uniform cubic B-spline basis on one patch, local t in [0, 1], and its derivatives.
 KOKKOS_INLINE_FUNCTION void cubicBasis(double t, double b[4], double db[4], double ddb[4]) {
   const double s = 1.0 - t, t2 = t * t, t3 = t2 * t;
-  constexpr double sixth = 1.0 / 6.0;   // a product, not four divisions (a closest point evaluates this often)
+  constexpr double sixth = 1.0 / 6.0;  // a product, not four divisions (a closest point evaluates this often)
   b[0] = s * s * s * sixth;
   b[1] = (3.0 * t3 - 6.0 * t2 + 4.0) * sixth;
   b[2] = (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) * sixth;
@@ -112,9 +112,8 @@ KOKKOS_INLINE_FUNCTION int binCoord(const BasicSurfaceView<MemorySpace>& s, doub
 
 /// Surface point and first and second derivatives w.r.t. the global parameters (eq. 2.21-2.22).
 template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION void evaluate(const BasicSurfaceView<MemorySpace>& s, double u, double v,
-                                     double S[3], double Su[3], double Sv[3], double Suu[3],
-                                     double Suv[3], double Svv[3]) {
+KOKKOS_INLINE_FUNCTION void evaluate(const BasicSurfaceView<MemorySpace>& s, double u, double v, double S[3],
+                                     double Su[3], double Sv[3], double Suu[3], double Suv[3], double Svv[3]) {
   int i, j;
   double t, w;
   surface_detail::locate(u, s.nu, s.periodicU, i, t);
@@ -148,8 +147,7 @@ KOKKOS_INLINE_FUNCTION void evaluate(const BasicSurfaceView<MemorySpace>& s, dou
 
 /// Surface point only (cheaper than evaluate()).
 template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION void evaluatePoint(const BasicSurfaceView<MemorySpace>& s, double u,
-                                          double v, double S[3]) {
+KOKKOS_INLINE_FUNCTION void evaluatePoint(const BasicSurfaceView<MemorySpace>& s, double u, double v, double S[3]) {
   int i, j;
   double t, w, bu[4], bv[4], d1[4], d2[4];
   surface_detail::locate(u, s.nu, s.periodicU, i, t);
@@ -164,8 +162,8 @@ KOKKOS_INLINE_FUNCTION void evaluatePoint(const BasicSurfaceView<MemorySpace>& s
 
 /// Unit normal orientation * (Su x Sv) / |Su x Sv|; zero vector on a degenerate point.
 template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION void unitNormal(const BasicSurfaceView<MemorySpace>& s, const double Su[3],
-                                       const double Sv[3], double n[3]) {
+KOKKOS_INLINE_FUNCTION void unitNormal(const BasicSurfaceView<MemorySpace>& s, const double Su[3], const double Sv[3],
+                                       double n[3]) {
   n[0] = Su[1] * Sv[2] - Su[2] * Sv[1];
   n[1] = Su[2] * Sv[0] - Su[0] * Sv[2];
   n[2] = Su[0] * Sv[1] - Su[1] * Sv[0];
@@ -191,13 +189,11 @@ struct SurfaceOptions {
 /// Host-side owner of a bicubic interpolating surface (thesis 2.4).
 /// Requires Kokkos to be initialised; destroy it before Kokkos::finalize().
 class BSplineSurface {
- public:
+public:
   /// points: nu x nv grid nodes, 3 doubles each, node (i,j) at points[3*(i*nv + j)],
   /// i along u, j along v. nu, nv >= 4.
-  BSplineSurface(std::string name, int nu, int nv, const double* points,
-                 SurfaceOptions options = {});
-  BSplineSurface(std::string name, int nu, int nv, const std::vector<double>& points,
-                 SurfaceOptions options = {});
+  BSplineSurface(std::string name, int nu, int nv, const double* points, SurfaceOptions options = {});
+  BSplineSurface(std::string name, int nu, int nv, const std::vector<double>& points, SurfaceOptions options = {});
 
   /// Recomputes the control points for moved nodes (flexible surface), same layout and size as the
   /// constructor input (a repeated closing row/column is read but ignored: the first one wins).
@@ -230,7 +226,7 @@ class BSplineSurface {
   const std::vector<double>& operatorU() const { return Bu_; }
   const std::vector<double>& operatorV() const { return Bv_; }
 
- private:
+private:
   void loadGrid(const double* points, const char* where);
   void computeControlPoints();
   void buildBins();  ///< (re)builds the broad-phase bucket grid from hostGrid_ (O(nodes))

@@ -33,8 +33,8 @@ struct FootState {
 };
 
 template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION void evalFoot(const BasicSurfaceView<MemorySpace>& s, const double x[3],
-                                     double u, double v, FootState& st) {
+KOKKOS_INLINE_FUNCTION void evalFoot(const BasicSurfaceView<MemorySpace>& s, const double x[3], double u, double v,
+                                     FootState& st) {
   st.u = u;
   st.v = v;
   evaluate(s, u, v, st.S, st.Su, st.Sv, st.Suu, st.Suv, st.Svv);
@@ -48,15 +48,13 @@ KOKKOS_INLINE_FUNCTION void evalFoot(const BasicSurfaceView<MemorySpace>& s, con
 /// among equally near nodes. *evaluations (if given) receives the number of node distances
 /// computed (nu*nv). Reference for nearestGridPoint().
 template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION void nearestGridPointBruteForce(const BasicSurfaceView<MemorySpace>& s,
-                                                       const double x[3], double& u, double& v,
-                                                       int* evaluations = nullptr) {
+KOKKOS_INLINE_FUNCTION void nearestGridPointBruteForce(const BasicSurfaceView<MemorySpace>& s, const double x[3],
+                                                       double& u, double& v, int* evaluations = nullptr) {
   double best = -1.0;
   u = v = 0.0;
   for (int i = 0; i < s.nu; ++i)
     for (int j = 0; j < s.nv; ++j) {
-      const double dx = s.grid(i, j, 0) - x[0], dy = s.grid(i, j, 1) - x[1],
-                   dz = s.grid(i, j, 2) - x[2];
+      const double dx = s.grid(i, j, 0) - x[0], dy = s.grid(i, j, 1) - x[1], dz = s.grid(i, j, 2) - x[2];
       const double d2 = dx * dx + dy * dy + dz * dz;
       if (best < 0.0 || d2 < best) {
         best = d2;
@@ -72,13 +70,12 @@ namespace surface_detail {
 /// Broad phase: tests the nodes of one bucket cell against the best node so far (ties: lowest
 /// node index, as the brute force).
 template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION void visitBin(const BasicSurfaceView<MemorySpace>& s, const double x[3],
-                                     int cell, double& best, int& bestK, int& count) {
+KOKKOS_INLINE_FUNCTION void visitBin(const BasicSurfaceView<MemorySpace>& s, const double x[3], int cell, double& best,
+                                     int& bestK, int& count) {
   const int end = s.binStart(cell + 1);
   for (int e = s.binStart(cell); e < end; ++e) {
     const int k = s.binNodes(e), i = k / s.nv, j = k - i * s.nv;
-    const double dx = s.grid(i, j, 0) - x[0], dy = s.grid(i, j, 1) - x[1],
-                 dz = s.grid(i, j, 2) - x[2];
+    const double dx = s.grid(i, j, 0) - x[0], dy = s.grid(i, j, 1) - x[1], dz = s.grid(i, j, 2) - x[2];
     const double d2 = dx * dx + dy * dy + dz * dz;
     ++count;
     if (bestK < 0 || d2 < best || (d2 == best && k < bestK)) {
@@ -99,9 +96,8 @@ KOKKOS_INLINE_FUNCTION void visitBin(const BasicSurfaceView<MemorySpace>& s, con
 /// when the view has no bucket grid or x is not finite (or huge). *evaluations (if given) receives
 /// the number of node distances computed.
 template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>& s,
-                                             const double x[3], double& u, double& v,
-                                             int* evaluations = nullptr) {
+KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>& s, const double x[3], double& u,
+                                             double& v, int* evaluations = nullptr) {
   double xmax = 0.0;
   for (int a = 0; a < 3; ++a) xmax = ::fabs(x[a]) > xmax ? ::fabs(x[a]) : xmax;
   if (s.binStart.extent(0) == 0 || !(xmax <= 1e150)) {
@@ -114,8 +110,8 @@ KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>
   int rmax = 0;
   for (int a = 0; a < 3; ++a) {
     c[a] = surface_detail::binCoord(s, x[a], a);
-    const double o = x[a] < s.binOrigin[a] ? s.binOrigin[a] - x[a]
-                                           : (x[a] > s.binUpper[a] ? x[a] - s.binUpper[a] : 0.0);
+    const double o =
+        x[a] < s.binOrigin[a] ? s.binOrigin[a] - x[a] : (x[a] > s.binUpper[a] ? x[a] - s.binUpper[a] : 0.0);
     out2[a] = o * o;
     const int reach = c[a] > dims[a] - 1 - c[a] ? c[a] : dims[a] - 1 - c[a];
     rmax = reach > rmax ? reach : rmax;
@@ -135,12 +131,10 @@ KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>
       for (int a1 = lo[1]; a1 <= hi[1]; ++a1) {
         const int base = (a0 * dims[1] + a1) * dims[2];
         if (face0 || a1 == c[1] - r || a1 == c[1] + r) {
-          for (int a2 = lo[2]; a2 <= hi[2]; ++a2)
-            surface_detail::visitBin(s, x, base + a2, best, bestK, count);
+          for (int a2 = lo[2]; a2 <= hi[2]; ++a2) surface_detail::visitBin(s, x, base + a2, best, bestK, count);
         } else {
           if (c[2] - r >= 0) surface_detail::visitBin(s, x, base + c[2] - r, best, bestK, count);
-          if (c[2] + r < dims[2])
-            surface_detail::visitBin(s, x, base + c[2] + r, best, bestK, count);
+          if (c[2] + r < dims[2]) surface_detail::visitBin(s, x, base + c[2] + r, best, bestK, count);
         }
       }
     }
@@ -183,9 +177,8 @@ KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>
 ///  - converged when the parameter step norm < tol (thesis crit_NR) or the projected gradient is
 ///    ~0 relative to |S_u||S_v|.
 template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpace>& s,
-                                               const double x[3], double u0, double v0, double tol,
-                                               int maxIter) {
+KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpace>& s, const double x[3], double u0,
+                                               double v0, double tol, int maxIter) {
   using surface_detail::dot3;
   using surface_detail::evalFoot;
   using surface_detail::toDomain;
@@ -208,8 +201,7 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
     p.iterations = it + 1;
     const double gu = dot3(cur.d, cur.Su), gv = dot3(cur.d, cur.Sv);
     const double a = dot3(cur.Su, cur.Su), b = dot3(cur.Su, cur.Sv), c = dot3(cur.Sv, cur.Sv);
-    double Huu = a + dot3(cur.d, cur.Suu), Huv = b + dot3(cur.d, cur.Suv),
-           Hvv = c + dot3(cur.d, cur.Svv);
+    double Huu = a + dot3(cur.d, cur.Suu), Huv = b + dot3(cur.d, cur.Suv), Hvv = c + dot3(cur.d, cur.Svv);
     const bool gaussNewton = !(Huu > 0.0 && Hvv > 0.0 && Huu * Hvv - Huv * Huv > 1e-12 * Huu * Hvv);
     if (gaussNewton) {  // drop the second-derivative terms: J^T J, positive definite
       Huu = a;
@@ -220,7 +212,7 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
     const bool fixU = openU && ((cur.u <= 0.0 && gu > 0.0) || (cur.u >= umax && gu < 0.0));
     const bool fixV = openV && ((cur.v <= 0.0 && gv > 0.0) || (cur.v >= vmax && gv < 0.0));
     const double pgu = fixU ? 0.0 : gu, pgv = fixV ? 0.0 : gv;
-    if (pgu * pgu + pgv * pgv <= 1e-28 * (a * c)) {   // |projected gradient| <= 1e-14 |S_u| |S_v|
+    if (pgu * pgu + pgv * pgv <= 1e-28 * (a * c)) {  // |projected gradient| <= 1e-14 |S_u| |S_v|
       p.converged = true;
       break;
     }
@@ -249,7 +241,7 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
     // The full step's parameters (the line search's first trial).
     const double un1 = toDomain(cur.u + du, s.nu, s.periodicU);
     const double vn1 = toDomain(cur.v + dv, s.nv, s.periodicV);
-    const double step1 = stepLength2(un1, vn1, du, dv);   // squared
+    const double step1 = stepLength2(un1, vn1, du, dv);  // squared
     if (step1 < tol2) {
       // The last step, shorter than tol: taken by Taylor's formula instead of a new evaluation. The
       // point, tangents and gap it gives differ from an evaluation at the new parameters by
@@ -272,7 +264,7 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
     // Line search: halve (at most 30 times) until f does not increase, with a slack for round-off
     // (made only when f did increase: f <= f_cur implies f <= f_cur + slack).
     double slack = -1.0;
-    double alpha = 1.0, stepNorm = 0.0;   // (squared)
+    double alpha = 1.0, stepNorm = 0.0;  // (squared)
     bool accepted = false;
     for (int ls = 0; ls <= 30; ++ls) {
       const double un = ls == 0 ? un1 : toDomain(cur.u + alpha * du, s.nu, s.periodicU);
@@ -285,7 +277,7 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
           slack = 8.0 * 2.2e-16 * (cur.f + ::sqrt(2.0 * cur.f) * (::sqrt(dot3(x, x)) + ::sqrt(dot3(cur.S, cur.S))));
         decrease = trial.f <= cur.f + slack;
       }
-      if (decrease) {   // (a first step shorter than tol took Taylor's formula above)
+      if (decrease) {  // (a first step shorter than tol took Taylor's formula above)
         accepted = true;
         break;
       }
@@ -331,20 +323,16 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
 /// Projects every node x(k) on the surface in one named kernel on the default execution space.
 /// uv(k) is the warm start on input (NaN = cold start from nearestGridPoint) and the foot point
 /// parameters on output. Asynchronous like any Kokkos kernel: fence before reading on the host.
-inline void projectNodes(const SurfaceView& surface, Kokkos::View<const double* [3]> x,
-                         Kokkos::View<double* [2]> uv, Kokkos::View<Projection*> out, double tol,
-                         int maxIter) {
+inline void projectNodes(const SurfaceView& surface, Kokkos::View<const double* [3]> x, Kokkos::View<double* [2]> uv,
+                         Kokkos::View<Projection*> out, double tol, int maxIter) {
   EPAPHE_REQUIRE(uv.extent(0) == x.extent(0) && out.extent(0) == x.extent(0),
-                 "surface projection: " << x.extent(0) << " nodes but " << uv.extent(0)
-                                        << " warm starts and " << out.extent(0)
-                                        << " results; size uv and out like x");
-  EPAPHE_REQUIRE(tol > 0.0 && maxIter > 0, "surface projection: tol = " << tol
-                                                                        << ", maxIter = " << maxIter
-                                                                        << "; both must be > 0");
+                 "surface projection: " << x.extent(0) << " nodes but " << uv.extent(0) << " warm starts and "
+                                        << out.extent(0) << " results; size uv and out like x");
+  EPAPHE_REQUIRE(tol > 0.0 && maxIter > 0,
+                 "surface projection: tol = " << tol << ", maxIter = " << maxIter << "; both must be > 0");
   const SurfaceView s = surface;
   Kokkos::parallel_for(
-      "epaphe::surface::project",
-      Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(0, x.extent(0)),
+      "epaphe::surface::project", Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(0, x.extent(0)),
       KOKKOS_LAMBDA(const int k) {
         const double xk[3] = {x(k, 0), x(k, 1), x(k, 2)};
         double u0 = uv(k, 0), v0 = uv(k, 1);

@@ -44,7 +44,9 @@ Vec3 waveNode(int i, int j) {
   const double x = 0.4 * i, y = 0.35 * j;
   return {x, y, std::sin(x) * std::cos(y)};
 }
-std::vector<double> waveGrid() { return makeGrid(kWaveNu, kWaveNv, waveNode); }
+std::vector<double> waveGrid() {
+  return makeGrid(kWaveNu, kWaveNv, waveNode);
+}
 
 // Cylinder of radius 1 around z: u = angle (N = 16 distinct nodes), v = height (6 nodes).
 constexpr int kCylN = 16, kCylNv = 6;
@@ -67,8 +69,7 @@ Eval eval(const HostSurfaceView& s, double u, double v) {
 }
 
 double dist(const double* a, const double* b) {
-  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                   (a[2] - b[2]) * (a[2] - b[2]));
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 double maxDiff(const double* a, const double* b) {
   double m = 0.0;
@@ -182,8 +183,8 @@ TEST(BSplineSurface, DerivativesMatchFiniteDifferences) {
   // Sample points away from the knots (the third derivative jumps there).
   for (double u = 0.33; u < kWaveNu - 1; u += 1.71)
     for (double v = 0.21; v < kWaveNv - 1; v += 1.33) {
-      const Eval e = eval(h, u, v), pu = eval(h, u + d, v), mu = eval(h, u - d, v),
-                 pv = eval(h, u, v + d), mv = eval(h, u, v - d);
+      const Eval e = eval(h, u, v), pu = eval(h, u + d, v), mu = eval(h, u - d, v), pv = eval(h, u, v + d),
+                 mv = eval(h, u, v - d);
       for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(e.Su[c], (pu.S[c] - mu.S[c]) / (2 * d), 1e-8);
         EXPECT_NEAR(e.Sv[c], (pv.S[c] - mv.S[c]) / (2 * d), 1e-8);
@@ -194,8 +195,7 @@ TEST(BSplineSurface, DerivativesMatchFiniteDifferences) {
     }
 }
 
-void expectC2(const HostSurfaceView& h, double u1, double v1, double u2, double v2,
-              const std::string& where) {
+void expectC2(const HostSurfaceView& h, double u1, double v1, double u2, double v2, const std::string& where) {
   const Eval a = eval(h, u1, v1), b = eval(h, u2, v2);
   EXPECT_LT(maxDiff(a.S, b.S), 1e-8) << where;
   EXPECT_LT(maxDiff(a.Su, b.Su), 1e-7) << where;
@@ -226,8 +226,7 @@ TEST(BSplineSurface, C2AcrossTheSeamOfAClosedSurface) {
     expectC2(h, kCylN - e, v, 0.0, v, "seam at 0, v " + std::to_string(v));
     expectC2(h, -e, v, e, v, "seam from below, v " + std::to_string(v));
   }
-  for (int k = 1; k < kCylN; ++k)
-    expectC2(h, k - e, 1.7, k + e, 1.7, "u knot " + std::to_string(k));
+  for (int k = 1; k < kCylN; ++k) expectC2(h, k - e, 1.7, k + e, 1.7, "u knot " + std::to_string(k));
   // Wrapping: u and u + N are the same point.
   const Eval a = eval(h, 3.25, 2.5), b = eval(h, 3.25 + kCylN, 2.5), c = eval(h, 3.25 - kCylN, 2.5);
   EXPECT_LT(maxDiff(a.S, b.S), 1e-12);
@@ -363,10 +362,8 @@ struct Probe {
 };
 std::vector<Probe> probesNear(const HostSurfaceView& h, int count, unsigned seed) {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> U(h.periodicU ? 0.0 : 1.0,
-                                           h.periodicU ? h.uMax() : h.uMax() - 1.0);
-  std::uniform_real_distribution<double> V(h.periodicV ? 0.0 : 1.0,
-                                           h.periodicV ? h.vMax() : h.vMax() - 1.0);
+  std::uniform_real_distribution<double> U(h.periodicU ? 0.0 : 1.0, h.periodicU ? h.uMax() : h.uMax() - 1.0);
+  std::uniform_real_distribution<double> V(h.periodicV ? 0.0 : 1.0, h.periodicV ? h.vMax() : h.vMax() - 1.0);
   std::uniform_real_distribution<double> R(0.05, 0.3);
   std::bernoulli_distribution side(0.5);
   std::vector<Probe> probes;
@@ -422,8 +419,8 @@ TEST(ClosestPoint, SafeguardsFarFromTheSurfaceAndNearTheAxis) {
   // cylinder (almost equidistant from every foot point): the iteration must still converge to a
   // stationary point no farther than the starting grid node.
   std::mt19937 rng(21);
-  std::uniform_real_distribution<double> X(0.0, 4.4), Y(0.0, 3.15), Z(-5.0, 5.0), A(0.0, 2 * kPi),
-      small(0.0, 0.05), H(0.2, 1.8);
+  std::uniform_real_distribution<double> X(0.0, 4.4), Y(0.0, 3.15), Z(-5.0, 5.0), A(0.0, 2 * kPi), small(0.0, 0.05),
+      H(0.2, 1.8);
   BSplineSurface wave("wave", kWaveNu, kWaveNv, waveGrid());
   BSplineSurface cyl("cylinder", kCylN + 1, kCylNv, cylinderGrid(true));
   for (int k = 0; k < 200; ++k) {
@@ -443,13 +440,11 @@ TEST(ClosestPoint, SafeguardsFarFromTheSurfaceAndNearTheAxis) {
     double u0, v0;
     epaphe::nearestGridPoint(h, x, u0, v0);
     const Projection p = epaphe::closestPoint(h, x, u0, v0, 1e-10, 100);
-    ASSERT_TRUE(p.converged) << (onCylinder ? "cylinder" : "wave") << " node " << x[0] << " "
-                             << x[1] << " " << x[2];
+    ASSERT_TRUE(p.converged) << (onCylinder ? "cylinder" : "wave") << " node " << x[0] << " " << x[1] << " " << x[2];
     const Eval e = eval(h, p.u, p.v);
     double d[3], n0[3];
     for (int c = 0; c < 3; ++c) d[c] = x[c] - e.S[c];
-    const double dn = dist(x, e.S),
-                 su = std::sqrt(e.Su[0] * e.Su[0] + e.Su[1] * e.Su[1] + e.Su[2] * e.Su[2]),
+    const double dn = dist(x, e.S), su = std::sqrt(e.Su[0] * e.Su[0] + e.Su[1] * e.Su[1] + e.Su[2] * e.Su[2]),
                  sv = std::sqrt(e.Sv[0] * e.Sv[0] + e.Sv[1] * e.Sv[1] + e.Sv[2] * e.Sv[2]);
     if (!p.outside) {
       EXPECT_LT(std::fabs(d[0] * e.Su[0] + d[1] * e.Su[1] + d[2] * e.Su[2]) / (dn * su), 1e-7);
@@ -520,8 +515,8 @@ TEST(ClosestPoint, KernelColdAndWarmStarts) {
     cold2Iterations += cold2h(k).iterations;
   }
   EXPECT_LT(warmIterations, cold2Iterations);
-  std::printf("[          ] iterations over %d nodes: cold %d, cold after motion %d, warm %d\n", n,
-              coldIterations, cold2Iterations, warmIterations);
+  std::printf("[          ] iterations over %d nodes: cold %d, cold after motion %d, warm %d\n", n, coldIterations,
+              cold2Iterations, warmIterations);
 }
 
 TEST(ClosestPoint, KernelChecksSizes) {
@@ -645,8 +640,8 @@ std::vector<Vec3> broadPhaseProbes(const HostSurfaceView& h, int count, unsigned
   std::uniform_real_distribution<double> unit(0.0, 1.0), sym(-1.0, 1.0);
   double lo[3] = {h.binOrigin[0], h.binOrigin[1], h.binOrigin[2]};
   double hi[3] = {h.binUpper[0], h.binUpper[1], h.binUpper[2]};
-  const double size = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
-                                (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  const double size = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                (hi[2] - lo[2]) * (hi[2] - lo[2]));
   std::vector<Vec3> probes;
   for (int k = 0; k < count; ++k) {
     Vec3 x;
@@ -671,8 +666,7 @@ std::vector<Vec3> broadPhaseProbes(const HostSurfaceView& h, int count, unsigned
   return probes;
 }
 
-void expectSameNodeAsBruteForce(const HostSurfaceView& h, const std::vector<Vec3>& probes,
-                                const std::string& name) {
+void expectSameNodeAsBruteForce(const HostSurfaceView& h, const std::vector<Vec3>& probes, const std::string& name) {
   int mismatches = 0;
   for (const Vec3& x : probes) {
     double u, v, ub, vb;
@@ -680,8 +674,8 @@ void expectSameNodeAsBruteForce(const HostSurfaceView& h, const std::vector<Vec3
     epaphe::nearestGridPointBruteForce(h, x.data(), ub, vb);
     if (u != ub || v != vb) {
       if (++mismatches <= 5)
-        ADD_FAILURE() << name << ": x = " << x[0] << " " << x[1] << " " << x[2] << " bucket ("
-                      << u << "," << v << ") brute force (" << ub << "," << vb << ")";
+        ADD_FAILURE() << name << ": x = " << x[0] << " " << x[1] << " " << x[2] << " bucket (" << u << "," << v
+                      << ") brute force (" << ub << "," << vb << ")";
     }
   }
   EXPECT_EQ(mismatches, 0) << name;
@@ -753,10 +747,10 @@ TEST(BroadPhase, TestsFewNodesNearTheSurface) {
     worst = std::max(worst, count);
   }
   const double mean = double(total) / double(probes.size());
-  std::printf("[          ] broad phase, %d x %d grid, %d cells: %.1f node distances per point on "
-              "average (%.2f %%), at most %d\n",
-              kBigNu, kBigNv, h.binDims[0] * h.binDims[1] * h.binDims[2], mean,
-              100.0 * mean / (kBigNu * kBigNv), worst);
+  std::printf(
+      "[          ] broad phase, %d x %d grid, %d cells: %.1f node distances per point on "
+      "average (%.2f %%), at most %d\n",
+      kBigNu, kBigNv, h.binDims[0] * h.binDims[1] * h.binDims[2], mean, 100.0 * mean / (kBigNu * kBigNv), worst);
   EXPECT_LT(mean, 0.05 * kBigNu * kBigNv);
   EXPECT_LT(worst, 0.05 * kBigNu * kBigNv);
   // A view without bucket grid (hand-built) falls back to the brute force.
@@ -769,8 +763,8 @@ TEST(BroadPhase, TestsFewNodesNearTheSurface) {
 }
 
 // Cold-start batch in a kernel, with the brute-force or the bucket initial guess.
-double coldBatchSeconds(const epaphe::SurfaceView& s, Kokkos::View<const double* [3]> x,
-                        Kokkos::View<Projection*> out, bool brute) {
+double coldBatchSeconds(const epaphe::SurfaceView& s, Kokkos::View<const double* [3]> x, Kokkos::View<Projection*> out,
+                        bool brute) {
   Kokkos::fence();
   Kokkos::Timer timer;
   Kokkos::parallel_for(
@@ -808,22 +802,19 @@ TEST(BroadPhase, ColdStartBatchTiming) {
     EXPECT_EQ(ah(k).u, bh(k).u);
     EXPECT_EQ(ah(k).v, bh(k).v);
   }
-  std::printf("[          ] cold-start projection of %d points on the %d x %d grid: brute-force "
-              "guess %.4f s, bucket guess %.4f s\n",
-              n, kBigNu, kBigNv, tBrute, tBucket);
+  std::printf(
+      "[          ] cold-start projection of %d points on the %d x %d grid: brute-force "
+      "guess %.4f s, bucket guess %.4f s\n",
+      n, kBigNu, kBigNv, tBrute, tBucket);
 }
 
 // ---- 8. user errors --------------------------------------------------------------------------
 
 TEST(BSplineSurface, RejectsBadGrids) {
   std::string m = errorOf([] { BSplineSurface("short", 3, 5, makeGrid(3, 5, waveNode)); });
-  EXPECT_NE(m.find("surface 'short': grid has 3 points along u, at least 4 are needed"),
-            std::string::npos)
-      << m;
+  EXPECT_NE(m.find("surface 'short': grid has 3 points along u, at least 4 are needed"), std::string::npos) << m;
   m = errorOf([] { BSplineSurface("narrow", 6, 2, makeGrid(6, 2, waveNode)); });
-  EXPECT_NE(m.find("surface 'narrow': grid has 2 points along v, at least 4 are needed"),
-            std::string::npos)
-      << m;
+  EXPECT_NE(m.find("surface 'narrow': grid has 2 points along v, at least 4 are needed"), std::string::npos) << m;
 
   std::vector<double> dup = waveGrid();
   for (int c = 0; c < 3; ++c) dup[3 * (3 * kWaveNv + 4) + c] = dup[3 * (2 * kWaveNv + 4) + c];

@@ -8,6 +8,7 @@ def run_main(prog, run, argv):
     """run(argv) -> exit status, with a user error (EpapheError) as one line `PROG: error: ...` and
     status 1, an interrupt as status 130."""
     from ..errors import EpapheError
+
     try:
         return run(sys.argv[1:] if argv is None else argv)
     except EpapheError as e:

@@ -53,16 +53,23 @@ def warn(msg):
 
 
 def parse(argv):
-    ap = Parser(prog=PROG, description=__doc__.split("\n\n")[0],
-                formatter_class=argparse.RawDescriptionHelpFormatter,
-                epilog="\n\n".join(__doc__.split("\n\n")[2:]))
+    ap = Parser(
+        prog=PROG,
+        description=__doc__.split("\n\n")[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="\n\n".join(__doc__.split("\n\n")[2:]),
+    )
     ap.add_argument("files", nargs="+", metavar="FILE.h5", help="Epaphe HDF5 histories, overlaid")
     ap.add_argument("--out", default=".", metavar="DIR", help="output directory (default: current; created)")
     ap.add_argument("--label", action="append", default=[], metavar="L", help="legend of each file, in order")
     ap.add_argument("--body", help="body to plot (default: every body of the first file)")
     ap.add_argument("--nodeset", help="watched node set for displacement/velocity (default: all)")
-    ap.add_argument("--node", type=int, metavar="K",
-                    help="node index K (0-based) in the node set / contact nodes instead of the mean")
+    ap.add_argument(
+        "--node",
+        type=int,
+        metavar="K",
+        help="node index K (0-based) in the node set / contact nodes instead of the mean",
+    )
     ap.add_argument("--tmin", type=float, metavar="T", help="start of the time window (s)")
     ap.add_argument("--tmax", type=float, metavar="T", help="end of the time window (s)")
     ap.add_argument("--what", metavar="LIST", help="comma list of " + ",".join(QUANTITIES) + " (default: all)")
@@ -114,45 +121,54 @@ def run(argv):
             if h.t.size == 0:
                 lo = "-inf" if a.tmin is None else f"{a.tmin:g}"
                 hi = "inf" if a.tmax is None else f"{a.tmax:g}"
-                raise PlotError(f"{h.path}: no record in the time window [{lo}, {hi}] s "
-                                f"(records from {h.f['time'][0]:g} to {h.f['time'][-1]:g} s)")
+                raise PlotError(
+                    f"{h.path}: no record in the time window [{lo}, {hi}] s "
+                    f"(records from {h.f['time'][0]:g} to {h.f['time'][-1]:g} s)"
+                )
 
         # bodies and node sets
         body_needed = any(w in a.what_list for w in ("gap", "force", "displacement", "velocity"))
         if a.body is not None:
             for h in hs:
                 if a.body not in h.bodies():
-                    raise PlotError(f"{h.path}: unknown body '{a.body}' (available: "
-                                    f"{', '.join(h.bodies()) or 'none'})")
+                    raise PlotError(
+                        f"{h.path}: unknown body '{a.body}' (available: " f"{', '.join(h.bodies()) or 'none'})"
+                    )
             bodies = [a.body]
         else:
             bodies = hs[0].bodies() if body_needed else []
             for b in bodies:
                 missing = [h.path for h in hs if b not in h.bodies()]
                 if missing:
-                    raise PlotError(f"body '{b}' of {hs[0].path} is missing from {', '.join(missing)} "
-                                    f"(choose one with --body)")
+                    raise PlotError(
+                        f"body '{b}' of {hs[0].path} is missing from {', '.join(missing)} " f"(choose one with --body)"
+                    )
         if a.nodeset is not None:
             for b in bodies:
                 for h in hs:
                     if a.nodeset not in h.nodesets(b):
-                        raise PlotError(f"{h.path}: unknown node set '{a.nodeset}' in body '{b}' (available: "
-                                        f"{', '.join(h.nodesets(b)) or 'none'})")
+                        raise PlotError(
+                            f"{h.path}: unknown node set '{a.nodeset}' in body '{b}' (available: "
+                            f"{', '.join(h.nodesets(b)) or 'none'})"
+                        )
 
-        if a.node is not None:          # checked before any figure is written
+        if a.node is not None:  # checked before any figure is written
             for b in bodies:
                 for h in hs:
                     groups = []
                     if "gap" in a.what_list and h.has_contact(b):
                         groups.append((f"bodies/{b}/contact/nodes", f"body '{b}' has {{n}} contact nodes"))
                     if "displacement" in a.what_list or "velocity" in a.what_list:
-                        for s in ([a.nodeset] if a.nodeset is not None else h.nodesets(b)):
-                            groups.append((f"bodies/{b}/nodesets/{s}/nodes", f"node set '{s}' of body '{b}' has {{n}} nodes"))
+                        for s in [a.nodeset] if a.nodeset is not None else h.nodesets(b):
+                            groups.append(
+                                (f"bodies/{b}/nodesets/{s}/nodes", f"node set '{s}' of body '{b}' has {{n}} nodes")
+                            )
                     for path, what in groups:
                         n = h.ids(path).size
                         if a.node >= n:
-                            raise PlotError(f"{h.path}: --node {a.node} out of range: "
-                                            f"{what.format(n=n)} (0..{n - 1})")
+                            raise PlotError(
+                                f"{h.path}: --node {a.node} out of range: " f"{what.format(n=n)} (0..{n - 1})"
+                            )
 
         os.makedirs(a.out, exist_ok=True)
         span = max(float(h.t[-1]) for h in hs) - min(float(h.t[0]) for h in hs)
@@ -163,16 +179,22 @@ def run(argv):
             for q in ("gap", "force"):
                 if q in a.what_list:
                     if contact:
-                        (plot_gap(hs, b, a.node, tunit, tfac, a.out, written, a.csv) if q == "gap"
-                         else plot_force(hs, b, tunit, tfac, a.out, written, a.csv))
+                        (
+                            plot_gap(hs, b, a.node, tunit, tfac, a.out, written, a.csv)
+                            if q == "gap"
+                            else plot_force(hs, b, tunit, tfac, a.out, written, a.csv)
+                        )
                     elif a.what_explicit:
                         miss = [h.path for h in hs if not h.has_contact(b)]
                         raise PlotError(f"{', '.join(miss)}: body '{b}' has no contact data for --what {q}")
             for q in ("displacement", "velocity"):
                 if q not in a.what_list:
                     continue
-                sets = [a.nodeset] if a.nodeset is not None else \
-                    [s for s in hs[0].nodesets(b) if all(s in h.nodesets(b) for h in hs)]
+                sets = (
+                    [a.nodeset]
+                    if a.nodeset is not None
+                    else [s for s in hs[0].nodesets(b) if all(s in h.nodesets(b) for h in hs)]
+                )
                 if not sets and a.what_explicit:
                     raise PlotError(f"{hs[0].path}: body '{b}' has no watched node set for --what {q}")
                 for s in sets:
@@ -191,4 +213,3 @@ def run(argv):
 
 def main(argv=None):
     return run_main(PROG, run, argv)
-

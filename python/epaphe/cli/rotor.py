@@ -73,9 +73,17 @@ def speed_map(deck, speeds, revs, skip, sets, component, ranks, run_exe, mpiexec
     import shutil
 
     import h5py
+
     os.makedirs(out, exist_ok=True)
     exe = find_run(run_exe)
-    cmd = [exe, os.path.abspath(deck), "--speeds", ",".join(f"{w:g}" for w in speeds), "--revolutions", repr(float(revs))]
+    cmd = [
+        exe,
+        os.path.abspath(deck),
+        "--speeds",
+        ",".join(f"{w:g}" for w in speeds),
+        "--revolutions",
+        repr(float(revs)),
+    ]
     if ranks > 1:
         launcher = mpiexec or shutil.which("mpiexec") or shutil.which("mpirun")
         if not launcher:
@@ -119,14 +127,31 @@ def speed_map(deck, speeds, revs, skip, sets, component, ranks, run_exe, mpiexec
                 f[f"wear/{k}"] = wear_map[k]
             f["wear"].attrs["surface"] = wear_map["surface"]
     import matplotlib
+
     matplotlib.use("Agg")
     from .. import plots
+
     for s in sets:
-        plots.draw_interaction_map(eo_grid, speeds, result[s + "/amplitude"], os.path.join(out, f"map-{s}.png"),
-                                   os.path.basename(deck), s, component, dominant=result[s])
+        plots.draw_interaction_map(
+            eo_grid,
+            speeds,
+            result[s + "/amplitude"],
+            os.path.join(out, f"map-{s}.png"),
+            os.path.basename(deck),
+            s,
+            component,
+            dominant=result[s],
+        )
     if wear_map is not None:
-        plots.draw_wear_speed_map(wear_map["angle"], speeds, wear_map["profile"], wear_map["dominant_order"],
-                                  os.path.join(out, "map-wear.png"), os.path.basename(deck), wear_map["surface"])
+        plots.draw_wear_speed_map(
+            wear_map["angle"],
+            speeds,
+            wear_map["profile"],
+            wear_map["dominant_order"],
+            os.path.join(out, "map-wear.png"),
+            os.path.basename(deck),
+            wear_map["surface"],
+        )
     return result
 
 
@@ -148,10 +173,19 @@ def speed_wear_map(runs):
         counts.append(lobes.lobe_count)
         deepest.append(lobes.max_wear)
         contrasts.append(lobes.contrast)
-        print(f"wear at {w:g} rad/s: {lobes.lobe_count} lobe(s), dominant harmonic {lobes.dominant_order} "
-              f"(amplitude {lobes.contrast:.2f} of the mean wear), max wear {lobes.max_wear * 1e6:.3g} um")
-    return dict(surface=surface, angle=angle, profile=np.array(rows), dominant_order=np.array(orders),
-                lobes=np.array(counts), max_wear=np.array(deepest), contrast=np.array(contrasts))
+        print(
+            f"wear at {w:g} rad/s: {lobes.lobe_count} lobe(s), dominant harmonic {lobes.dominant_order} "
+            f"(amplitude {lobes.contrast:.2f} of the mean wear), max wear {lobes.max_wear * 1e6:.3g} um"
+        )
+    return dict(
+        surface=surface,
+        angle=angle,
+        profile=np.array(rows),
+        dominant_order=np.array(orders),
+        lobes=np.array(counts),
+        max_wear=np.array(deepest),
+        contrast=np.array(contrasts),
+    )
 
 
 # ---- abradable coating: wear lobes ----------------------------------------------------------------
@@ -165,12 +199,15 @@ def read_coating(run, surface=None):
     g = run.file.get("coating")
     names = list(g.keys()) if g is not None else []
     if not names:
-        raise EpapheError(f"{path} has no coating ({'an empty' if g is not None else 'no'} /coating group): "
-                          "its deck puts no abradable coating on any surface")
+        raise EpapheError(
+            f"{path} has no coating ({'an empty' if g is not None else 'no'} /coating group): "
+            "its deck puts no abradable coating on any surface"
+        )
     if surface is None:
         if len(names) > 1:
-            raise EpapheError(f"{path} has {len(names)} coated surfaces ({', '.join(names)}): choose one "
-                              "with --surface")
+            raise EpapheError(
+                f"{path} has {len(names)} coated surfaces ({', '.join(names)}): choose one " "with --surface"
+            )
         surface = names[0]
     c = Names({n: g[n] for n in names}, "coated surface", path)[surface]
     where = f"{path}: /coating/{surface}"
@@ -186,11 +223,20 @@ def read_coating(run, surface=None):
         raise EpapheError(f"{where}/wear: shape {wear.shape}, expected {shape} (time x angle x axial)")
     elements = c.attrs.get("elements")
     if elements is not None and tuple(np.asarray(elements).reshape(-1)) != shape[1:]:
-        raise EpapheError(f"{where}: attribute elements = {list(np.asarray(elements).reshape(-1))} but "
-                          f"{angle.size} angles and {axial.size} axial positions")
-    last = wear.shape[0] - 1          # a run still being written may have fewer wear rows than times
-    return dict(surface=surface, attrs={k: v for k, v in c.attrs.items()}, angle=angle, axial=axial,
-                time=float(time[last]), records=last + 1, wear=np.asarray(wear[last], dtype=float))
+        raise EpapheError(
+            f"{where}: attribute elements = {list(np.asarray(elements).reshape(-1))} but "
+            f"{angle.size} angles and {axial.size} axial positions"
+        )
+    last = wear.shape[0] - 1  # a run still being written may have fewer wear rows than times
+    return dict(
+        surface=surface,
+        attrs={k: v for k, v in c.attrs.items()},
+        angle=angle,
+        axial=axial,
+        time=float(time[last]),
+        records=last + 1,
+        wear=np.asarray(wear[last], dtype=float),
+    )
 
 
 def draw_wear(coat, lobes, title, path):
@@ -199,17 +245,27 @@ def draw_wear(coat, lobes, title, path):
     bar), below the circumferential profile (um) with half its maximum (the lobe threshold) dashed,
     the lobes (triangles) and the peaks of the dominant harmonic (ticks). Written to `path`."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     deg = np.degrees(np.mod(coat["angle"], 2 * np.pi))
-    cols = np.argsort(deg)                 # columns in increasing angle (the file may start anywhere)
+    cols = np.argsort(deg)  # columns in increasing angle (the file may start anywhere)
     rows = np.argsort(coat["axial"])
     um = 1e6 * coat["wear"][cols][:, rows]
     prof = 1e6 * lobes.profile[cols]
-    fig, (ax, bx) = plt.subplots(2, 1, figsize=(8, 6.4), sharex=True, layout="constrained",
-                                 gridspec_kw=dict(height_ratios=(3, 2)))
-    mesh = ax.pcolormesh(deg[cols], 1e3 * coat["axial"][rows], um.T, shading="nearest", cmap="viridis",
-                         vmin=0.0, vmax=max(float(um.max()), 1e-12))
+    fig, (ax, bx) = plt.subplots(
+        2, 1, figsize=(8, 6.4), sharex=True, layout="constrained", gridspec_kw=dict(height_ratios=(3, 2))
+    )
+    mesh = ax.pcolormesh(
+        deg[cols],
+        1e3 * coat["axial"][rows],
+        um.T,
+        shading="nearest",
+        cmap="viridis",
+        vmin=0.0,
+        vmax=max(float(um.max()), 1e-12),
+    )
     fig.colorbar(mesh, ax=[ax], label="wear depth (\u00b5m)", pad=0.02)
     ax.set_ylabel("axial position (mm)")
     ax.set_title(title, fontsize=10)
@@ -223,17 +279,26 @@ def draw_wear(coat, lobes, title, path):
         for a in la:
             ax.axvline(a, color="C3", lw=0.6, ls=":")
     if lobes.dominant_order:
-        bx.plot(np.degrees(lobes.harmonic_angles), np.zeros(lobes.dominant_order), "|", color="C1", ms=12,
-                mew=1.5, ls="none", label=f"peaks of harmonic {lobes.dominant_order}")
+        bx.plot(
+            np.degrees(lobes.harmonic_angles),
+            np.zeros(lobes.dominant_order),
+            "|",
+            color="C1",
+            ms=12,
+            mew=1.5,
+            ls="none",
+            label=f"peaks of harmonic {lobes.dominant_order}",
+        )
     bx.set_xlim(0, 360)
-    bx.set_ylim(min(0.0, float(prof.min())) - 0.05 * max(float(prof.max()), 1e-12),
-                1.45 * max(float(prof.max()), 1e-12))                  # room for the markers and legend
+    bx.set_ylim(
+        min(0.0, float(prof.min())) - 0.05 * max(float(prof.max()), 1e-12), 1.45 * max(float(prof.max()), 1e-12)
+    )  # room for the markers and legend
     bx.set_xticks(np.arange(0, 361, 45))
     bx.set_xlabel("angle about the casing axis (deg, casing frame)")
     bx.set_ylabel("wear (\u00b5m)")
     bx.grid(True, alpha=0.3)
     bx.legend(fontsize=7, loc="upper center", ncol=2)
-    fig.colorbar(mesh, ax=[bx], pad=0.02).ax.set_visible(False)   # the same width as the map above
+    fig.colorbar(mesh, ax=[bx], pad=0.02).ax.set_visible(False)  # the same width as the map above
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return fig
@@ -244,8 +309,10 @@ def wear(path, surface=None, png=None, csv=None):
     the figure `png` and the profile `csv` when given; returns (read_coating dict, WearLobes)."""
     with Run(path) as run:
         if not run.complete:
-            sys.stderr.write(f"{PROG}: warning: {path}: status '{run.status}', not 'complete': the wear is "
-                             "the last record's, not the end of a run\n")
+            sys.stderr.write(
+                f"{PROG}: warning: {path}: status '{run.status}', not 'complete': the wear is "
+                "the last record's, not the end of a run\n"
+            )
         coat = read_coating(run, surface)
         plastic = None
         if "energy/plastic_dissipation" in run.file:
@@ -261,26 +328,40 @@ def wear(path, surface=None, png=None, csv=None):
     def degs(a):
         return ", ".join(f"{x:.1f}" for x in np.degrees(a))
 
-    print(f"{s}: coating{thick} {n_u} x {n_v} elements (around x along the axis); wear at "
-          f"t = {coat['time']:.6g} s (record {coat['records']})")
+    print(
+        f"{s}: coating{thick} {n_u} x {n_v} elements (around x along the axis); wear at "
+        f"t = {coat['time']:.6g} s (record {coat['records']})"
+    )
     print(f"max wear: {1e6 * lobes.max_wear:.4g} um")
-    print(f"lobes: {lobes.lobe_count}" + (f" at {degs(lobes.lobe_angles)} deg" if lobes.lobe_count else "")
-          + " (runs of columns worn deeper than half the max wear)")
+    print(
+        f"lobes: {lobes.lobe_count}"
+        + (f" at {degs(lobes.lobe_angles)} deg" if lobes.lobe_count else "")
+        + " (runs of columns worn deeper than half the max wear)"
+    )
     if lobes.dominant_order:
-        print(f"dominant harmonic: order {lobes.dominant_order} (amplitude {lobes.contrast:.2f} of the mean wear), "
-              f"peaks at {degs(lobes.harmonic_angles)} deg")
+        print(
+            f"dominant harmonic: order {lobes.dominant_order} (amplitude {lobes.contrast:.2f} of the mean wear), "
+            f"peaks at {degs(lobes.harmonic_angles)} deg"
+        )
     else:
         print("dominant harmonic: none (no wear, or the same wear all round)")
-    print("plastic dissipation at the end: "
-          + (f"{plastic:.6g} J" if plastic is not None else "not in the file (no /energy/plastic_dissipation)"))
+    print(
+        "plastic dissipation at the end: "
+        + (f"{plastic:.6g} J" if plastic is not None else "not in the file (no /energy/plastic_dissipation)")
+    )
     if csv:
         with open(csv, "w") as f:
             f.write("angle_deg,wear_m\n")
             for a, w in zip(np.degrees(coat["angle"]), lobes.profile):
                 f.write(f"{float(a)!r},{float(w)!r}\n")
     if png:
-        draw_wear(coat, lobes, f"{os.path.basename(path)}, coating of {s}: {lobes.lobe_count} lobe(s), "
-                  f"max {1e6 * lobes.max_wear:.3g} \u00b5m", png)
+        draw_wear(
+            coat,
+            lobes,
+            f"{os.path.basename(path)}, coating of {s}: {lobes.lobe_count} lobe(s), "
+            f"max {1e6 * lobes.max_wear:.3g} \u00b5m",
+            png,
+        )
     return coat, lobes
 
 
@@ -303,8 +384,10 @@ def campbell(deck, body, orders, points, count, out, exe=None):
     """Runs epaphe-campbell on `deck`, then draws the diagram and lists the crossings."""
     import h5py
     import matplotlib
+
     matplotlib.use("Agg")
     from .. import campbell as cb
+
     os.makedirs(out, exist_ok=True)
     if exe is None:
         exe = os.path.join(os.path.dirname(find_run(None)), "epaphe-campbell")
@@ -321,8 +404,12 @@ def campbell(deck, body, orders, points, count, out, exe=None):
     if proc.returncode != 0:
         raise EpapheError(f"epaphe-campbell failed (exit {proc.returncode}): {proc.stderr.strip()}")
     with h5py.File(h5, "r") as f:
-        table = {"speeds": f["speeds"][()], "frequencies": f["frequencies"][()],
-                 "full_speeds": f["full/speeds"][()], "full_frequencies": f["full/frequencies"][()]}
+        table = {
+            "speeds": f["speeds"][()],
+            "frequencies": f["frequencies"][()],
+            "full_speeds": f["full/speeds"][()],
+            "full_frequencies": f["full/frequencies"][()],
+        }
         name = f.attrs["body"]
         name = name.decode() if isinstance(name, bytes) else str(name)
     rows = cb.crossings(table["speeds"], table["frequencies"], orders)
@@ -331,8 +418,10 @@ def campbell(deck, body, orders, points, count, out, exe=None):
             del f["crossings"]
         d = f.create_dataset("crossings", data=np.array(rows, dtype=float).reshape(-1, 4))
         d.attrs["columns"] = "speed_rad_s,engine_order,mode,frequency_hz"
-    print(f"\n{len(rows)} crossings of modes 1-{table['frequencies'].shape[1]} with engine orders "
-          f"{orders[0]}-{orders[-1]}:")
+    print(
+        f"\n{len(rows)} crossings of modes 1-{table['frequencies'].shape[1]} with engine orders "
+        f"{orders[0]}-{orders[-1]}:"
+    )
     for w, k, mode, fr in rows:
         print(f"  {w:10.2f} rad/s ({w * 30 / np.pi:8.1f} rpm)  EO {k:2d}  mode {mode:2d}  {fr:9.2f} Hz")
     png = os.path.join(out, "campbell.png")
@@ -401,9 +490,12 @@ def run(argv):
         res = contact_events(a.file, a.body, a.sets.split(","), a.skip, a.merge)
         rows = []
         for name, r in res.items():
-            print(f"{name}: {r['mean']:.2f} contacts per revolution (revolutions {a.skip:g}+: {r['per_rev']}), "
-                  f"in contact {100 * np.mean(r['fraction']):.1f} % of a revolution; event angles (deg): "
-                  + ", ".join(f"{x:.0f}" for x in r["angles"][:12]) + (" ..." if len(r["angles"]) > 12 else ""))
+            print(
+                f"{name}: {r['mean']:.2f} contacts per revolution (revolutions {a.skip:g}+: {r['per_rev']}), "
+                f"in contact {100 * np.mean(r['fraction']):.1f} % of a revolution; event angles (deg): "
+                + ", ".join(f"{x:.0f}" for x in r["angles"][:12])
+                + (" ..." if len(r["angles"]) > 12 else "")
+            )
             rows.append((name, r["mean"], float(np.mean(r["fraction"]))))
         if a.csv:
             with open(a.csv, "w") as f:
@@ -414,12 +506,22 @@ def run(argv):
         eo, freq, amp = spectrum(a.file, a.body, a.set, a.component, a.skip)
         top = np.argsort(amp)[::-1][:5]
         unit = "N" if a.component == "force" else "m"
-        print("dominant engine orders: " + ", ".join(f"EO {eo[i]:.2f} ({freq[i]:.1f} Hz, {amp[i]:.3e} {unit})" for i in top))
+        print(
+            "dominant engine orders: "
+            + ", ".join(f"EO {eo[i]:.2f} ({freq[i]:.1f} Hz, {amp[i]:.3e} {unit})" for i in top)
+        )
         if a.png:
             import matplotlib
+
             matplotlib.use("Agg")
             from .. import plots
-            plots.draw_spectrum(eo, amp, "|contact force| (N)" if a.component == "force" else f"|u_{a.component}| (m)",
-                                f"{os.path.basename(a.file)}, node set {a.set}: spectrum after {a.skip:g} revolutions",
-                                a.png, rotation_hz=freq[1] / eo[1] if eo.size > 1 and eo[1] > 0 else None)
+
+            plots.draw_spectrum(
+                eo,
+                amp,
+                "|contact force| (N)" if a.component == "force" else f"|u_{a.component}| (m)",
+                f"{os.path.basename(a.file)}, node set {a.set}: spectrum after {a.skip:g} revolutions",
+                a.png,
+                rotation_hz=freq[1] / eo[1] if eo.size > 1 and eo[1] > 0 else None,
+            )
     return 0

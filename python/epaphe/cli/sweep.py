@@ -73,25 +73,43 @@ PROG = "epaphe-sweep"
 
 
 def parse(argv):
-    ap = Parser(prog=PROG, description=__doc__.split("\n\n")[0],
-                formatter_class=argparse.RawDescriptionHelpFormatter,
-                epilog="\n\n".join(__doc__.split("\n\n")[2:]))
+    ap = Parser(
+        prog=PROG,
+        description=__doc__.split("\n\n")[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="\n\n".join(__doc__.split("\n\n")[2:]),
+    )
     ap.add_argument("input", metavar="STUDY.xml|DECK.xml", help="a study, or a deck (then --vary)")
     ap.add_argument("--out", metavar="DIR", help="output directory (default: ./<stem>)")
-    ap.add_argument("--run", metavar="EPAPHE_RUN", help="epaphe-run (default: next to this script, "
-                    "$EPAPHE_BUILD_DIR/drivers, build/drivers, PATH)")
+    ap.add_argument(
+        "--run",
+        metavar="EPAPHE_RUN",
+        help="epaphe-run (default: next to this script, " "$EPAPHE_BUILD_DIR/drivers, build/drivers, PATH)",
+    )
     ap.add_argument("--threads", type=int, default=1, metavar="N", help="threads per run (default 1)")
-    ap.add_argument("--jobs", type=int, metavar="J", help="runs at a time (default: the cores available / "
-                    "--threads, at least 1; 1: one after another)")
-    ap.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2",
-                    help="vary a deck parameter (repeatable; replaces the study's entry of that key)")
+    ap.add_argument(
+        "--jobs",
+        type=int,
+        metavar="J",
+        help="runs at a time (default: the cores available / " "--threads, at least 1; 1: one after another)",
+    )
+    ap.add_argument(
+        "--vary",
+        action="append",
+        default=[],
+        metavar="KEY=V1,V2",
+        help="vary a deck parameter (repeatable; replaces the study's entry of that key)",
+    )
     ap.add_argument("--set", action="append", default=[], metavar="KEY=V", help="override for every run")
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--zip", action="store_true", help="zip the varied lists (the default)")
     g.add_argument("--product", action="store_true", help="every combination of the varied values")
-    ap.add_argument("--reference", metavar="REF",
-                    help="'exact:bar-on-wall', 'exact:two-bars', 'none', or the overrides naming the reference run: "
-                         "\"Time->Time step=2.5e-8\" (several joined by ';')")
+    ap.add_argument(
+        "--reference",
+        metavar="REF",
+        help="'exact:bar-on-wall', 'exact:two-bars', 'none', or the overrides naming the reference run: "
+        "\"Time->Time step=2.5e-8\" (several joined by ';')",
+    )
     ap.add_argument("--force", action="store_true", help="rerun even the runs whose history is up to date")
     ap.add_argument("--check", action="store_true", help="validate the study and its decks, list the runs, stop")
     ap.add_argument("--no-plots", action="store_true", help="write the CSV only")
@@ -116,35 +134,44 @@ def build_watch(study, deck, schema):
         if body is None:
             raise StudyError(f"{deck.path}: the deck has no body")
     elif body not in bodies:
-        raise StudyError(f"{where['Body@']}: 'Measures->Body' = '{body}': no such body in {deck.path} "
-                         f"(bodies: {', '.join(bodies)})")
+        raise StudyError(
+            f"{where['Body@']}: 'Measures->Body' = '{body}': no such body in {deck.path} "
+            f"(bodies: {', '.join(bodies)})"
+        )
     watched = split_top((deck.get(f"Bodies->{body}->Watched node sets", schema) or "{}").strip()[1:-1])
     nodeset = where.get("Node set")
     if nodeset is None:
         if not watched:
-            raise StudyError(f"{deck.path}: body '{body}' has no 'Watched node sets' (needed by the displacement "
-                             "measure and plot)")
+            raise StudyError(
+                f"{deck.path}: body '{body}' has no 'Watched node sets' (needed by the displacement "
+                "measure and plot)"
+            )
         nodeset = watched[0]
     elif nodeset not in watched:
-        raise StudyError(f"{where['Node set@']}: 'Measures->Node set' = '{nodeset}' is not a watched node set of "
-                         f"body '{body}' in {deck.path} (watched: {', '.join(watched) or 'none'})")
+        raise StudyError(
+            f"{where['Node set@']}: 'Measures->Node set' = '{nodeset}' is not a watched node set of "
+            f"body '{body}' in {deck.path} (watched: {', '.join(watched) or 'none'})"
+        )
     node = where.get("Node", -1)
     if node < -1:
         raise StudyError(f"{where['Node@']}: 'Measures->Node' = {node}: -1 (the mean of the set) or an index >= 0")
 
     v0 = numbers(deck.get(f"Bodies->{body}->Initial velocity", schema) or "{0,0,0}")
-    comp = int(np.argmax(np.abs(v0))) if any(v0) else 0     # default: along the initial velocity
+    comp = int(np.argmax(np.abs(v0))) if any(v0) else 0  # default: along the initial velocity
     if "Component" in where:
         if where["Component"] not in ("x", "y", "z"):
-            raise StudyError(f"{where['Component@']}: 'Measures->Component' = '{where['Component']}' is not one "
-                             "of 'x', 'y', 'z'")
+            raise StudyError(
+                f"{where['Component@']}: 'Measures->Component' = '{where['Component']}' is not one " "of 'x', 'y', 'z'"
+            )
         comp = "xyz".index(where["Component"])
     plot_comps = [comp]
     if "Components" in study.plots:
         plot_comps = []
         for c in study.plots["Components"]:
             if c not in ("x", "y", "z"):
-                raise StudyError(f"{study.plots['Components@']}: 'Plots->Components': '{c}' is not one of 'x', 'y', 'z'")
+                raise StudyError(
+                    f"{study.plots['Components@']}: 'Plots->Components': '{c}' is not one of 'x', 'y', 'z'"
+                )
             plot_comps.append("xyz".index(c))
     thr = where.get("Contact threshold", 1e-6)
     if not (0 <= thr < 1):
@@ -155,8 +182,9 @@ def build_watch(study, deck, schema):
 def validate_lists(study):
     for k in study.measures.get("Compute", []):
         if k not in MEASURES:
-            raise StudyError(f"{study.measures['Compute@']}: 'Measures->Compute': unknown measure '{k}'"
-                             + suggest(k, MEASURES))
+            raise StudyError(
+                f"{study.measures['Compute@']}: 'Measures->Compute': unknown measure '{k}'" + suggest(k, MEASURES)
+            )
     for k in study.plots.get("Curves", []):
         if k not in CURVES:
             raise StudyError(f"{study.plots['Curves@']}: 'Plots->Curves': unknown curve '{k}'" + suggest(k, CURVES))
@@ -192,8 +220,11 @@ def main_run(argv):
     rundir = os.path.join(out, "runs")
     os.makedirs(rundir, exist_ok=True)
 
-    entries = list(study.set.values()) + study.vary + \
-        (list(study.reference[1].values()) if study.reference and study.reference[0] == "run" else [])
+    entries = (
+        list(study.set.values())
+        + study.vary
+        + (list(study.reference[1].values()) if study.reference and study.reference[0] == "run" else [])
+    )
 
     def make(name, label, over):
         full = dict(set_over)
@@ -213,8 +244,9 @@ def main_run(argv):
                 ref_run = r
         if ref_run is None:
             label = ", ".join(f"{k.split('->')[-1]}={v}" for k, v in rover.items()) or "base deck"
-            ref_run = make("reference_" + slug("_".join(f"{k.split('->')[-1]}={v}" for k, v in rover.items()))[:100],
-                           label, rover)
+            ref_run = make(
+                "reference_" + slug("_".join(f"{k.split('->')[-1]}={v}" for k, v in rover.items()))[:100], label, rover
+            )
             ref_run.alone = True
         else:
             ref_run.alone = False
@@ -231,16 +263,28 @@ def main_run(argv):
             d.path = f"{base.path} (run {r.name})"
             exact[r.name] = EXACT[study.reference[1]](d, schema, study.reference[2])
             if exact[r.name].body != w.body:
-                raise StudyError(f"{study.reference[2]}: the exact solution is for body '{exact[r.name].body}', "
-                                 f"the measures watch '{w.body}'")
+                raise StudyError(
+                    f"{study.reference[2]}: the exact solution is for body '{exact[r.name].body}', "
+                    f"the measures watch '{w.body}'"
+                )
     check_decks(everything, run_exe, where, a.jobs)
-    say(f"{PROG}: {where}: {len(runs)} run(s) of {base.path}"
+    say(
+        f"{PROG}: {where}: {len(runs)} run(s) of {base.path}"
         + (f" (varying {', '.join(e.key for e in study.vary)}, {study.combine.lower()})")
-        + (f", reference {'exact ' + study.reference[1] if study.reference[0] == 'exact' else ref_run.name}"
-           + (" (one more run)" if ref_run is not None and ref_run.alone else "")
-           if study.reference else ", no reference") + f"; output in {out}"
-        + ("" if a.check else f"; {min(a.jobs, len(everything))} at a time, "
-                               + (f"{a.threads} thread(s) each" if a.threads else "each on every core")))
+        + (
+            f", reference {'exact ' + study.reference[1] if study.reference[0] == 'exact' else ref_run.name}"
+            + (" (one more run)" if ref_run is not None and ref_run.alone else "")
+            if study.reference
+            else ", no reference"
+        )
+        + f"; output in {out}"
+        + (
+            ""
+            if a.check
+            else f"; {min(a.jobs, len(everything))} at a time, "
+            + (f"{a.threads} thread(s) each" if a.threads else "each on every core")
+        )
+    )
     if a.check:
         for r in everything:
             say(f"  {r.name}: {r.label}" + ("  [reference]" if r.is_reference else ""))
@@ -256,8 +300,10 @@ def main_run(argv):
     failed = [r for r in everything if r.status.startswith("failed")]
     if ref_run is not None:
         if ref_run.status != "complete":
-            sys.stderr.write(f"{PROG}: error: the reference run {ref_run.name} did not complete ({ref_run.status}): "
-                             "no errors computed\n")
+            sys.stderr.write(
+                f"{PROG}: error: the reference run {ref_run.name} did not complete ({ref_run.status}): "
+                "no errors computed\n"
+            )
             failed.append(ref_run)
         else:
             rh = ref_run.hist
@@ -283,8 +329,9 @@ def main_run(argv):
         elif ref_values is not None:
             m = raw_measures(h, w, ref_values.get("peak force"))
             if h["u"] is not None and ref_run.hist["u"] is not None:
-                m["displacement"] = rms_difference(h["t"], h["u"][:, w.comp], ref_run.hist["t"],
-                                                   ref_run.hist["u"][:, w.comp])
+                m["displacement"] = rms_difference(
+                    h["t"], h["u"][:, w.comp], ref_run.hist["t"], ref_run.hist["u"][:, w.comp]
+                )
             rv = raw_measures(ref_run.hist, w, ref_values.get("peak force"))
             r.measures, r.errors = m, errors(m, rv, scale_ref)
         else:
@@ -293,7 +340,11 @@ def main_run(argv):
     if exact:
         keys = {e.key() for e in exact.values()}
         if len(keys) == 1:
-            r0 = next(r for r in everything if r.hist is not None) if any(r.hist is not None for r in everything) else None
+            r0 = (
+                next(r for r in everything if r.hist is not None)
+                if any(r.hist is not None for r in everything)
+                else None
+            )
             if r0 is not None:
                 ex = exact[r0.name]
                 vals = ex.measures(float(r0.hist["t"][-1]), r0.hist["ids"], w.comp, w.node)
@@ -316,8 +367,10 @@ def main_run(argv):
             cost = "loop_time" if study.plots.get("Cost") == "loop time" else "wall_time"
             if plot_work_precision(study, everything, cost, out, stem, written) is None:
                 say(f"{PROG}: no finite positive error: no work-precision diagram")
-    say(f"{PROG}: {len(everything)} run(s) in {time.time() - t_start:.1f} s: "
-        + ", ".join(f"{n} {s}" for s, n in sorted(count_status(everything).items())))
+    say(
+        f"{PROG}: {len(everything)} run(s) in {time.time() - t_start:.1f} s: "
+        + ", ".join(f"{n} {s}" for s, n in sorted(count_status(everything).items()))
+    )
     for p in written:
         print(p)
     return 1 if failed else 0
@@ -333,4 +386,3 @@ def count_status(runs):
 
 def main(argv=None):
     return run_main(PROG, main_run, argv)
-
