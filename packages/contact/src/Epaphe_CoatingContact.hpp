@@ -45,6 +45,8 @@ public:
   double addedStiffness() const override;
   int lastPasses() const override { return inner_->lastPasses(); }
   void reset() override { inner_->reset(); }
+  const SelfLocking* selfLocking() const override { return inner_->selfLocking(); }
+  void setStaticCompliance(const std::vector<double>& blocks) override { inner_->setStaticCompliance(blocks); }
   void commit(const ContactStepViews& v, const std::vector<int>& active) override;
 
   /// Plastic dissipation summed over the run (J), and the elastic energy the loaded elements hold

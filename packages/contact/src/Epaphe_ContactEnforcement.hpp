@@ -67,6 +67,18 @@ struct ContactStepViews {
   Kokkos::View<int*> upload(const std::vector<int>& list) const;
 };
 
+/// The self-locking check of the sliding nodes at one step (CoulombFriction; docs/theory/divergence.md,
+/// eqs. (48)-(50)). A margin is 1 - mu / mu*_a: at most 0 when the node is locked. `margin`: the
+/// quasi-static one (the body's static compliance, eq. (50)); `stepMargin`: the correction's own
+/// (its Delassus block C_aa, eq. (48)). Nodes are contact indices (-1: no sliding node).
+struct SelfLocking {
+  double margin = 1.0;      // least quasi-static margin of the sliding nodes (1: none checked)
+  int node = -1;            // its node
+  double stepMargin = 1.0;  // least margin of the correction's Delassus block
+  int stepNode = -1;        // its node
+  int sliding = 0;          // sliding nodes checked
+};
+
 class ContactEnforcement {
 public:
   virtual ~ContactEnforcement() = default;
@@ -89,6 +101,11 @@ public:
   /// Called once per step after the last enforce() of the step (`active`: the final active set):
   /// a law with a state (a coating's wear) updates it here.
   virtual void commit(const ContactStepViews& /*v*/, const std::vector<int>& /*active*/) {}
+  /// The self-locking check of the last step (friction), null without friction.
+  virtual const SelfLocking* selfLocking() const { return nullptr; }
+  /// Per contact node, the 3 x 3 static compliance of its body at its DOFs, S_a = (K^{-1})_aa
+  /// (row-major, 9 per node; NaN: not available), for the quasi-static self-locking check.
+  virtual void setStaticCompliance(const std::vector<double>& /*blocks*/) {}
 };
 
 /// The strategy the options ask for: Lagrange or penalty, wrapped in Coulomb friction when mu > 0.

@@ -57,6 +57,7 @@ Teuchos::RCP<const Teuchos::ParameterList> CoulombFriction::getValidParameters()
 void CoulombFriction::enforce(const ContactStepViews& v, std::vector<int>& active, const DenseVector& q,
                               const DenseVector* qn) {
   if (qn == nullptr) {  // no motion over the step: no friction direction
+    lock_ = SelfLocking{};
     frictionless_->enforce(v, active, q, qn);
     return;
   }
@@ -217,7 +218,55 @@ void CoulombFriction::solve(const ContactStepViews& v, std::vector<int>& activeH
     commitClassification(v, active, nA);
   }
   lastPasses_ = passes + 1;
+  checkSelfLocking(v, activeH, nA);
   storeForces(v, activeH, nA);
+}
+
+void CoulombFriction::setStaticCompliance(const std::vector<double>& blocks) {
+  const std::size_t nc = prev_.extent(0);
+  EPAPHE_REQUIRE(blocks.empty() || blocks.size() == 9 * nc,
+                 "contact: " << blocks.size() << " static compliance entries for " << nc << " nodes (9 each)");
+  static_ = blocks;
+}
+
+void CoulombFriction::checkSelfLocking(const ContactStepViews& v, const std::vector<int>& activeH, int nA) {
+  // Per sliding node a (lambda_a > 0), c_a = n_a + mu t_a:
+  //   (48) correction:    m_a = n^T C_aa c_a / n^T C_aa n = (T_aa c_0)_0 / T_aa,00  (c_0: c_a in a's basis)
+  //   (50) quasi-static:  m_a = (n^T S_a c_a + kappa) / (n^T S_a n + kappa),  kappa = 1/k_p (penalty) or 0
+  // the node is locked when m_a <= 0 (docs/theory/divergence.md). Host loop over the active nodes:
+  // the views live in host-accessible memory (the classification's host loops read them too).
+  lock_ = SelfLocking{};
+  const double kappa = penalty_ ? 1.0 / kp_ : 0.0;
+  for (int a = 0; a < nA; ++a) {
+    const int k = activeH[a];
+    if (state_(k) != kSlide || !(solH_(3 * a) > 0.0)) continue;
+    ++lock_.sliding;
+    double cn = 0.0;
+    for (int j = 0; j < 3; ++j) cn += local_(k, k, 0, j) * column_(k, j);
+    const double stepMargin = cn / local_(k, k, 0, 0);
+    if (lock_.stepNode < 0 || stepMargin < lock_.stepMargin) {
+      lock_.stepMargin = stepMargin;
+      lock_.stepNode = k;
+    }
+    if (static_.empty() || std::isnan(static_[9 * static_cast<std::size_t>(k)])) continue;
+    const double* S = &static_[9 * static_cast<std::size_t>(k)];
+    double n[3], c[3];
+    for (int e = 0; e < 3; ++e) {
+      n[e] = basis_(k, 0, e);
+      c[e] = n[e] + mu_ * v.tangent(k, e);
+    }
+    double snn = kappa, snc = kappa;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        snn += n[i] * S[3 * i + j] * n[j];
+        snc += n[i] * S[3 * i + j] * c[j];
+      }
+    const double margin = snc / snn;
+    if (lock_.node < 0 || margin < lock_.margin) {
+      lock_.margin = margin;
+      lock_.node = k;
+    }
+  }
 }
 
 void CoulombFriction::localFlexibility(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {

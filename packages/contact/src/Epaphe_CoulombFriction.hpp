@@ -4,6 +4,16 @@
 // s_a in the tangent plane of n_a); see the top of Epaphe_SurfaceContact.hpp for the rows, the
 // stick/slip classification (radial return) and its anti-cycling rules. Without the motion over the
 // step (q_n not given) there is no friction direction and the normal law alone applies.
+//
+// Self-locking (docs/theory/divergence.md, eqs. (48)-(50)): at each sliding node a, with friction
+// direction t_a, c_a = n_a + mu t_a, the others' forces held, a compressive force pushes the node
+// out (Lagrange: closes its gap with lambda_a > 0; penalty: the known force does not drive it
+// deeper) iff n_a^T W c_a + kappa > 0, W the node's compliance, kappa = 1/k_p under penalty. Two
+// margins m = (n^T W c + kappa) / (n^T W n + kappa) = 1 - mu / mu*_a are checked, at every step,
+// for the sliding nodes only (a few flops each, no pass of its own): W = C_aa, the Delassus block
+// the correction solves with (eq. (48), kappa = 0: the step itself), and W = S_a, the body's static
+// compliance (eq. (50)): no compressive equilibrium exists, friction drives the normal force without
+// bound (sprag-slip).
 #include "Epaphe_ContactEnforcement.hpp"
 
 namespace epaphe {
@@ -26,6 +36,8 @@ public:
   double addedStiffness() const override { return frictionless_->addedStiffness(); }
   int lastPasses() const override { return lastPasses_; }
   void reset() override;
+  const SelfLocking* selfLocking() const override { return &lock_; }
+  void setStaticCompliance(const std::vector<double>& blocks) override;
 
 private:
   void prepare(const ContactStepViews& v, const std::vector<int>& active, const DenseVector& q, const DenseVector& qn);
@@ -50,6 +62,8 @@ private:
   void commitClassification(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);
   // v.force, v.dir, v.mu, v.tangent from the solution, and the next step's warm start
   void storeForces(const ContactStepViews& v, const std::vector<int>& activeH, int nA);
+  // lock_: the self-locking margins of the sliding nodes (eqs. (48)-(50) of docs/theory/divergence.md)
+  void checkSelfLocking(const ContactStepViews& v, const std::vector<int>& activeH, int nA);
 
   static constexpr int kStick = 2, kSlide = 1;
   static constexpr int kMaxFrictionPasses = 20;
@@ -77,6 +91,8 @@ private:
   Kokkos::View<int*> prev_;                // last step's final state (0: not in contact)
   Kokkos::View<double* [3]> prevTangent_;  // and direction
   std::vector<int> keep_, ipiv_;
+  std::vector<double> static_;  // per node S_a, 9 entries row-major (empty: none given)
+  SelfLocking lock_;
 };
 
 }  // namespace epaphe

@@ -191,6 +191,8 @@ public:
   /// for the stable-step estimate.
   double addedStiffness() const { return enforcement_->addedStiffness(); }
   const ContactEnforcement& enforcement() const { return *enforcement_; }
+  /// See ContactEnforcement::setStaticCompliance (the quasi-static self-locking check).
+  void setStaticCompliance(const std::vector<double>& blocks) { enforcement_->setStaticCompliance(blocks); }
   /// The abradable coating's law when a surface has a coating (null otherwise), its views (wear,
   /// elements), and its state for checkpoints: every element's wear, then the plastic dissipation.
   const CoatingContact* coating() const { return coating_; }

@@ -250,3 +250,41 @@ TEST(ContactEnforcement, CarriedSurfaceOnADenseBlockCorrectsAsItsEntriesDo) {
       EXPECT_NEAR(dq[1][i], dq[0][i], 1e-9 * dmax) << "mu = " << mu << ", DOF " << i;
   }
 }
+
+TEST(ContactEnforcement, SelfLockingMarginsAreOneLessMuOverTheirCriticalCoefficient) {
+  // One node on the floor (n = +z) with a dense flexibility coupling x and z, F_xz = b: sliding along
+  // +x (friction t = -x), c = n + mu t, so n^T F c = F_zz - mu b and the correction's margin (48) is
+  // 1 - mu b / F_zz; the static compliance S given apart gives (50), 1 - mu S_zx / S_zz (Lagrange)
+  // and (S_zz - mu S_zx + 1/k_p) / (S_zz + 1/k_p) (penalty).
+  const double a = 2e-4, b = 1e-4, czz = 3e-4, mu = 0.5;
+  const double S[9] = {4e-6, 0.0, 3e-6, 0.0, 4e-6, 0.0, 3e-6, 0.0, 2e-6};  // row-major, x y z
+  for (const ContactMethod method : {ContactMethod::Lagrange, ContactMethod::Penalty}) {
+    BSplineSurface floor = floorPlane();
+    ContactNodes nodes;
+    const int dof[3] = {0, 1, 2};
+    const double x[3] = {0.0, 0.1, 0.0};
+    nodes.add(0, 0, dof, x);
+    DenseMatrix F("F", 3, 3);
+    F(0, 0) = a;
+    F(1, 1) = a;
+    F(2, 2) = czz;
+    F(0, 2) = F(2, 0) = b;
+    ContactOptions o = options(method, mu);
+    o.penaltyStiffness = 1e5;
+    SurfaceContact c(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, 3}}, o, Flexibility(F));
+    c.setStaticCompliance(std::vector<double>(S, S + 9));
+    DenseVector q("q", 3), qn("qn", 3);
+    q(0) = 1e-2;  // far outside the cone: it slides
+    q(2) = -1e-4;
+    CostSplit cost;
+    c.correct(q, qn, cost);
+    const SelfLocking* lock = c.enforcement().selfLocking();
+    ASSERT_NE(lock, nullptr);
+    ASSERT_EQ(lock->sliding, 1);
+    EXPECT_NEAR(c.tangent()(0, 0), -1.0, 1e-12);
+    EXPECT_NEAR(lock->stepMargin, 1.0 - mu * b / czz, 1e-12);
+    const double kappa = method == ContactMethod::Penalty ? 1.0 / o.penaltyStiffness : 0.0;
+    EXPECT_NEAR(lock->margin, (S[8] - mu * S[6] + kappa) / (S[8] + kappa), 1e-12);
+    EXPECT_EQ(lock->node, 0);
+  }
+}

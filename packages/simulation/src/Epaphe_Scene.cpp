@@ -8,6 +8,7 @@
 #include "Epaphe_Parallel.hpp"
 #include "Epaphe_ReducedModelCache.hpp"
 #include "Epaphe_SceneCheck.hpp"
+#include "Epaphe_SelfLockingMonitor.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
 
@@ -680,6 +681,14 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
   for (const auto& b : bodies_) flexibility.append(b->integrator->flexibility());
   contactX_ = nodes.X;
   contact_ = std::make_unique<SurfaceContact>(std::move(nodes), std::move(contactSurfaces), blocks, copt, flexibility);
+  if (copt.friction > 0.0) {  // the quasi-static self-locking check (Epaphe_SelfLockingMonitor.hpp)
+    std::vector<double> S;
+    for (const auto& b : bodies_) {
+      const std::vector<double> Sb = staticContactCompliance(b->rom, b->contactNodes);
+      S.insert(S.end(), Sb.begin(), Sb.end());
+    }
+    contact_->setStaticCompliance(S);
+  }
   return carriedDofs;
 }
 

@@ -145,7 +145,8 @@ const RunSummary& Simulation::run() {
                           coating ? coating->series() : std::vector<io::Series*>{});
   StopControl stop(stopAfterSteps_, "continue with epaphe-run " + deck_.origin + " --restart " + output_);
   ProgressReport progress(P.sublist("Run").get<double>("Progress interval"));
-  for (LoopObserver* o : std::initializer_list<LoopObserver*>{runUp.get(), &monitor, &history, coating.get(),
+  SelfLockingMonitor locking(h);
+  for (LoopObserver* o : std::initializer_list<LoopObserver*>{runUp.get(), &locking, &monitor, &history, coating.get(),
                                                               fields.get(), &stop, &checkpoints, &progress})
     if (o != nullptr) loop.addObserver(o);
 
@@ -167,7 +168,10 @@ const RunSummary& Simulation::run() {
     complete = loop.run();
   } catch (const Error& e) {
     summary_.stopTime = loop.time();
-    const std::string diagnosis = diagnoseDivergence(loop, monitor.growth(), h);
+    recordSelfLocking(file, locking);
+    std::string diagnosis = diagnoseDivergence(loop, monitor.growth(), h);
+    if (summary_.lockFirst.node >= 0 || summary_.lockFirstStep.node >= 0)
+      diagnosis += (diagnosis.empty() ? "" : ". ") + summary_.selfLocking;
     summary_.status = std::string("stopped: ") + e.what() + (diagnosis.empty() ? "" : ". Diagnosis: " + diagnosis);
     history.completeRecords();  // every series as long as /time, as when an observer fails the run
     if (diagnosis.empty()) throw;
@@ -185,6 +189,7 @@ const RunSummary& Simulation::run() {
   file.setAttribute("/run", "loop_time", summary_.loopSeconds);
   file.setAttribute("/run", "checkpoints", summary_.checkpoints);
   file.setAttribute("/run", "checkpoint_time", summary_.checkpointSeconds);
+  recordSelfLocking(file, locking);
   if (!complete) {
     summary_.status = "stopped: " + loop.stopReason();
     summary_.stopSignal = stop.signal();
@@ -223,6 +228,55 @@ void Simulation::writeRunFigures(io::Hdf5File& file, const ExplicitLoop& loop, c
     file.setAttribute("/run", "projections_skipped", contact->projectionsSkipped());
   }
   for (const auto& [phase, s] : summary_.cost.all()) file.setAttribute("/run/cost", phase, s);
+}
+
+// Eqs. (48)-(50) of docs/theory/divergence.md: the least margins over the run and the first locks,
+// nodes named by their body and node number.
+void Simulation::recordSelfLocking(io::Hdf5File& file, const SelfLockingMonitor& locking) {
+  summary_.lockLeast = locking.least();
+  summary_.lockLeastStep = locking.leastStep();
+  summary_.lockFirst = locking.firstLock();
+  summary_.lockFirstStep = locking.firstStepLock();
+  const SurfaceContact* contact = scene_->contact();
+  if (contact == nullptr || contact->enforcement().selfLocking() == nullptr) return;
+  const auto& bodies = scene_->bodies();
+  auto label = [&](int k) { return static_cast<long long>(k < 0 ? -1 : contact->nodes()[k]); };
+  auto where = [&](const LockRecord& r) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "node %d of '%s' at t = %.6e s", contact->nodes()[r.node],
+                  bodies[contact->nodeBlocks()[r.node]]->name.c_str(), r.time);
+    return std::string(buf);
+  };
+  auto put = [&](const std::string& key, const LockRecord& r) {
+    file.setAttribute("/run", key + "_margin", r.node < 0 ? 1.0 : r.margin);
+    file.setAttribute("/run", key + "_node", label(r.node));
+    file.setAttribute("/run", key + "_time", r.time);
+  };
+  put("self_locking", summary_.lockLeast);
+  put("self_locking_first", summary_.lockFirst);
+  put("correction_locking", summary_.lockLeastStep);
+  put("correction_locking_first", summary_.lockFirstStep);
+  std::ostringstream os;
+  os << "self-locking (sliding nodes checked " << locking.checks() << " times): ";
+  if (summary_.lockLeast.node >= 0) {
+    os << "least quasi-static margin " << summary_.lockLeast.margin << " (" << where(summary_.lockLeast) << ")";
+    if (summary_.lockFirst.node >= 0)
+      os << ", first locked " << where(summary_.lockFirst) << " (margin " << summary_.lockFirst.margin
+         << "): friction can drive the normal force without bound";
+    os << "; ";
+  } else if (locking.checks() > 0) {
+    os << "no static compliance for the sliding nodes; ";
+  }
+  if (summary_.lockLeastStep.node >= 0) {
+    os << "least margin of the correction's Delassus block " << summary_.lockLeastStep.margin << " ("
+       << where(summary_.lockLeastStep) << ")";
+    if (summary_.lockFirstStep.node >= 0)
+      os << ", first locked " << where(summary_.lockFirstStep) << " (margin " << summary_.lockFirstStep.margin
+         << "): the correction cannot push that node out";
+  } else {
+    os << "no node slid";
+  }
+  summary_.selfLocking = os.str();
 }
 
 void Simulation::printSummary(std::ostream& os) const {
@@ -298,6 +352,7 @@ void Simulation::printSummary(std::ostream& os) const {
                 1e3 * summary_.checkpointSeconds / std::max(1LL, summary_.checkpoints));
   os << buf;
   for (const auto& line : summary_.coating) os << line << "\n";
+  if (!summary_.selfLocking.empty()) os << summary_.selfLocking << "\n";
   std::snprintf(buf, sizeof buf, "energy balance: max relative error %.3e\n", summary_.totals.maxBalanceError);
   os << buf;
   os << "status: " << summary_.status << "; output " << output_ << "\n";

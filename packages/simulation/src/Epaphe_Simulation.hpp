@@ -7,7 +7,10 @@
 //   /                      attributes: epaphe_version, name, status ("running", "complete",
 //                          or "stopped: <why>") -- only "complete" is a finished result
 //   /run/deck              the deck text;  /run attributes: time_step, critical_time_step,
-//                          steps, wall_time, loop_time, steps_per_second, threads, mpi_ranks
+//                          steps, wall_time, loop_time, steps_per_second, threads, mpi_ranks;
+//                          with friction, the self-locking check: self_locking_{margin, node, time}
+//                          (least quasi-static margin), self_locking_first_{margin, node, time}
+//                          (first lock; node -1: none), correction_locking_{margin, node, time}
 //   /time                  (records)
 //   /energy/{kinetic, strain, total, contact_work, external_work, damping, balance_error} (records)
 //   /bodies/<b>/frequencies/{reduced, full, fixed_interface} (Hz); attributes reduction,
@@ -33,6 +36,7 @@
 #include "Epaphe_Hdf5File.hpp"
 #include "Epaphe_Runtime.hpp"
 #include "Epaphe_Scene.hpp"
+#include "Epaphe_SelfLockingMonitor.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 
 #include <memory>
@@ -59,6 +63,11 @@ struct RunSummary {
   bool stoppedEarly = false;         // interrupted, or stopped by setStopAfterSteps
   std::vector<std::string> coating;  // per coated surface: wear, dissipation, lobes (complete runs)
   double stopTime = -1;              // s: the time of the step an error stopped (-1: none)
+  // friction: the self-locking check over the run (Epaphe_SelfLockingMonitor.hpp), least margins
+  // and first locks, quasi-static (eq. (50)) and the correction's own (eq. (48)); `selfLocking`: the
+  // summary line (empty without friction)
+  LockRecord lockLeast, lockLeastStep, lockFirst, lockFirstStep;
+  std::string selfLocking;
 };
 
 class Simulation {
@@ -92,6 +101,8 @@ private:
   // The steps of run().
   io::Hdf5File openOutput(double h) const;
   void writeRunFigures(io::Hdf5File& file, const ExplicitLoop& loop, const KernelCounter* kernels);
+  // the self-locking check's figures into the summary (and its line) and the /run attributes
+  void recordSelfLocking(io::Hdf5File& file, const SelfLockingMonitor& locking);
   // A run stopped by an error: why its motion diverged (Epaphe_DivergenceCheck.cpp), "" when its
   // energy did not grow without bound.
   std::string diagnoseDivergence(const ExplicitLoop& loop, const EnergyGrowth& growth, double h) const;
