@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""Stability map: the critical friction coefficient at each speed of a list, by bisection on mu
+between a bounded run and a diverging one (issue 37, item 3; first applied to the strut of
+sprag_slip.py, whose plane speed is the speed).
+
+Criterion. A run is *diverging* when it stops with its energy growing without bound (epaphe-run's
+diagnosis, "grows without bound"), or when it completes with the bodies' energy (kinetic + strain) at
+its end more than GROWTH times the largest over the first half of the run after the interference's
+ramp; else it is *bounded*. Per
+speed the bracket [mu_lo, mu_hi] (bounded, diverging) is halved until (mu_hi - mu_lo) <= TOL mu_hi;
+the boundary is reported as both ends. The runs are serial, one epaphe-run on one thread each (spreading
+the cases over jobs and MPI ranks is not done yet).
+
+Written: <workdir>/stability-map.h5 (/speed, /mu_bounded, /mu_diverging, and /runs/{speed, mu,
+diverging, growth} of every run) and <workdir>/stability-map.png (mu against speed, the bounded and
+diverging runs and the boundary). For the strut the quasi-static sprag (eq. (50)) does not depend on
+the speed, so the map is flat at mu_c (checked against (51) within TOL_MAP). Up to 2 m/s: faster, the
+jam reaches the section's other corners within the window and the criterion no longer separates.
+
+    stability_map.py --run EPAPHE_RUN --workdir DIR [--speeds 0.5,1,2] [--bracket 0.25,0.5]"""
+import argparse
+import importlib.util
+import os
+import sys
+from concurrent.futures import ThreadPoolExecutor
+
+import h5py
+import numpy as np
+
+GROWTH = 2.0
+TOL = 0.01
+TOL_MAP = 0.02  # the boundary's mid-point against (51) (the model's own mu*_c is 1.1 % above it)
+TRAVEL = 6e-3  # m: each run lasts the interference ramp and TRAVEL / speed, the same plane travel (the jam grows with the travel, and
+# the section's other corners reach the plane after about 10 mm of it)
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+_spec = importlib.util.spec_from_file_location("sprag_slip", os.path.join(HERE, "sprag_slip.py"))
+strut = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(strut)
+
+
+def outcome(exe, workdir, speed, mu):
+    """(diverging, growth) of the strut at plane speed `speed` (m/s) and coefficient mu."""
+    name = f"map-v{speed:g}-mu{mu:.6f}"
+    strut.SPEED = speed  # read by write_deck (one thread at a time writes a deck: see below)
+    code, text, attrs, t, energy = strut.run(exe, workdir, name, mu, strut.RAMP + TRAVEL / speed)
+    first = (t >= strut.RAMP) & (t <= strut.RAMP + 0.5 * TRAVEL / speed)
+    growth = float(energy[-1] / max(energy[first].max(), 1e-300))
+    return (code != 0 and "grows without bound" in text) or growth > GROWTH, growth
+
+
+def main():
+    a = argparse.ArgumentParser()
+    a.add_argument("--run", required=True)
+    a.add_argument("--workdir", required=True)
+    a.add_argument("--speeds", default="0.5,1,2")  # m/s
+    a.add_argument("--bracket", default="0.25,0.5")
+    o = a.parse_args()
+    os.makedirs(o.workdir, exist_ok=True)
+    speeds = [float(s) for s in o.speeds.split(",")]
+    lo0, hi0 = (float(x) for x in o.bracket.split(","))
+    runs = []
+
+    # the deck writer reads the strut module's globals (SPEED): one case at a time
+    def case(speed, mu):
+        d, g = outcome(o.run, o.workdir, speed, mu)
+        runs.append((speed, mu, d, g))
+        return d
+
+    bracket = {v: [lo0, hi0] for v in speeds}
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        ends = {v: (pool.submit(case, v, lo0).result(), pool.submit(case, v, hi0).result()) for v in speeds}
+        for v, (dlo, dhi) in ends.items():
+            if dlo or not dhi:
+                sys.exit(f"speed {v}: the bracket {lo0}, {hi0} is not (bounded, diverging): {dlo}, {dhi}")
+        while any(hi - lo > TOL * hi for lo, hi in bracket.values()):
+            for v, (lo, hi) in bracket.items():
+                if hi - lo <= TOL * hi:
+                    continue
+                mid = 0.5 * (lo + hi)
+                if pool.submit(case, v, mid).result():
+                    bracket[v][1] = mid
+                else:
+                    bracket[v][0] = mid
+    lo = np.array([bracket[v][0] for v in speeds])
+    hi = np.array([bracket[v][1] for v in speeds])
+    with h5py.File(os.path.join(o.workdir, "stability-map.h5"), "w") as f:
+        f["speed"], f["mu_bounded"], f["mu_diverging"] = np.array(speeds), lo, hi
+        f.attrs["criterion"] = (
+            f"diverging: stopped with energy growing without bound, or final energy > {GROWTH} "
+            f"times the first half's largest; bisection to {TOL} relative"
+        )
+        r = np.array(runs, dtype=float)
+        for i, key in enumerate(["speed", "mu", "diverging", "growth"]):
+            f["runs/" + key] = r[:, i]
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 3.5))
+    r = np.array(runs)
+    ax.plot(r[r[:, 2] == 0, 0], r[r[:, 2] == 0, 1], "o", color="tab:green", label="bounded")
+    ax.plot(r[r[:, 2] == 1, 0], r[r[:, 2] == 1, 1], "x", color="tab:red", label="diverging")
+    ax.fill_between(speeds, 0.5 * (lo + hi), max(hi0, hi.max()), color="tab:red", alpha=0.1)
+    ax.plot(speeds, 0.5 * (lo + hi), "k-", label="boundary")
+    ax.set_xlabel("plane speed (m/s)")
+    ax.set_ylabel("friction coefficient")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(o.workdir, "stability-map.png"), dpi=120)
+    mu_beam, failures = strut.beam_mu_c(), []
+    for v, l, h in zip(speeds, lo, hi):
+        off = 0.5 * (l + h) / mu_beam - 1
+        print(
+            f"speed {v:g} m/s: bounded at mu {l:.4f}, diverging at {h:.4f}; mid-point {off:+.2e} from (51)'s "
+            f"{mu_beam:.4f} (tolerance {TOL_MAP})"
+        )
+        if not abs(off) <= TOL_MAP:
+            failures.append(f"speed {v:g} m/s: boundary {l}, {h} off the closed form {mu_beam}")
+    print("FAILED:\n  " + "\n  ".join(failures) if failures else f"{len(speeds)} passed, 0 failed")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
