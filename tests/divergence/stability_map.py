@@ -17,10 +17,15 @@ diverging runs and the boundary). For the strut the quasi-static sprag (eq. (50)
 the speed, so the map is flat at mu_c (checked against (51) within TOL_MAP). Up to 2 m/s: faster, the
 jam reaches the section's other corners within the window and the criterion no longer separates.
 
-    stability_map.py --run EPAPHE_RUN --workdir DIR [--speeds 0.5,1,2] [--bracket 0.25,0.5]"""
+With --rotor37 INPUTS: inputs/rotor37-massless.xml over its casing speed (rad/s), --revolutions each
+(10), a run that stops, whatever stops it, being diverging (docs/user/divergence.md).
+
+    stability_map.py --run EPAPHE_RUN --workdir DIR [--speeds 0.5,1,2] [--bracket 0.25,0.5]
+                     [--rotor37 INPUTS --revolutions 10]"""
 import argparse
 import importlib.util
 import os
+import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
 
@@ -30,8 +35,9 @@ import numpy as np
 GROWTH = 2.0
 TOL = 0.01
 TOL_MAP = 0.02  # the boundary's mid-point against (51) (the model's own mu*_c is 1.1 % above it)
-TRAVEL = 6e-3  # m: each run lasts the interference ramp and TRAVEL / speed, the same plane travel (the jam grows with the travel, and
-# the section's other corners reach the plane after about 10 mm of it)
+# m: each run lasts the interference ramp and TRAVEL / speed, the same plane travel (the jam grows with
+# the travel, and the section's other corners reach the plane after about 10 mm of it)
+TRAVEL = 6e-3
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 _spec = importlib.util.spec_from_file_location("sprag_slip", os.path.join(HERE, "sprag_slip.py"))
@@ -49,12 +55,56 @@ def outcome(exe, workdir, speed, mu):
     return (code != 0 and "grows without bound" in text) or growth > GROWTH, growth
 
 
+def rotor_outcome(exe, workdir, inputs, speed, mu, revolutions):
+    """(diverging, growth) of inputs/rotor37-massless.xml with the casing at `speed` (rad/s, the deck's
+    sense), 'Friction coefficient' mu, `revolutions` revolutions (the step keeps 1000 per revolution):
+    here a run that stops, whatever stops it, is diverging."""
+    text = open(os.path.join(inputs, "rotor37-massless.xml")).read()
+    name = f"map-r37-w{speed:g}-mu{mu:.6f}"
+    for old, new in [
+        (
+            'name="Friction coefficient" type="double" value="0.15"',
+            f'name="Friction coefficient" type="double" value="{mu!r}"',
+        ),
+        (
+            'name="Rotation speed" type="double" value="-1344"',
+            f'name="Rotation speed" type="double" value="{-speed!r}"',
+        ),
+        (
+            'name="Time step" type="double" value="4.675e-6"',
+            f'name="Time step" type="double" value="{2 * np.pi / speed / 1000!r}"',
+        ),
+        (
+            'name="End revolutions" type="double" value="50"',
+            f'name="End revolutions" type="double" value="{revolutions!r}"',
+        ),
+        ('value="rotor37-massless.h5"', f'value="{name}.h5"'),
+        (
+            '<ParameterList name="Run">',
+            '<ParameterList name="Run"><Parameter name="Divergence step check" type="bool" value="false"/>',
+        ),
+    ]:
+        assert old in text, old
+        text = text.replace(old, new)
+    deck = os.path.join(workdir, name + ".xml")
+    open(deck, "w").write(text)
+    p = subprocess.run([exe, deck], capture_output=True, text=True, cwd=workdir)
+    with h5py.File(os.path.join(workdir, name + ".h5"), "r") as f:
+        t = f["time"][()]
+        energy = f["energy/kinetic"][()] + f["energy/strain"][()]
+    first = t <= 0.5 * t[-1]
+    growth = float(energy[-1] / max(energy[first].max(), 1e-300))
+    return p.returncode != 0 or growth > GROWTH, growth
+
+
 def main():
     a = argparse.ArgumentParser()
     a.add_argument("--run", required=True)
     a.add_argument("--workdir", required=True)
     a.add_argument("--speeds", default="0.5,1,2")  # m/s
     a.add_argument("--bracket", default="0.25,0.5")
+    a.add_argument("--rotor37", metavar="INPUTS", help="map inputs/rotor37-massless.xml instead (speeds in rad/s)")
+    a.add_argument("--revolutions", type=float, default=10.0)
     o = a.parse_args()
     os.makedirs(o.workdir, exist_ok=True)
     speeds = [float(s) for s in o.speeds.split(",")]
@@ -63,7 +113,10 @@ def main():
 
     # the deck writer reads the strut module's globals (SPEED): one case at a time
     def case(speed, mu):
-        d, g = outcome(o.run, o.workdir, speed, mu)
+        if o.rotor37:
+            d, g = rotor_outcome(o.run, o.workdir, o.rotor37, speed, mu, o.revolutions)
+        else:
+            d, g = outcome(o.run, o.workdir, speed, mu)
         runs.append((speed, mu, d, g))
         return d
 
@@ -104,11 +157,15 @@ def main():
     ax.plot(r[r[:, 2] == 1, 0], r[r[:, 2] == 1, 1], "x", color="tab:red", label="diverging")
     ax.fill_between(speeds, 0.5 * (lo + hi), max(hi0, hi.max()), color="tab:red", alpha=0.1)
     ax.plot(speeds, 0.5 * (lo + hi), "k-", label="boundary")
-    ax.set_xlabel("plane speed (m/s)")
+    ax.set_xlabel("casing speed (rad/s)" if o.rotor37 else "plane speed (m/s)")
     ax.set_ylabel("friction coefficient")
     ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(o.workdir, "stability-map.png"), dpi=120)
+    if o.rotor37:
+        for v, l, h in zip(speeds, lo, hi):
+            print(f"rotor 37 at {v:g} rad/s: bounded at mu {l:.4f}, diverging at {h:.4f}")
+        return 0
     mu_beam, failures = strut.beam_mu_c(), []
     for v, l, h in zip(speeds, lo, hi):
         off = 0.5 * (l + h) / mu_beam - 1
