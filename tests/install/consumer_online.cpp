@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     r.retainedNodes = {0};
     const epaphe::CentralDifference cd(r, h, epaphe::DampingOptions{});
     epaphe::CostSplit cost;
-    epaphe::ExplicitLoop loop({{"oscillator", &cd, 0, 3}}, h, steps, nullptr, nullptr, cost, std::cout);
+    epaphe::ExplicitLoop loop({{"oscillator", &cd, 0, 3}}, h, steps, nullptr, cost, std::cout);
     auto init = Kokkos::create_mirror_view(loop.current());
     init(0) = x0;
     Kokkos::deep_copy(loop.current(), init);           // q_0

@@ -37,7 +37,7 @@
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_SpeedLaw.hpp"
 #include "Epaphe_ClosestPoint.hpp"
-#include "Epaphe_Flexibility.hpp"
+#include "Epaphe_DenseTypes.hpp"
 #include "Epaphe_Parallel.hpp"
 #include "Epaphe_Runtime.hpp"
 

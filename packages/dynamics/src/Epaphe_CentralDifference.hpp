@@ -28,7 +28,7 @@
 // u_b = Phi_b eta + G f; its A, B and F, and the residual's energy and dissipation, are derived in
 // the constructor.
 #include "Epaphe_ReducedModel.hpp"
-#include "Epaphe_SurfaceContact.hpp"
+#include "Epaphe_Flexibility.hpp"
 
 #include <KokkosSparse_CrsMatrix.hpp>
 #include <Kokkos_Core.hpp>

@@ -17,7 +17,7 @@ EnergyMonitor::EnergyMonitor(const ExplicitLoop& loop, const EnergyMonitorOption
 
 void EnergyMonitor::afterCorrect(ExplicitLoop& loop) {
   if (opt_.penaltyStiffness > 0 && loop.step() == 0 && loop.contact()) {  // springs of initial penetrations
-    const auto f0 = loop.contact()->force();
+    const auto f0 = loop.contact()->forces();
     for (std::size_t k = 0; k < f0.extent(0); ++k) springEnergy0_ += f0(k) * f0(k) / (2 * opt_.penaltyStiffness);
   }
   if (!measures(loop)) return;

@@ -45,18 +45,11 @@ void LoopAccumulators::restore(const std::vector<double>& v, const std::string& 
   for (std::size_t b = 0; b < driveWork.size(); ++b) driveWork[b] = v[7 + 2 * damping.size() + b];
 }
 
-ExplicitLoop::ExplicitLoop(std::vector<LoopBody> bodies, double h, long long numSteps, SurfaceContact* contact,
-                           const ContactGuards* guards, CostSplit& cost, std::ostream& out)
-    : bodies_(std::move(bodies)),
-      h_(h),
-      numSteps_(numSteps),
-      contact_(contact),
-      guards_(guards),
-      cost_(cost),
-      out_(out) {
+ExplicitLoop::ExplicitLoop(std::vector<LoopBody> bodies, double h, long long numSteps, ContactCorrector* contact,
+                           CostSplit& cost, std::ostream& out)
+    : bodies_(std::move(bodies)), h_(h), numSteps_(numSteps), contact_(contact), cost_(cost), out_(out) {
   EPAPHE_REQUIRE(h > 0 && numSteps > 0,
                  "ExplicitLoop: time step " << h << " s and " << numSteps << " steps; both must be positive");
-  EPAPHE_REQUIRE(!contact || guards, "ExplicitLoop: a contact needs its run guards");
   int size = 0;
   for (const auto& b : bodies_) {
     EPAPHE_REQUIRE(b.integrator && b.offset == size && b.size > 0,
@@ -124,10 +117,9 @@ bool ExplicitLoop::advance() {
   active_ = 0;
   if (contact_) {
     // eqs. 2.28-2.36 on all bodies at once (eq. 2.33), friction from the motion q_n -> q*
-    contact_->setTime(t + h_);
-    contact_->correct(Q_[iNext_], Q_[iCur_], cost_);
-    if (const std::string large = guards_->checkStep(*contact_, Q_[iNext_], Q_[iCur_], t, h_); !large.empty()) {
-      if (!guards_->options().allowLargeMotion) fail(large);
+    contact_->correct(t + h_, Q_[iNext_], Q_[iCur_], cost_);
+    if (const std::string large = contact_->checkStep(Q_[iNext_], Q_[iCur_], t, h_); !large.empty()) {
+      if (!contact_->largeMotionAllowed()) fail(large);
       if (acc_.largeMotionSteps++ == 0) out_ << "warning: " << large << " (further such steps are counted)\n";
     }
   }

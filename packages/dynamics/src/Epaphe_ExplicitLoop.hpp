@@ -15,9 +15,8 @@
 //                  (stepsDone() = n + 1; checkpoints, stop requests, progress)
 // then, once, endRun; or, when an observer calls fail(), failed() on every observer and an Error.
 #include "Epaphe_CentralDifference.hpp"
-#include "Epaphe_ContactGuards.hpp"
+#include "Epaphe_ContactCorrector.hpp"
 #include "Epaphe_Runtime.hpp"
-#include "Epaphe_SurfaceContact.hpp"
 
 #include <ostream>
 #include <string>
@@ -69,10 +68,12 @@ public:
 
 class ExplicitLoop {
 public:
-  /// `contact` and `guards` may be null (no contact). `cost` receives the phases' wall times
-  /// (integration, contact and projection inside SurfaceContact, energy, and what observers add).
-  ExplicitLoop(std::vector<LoopBody> bodies, double h, long long numSteps, SurfaceContact* contact,
-               const ContactGuards* guards, CostSplit& cost, std::ostream& out);
+  /// `contact` may be null (no contact); it works on the system coordinates of all bodies (the
+  /// contact package's GuardedContact: SurfaceContact and its run guards). `cost` receives the
+  /// phases' wall times (integration, contact and projection inside the contact, energy, and what
+  /// observers add).
+  ExplicitLoop(std::vector<LoopBody> bodies, double h, long long numSteps, ContactCorrector* contact, CostSplit& cost,
+               std::ostream& out);
 
   /// Observers are called in the order they were added; the loop does not own them.
   void addObserver(LoopObserver* observer) { observers_.push_back(observer); }
@@ -108,7 +109,7 @@ public:
   /// The sum of the contact forces of the step and the active nodes (0 without contact).
   double totalContactForce() const { return totalForce_; }
   int activeContacts() const { return active_; }
-  SurfaceContact* contact() const { return contact_; }
+  ContactCorrector* contact() const { return contact_; }
   CostSplit& cost() { return cost_; }
   std::ostream& out() { return out_; }
   LoopAccumulators& accumulators() { return acc_; }
@@ -132,8 +133,7 @@ private:
   std::vector<LoopBody> bodies_;
   double h_;
   long long numSteps_, firstStep_ = 0, n_ = 0, done_ = 0;
-  SurfaceContact* contact_;
-  const ContactGuards* guards_;
+  ContactCorrector* contact_;
   CostSplit& cost_;
   std::ostream& out_;
   std::vector<LoopObserver*> observers_;

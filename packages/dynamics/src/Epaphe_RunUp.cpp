@@ -33,7 +33,7 @@ std::vector<double> RunUpModel::positionsAt(long long l) const {
   return x;
 }
 
-RunUp::RunUp(std::vector<Driven> driven, SurfaceContact* contact, std::vector<double> contactX)
+RunUp::RunUp(std::vector<Driven> driven, ContactCorrector* contact, std::vector<double> contactX)
     : driven_(std::move(driven)), contact_(contact), contactX_(std::move(contactX)) {
   level_.assign(driven_.size(), 0);
   K_.resize(driven_.size());

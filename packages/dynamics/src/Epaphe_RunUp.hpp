@@ -58,7 +58,7 @@ public:
   };
   /// Puts every driven body at its level of t = 0 (its stiffness and contact nodes): construct it
   /// before the energy monitor takes E_0. `contactX`: all contact nodes' reference positions.
-  RunUp(std::vector<Driven> driven, SurfaceContact* contact, std::vector<double> contactX);
+  RunUp(std::vector<Driven> driven, ContactCorrector* contact, std::vector<double> contactX);
 
   /// A restart: every body at the level of the last step done, without drive work (it is in the
   /// checkpoint); its first step then refreshes as the uninterrupted run did.
@@ -70,7 +70,7 @@ public:
 private:
   void apply(std::size_t i, long long level);
   std::vector<Driven> driven_;
-  SurfaceContact* contact_;
+  ContactCorrector* contact_;
   std::vector<double> contactX_;
   std::vector<long long> level_;
   std::vector<std::vector<double>> K_;  // each body's current stiffness

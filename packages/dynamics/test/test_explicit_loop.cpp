@@ -41,7 +41,7 @@ struct Scene {
   std::ostringstream out;
   explicit Scene(DampingOptions damping = {}) : cd(model, h, damping) {}
   ExplicitLoop loop(long long steps) {
-    ExplicitLoop l({{"oscillator", &cd, 0, 3}}, h, steps, nullptr, nullptr, cost, out);
+    ExplicitLoop l({{"oscillator", &cd, 0, 3}}, h, steps, nullptr, cost, out);
     const double omega2 = 800.0 / 2.0;
     auto q = Kokkos::create_mirror_view(l.current());
     q(0) = 1e-3;

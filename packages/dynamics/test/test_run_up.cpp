@@ -53,7 +53,7 @@ TEST(RunUp, TheDriveWorkClosesTheEnergyBalance) {
   r.stiffness = {model.K, test::oscillator(2.0, 2400.0).K};
   CostSplit cost;
   std::ostringstream out;
-  ExplicitLoop loop({{"oscillator", &cd, 0, 3, true}}, h, 300, nullptr, nullptr, cost, out);
+  ExplicitLoop loop({{"oscillator", &cd, 0, 3, true}}, h, 300, nullptr, cost, out);
   auto q = Kokkos::create_mirror_view(loop.current());
   q(0) = 1e-3;
   Kokkos::deep_copy(loop.current(), q);

@@ -17,9 +17,10 @@ std::vector<double> hostCopy(const DenseVector& v) {
 
 }  // namespace
 
-Checkpoints::Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, HistoryOutput& history, FieldOutput* fields,
-                         const CheckpointOptions& options, const std::vector<io::Series*>& more)
+Checkpoints::Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, SurfaceContact* contact, HistoryOutput& history,
+                         FieldOutput* fields, const CheckpointOptions& options, const std::vector<io::Series*>& more)
     : file_(file),
+      contact_(contact),
       history_(history),
       fields_(fields),
       opt_(options),
@@ -51,7 +52,7 @@ void Checkpoints::write(const ExplicitLoop& loop, long long nextStep) {
   file_.writeDoubles(c + "/q_prev", hostCopy(loop.previous()));
   file_.writeDoubles(c + "/q", hostCopy(loop.current()));
   file_.writeDoubles(c + "/accumulators", loop.accumulators().values(static_cast<double>(nextStep) * loop.timeStep()));
-  if (SurfaceContact* contact = loop.contact()) {
+  if (SurfaceContact* contact = contact_) {
     const auto uv = contact->warmStarts();
     file_.writeDoubles(c + "/warm_start",
                        {uv.size() / (2 * contact->numNodes()), static_cast<std::uint64_t>(contact->numNodes()), 2},
@@ -104,7 +105,7 @@ long long Checkpoints::restore(ExplicitLoop& loop, const std::string& what) {
   load(loop.previous(), c + "/q_prev");
   load(loop.current(), c + "/q");
   loop.accumulators().restore(file_.readDoubles(c + "/accumulators"), what + ": " + c + "/accumulators");
-  if (SurfaceContact* contact = loop.contact()) {
+  if (SurfaceContact* contact = contact_) {
     contact->setWarmStarts(file_.readDoubles(c + "/warm_start"));
     if (file_.exists(c + "/detection_state"))  // (a checkpoint without it: every node projects)
       contact->setDetectionState(file_.readDoubles(c + "/detection_state"));

@@ -16,6 +16,7 @@
 #include "Epaphe_FieldOutput.hpp"
 #include "Epaphe_Hdf5File.hpp"
 #include "Epaphe_HistoryOutput.hpp"
+#include "Epaphe_SurfaceContact.hpp"
 
 #include <string>
 #include <vector>
@@ -29,10 +30,10 @@ struct CheckpointOptions {
 
 class Checkpoints : public LoopObserver {
 public:
-  /// `fields` may be null (no field frames); `more`: other observers' series (coatings), at most as
-  /// long as the history's.
-  Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, HistoryOutput& history, FieldOutput* fields,
-              const CheckpointOptions& options, const std::vector<io::Series*>& more = {});
+  /// `contact` (its warm starts, skipping and coating state) and `fields` may be null (no contact,
+  /// no field frames); `more`: other observers' series (coatings), at most as long as the history's.
+  Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, SurfaceContact* contact, HistoryOutput& history,
+              FieldOutput* fields, const CheckpointOptions& options, const std::vector<io::Series*>& more = {});
 
   /// Writes a checkpoint now, `nextStep` the step a restart runs first.
   void write(const ExplicitLoop& loop, long long nextStep);
@@ -49,6 +50,7 @@ public:
 
 private:
   io::Hdf5File& file_;
+  SurfaceContact* contact_;
   HistoryOutput& history_;
   FieldOutput* fields_;
   CheckpointOptions opt_;

@@ -493,6 +493,7 @@ void Scene::checkContactAtStart(const ParameterList& cp, double h) {
       speeds.push_back(b->speed);
     }
     guards_ = std::make_unique<ContactGuards>(guardOptions(cp), names, origin);
+    corrector_ = std::make_unique<GuardedContact>(*contact_, *guards_);
     guards_->checkInitialVelocities(*contact_, speeds, h, report_.warnings);
     const DenseVector q0("epaphe::q0", static_cast<std::size_t>(systemSize_));
     CostSplit setupCost;

@@ -7,6 +7,7 @@
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ContactGuards.hpp"
 #include "Epaphe_DeckSchema.hpp"
+#include "Epaphe_GuardedContact.hpp"
 #include "Epaphe_Runtime.hpp"
 #include "Epaphe_SceneBody.hpp"
 #include "Epaphe_SpeedParametricModel.hpp"
@@ -51,6 +52,8 @@ public:
   /// The contact nodes' reference positions at the start (3 per node, the contact's order).
   const std::vector<double>& contactPositions() const { return contactX_; }
   const ContactGuards* guards() const { return guards_.get(); }
+  /// The contact and its guards as the explicit loop's ContactCorrector (null without contact).
+  ContactCorrector* corrector() const { return corrector_.get(); }
   const SetupReport& report() const { return report_; }
 
 private:
@@ -82,6 +85,7 @@ private:
   std::unique_ptr<SurfaceContact> contact_;
   std::vector<double> contactX_;
   std::unique_ptr<ContactGuards> guards_;
+  std::unique_ptr<GuardedContact> corrector_;
   SetupReport report_;
 };
 

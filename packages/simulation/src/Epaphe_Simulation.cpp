@@ -106,7 +106,7 @@ const RunSummary& Simulation::run() {
     loopBodies.push_back({b->name, b->integrator.get(), b->offset, b->rom.size, b->runUp != nullptr});
     if (b->runUp) driven.push_back({ib, b->integrator.get(), b->runUp.get()});
   }
-  ExplicitLoop loop(loopBodies, h, nSteps, contact, scene_->guards(), summary_.cost, rt_.out());
+  ExplicitLoop loop(loopBodies, h, nSteps, scene_->corrector(), summary_.cost, rt_.out());
   // q_0 = 0, q_{-1} = q_0 - h v_0 + h^2/2 a_0, a_0 = M^{-1} f (gravity; K q_0 = 0, no contact
   // force yet): a uniform acceleration is then integrated exactly, q_n = h n v_0 + (h n)^2/2 a_0
   for (std::size_t ib = 0; ib < bodies.size(); ++ib) {
@@ -121,7 +121,7 @@ const RunSummary& Simulation::run() {
   // (Not with a turning surface: a moving casing does work on the bodies.)
   // a run-up puts its bodies at their start before the energy monitor takes E_0
   std::unique_ptr<RunUp> runUp;
-  if (!driven.empty()) runUp = std::make_unique<RunUp>(driven, contact, scene_->contactPositions());
+  if (!driven.empty()) runUp = std::make_unique<RunUp>(driven, scene_->corrector(), scene_->contactPositions());
   const bool penalty = contact && fastestRotation(P) == 0.0 &&
                        deck::getEnum<ContactMethod>(P.sublist("Contact"), "Method") == ContactMethod::Penalty;
   EnergyMonitor monitor(loop, {O.get<int>("Every"), O.get<double>("Energy balance tolerance"),
@@ -140,7 +140,7 @@ const RunSummary& Simulation::run() {
     coating = std::make_unique<CoatingOutput>(file, *contact, monitor, wearEvery, fresh);
   }
   if (fields && coating) fields->setCoatings(coating->surfaces());
-  Checkpoints checkpoints(file, loop, history, fields.get(),
+  Checkpoints checkpoints(file, loop, contact, history, fields.get(),
                           {O.get<int>("Checkpoint every"), O.get<double>("Checkpoint interval")},
                           coating ? coating->series() : std::vector<io::Series*>{});
   StopControl stop(stopAfterSteps_, "continue with epaphe-run " + deck_.origin + " --restart " + output_);

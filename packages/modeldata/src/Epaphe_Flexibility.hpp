@@ -5,14 +5,13 @@
 // mass-proportional damping has a diagonal M/h^2 + D/2h, hence a diagonal block (size entries):
 // its part of F D^T and of the correction F G lambda is a scaling of the entries of D, with no
 // N x N storage anywhere.
+#include "Epaphe_DenseTypes.hpp"
+
 #include <Kokkos_Core.hpp>
 
 #include <vector>
 
 namespace epaphe {
-
-using DenseMatrix = Kokkos::View<double**, Kokkos::LayoutLeft>;
-using DenseVector = Kokkos::View<double*>;
 
 class Flexibility {
 public:
