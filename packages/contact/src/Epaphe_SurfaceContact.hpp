@@ -69,6 +69,7 @@
 #include "Epaphe_ContactEnforcement.hpp"
 #include "Epaphe_Flexibility.hpp"
 #include "Epaphe_ReducedModel.hpp"
+#include "Epaphe_RelativeFlexibility.hpp"
 #include "Epaphe_Runtime.hpp"
 
 #include <Kokkos_Core.hpp>
@@ -82,28 +83,8 @@ namespace epaphe {
 
 class CoatingContact;
 
-/// One body's block of the system coordinates: q[offset, offset + size).
-struct ContactBlock {
-  int offset = 0, size = 0;
-};
-
-/// The contact nodes: per node its 3 DOF indices in the system q, its reference position, the block
-/// of its body and a label (its node number in that body, for output).
-struct ContactNodes {
-  std::vector<int> dofs;    // 3 per node
-  std::vector<double> X;    // 3 per node
-  std::vector<int> block;   // 1 per node
-  std::vector<int> labels;  // 1 per node
-  void add(int label, int blk, const int dof[3], const double x[3]) {
-    labels.push_back(label);
-    block.push_back(blk);
-    for (int d = 0; d < 3; ++d) {
-      dofs.push_back(dof[d]);
-      X.push_back(x[d]);
-    }
-  }
-};
-
+/// The contact operator: the detection (ContactDetection), the relative flexibility and the
+/// correction (RelativeFlexibility), the law (ContactEnforcement) and the active set's passes.
 class SurfaceContact {
 public:
   /// The general form: nodes of any bodies against rigid or carried surfaces. `flexibility` is the
@@ -164,15 +145,15 @@ public:
   /// Per node, after correct(): gap before correction (g*) -- or after measureGaps(), the gap at
   /// that q --, force lambda (N, >= 0), surface index (-1: beyond every surface), Newton
   /// iterations, and the total normal force.
-  Kokkos::View<double*>::HostMirror gap() const { return gapH_; }
-  Kokkos::View<double*>::HostMirror force() const { return forceH_; }
-  Kokkos::View<int*>::HostMirror surfaceIndex() const { return surfH_; }
+  Kokkos::View<double*>::HostMirror gap() const { return host_.gap; }
+  Kokkos::View<double*>::HostMirror force() const { return host_.force; }
+  Kokkos::View<int*>::HostMirror surfaceIndex() const { return host_.surf; }
   /// Per node, after correct(): the friction coefficient mu_a actually applied, c_a = n_a + mu_a t_a
   /// (mu while sliding, 0 <= mu_a <= mu when stuck, 0 without contact or tangential force), and the
   /// unit direction t_a of the friction force (zero when there is none); both stay zero when
   /// ContactOptions::friction = 0.
-  Kokkos::View<double*>::HostMirror appliedFriction() const { return muH_; }
-  Kokkos::View<double* [3]>::HostMirror tangent() const { return tangentH_; } int lastIterations() const {
+  Kokkos::View<double*>::HostMirror appliedFriction() const { return host_.mu; }
+  Kokkos::View<double* [3]>::HostMirror tangent() const { return host_.tangent; } int lastIterations() const {
     return lastIterations_;
   }
   /// Passes that added nodes to the active set (lifetime count of steps that needed one).
@@ -201,119 +182,45 @@ public:
   void setCoatingState(const std::vector<double>& state);
 
 private:
+  /// Host copies of the per-node results (the same memory as the views on a host backend).
+  struct HostResults {
+    Kokkos::View<double*>::HostMirror gap, force, mu;
+    Kokkos::View<int*>::HostMirror surf;
+    Kokkos::View<double* [3]>::HostMirror tangent;
+  };
   void detect(const DenseVector& q, bool all);
   void correctImpl(const DenseVector& q, const DenseVector* qCurrent, CostSplit& cost);
-  void motionEntries();    // entries of D_k (spline weights) of every node on a surface
-  void relativeColumns();  // the patch nodes' basis and T (what F D^T needs beyond F), then relativeFlexibility()
-  void relativeFlexibility(const Kokkos::View<int*>& active);  // C_ab = D_a F D_b^T of the active pairs (uploaded)
-  void controlColumns();  // ctrlF_: F times the carried surfaces' interpolation, once
-  // construction, in this order:
-  // blocks_ checked against the flexibility and filled; returns its host copy
-  Kokkos::View<int* [2]>::HostMirror initBlocks(const std::vector<ContactBlock>& blocks,
-                                                const Flexibility& flexibility);
-  // nodeBlk_ checked (each node's DOFs in its body's block) and filled; returns its host copy
-  Kokkos::View<int*>::HostMirror initNodeBlocks(const ContactNodes& nodes,
-                                                const Kokkos::View<int* [2]>::HostMirror& bH);
-  // info_, gridOff_, opOff_, gridDof_, ops_, maxGrid_ of the surfaces (grid DOFs of the carried ones checked)
-  void initCarriedSurfaces(const Kokkos::View<int* [2]>::HostMirror& bH, const Kokkos::View<int*>::HostMirror& blkH);
-  // detection_ and the views shared with it
+  // the steps of correctImpl: the active set of the detection (false: no contact, the step is done);
+  // the nodes that the correction makes penetrate added to it (false: none); the correction applied
+  bool startStep();
+  bool addPenetrating();
+  void finishStep(const DenseVector& q);
+  // construction, after the relative flexibility: detection_, the per-node views, the step's views
   void initDetection(const ContactNodes& nodes);
-  // the per-node work views, their host mirrors and gapTolerance_ (N: system size)
   void initWorkViews(const ContactNodes& nodes, int N);
-  // v_: the views the enforcement sees
   void initStepViews();
 
   ContactOptions opt_;
   std::vector<int> nodes_, nodeBlock_;
   std::vector<ContactSurface> surfaces_;
-  Flexibility::Packed F_;
+  std::unique_ptr<RelativeFlexibility> flex_;
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactEnforcement> enforcement_;
   CoatingContact* coating_ = nullptr;  // enforcement_ when a surface has a coating
-  ContactStepViews v_;                 // what the enforcement sees (views shared with the members)
-  // the detection's views (shared, not copies): per node the selected surface's foot point, normal,
-  // gap; per surface R and its turning data
-  Kokkos::View<int* [3]> dof_;     // q index of each contact node DOF
-  Kokkos::View<int*> nodeBlk_;     // block of each node
-  Kokkos::View<int* [2]> blocks_;  // offset, size of each block
-  // carried surfaces, concatenated: per surface s, grid DOFs from gridOff_(s), interpolation
-  // operators B_u, B_v (row-major) from opOff_(s, 0..1); info_(s) = {block (-1: rigid), nu, nv,
-  // input nv, periodic u, periodic v}
-  Kokkos::View<int* [3]> gridDof_;
-  Kokkos::View<int*> gridOff_;
-  Kokkos::View<int* [2]> opOff_;
-  Kokkos::View<double*> ops_;
-  Kokkos::View<int* [6]> info_;
-  Kokkos::View<double* [2]> foot_;  // foot point (u, v) on the selected surface
-  Kokkos::View<double**> wu_, wv_;  // spline weights of the active nodes' foot points
-  Kokkos::View<int** [3]> entDof_;  // entries of D_k: DOF triples, weights, count
-  Kokkos::View<double**> entW_;
-  Kokkos::View<int*> entN_;
-  Kokkos::View<int*> patch_;             // per node: its surface's block if that has control columns, else -1
-  Kokkos::View<double* [3][3]> entRot_;  // R of each node's surface when its entries were made
-  // F D_k^T, column 3 k + e, is never formed: its part on node k's own dense block is F's columns
-  // at k's DOFs, read in place; a carried surface on a diagonal block has no dense rows; a patch
-  // node's part on its surface's block is needed only on that block's grids (T_: no contact node
-  // is on a body that carries a surface) and in the correction (the control columns). Per patch
-  // node (made by relativeColumns for the active ones): its patch's cubic basis, b(u) then b(v),
-  // and first control point
-  Kokkos::View<double* [8]> pbasis_;
-  Kokkos::View<int* [2]> pcell_;
-  Kokkos::View<double** [3][3]> C_;  // C_ab = D_a F D_b^T (active pairs)
-  Kokkos::View<int*> known_;         // per node: its row and column of C made at this step
-  Kokkos::View<int**> fixedC_;       // per pair: C_ab made from their own entries alone (constant)
-  // per carried surface with control columns (tOff_(s) >= 0): F D_k^T on its grid contracted with
-  // the rows [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
-  // tOff_(s) + 3 nv A + 3 q + e2
-  Kokkos::View<double**, Kokkos::LayoutLeft> T_;
-  Kokkos::View<long*> tOff_;
-  Kokkos::View<int* [2]> needRange_;
-  Kokkos::View<int* [2]>::HostMirror needRangeH_;
-  long tRows_ = 0;
-  // per carried surface on a dense block (offset -1 otherwise): F (B_u x B_v) on the block's rows,
-  // column (e2, a, b) of the extended control grid (nuE x nvE) at ctrlOff_(s) + ((e2 nuE + a) nvE + b) n
-  Kokkos::View<double*> ctrlF_;
-  Kokkos::View<long*> ctrlOff_;
-  Kokkos::View<int* [2]> ctrlDim_;
-  // ...and those columns on the grid of a carried surface s2 of the same block, contracted with B_u
-  // as T is: P(s2, s) at pOff_(s2, s) (-1: other blocks), column (e2, a, b) of s, row 3 nv2 A + 3 q + e2',
-  // so that a node's T on s2 is 16 runs of P's column, not 16 columns of F over the whole block
-  Kokkos::View<double*> P_;
-  Kokkos::View<long**> pOff_;
-  // per carried surface with control columns: the active nodes' coefficients of the correction on
-  // its control columns, at coefOff_(s) + (e2 nuE + a) nvE + b (summed over the nodes, then applied)
-  Kokkos::View<double*> coef_;
-  Kokkos::View<long*> coefOff_;
-
-  int maxGrid_[2] = {0, 0};
-  long long projections_ = 0, projectionsSkipped_ = 0;
+  // what the enforcement sees: the detection's views (shared, not copies), D and C (flex_), and the
+  // per-node results it writes: force, direction c_a, mu_a, t_a
+  ContactStepViews v_;
+  HostResults host_;
+  DenseVector dq_;                // the correction F G lambda
+  Kokkos::View<int*> corrected_;  // nodes added to the active set by the last check
+  double gapTolerance_ = 0.0;     // a corrected gap above -gapTolerance_ adds no node
   double time_ = 0.0;
-  Kokkos::View<double* [3][3]> rot_;     // per surface: R(omega t)
-  Kokkos::View<double* [9]> turn_;       // per surface: omega, axis, center, ...
-  Kokkos::View<double* [3]> footX_;      // foot point in the bodies' frame
-  DenseVector dq_;                       // the correction F G lambda
-  Kokkos::View<int*> corrected_;         // nodes added to the active set by the last check
-  Kokkos::View<int*> skipped_, refine_;  // detection: projection skipped, asked again
-  Kokkos::View<double*> bound_;          // detection: lower bound of a skipped node's gap
-  double gapTolerance_ = 0.0;
+  long long projections_ = 0, projectionsSkipped_ = 0;
+  std::vector<int> activeH_;  // indices of the active nodes
+  int numActive_ = 0, lastIterations_ = 0;
   static constexpr int kMaxAddPasses = 10;
   int lastAddPasses_ = 0;
-  Kokkos::View<double* [3]> x_;  // current positions
-  Kokkos::View<double* [3]> normal_;
-  Kokkos::View<double* [3]> tangent_;  // t_a (unit, or zero)
-  Kokkos::View<double* [3]> dir_;      // c_a = n_a + mu_a t_a (VCT, eq. 2.31)
-  Kokkos::View<double*> mu_;           // mu_a applied
-  int lastFrictionPasses_ = 0;         // passes of the last stick/slide classification
-  Kokkos::View<double*>::HostMirror muH_;
-  Kokkos::View<double* [3]>::HostMirror tangentH_;
-  Kokkos::View<double*> gap_, force_;
-  Kokkos::View<int*> surf_;
-  Kokkos::View<double*>::HostMirror gapH_, forceH_;
-  Kokkos::View<int*>::HostMirror surfH_;
-  Kokkos::View<int*> active_;  // indices of active nodes
-  std::vector<int> activeH_;
-  int numActive_ = 0;
-  int lastIterations_ = 0;
+  int lastFrictionPasses_ = 0;  // passes of the last stick/slide classification
 };
 
 }  // namespace epaphe

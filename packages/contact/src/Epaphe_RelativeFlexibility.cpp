@@ -1,0 +1,643 @@
+#include "Epaphe_RelativeFlexibility.hpp"
+
+#include "Epaphe_Error.hpp"
+#include "Epaphe_Parallel.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace epaphe {
+
+namespace {
+
+/// True when system DOF `dof` lies in block b, [offset, offset + size) of the blocks' host copy bH.
+bool inBlock(const Kokkos::View<int* [2]>::HostMirror& bH, int dof, int b) {
+  const int nb = static_cast<int>(bH.extent(0));
+  return b >= 0 && b < nb && dof >= bH(b, 0) && dof < bH(b, 0) + bH(b, 1);
+}
+
+}  // namespace
+
+RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const std::vector<ContactBlock>& blocks,
+                                         const ContactNodes& nodes, std::vector<ContactSurface>& surfaces)
+    : F_(flexibility.pack()) {
+  initBlocks(blocks, flexibility);
+  initNodeBlocks(nodes);
+  initCarriedSurfaces(nodes, surfaces);
+  controlColumns(surfaces);
+  const int nc = static_cast<int>(nodes.labels.size());
+  wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, carried_.maxGrid[0]);
+  wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, carried_.maxGrid[1]);
+  pbasis_ = Kokkos::View<double* [8]>("epaphe::contact::patch_basis", nc);
+  pcell_ = Kokkos::View<int* [2]>("epaphe::contact::patch_cell", nc);
+  T_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::BuFDt", ctrl_.tRows, 3 * nc);
+  const int maxEntries = 1 + std::min(carried_.maxGrid[0], 46) * std::min(carried_.maxGrid[1], 46);
+  D_.dof = Kokkos::View<int** [3]>("epaphe::contact::entry_dof", nc, maxEntries);
+  D_.w = Kokkos::View<double**>("epaphe::contact::entry_weight", nc, maxEntries);
+  D_.count = Kokkos::View<int*>("epaphe::contact::entries", nc);
+  patch_ = Kokkos::View<int*>("epaphe::contact::patch_block", nc);
+  D_.rot = Kokkos::View<double* [3][3]>("epaphe::contact::entry_rotation", nc);
+  C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
+  known_ = Kokkos::View<int*>("epaphe::contact::known_rows", nc);
+  fixedC_ = Kokkos::View<int**>("epaphe::contact::fixed_pairs", nc, nc);
+}
+
+void RelativeFlexibility::update(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
+                                 const Kokkos::View<int*>::HostMirror& surfH, const DetectionViews& dv) {
+  relativeColumns(activeH, active, surfH, dv);
+  relativePairs(activeH, active, dv);
+}
+
+void RelativeFlexibility::forgetPairs() {
+  fill(known_, 0);
+}
+
+void RelativeFlexibility::initBlocks(const std::vector<ContactBlock>& blocks, const Flexibility& flexibility) {
+  const int N = flexibility.size();
+  EPAPHE_REQUIRE(flexibility.numBlocks() == static_cast<int>(blocks.size()),
+                 "contact: the flexibility has " << flexibility.numBlocks() << " blocks, the bodies " << blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    EPAPHE_REQUIRE(flexibility.offset(b) == blocks[b].offset && flexibility.blockSize(b) == blocks[b].size,
+                   "contact: block " << b << " of the flexibility is [" << flexibility.offset(b) << ", "
+                                     << flexibility.offset(b) + flexibility.blockSize(b) << "), its body's ["
+                                     << blocks[b].offset << ", " << blocks[b].offset + blocks[b].size << ")");
+  const int nb = static_cast<int>(blocks.size());
+  blocks_ = Kokkos::View<int* [2]>("epaphe::contact::blocks", nb);
+  auto bH = Kokkos::create_mirror_view(blocks_);  // (host memory: the same view)
+  for (int b = 0; b < nb; ++b) {
+    EPAPHE_REQUIRE(blocks[b].offset >= 0 && blocks[b].size > 0 && blocks[b].offset + blocks[b].size <= N,
+                   "contact: block " << b << " [" << blocks[b].offset << ", " << blocks[b].offset + blocks[b].size
+                                     << ") does not fit the " << N << " system coordinates");
+    bH(b, 0) = blocks[b].offset;
+    bH(b, 1) = blocks[b].size;
+  }
+  Kokkos::deep_copy(blocks_, bH);
+}
+
+void RelativeFlexibility::initNodeBlocks(const ContactNodes& nodes) {
+  const int nc = static_cast<int>(nodes.labels.size());
+  const auto bH = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), blocks_);
+  nodeBlk_ = Kokkos::View<int*>("epaphe::contact::node_block", nc);
+  auto blkH = Kokkos::create_mirror_view(nodeBlk_);
+  EPAPHE_REQUIRE(nodes.dofs.size() == 3 * std::size_t(nc) && nodes.X.size() == 3 * std::size_t(nc) &&
+                     nodes.block.size() == std::size_t(nc),
+                 "contact: the node arrays disagree in size");
+  for (int k = 0; k < nc; ++k) {
+    blkH(k) = nodes.block[k];
+    for (int d = 0; d < 3; ++d)
+      EPAPHE_REQUIRE(inBlock(bH, nodes.dofs[3 * k + d], blkH(k)),
+                     "contact: node " << nodes.labels[k] << " DOF " << nodes.dofs[3 * k + d]
+                                      << " is outside its body's block " << blkH(k));
+  }
+  Kokkos::deep_copy(nodeBlk_, blkH);
+}
+
+void RelativeFlexibility::initCarriedSurfaces(const ContactNodes& nodes, std::vector<ContactSurface>& surfaces) {
+  // Carried surfaces: grid DOFs and interpolation operators, concatenated.
+  const auto bH = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), blocks_);
+  const auto blkH = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nodeBlk_);
+  const int nc = static_cast<int>(nodes.labels.size());
+  const int ns = static_cast<int>(surfaces.size());
+  carried_.info = Kokkos::View<int* [6]>("epaphe::contact::surface_info", ns);
+  carried_.gridOff = Kokkos::View<int*>("epaphe::contact::grid_offset", ns);
+  carried_.opOff = Kokkos::View<int* [2]>("epaphe::contact::operator_offset", ns);
+  auto infoH = Kokkos::create_mirror_view(carried_.info);
+  auto goH = Kokkos::create_mirror_view(carried_.gridOff);
+  auto ooH = Kokkos::create_mirror_view(carried_.opOff);
+  std::vector<int> gd;
+  std::vector<double> ops;
+  for (int s = 0; s < ns; ++s) {
+    ContactSurface& cs = surfaces[s];
+    if (cs.moving) cs.surface = cs.moving;
+    EPAPHE_REQUIRE(cs.surface, "contact: surface " << s << " is null");
+    const BSplineSurface& S = *cs.surface;
+    infoH(s, 0) = cs.moving ? cs.block : -1;
+    infoH(s, 1) = S.nu();
+    infoH(s, 2) = S.nv();
+    infoH(s, 3) = S.inputNv();
+    infoH(s, 4) = S.periodicU();
+    infoH(s, 5) = S.periodicV();
+    goH(s) = static_cast<int>(gd.size() / 3);
+    ooH(s, 0) = static_cast<int>(ops.size());
+    ops.insert(ops.end(), S.operatorU().begin(), S.operatorU().end());
+    ooH(s, 1) = static_cast<int>(ops.size());
+    ops.insert(ops.end(), S.operatorV().begin(), S.operatorV().end());
+    if (!cs.moving) continue;
+    const std::size_t ng = std::size_t(S.inputNu()) * S.inputNv();
+    EPAPHE_REQUIRE(cs.gridDofs.size() == 3 * ng && cs.gridX.size() == 3 * ng,
+                   "contact: surface '" << S.name() << "' has " << ng << " grid nodes but " << cs.gridDofs.size() / 3
+                                        << " grid DOF triples and " << cs.gridX.size() / 3 << " positions");
+    for (std::size_t g = 0; g < 3 * ng; ++g)
+      EPAPHE_REQUIRE(
+          cs.gridDofs[g] < 0 || inBlock(bH, cs.gridDofs[g], cs.block),
+          "contact: surface '" << S.name() << "' grid DOF " << cs.gridDofs[g] << " is outside its body's block");
+    for (int k = 0; k < nc; ++k)
+      EPAPHE_REQUIRE(blkH(k) != cs.block, "contact: node " << nodes.labels[k]
+                                                           << " belongs to the body that carries surface '" << S.name()
+                                                           << "'; self-contact is not supported");
+    gd.insert(gd.end(), cs.gridDofs.begin(), cs.gridDofs.end());
+    carried_.maxGrid[0] = std::max(carried_.maxGrid[0], S.nu());
+    carried_.maxGrid[1] = std::max(carried_.maxGrid[1], S.nv());
+  }
+  carried_.gridDof = Kokkos::View<int* [3]>("epaphe::contact::grid_dof", gd.size() / 3);
+  auto gdH = Kokkos::create_mirror_view(carried_.gridDof);
+  for (std::size_t g = 0; g < gd.size() / 3; ++g)
+    for (int d = 0; d < 3; ++d) gdH(g, d) = gd[3 * g + d];
+  Kokkos::deep_copy(carried_.gridDof, gdH);
+  carried_.ops = Kokkos::View<double*>("epaphe::contact::operators", ops.size());
+  Kokkos::deep_copy(
+      carried_.ops,
+      Kokkos::View<const double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(ops.data(), ops.size()));
+  Kokkos::deep_copy(carried_.info, infoH);
+  Kokkos::deep_copy(carried_.gridOff, goH);
+  Kokkos::deep_copy(carried_.opOff, ooH);
+}
+
+void RelativeFlexibility::controlColumns(const std::vector<ContactSurface>& surfaces) {
+  // Per carried surface on a dense block, per direction e2 and control point (a, b) of the
+  // extended grid: G(:, e2, a, b) = sum_pq B_u(a, p) B_v(b, q) F(:, grid DOF (p, q, e2)) over the
+  // block's rows. The grid nodes' weights at a foot point are w_pq = sum_rs b_r b_s B_u(i + r, p)
+  // B_v(j + s, q) (eqs. 2.22, 2.26), so a node's column F D^T on that block is -R sum_rs b_r b_s
+  // G(:, ., i + r, j + s): 16 columns of the block instead of every grid node with a weight (up to
+  // 46 x 46). F and the operators do not change: built once here.
+  const int ns = static_cast<int>(surfaces.size());
+  ctrl_.off = Kokkos::View<long*>("epaphe::contact::control_offset", ns);
+  ctrl_.dim = Kokkos::View<int* [2]>("epaphe::contact::control_dims", ns);
+  std::vector<double> G;
+  for (int s = 0; s < ns; ++s) {
+    ctrl_.off(s) = -1;
+    const ContactSurface& cs = surfaces[s];
+    if (!cs.moving) continue;
+    const int blk = cs.block, b0 = F_.blocks(blk, 0), n = F_.blocks(blk, 1);
+    if (F_.denseRow(b0) < 0) continue;  // a diagonal block: the entries' path
+    const BSplineSurface& S = *cs.surface;
+    const int nu = S.nu(), nv = S.nv(), inNv = S.inputNv();
+    const int nuE = static_cast<int>(S.operatorU().size()) / nu, nvE = static_cast<int>(S.operatorV().size()) / nv;
+    const std::vector<double>&Bu = S.operatorU(), &Bv = S.operatorV();
+    ctrl_.off(s) = static_cast<long>(G.size());
+    ctrl_.dim(s, 0) = nuE;
+    ctrl_.dim(s, 1) = nvE;
+    G.resize(G.size() + 3 * static_cast<std::size_t>(nuE) * nvE * n, 0.0);
+    std::vector<double> T(static_cast<std::size_t>(nuE) * nv * n);
+    const std::size_t start = F_.start(blk);
+    for (int e2 = 0; e2 < 3; ++e2) {
+      std::fill(T.begin(), T.end(), 0.0);  // T(:, a, q) = sum_p B_u(a, p) F(:, (p, q, e2))
+      for (int p = 0; p < nu; ++p)
+        for (int q = 0; q < nv; ++q) {
+          const int j = cs.gridDofs[3 * (static_cast<std::size_t>(p) * inNv + q) + e2];
+          if (j < 0) continue;  // clamped
+          const double* col = &F_.dense(start + static_cast<std::size_t>(j - b0) * n);
+          for (int a = 0; a < nuE; ++a) {
+            const double w = Bu[static_cast<std::size_t>(a) * nu + p];
+            if (w == 0.0) continue;
+            double* t = &T[(static_cast<std::size_t>(a) * nv + q) * n];
+            for (int r = 0; r < n; ++r) t[r] += w * col[r];
+          }
+        }
+      for (int a = 0; a < nuE; ++a)  // G(:, e2, a, b) = sum_q B_v(b, q) T(:, a, q)
+        for (int b = 0; b < nvE; ++b) {
+          double* g = &G[ctrl_.off(s) + ((static_cast<std::size_t>(e2) * nuE + a) * nvE + b) * n];
+          for (int q = 0; q < nv; ++q) {
+            const double w = Bv[static_cast<std::size_t>(b) * nv + q];
+            if (w == 0.0) continue;
+            const double* t = &T[(static_cast<std::size_t>(a) * nv + q) * n];
+            for (int r = 0; r < n; ++r) g[r] += w * t[r];
+          }
+        }
+    }
+  }
+  gridColumns(surfaces, G);
+}
+
+void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surfaces, const std::vector<double>& G) {
+  const int ns = static_cast<int>(surfaces.size());
+  // T (relativeColumns), per carried surface with control columns: rows ctrl_.tOff(s) + 3 nv A + 3 q + e2
+  // (a patch's rows A = i..i+3 are one contiguous run); for P below, the dense rows of its grid DOFs
+  // at gridRowOff[s] + (3 q + e2) nu + p (-1: clamped), and B_u transposed at buOff[s] + p nuE + A
+  ctrl_.tOff = Kokkos::View<long*>("epaphe::contact::T_offset", ns);
+  std::vector<long> gridRowOff(ns, -1), buOff(ns, -1);
+  needRange_ = Kokkos::View<int* [2]>("epaphe::contact::needed_rows", ns);
+  needRangeH_ = Kokkos::create_mirror_view(needRange_);
+  std::vector<int> rows;
+  std::vector<double> buT;
+  long tRows = 0;
+  for (int s = 0; s < ns; ++s) {
+    ctrl_.tOff(s) = -1;
+    if (ctrl_.off(s) < 0) continue;
+    const ContactSurface& cs = surfaces[s];
+    const BSplineSurface& S = *cs.surface;
+    const int nu = S.nu(), nv = S.nv(), inNv = S.inputNv(), nuE = ctrl_.dim(s, 0);
+    ctrl_.tOff(s) = tRows;
+    tRows += 3L * nuE * nv;
+    gridRowOff[s] = static_cast<long>(rows.size());
+    for (int q = 0; q < nv; ++q)
+      for (int e2 = 0; e2 < 3; ++e2)
+        for (int p = 0; p < nu; ++p) {
+          const int j = cs.gridDofs[3 * (static_cast<std::size_t>(p) * inNv + q) + e2];
+          rows.push_back(j < 0 ? -1 : F_.denseRow(j));
+        }
+    buOff[s] = static_cast<long>(buT.size());
+    for (int p = 0; p < nu; ++p)
+      for (int a = 0; a < nuE; ++a) buT.push_back(S.operatorU()[static_cast<std::size_t>(a) * nu + p]);
+  }
+  ctrl_.tRows = tRows;
+  ctrl_.G = Kokkos::View<double*>("epaphe::contact::control_columns", G.size());
+  for (std::size_t i = 0; i < G.size(); ++i) ctrl_.G(i) = G[i];
+  // P(s2, s) for two surfaces with control columns on one block: s's control columns G on s2's grid
+  // rows, contracted with s2's B_u as T is, P(:, c) = sum_p B_u(A, p) G(grid row (p, q, e2'), c). It
+  // is about G's size (s2's grid rows are most of the block's).
+  ctrl_.pOff = Kokkos::View<long**>("epaphe::contact::P_offset", ns, ns);
+  ctrl_.coefOff = Kokkos::View<long*>("epaphe::contact::coefficient_offset", ns);
+  std::vector<double> P;
+  long coefs = 0;
+  for (int s2 = 0; s2 < ns; ++s2) {
+    ctrl_.coefOff(s2) = -1;
+    if (ctrl_.off(s2) >= 0) {
+      ctrl_.coefOff(s2) = coefs;
+      coefs += 3L * ctrl_.dim(s2, 0) * ctrl_.dim(s2, 1);
+    }
+    for (int s = 0; s < ns; ++s) {
+      ctrl_.pOff(s2, s) = -1;
+      if (ctrl_.tOff(s2) < 0 || ctrl_.off(s) < 0 || surfaces[s].block != surfaces[s2].block) continue;
+      const int blk = surfaces[s].block, n = F_.blocks(blk, 1), r0 = F_.denseRow(F_.blocks(blk, 0));
+      const int nu2 = surfaces[s2].surface->nu(), nv2 = surfaces[s2].surface->nv(), nuE2 = ctrl_.dim(s2, 0);
+      const long rowsP = 3L * nv2 * nuE2, cols = 3L * ctrl_.dim(s, 0) * ctrl_.dim(s, 1);
+      ctrl_.pOff(s2, s) = static_cast<long>(P.size());
+      P.resize(P.size() + rowsP * cols, 0.0);
+      for (long c = 0; c < cols; ++c) {
+        const double* g = &G[ctrl_.off(s) + c * n];
+        double* out = &P[ctrl_.pOff(s2, s) + c * rowsP];
+        for (int qe = 0; qe < 3 * nv2; ++qe)
+          for (int p = 0; p < nu2; ++p) {
+            const int j = rows[gridRowOff[s2] + static_cast<long>(qe) * nu2 + p];
+            const double y = j >= 0 ? g[j - r0] : 0.0;
+            if (y == 0.0) continue;
+            const double* b = &buT[buOff[s2] + static_cast<long>(p) * nuE2];
+            for (int A = 0; A < nuE2; ++A) out[static_cast<long>(A) * 3 * nv2 + qe] += b[A] * y;
+          }
+      }
+    }
+  }
+  ctrl_.P = Kokkos::View<double*>("epaphe::contact::control_columns_on_grids", P.size());
+  for (std::size_t i = 0; i < P.size(); ++i) ctrl_.P(i) = P[i];
+  ctrl_.coef = Kokkos::View<double*>("epaphe::contact::control_coefficients", coefs);
+}
+
+void RelativeFlexibility::motionEntries(const DetectionViews& dv) {
+  // For every node on a surface: the entries of D_k, i.e. the spline weights of its foot point on
+  // a carried surface.
+  const auto foot = dv.foot;
+  const auto ops = carried_.ops;
+  const auto opOff = carried_.opOff;
+  const auto info = carried_.info;
+  const auto surf = dv.selected;
+  const auto gridOff = carried_.gridOff;
+  const auto gridDof = carried_.gridDof;
+  const auto dof = dv.dof;
+  const auto wu = wu_, wv = wv_;
+  const auto entDof = D_.dof;
+  const auto entW = D_.w;
+  const auto entN = D_.count;
+  const auto entRot = D_.rot;
+  const auto rot = dv.rot;
+  const auto patch = patch_;
+  const auto ctrlOff = ctrl_.off;
+  const int maxE = static_cast<int>(D_.w.extent(1));
+  forEach(
+      "epaphe::contact::relative_motion", static_cast<long>(dv.gap.extent(0)),
+      30L + 20L * (maxE > 1 ? 2 * (wu.extent(1) + wv.extent(1)) + maxE : 0), KOKKOS_LAMBDA(const int k) {
+        for (int d = 0; d < 3; ++d) entDof(k, 0, d) = dof(k, d);
+        entW(k, 0) = 1.0;
+        int m = 1;
+        const int s = surf(k);
+        for (int d = 0; d < 3; ++d)  // R of the surface at this detection (identity when it does not turn)
+          for (int e = 0; e < 3; ++e) entRot(k, d, e) = s >= 0 ? rot(s, d, e) : (d == e ? 1.0 : 0.0);
+        if (s >= 0 && info(s, 0) >= 0) {
+          // w_p = sum_r b_r B(i + r, p): the cubic basis (eq. 2.22) contracted with the rows of the
+          // interpolation operator (eq. 2.26, row-major n_ext x n) the patch reads
+          for (int dir = 0; dir < 2; ++dir) {
+            const int n = info(s, 1 + dir);
+            const auto& wgt = dir == 0 ? wu : wv;
+            int i;
+            double t, bs[4], db[4], ddb[4], wmax = 0.0;
+            surface_detail::locate(foot(k, dir), n, info(s, 4 + dir) != 0, i, t);
+            surface_detail::cubicBasis(t, bs, db, ddb);
+            for (int p = 0; p < n; ++p) {
+              double x = 0.0;
+              for (int r = 0; r < 4; ++r) x += bs[r] * ops(opOff(s, dir) + (i + r) * n + p);
+              wgt(k, p) = x;
+              wmax = ::fabs(x) > wmax ? ::fabs(x) : wmax;
+            }
+            for (int p = 0; p < n; ++p)  // they decay like 0.27^distance: at most 46 are kept
+              if (::fabs(wgt(k, p)) < 1e-12 * wmax) wgt(k, p) = 0.0;
+          }
+          const int nu = info(s, 1), nv = info(s, 2), inNv = info(s, 3), off = gridOff(s);
+          for (int p = 0; p < nu; ++p) {
+            if (wu(k, p) == 0.0) continue;
+            for (int q = 0; q < nv && m < maxE; ++q) {
+              if (wv(k, q) == 0.0) continue;
+              const int g = off + p * inNv + q;
+              for (int d = 0; d < 3; ++d) entDof(k, m, d) = gridDof(g, d);
+              entW(k, m) = -wu(k, p) * wv(k, q);
+              ++m;
+            }
+          }
+        }
+        entN(k) = m;
+        patch(k) = s >= 0 && ctrlOff(s) >= 0 && m > 1 ? info(s, 0) : -1;
+      });
+}
+
+void RelativeFlexibility::relativeColumns(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
+                                          const Kokkos::View<int*>::HostMirror& surfH, const DetectionViews& dv) {
+  // For the active nodes: what C_ab = D_a F D_b^T needs of F D_b^T beyond F itself. Its part on
+  // node b's own (dense) block is F's columns at b's DOFs, read in place; a carried surface on a
+  // diagonal block has no dense rows; so only a patch node (its surface's block has control
+  // columns) has a part to form: T on the grids of that block (eq. 2.26), and its patch's basis.
+  // Then C_ab = D_a (F D_b^T).
+  const int nA = static_cast<int>(activeH.size());
+  const auto surf = dv.selected;
+  const auto info = carried_.info;
+  const auto patch = patch_;
+  const auto pbasis = pbasis_;
+  const auto pcell = pcell_;
+  const auto ctrlDim = ctrl_.dim;
+  const auto rot = D_.rot;
+  const auto T = T_;
+  const auto tOff = ctrl_.tOff;
+  const auto need = needRange_;
+  const auto Pm = ctrl_.P;
+  const auto pOff = ctrl_.pOff;
+  const int ns = static_cast<int>(carried_.info.extent(0));
+  if (ctrl_.tRows > 0) {
+    // per patch node, its patch: the first control point (i, j) and the cubic basis of the foot
+    // point (eq. 2.22), read below, by C and by the correction; per surface, the rows of B_u that
+    // the patches of the active nodes read
+    for (int s = 0; s < ns; ++s) {
+      needRangeH_(s, 0) = 1 << 30;
+      needRangeH_(s, 1) = -1;
+    }
+    for (int a = 0; a < nA; ++a) {
+      const int k = activeH[a], s = surfH(k);
+      if (patch_(k) < 0) continue;
+      int i, j;
+      double tu, tv, bu[4], bv[4], d1[4], d2[4];
+      surface_detail::locate(dv.foot(k, 0), carried_.info(s, 1), carried_.info(s, 4) != 0, i, tu);
+      surface_detail::locate(dv.foot(k, 1), carried_.info(s, 2), carried_.info(s, 5) != 0, j, tv);
+      surface_detail::cubicBasis(tu, bu, d1, d2);
+      surface_detail::cubicBasis(tv, bv, d1, d2);
+      pcell_(k, 0) = i;
+      pcell_(k, 1) = j;
+      for (int r = 0; r < 4; ++r) {
+        pbasis_(k, r) = bu[r];
+        pbasis_(k, 4 + r) = bv[r];
+      }
+      needRangeH_(s, 0) = std::min(needRangeH_(s, 0), i);
+      needRangeH_(s, 1) = std::max(needRangeH_(s, 1), i + 3);
+    }
+    copy(needRange_, needRangeH_);
+    const long work = 600L * carried_.maxGrid[1] + 10;
+    forEach(
+        "epaphe::contact::relative_columns", 3 * nA, work, KOKKOS_LAMBDA(const int ae) {
+          const int k = active(ae / 3), e = ae % 3, c = 3 * k + e;
+          const int s = surf(k), pb = patch(k);
+          // a patch node's part on its surface's block comes from the 4 x 4 control points of its
+          // patch, w_ab = -R(e, e2) b_a b_b (D_k's grid part: -R sum w_pq u_pq), instead of the grid
+          // nodes' entries
+          // T(:, c): column c on the grid of each carried surface s2 with control columns on the
+          // block of node k's surface, contracted with the rows A of B_u that the active patches
+          // read (eq. 2.26): T(s2; A, q, e2) = sum_p B_u(A, p) (F D_k^T)(grid DOF (p, q, e2), e),
+          // 16 columns of P. (F D_k^T has no other part on a grid: no contact node is on a body
+          // that carries a surface, so k's own block carries none.)
+          for (int s2 = 0; s2 < ns; ++s2) {
+            const int blk2 = info(s2, 0), lo = need(s2, 0), hi = need(s2, 1);
+            if (tOff(s2) < 0 || hi < lo || !(s >= 0 && info(s, 0) == blk2)) continue;
+            const int nv = info(s2, 2), nuE = ctrlDim(s2, 0);
+            const int m = 3 * nv;  // T's rows A = lo..hi: one run of (hi - lo + 1) m
+            double* t = &T(tOff(s2) + static_cast<long>(lo) * m, c);
+            for (int x = 0; x < (hi - lo + 1) * m; ++x) t[x] = 0.0;
+            if (pb != blk2) continue;
+            const long rowsP = 3L * nv * nuE;
+            const int nuEs = ctrlDim(s, 0), nvEs = ctrlDim(s, 1);
+            for (int e2 = 0; e2 < 3; ++e2) {
+              const double w = -rot(k, e, e2);
+              if (w == 0.0) continue;
+              for (int a = 0; a < 4; ++a)
+                for (int b = 0; b < 4; ++b) {
+                  const double wab = w * pbasis(k, a) * pbasis(k, 4 + b);
+                  const double* pc =
+                      &Pm(pOff(s2, s) +
+                          ((static_cast<long>(e2) * nuEs + pcell(k, 0) + a) * nvEs + pcell(k, 1) + b) * rowsP) +
+                      static_cast<long>(lo) * m;
+                  for (int x = 0; x < (hi - lo + 1) * m; ++x) t[x] += wab * pc[x];
+                }
+            }
+          }
+        });
+    fence();
+  }
+}
+
+void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
+                                        const DetectionViews& dv) {
+  const int nA = static_cast<int>(activeH.size());
+  const auto surf = dv.selected;
+  const auto info = carried_.info;
+  const auto F = F_;
+  const auto T = T_;
+  const auto tOff = ctrl_.tOff;
+  const auto nodeBlk = nodeBlk_;
+  const auto patch = patch_;
+  const auto blocks = blocks_;
+  const auto pcell = pcell_;
+  const auto pbasis = pbasis_;
+  const auto wv = wv_;
+  const auto C = C_;
+  const auto known = known_;
+  const auto fixed = fixedC_;
+  const RelativeMotion D = D_;
+  // C_ab = D_a (F D_b^T), one active node a per iteration, every b unless both were active at the
+  // last pass of this step too (D and F do not change within a step: C_ab was made then).
+  // Node a's own part reads F D_b^T at a's DOFs: F's block at (a's DOFs, b's) when both are in one
+  // dense block, else 0 (a's body carries no surface: no patch of b's is on it), FlexibleColumn in
+  // a diagonal block. On a carried surface with control columns its grid part is
+  // -R_a sum_pq w_p w_q (F D_b^T)(grid node pq) = -R_a sum_r b_r sum_q w_q T_b(i + r, q), the cubic
+  // basis b_r of the foot point's patch i (eqs. 2.22, 2.26); on one with none (a diagonal block)
+  // D_a's entries are walked.
+  // Two nodes whose D has its own entry alone (a body's node against a rigid or turning surface:
+  // weight 1 on its DOFs, the turn applied to the gap's normal, not to D) have C_ab = F's block at
+  // their DOFs, the same at every step: made once and kept (fixedC_), where it was made again at
+  // every step with contact (rotor37-massless, frictionless: 7 % of its loop, 117 pairs a step).
+  forEach(
+      "epaphe::contact::relative_flexibility", nA, 30L * static_cast<long>(D_.w.extent(1)) * nA,
+      KOKKOS_LAMBDA(const int a) {
+        const int ka = active(a), sa = surf(ka), pa = patch(ka);
+        const bool direct = D.count(ka) == 1 || pa >= 0;
+        const bool ownOnly = D.count(ka) == 1 && pa < 0;  // D_a is its own entry alone
+        const double w0 = D.w(ka, 0);
+        const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
+        int dof[3];
+        double R[3][3];
+        for (int d = 0; d < 3; ++d) {
+          dof[d] = D.dof(ka, 0, d);
+          for (int e = 0; e < 3; ++e) R[d][e] = D.rot(ka, d, e);
+        }
+        const bool dense = F.denseRow(dof[0]) >= 0;  // a's block is dense
+        const int nv = pa >= 0 ? info(sa, 2) : 0;
+        const long t0 = pa >= 0 ? tOff(sa) + 3L * nv * pcell(ka, 0) : 0;  // (its patch: relativeColumns)
+        for (int b = 0; b < nA; ++b) {
+          const int kb = active(b);
+          const bool constant = ownOnly && D.count(kb) == 1 && patch(kb) < 0;
+          if ((known(ka) && known(kb)) || (constant && fixed(ka, kb))) continue;
+          fixed(ka, kb) = constant ? 1 : 0;
+          if (!direct) {
+            for (int e = 0; e < 3; ++e) {
+              const FlexibleColumn col{F, D, nodeBlk, kb, e};
+              double r[3];
+              D.apply(ka, col, r);
+              for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = r[d];
+            }
+            continue;
+          }
+          double own[3][3];
+          if (dense && nodeBlk(kb) == blk) {  // F's block
+            const double wb = D.w(kb, 0);
+            for (int e = 0; e < 3; ++e) {
+              const double* col = &F.dense(F.start(blk) + static_cast<std::size_t>(D.dof(kb, 0, e) - b0) * n);
+              for (int d = 0; d < 3; ++d) own[d][e] = w0 * (wb * col[dof[d] - b0]);
+            }
+          } else if (dense) {
+            for (int e = 0; e < 3; ++e)
+              for (int d = 0; d < 3; ++d) own[d][e] = 0.0;
+          } else {
+            for (int e = 0; e < 3; ++e)
+              for (int d = 0; d < 3; ++d) own[d][e] = w0 * FlexibleColumn{F, D, nodeBlk, kb, e}(dof[d]);
+          }
+          if (pa >= 0) {                                                           // the grid part, R_a g
+            double g[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // g[e][e2]
+            if (surf(kb) >= 0 && info(surf(kb), 0) == pa) {
+              for (int e = 0; e < 3; ++e) {  // T's rows of the patch, (r, q, e2), are one run of 12 nv
+                const double* tc = &T(t0, 3 * kb + e);
+                for (int r = 0; r < 4; ++r, tc += 3 * nv)
+                  for (int q = 0; q < nv; ++q) {
+                    const double w = pbasis(ka, r) * wv(ka, q);
+                    g[e][0] -= w * tc[3 * q];
+                    g[e][1] -= w * tc[3 * q + 1];
+                    g[e][2] -= w * tc[3 * q + 2];
+                  }
+              }
+            }
+            for (int d = 0; d < 3; ++d)
+              for (int e = 0; e < 3; ++e)
+                own[d][e] = own[d][e] + R[d][0] * g[e][0] + R[d][1] * g[e][1] + R[d][2] * g[e][2];
+          }
+          for (int d = 0; d < 3; ++d)
+            for (int e = 0; e < 3; ++e) C(ka, kb, d, e) = own[d][e];
+        }
+      });
+  fence();
+  // known: active at this pass (C_ab is reused only for two nodes active together at the last pass)
+  for (std::size_t k = 0; k < known_.extent(0); ++k) known_(k) = 0;
+  for (int a = 0; a < nA; ++a) known_(activeH[a]) = 1;
+}
+
+void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, const Kokkos::View<double*>& force,
+                                     const Kokkos::View<double* [3]>& dir, const Kokkos::View<int*>& surf,
+                                     const DenseVector& dq, int n) const {
+  // dq = F G lambda (eqs. 2.35-2.36), G_a = D_a^T c_a. On the dense rows of F: node a's own part,
+  // F's columns at its DOFs, and a patch node's part on its surface's block, F (B_u x B_v) x, the
+  // control columns times the control points' coefficients x summed over the nodes first. On a
+  // diagonal block, dq_i = F_ii (sum_a D_a^T c_a lambda_a)_i, scattered from the entries of D (one
+  // thread: the same sums in the same order on any number of threads).
+  const auto F = F_;
+  const auto act = active;  // ascending: the sums below run in node order
+  const int T = Kokkos::DefaultHostExecutionSpace().concurrency();
+  const auto blocks = blocks_;
+  const auto nodeBlk = nodeBlk_;
+  const auto dof = D_.dof;  // entry 0: the node's own DOFs
+  const auto patch = patch_;
+  const auto coefOff = ctrl_.coefOff;
+  const auto ctrlOff = ctrl_.off;
+  const auto ctrlDim = ctrl_.dim;
+  const auto coef = ctrl_.coef;
+  const auto ctrl = ctrl_.G;
+  const auto info = carried_.info;
+  const int ns = static_cast<int>(carried_.info.extent(0));
+  const bool patches = ctrl_.coef.extent(0) > 0;
+  if (patches) {  // x = -sum_k lambda_k b_a b_b R_k^T c_k, over the patch nodes in node order
+    const auto rot = D_.rot;
+    const auto pbasis = pbasis_;
+    const auto pcell = pcell_;
+    forEach(
+        "epaphe::contact::control_coefficients", 1, 0, KOKKOS_LAMBDA(const int) {
+          for (std::size_t x = 0; x < coef.extent(0); ++x) coef(x) = 0.0;
+          for (int a = 0; a < nA; ++a) {
+            const int k = act(a), s = surf(k);
+            const double l = force(k);
+            if (l == 0.0 || patch(k) < 0) continue;
+            const int nuE = ctrlDim(s, 0), nvE = ctrlDim(s, 1), i = pcell(k, 0), j = pcell(k, 1);
+            for (int e2 = 0; e2 < 3; ++e2) {
+              const double c = -l * (rot(k, 0, e2) * dir(k, 0) + rot(k, 1, e2) * dir(k, 1) + rot(k, 2, e2) * dir(k, 2));
+              if (c == 0.0) continue;
+              for (int r = 0; r < 4; ++r)
+                for (int t = 0; t < 4; ++t)
+                  coef(coefOff(s) + (static_cast<long>(e2) * nuE + i + r) * nvE + j + t) +=
+                      c * pbasis(k, r) * pbasis(k, 4 + t);
+            }
+          }
+        });
+  }
+  // One block of rows per thread, each active node's three columns of F walked down it (F is
+  // column-major); each dq_i sums its terms in node order on any number of threads
+  forEach(
+      "epaphe::contact::correction", T, 3L * n * nA / T, KOKKOS_LAMBDA(const int t) {
+        const int i0 = static_cast<int>(static_cast<long>(n) * t / T),
+                  i1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
+        for (int i = i0; i < i1; ++i) dq(i) = 0.0;
+        for (int a = 0; a < nA; ++a) {
+          const int k = act(a), blk = nodeBlk(k), b0 = blocks(blk, 0), n = blocks(blk, 1);
+          const double l = force(k);
+          if (l == 0.0 || F.denseRow(b0) < 0) continue;
+          const double d0 = dir(k, 0), d1 = dir(k, 1), d2 = dir(k, 2);
+          const double* f0 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0, 0) - b0) * n);
+          const double* f1 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0, 1) - b0) * n);
+          const double* f2 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0, 2) - b0) * n);
+          const int lo = i0 > b0 ? i0 : b0, hi = i1 < b0 + n ? i1 : b0 + n;
+          for (int i = lo; i < hi; ++i) dq(i) += l * (f0[i - b0] * d0 + f1[i - b0] * d1 + f2[i - b0] * d2);
+        }
+        if (!patches) return;
+        for (int s = 0; s < ns; ++s) {
+          if (coefOff(s) < 0) continue;
+          const int blk = info(s, 0), b0 = blocks(blk, 0), n = blocks(blk, 1);
+          const int lo = i0 > b0 ? i0 : b0, hi = i1 < b0 + n ? i1 : b0 + n;
+          const long nc = 3L * ctrlDim(s, 0) * ctrlDim(s, 1);
+          for (long x = 0; x < nc; ++x) {
+            const double c = coef(coefOff(s) + x);
+            if (c == 0.0) continue;
+            const double* g = &ctrl(ctrlOff(s) + x * n);
+            for (int i = lo; i < hi; ++i) dq(i) += c * g[i - b0];
+          }
+        }
+      });
+  if (F.denseRows < F.size()) {
+    const RelativeMotion Dk = D_;
+    forEach(
+        "epaphe::contact::correction_diagonal", 1, 0, KOKKOS_LAMBDA(const int) {
+          for (std::size_t k = 0; k < force.extent(0); ++k) {
+            const double l = force(k);
+            if (l == 0.0) continue;
+            // (D_k^T c)_i at DOF i = (m, e)
+            for (int m = 0; m < Dk.count(k); ++m)
+              for (int e = 0; e < 3; ++e) {
+                const int i = Dk.dof(k, m, e);
+                if (i < 0 || F.denseRow(i) >= 0) continue;
+                const double c = Dk.coefficient(k, m, 0, e) * dir(k, 0) + Dk.coefficient(k, m, 1, e) * dir(k, 1) +
+                                 Dk.coefficient(k, m, 2, e) * dir(k, 2);
+                dq(i) += F.diag(i) * l * c;
+              }
+          }
+        });
+  }
+}
+
+}  // namespace epaphe

@@ -1,0 +1,146 @@
+#pragma once
+// The relative flexibility of the contact nodes and the correction it drives (thesis eqs. 2.26,
+// 2.32-2.36; the operator D_a is described in Epaphe_SurfaceContact.hpp, point 3).
+//
+//   D_a          node a's motion relative to its surface, as entries (RelativeMotion): the node's DOFs
+//                with weight 1, the grid nodes of a carried surface with -w_p w_q (motionEntries);
+//   C_ab         = D_a F D_b^T, the relative flexibility of the active pairs (update);
+//   dq           = F G lambda, G_a = D_a^T c_a, the correction (correction).
+//
+// F D_b^T is never formed. Its part on node b's own dense block is F's columns at b's DOFs, read in
+// place; a carried surface on a diagonal block has no dense rows (its part is a scaling of D's
+// entries). A node on a carried surface of a dense block (a "patch node") reads its surface's grid
+// through the 4 x 4 control points of its patch: the control columns G = F (B_u x B_v), made once
+// (ControlColumns), give -R sum_rs b_r b_s G(:, ., i + r, j + s), 16 columns instead of up to 46 x 46
+// grid nodes; T, per step, is that on the grids of the same block contracted with the rows of B_u the
+// active patches read (made from P, G on those grids, once).
+#include "Epaphe_ContactDetection.hpp"
+#include "Epaphe_DenseTypes.hpp"
+#include "Epaphe_Flexibility.hpp"
+#include "Epaphe_RelativeMotion.hpp"
+
+#include <Kokkos_Core.hpp>
+
+#include <vector>
+
+namespace epaphe {
+
+/// One body's block of the system coordinates: q[offset, offset + size).
+struct ContactBlock {
+  int offset = 0, size = 0;
+};
+
+/// The contact nodes: per node its 3 DOF indices in the system q, its reference position, the block
+/// of its body and a label (its node number in that body, for output).
+struct ContactNodes {
+  std::vector<int> dofs;    // 3 per node
+  std::vector<double> X;    // 3 per node
+  std::vector<int> block;   // 1 per node
+  std::vector<int> labels;  // 1 per node
+  void add(int label, int blk, const int dof[3], const double x[3]) {
+    labels.push_back(label);
+    block.push_back(blk);
+    for (int d = 0; d < 3; ++d) {
+      dofs.push_back(dof[d]);
+      X.push_back(x[d]);
+    }
+  }
+};
+
+/// The carried surfaces' grids and interpolation operators, concatenated: per surface s, grid DOFs
+/// from gridOff(s), operators B_u, B_v (row-major) from opOff(s, 0..1); info(s) = {block (-1:
+/// rigid), nu, nv, input nv, periodic u, periodic v}. Made once.
+struct CarriedSurfaceViews {
+  Kokkos::View<int* [3]> gridDof;
+  Kokkos::View<int*> gridOff;
+  Kokkos::View<int* [2]> opOff;
+  Kokkos::View<double*> ops;
+  Kokkos::View<int* [6]> info;
+  int maxGrid[2] = {0, 0};  // largest nu, nv of a carried surface
+};
+
+/// F times the carried surfaces' interpolation and its offsets, made once (offsets -1: none).
+struct ControlColumns {
+  // per carried surface on a dense block: F (B_u x B_v) on the block's rows, column (e2, a, b) of the
+  // extended control grid (nuE x nvE) at off(s) + ((e2 nuE + a) nvE + b) n
+  Kokkos::View<double*> G;
+  Kokkos::View<long*> off;
+  Kokkos::View<int* [2]> dim;
+  // per such surface, T's rows: tOff(s) + 3 nv A + 3 q + e2 (tRows in all)
+  Kokkos::View<long*> tOff;
+  long tRows = 0;
+  // ...the columns of s on the grid of a carried surface s2 of the same block, contracted with B_u as
+  // T is: P(s2, s) at pOff(s2, s), column (e2, a, b) of s, row 3 nv2 A + 3 q + e2'
+  Kokkos::View<double*> P;
+  Kokkos::View<long**> pOff;
+  // per such surface: the active nodes' coefficients on its control columns at coefOff(s) +
+  // (e2 nuE + a) nvE + b (summed over the nodes, then applied by the correction)
+  Kokkos::View<double*> coef;
+  Kokkos::View<long*> coefOff;
+};
+
+class RelativeFlexibility {
+public:
+  /// Checks the blocks against the flexibility, each node's DOFs against its body's block, and the
+  /// carried surfaces' grid DOFs (a surface carried by the body of a contact node is refused: no
+  /// self-contact); a carried surface's `surface` is set to its `moving` one. The nodes' labels
+  /// name them in messages.
+  RelativeFlexibility(const Flexibility& flexibility, const std::vector<ContactBlock>& blocks,
+                      const ContactNodes& nodes, std::vector<ContactSurface>& surfaces);
+
+  /// For every node on a surface at the last detection `dv`: the entries of D_k, i.e. the spline
+  /// weights of its foot point on a carried surface.
+  void motionEntries(const DetectionViews& dv);
+  /// Every C_ab is made anew at the next update() (D changed: a new step).
+  void forgetPairs();
+  /// C_ab of the pairs of the active nodes (`activeH`, uploaded to `active`), at the detection `dv`
+  /// (its selected surfaces on the host: `surfH`). Pairs of nodes active at the last update() of
+  /// this step keep theirs.
+  void update(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
+              const Kokkos::View<int*>::HostMirror& surfH, const DetectionViews& dv);
+  /// dq = F G lambda (eqs. 2.35-2.36) of the first nA nodes of `active` (ascending), their forces
+  /// `force`, directions `dir` and selected surfaces `surf`; n: the system size.
+  void correction(const Kokkos::View<int*>& active, int nA, const Kokkos::View<double*>& force,
+                  const Kokkos::View<double* [3]>& dir, const Kokkos::View<int*>& surf, const DenseVector& dq,
+                  int n) const;
+
+  /// D_k's entries and C_ab (views shared with the enforcement).
+  RelativeMotion motion() const { return D_; }
+  const Kokkos::View<double** [3][3]>& C() const { return C_; } const Flexibility::Packed& flexibility() const {
+    return F_;
+  }
+
+private:
+  void initBlocks(const std::vector<ContactBlock>& blocks, const Flexibility& flexibility);
+  void initNodeBlocks(const ContactNodes& nodes);
+  void initCarriedSurfaces(const ContactNodes& nodes, std::vector<ContactSurface>& surfaces);
+  void controlColumns(const std::vector<ContactSurface>& surfaces);
+  void gridColumns(const std::vector<ContactSurface>& surfaces, const std::vector<double>& G);
+  void relativeColumns(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
+                       const Kokkos::View<int*>::HostMirror& surfH, const DetectionViews& dv);
+  void relativePairs(const std::vector<int>& activeH, const Kokkos::View<int*>& active, const DetectionViews& dv);
+
+  Flexibility::Packed F_;
+  Kokkos::View<int* [2]> blocks_;  // offset, size of each block
+  Kokkos::View<int*> nodeBlk_;     // block of each node
+  CarriedSurfaceViews carried_;
+  ControlColumns ctrl_;
+  RelativeMotion D_;                // D_k's entries: DOF triples, weights, count, R of the surface
+  Kokkos::View<double**> wu_, wv_;  // spline weights of the nodes' foot points
+  Kokkos::View<int*> patch_;        // per node: its surface's block if that has control columns, else -1
+  // per patch node (made by relativeColumns for the active ones): its patch's cubic basis, b(u) then
+  // b(v), and first control point
+  Kokkos::View<double* [8]> pbasis_;
+  Kokkos::View<int* [2]> pcell_;
+  // T: per carried surface with control columns, F D_k^T on its grid contracted with the rows
+  // [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
+  // ctrl_.tOff(s) + 3 nv A + 3 q + e2
+  Kokkos::View<double**, Kokkos::LayoutLeft> T_;
+  Kokkos::View<int* [2]> needRange_;
+  Kokkos::View<int* [2]>::HostMirror needRangeH_;
+  Kokkos::View<double** [3][3]> C_;  // C_ab = D_a F D_b^T (active pairs)
+  Kokkos::View<int*> known_;         // per node: its row and column of C made at this step
+  Kokkos::View<int**> fixedC_;       // per pair: C_ab made from their own entries alone (constant)
+};
+
+}  // namespace epaphe
