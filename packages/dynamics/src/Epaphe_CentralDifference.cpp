@@ -14,399 +14,6 @@
 #include <sstream>
 
 namespace epaphe {
-BodyOperator BodyOperator::dense(const std::vector<double>& a, int n, const std::string& label) {
-  BodyOperator op;
-  op.kind_ = Kind::Dense;
-  op.dense_ = DenseMatrix(label, n, n);  // A's rows, each contiguous: column i holds row i
-  auto h = Kokkos::create_mirror_view(op.dense_);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) h(j, i) = a[static_cast<std::size_t>(j) * n + i];
-  Kokkos::deep_copy(op.dense_, h);
-  return op;
-}
-
-void BodyOperator::assignDense(const std::vector<double>& a) {
-  const int n = static_cast<int>(dense_.extent(0));
-  EPAPHE_REQUIRE(kind_ == Kind::Dense && a.size() == static_cast<std::size_t>(n) * n,
-                 "BodyOperator::assignDense: " << a.size() << " entries for a dense operator of size " << n);
-  auto h = Kokkos::create_mirror_view(dense_);  // host memory: the view itself, nothing allocated
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) h(j, i) = a[static_cast<std::size_t>(j) * n + i];
-  Kokkos::deep_copy(dense_, h);
-}
-
-DenseMatrix BodyOperator::denseMatrix() const {
-  if (kind_ != Kind::Dense) return DenseMatrix();
-  const int n = static_cast<int>(dense_.extent(0));
-  DenseMatrix a(dense_.label(), n, n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) a(i, j) = dense_(j, i);
-  return a;
-}
-
-BodyOperator BodyOperator::sparse(const SparseRows& a, const std::string& label) {
-  BodyOperator op;
-  op.kind_ = Kind::Sparse;
-  const int n = a.rows();
-  Sparse::row_map_type::non_const_type rows(label + "::rows", n + 1);
-  Sparse::index_type::non_const_type cols(label + "::cols", a.cols.size());
-  Sparse::values_type::non_const_type values(label + "::values", a.values.size());
-  auto rh = Kokkos::create_mirror_view(rows);
-  auto ch = Kokkos::create_mirror_view(cols);
-  auto vh = Kokkos::create_mirror_view(values);
-  for (int i = 0; i <= n; ++i) rh(i) = a.rowStart[i];
-  for (std::size_t k = 0; k < a.values.size(); ++k) {
-    ch(k) = a.cols[k];
-    vh(k) = a.values[k];
-  }
-  Kokkos::deep_copy(rows, rh);
-  Kokkos::deep_copy(cols, ch);
-  Kokkos::deep_copy(values, vh);
-  op.sparse_ = Sparse(label, n, n, a.values.size(), values, rows, cols);
-  return op;
-}
-
-BodyOperator BodyOperator::diagonal(const std::vector<double>& d, const std::string& label) {
-  BodyOperator op;
-  op.kind_ = Kind::Diagonal;
-  op.diagonal_ = DenseVector(label, d.size());
-  auto h = Kokkos::create_mirror_view(op.diagonal_);
-  for (std::size_t i = 0; i < d.size(); ++i) h(i) = d[i];
-  Kokkos::deep_copy(op.diagonal_, h);
-  return op;
-}
-
-BodyOperator BodyOperator::denseOrDiagonal(const std::vector<double>& a, int n, const std::string& label) {
-  std::vector<double> d(static_cast<std::size_t>(n));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double v = a[static_cast<std::size_t>(j) * n + i];
-      if (i == j)
-        d[i] = v;
-      else if (v != 0.0)
-        return dense(a, n, label);
-    }
-  return diagonal(d, label);
-}
-
-std::size_t BodyOperator::bytes() const {
-  switch (kind_) {
-    case Kind::Dense:
-      return dense_.span() * sizeof(double);
-    case Kind::Sparse:
-      return sparse_.nnz() * (sizeof(double) + sizeof(int)) + (sparse_.numRows() + 1) * sizeof(std::size_t);
-    case Kind::Diagonal:
-      return diagonal_.span() * sizeof(double);
-    default:
-      return 0;
-  }
-}
-
-namespace {
-/// forRowBlocks (Epaphe_Parallel.hpp) on an operator of `bytes`: about 50 bytes of the matrix per ns
-/// on one core, measured (419 x 419 in 19.5 us; a 112 x 112 one stays on the calling thread). The
-/// operator is stored by rows, so a block is one contiguous piece of memory and one BLAS call
-/// (transposed) that each core streams from its own cache: 419 x 419 on 2 threads 2.2x faster than
-/// on 1, where a block of rows of a column-major matrix (a piece of every column) was 1.3x
-/// (adjacent-line prefetch fetched the other core's half too). Blocks start at multiples of 8 rows:
-/// OpenBLAS's dgemv_t then gave every row the same bits on 1 and 2 threads (419 x 419; at other
-/// boundaries it did not).
-template <class F>
-void operatorRowBlocks(const char* name, int n, std::size_t bytes, const F& f) {
-  forRowBlocks(name, n, static_cast<long>(bytes / 50), 8, f);
-}
-}  // namespace
-
-void BodyOperator::apply(double alpha, const DenseVector& x, double beta, const DenseVector& y) const {
-  // The per-step work of a small dense model is a few microseconds: an OpenMP kernel launch per
-  // vector operation would cost more than the work (measured: 2 threads 4.5x slower than 1 on a
-  // 112-DOF model). The vectors live in host memory (OpenMP), so dense and diagonal operators run as
-  // plain loops and one BLAS dgemv per thread's block of rows; the sparse product the same way
-  // (below).
-  static_assert(Kokkos::SpaceAccessibility<Kokkos::HostSpace, DenseVector::memory_space>::accessible,
-                "the explicit step runs on host memory");
-  const int n = static_cast<int>(y.extent(0));
-  switch (kind_) {
-    case Kind::Dense: {
-      const double* A = dense_.data();
-      const double* xv = x.data();
-      double* yv = y.data();
-      operatorRowBlocks(
-          "epaphe::dynamics::gemv", n, bytes(), [=](int r0, int r1) {  // rows r0..r1: columns of the storage
-            Teuchos::BLAS<int, double>().GEMV(Teuchos::TRANS, n, r1 - r0, alpha, A + static_cast<std::size_t>(r0) * n,
-                                              n, xv, 1, beta, yv + r0, 1);
-          });
-      break;
-    }
-    case Kind::Sparse: {
-      // CSR rows summed in four interleaved partial sums. KokkosKernels 13.2's spmv on the OpenMP
-      // space sums each row in one dependent chain of additions (its 4-way unrolled loop is for the
-      // Serial space only): latency-bound at about 1 ns per entry (the lumped bar, 1212 rows of up
-      // to 36 entries: 30-49 us a product); four chains take the adds' throughput instead.
-      const auto rows = sparse_.graph.row_map.data();
-      const int* cols = sparse_.graph.entries.data();
-      const double* vals = sparse_.values.data();
-      const double* xv = x.data();
-      double* yv = y.data();
-      operatorRowBlocks("epaphe::dynamics::spmv", n, bytes(), [=](int r0, int r1) {
-        for (int i = r0; i < r1; ++i) {
-          double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-          std::size_t k = rows[i];
-          const std::size_t end = rows[i + 1];
-          for (; k + 4 <= end; k += 4) {
-            s0 += vals[k] * xv[cols[k]];
-            s1 += vals[k + 1] * xv[cols[k + 1]];
-            s2 += vals[k + 2] * xv[cols[k + 2]];
-            s3 += vals[k + 3] * xv[cols[k + 3]];
-          }
-          for (; k < end; ++k) s0 += vals[k] * xv[cols[k]];
-          const double s = alpha * ((s0 + s1) + (s2 + s3));
-          yv[i] = beta == 0.0 ? s : s + beta * yv[i];
-        }
-      });
-      break;
-    }
-    case Kind::Diagonal: {
-      const double* d = diagonal_.data();
-      const double* xv = x.data();
-      double* yv = y.data();
-      if (beta == 0.0)
-        for (int i = 0; i < n; ++i) yv[i] = alpha * d[i] * xv[i];
-      else
-        for (int i = 0; i < n; ++i) yv[i] = alpha * d[i] * xv[i] + beta * yv[i];
-      break;
-    }
-    case Kind::None:
-      throw Error("BodyOperator: applying an empty operator");
-  }
-}
-
-void BodyOperator::apply2(const DenseMatrix& x, const DenseMatrix& y) const {
-  const int n = static_cast<int>(y.extent(0));
-  switch (kind_) {
-    case Kind::Dense: {
-      const double* A = dense_.data();
-      const double* xv = x.data();
-      double* yv = y.data();
-      const int ldx = static_cast<int>(x.stride(1)), ldy = static_cast<int>(y.stride(1));
-      operatorRowBlocks("epaphe::dynamics::gemm2", n, bytes(), [=](int r0, int r1) {
-        Teuchos::BLAS<int, double>().GEMM(Teuchos::TRANS, Teuchos::NO_TRANS, r1 - r0, 2, n, 1.0,
-                                          A + static_cast<std::size_t>(r0) * n, n, xv, ldx, 0.0, yv + r0, ldy);
-      });
-      break;
-    }
-    case Kind::Sparse:
-    case Kind::Diagonal:
-    case Kind::None:
-      for (int c = 0; c < 2; ++c)
-        apply(1.0, Kokkos::subview(x, Kokkos::ALL, c), 0.0, Kokkos::subview(y, Kokkos::ALL, c));
-      break;
-  }
-}
-
-void rayleighFromRatios(double f1, double xi1, double f2, double xi2, double& alpha, double& beta) {
-  EPAPHE_REQUIRE(f1 > 0 && f2 > f1, "Rayleigh damping: frequencies " << f1 << " and " << f2 << " Hz; give 0 < f1 < f2");
-  const double w1 = 2 * M_PI * f1, w2 = 2 * M_PI * f2;
-  beta = 2 * (xi2 * w2 - xi1 * w1) / (w2 * w2 - w1 * w1);
-  alpha = 2 * w1 * w2 * (xi1 * w2 - xi2 * w1) / (w2 * w2 - w1 * w1);
-  EPAPHE_REQUIRE(alpha >= 0 && beta >= 0,
-                 "Rayleigh damping: ratios "
-                     << xi1 << " at " << f1 << " Hz and " << xi2 << " at " << f2 << " Hz give alpha = " << alpha
-                     << ", beta = " << beta
-                     << "; a negative coefficient would feed energy into some modes: choose closer ratios");
-}
-
-std::vector<double> modalDamping(const ReducedModel& model, const DampingOptions& damping) {
-  std::vector<double> d;
-  for (double w2 : model.modalStiffness()) {
-    if (damping.type == DampingType::Rayleigh)
-      d.push_back(damping.alpha + damping.beta * w2);
-    else if (damping.type == DampingType::Modal)
-      d.push_back(2 * damping.ratio * std::sqrt(w2));
-    else
-      d.push_back(0.0);
-  }
-  return d;
-}
-
-std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOptions& damping) {
-  const int n = model.size;
-  std::vector<double> D(static_cast<std::size_t>(n) * n, 0.0);
-  if (model.massless()) {
-    const std::vector<double> d = modalDamping(model, damping);
-    const int nb = model.boundarySize();
-    for (int k = 0; k < model.numModes; ++k) D[static_cast<std::size_t>(nb + k) * n + nb + k] = d[k];
-  } else if (damping.type == DampingType::Rayleigh) {
-    for (std::size_t k = 0; k < D.size(); ++k) D[k] = damping.alpha * model.M[k] + damping.beta * model.K[k];
-  } else if (damping.type == DampingType::Modal) {
-    std::vector<double> V;
-    const std::vector<double> w = denseEigenpairs(model.K, model.M, n, &V);
-    // MV = M V; D = (MV) diag(2 xi omega) (MV)^T
-    std::vector<double> MV(D.size()), MVs(D.size());
-    Teuchos::BLAS<int, double> blas;
-    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, 1.0, model.M.data(), n, V.data(), n, 0.0, MV.data(), n);
-    for (int j = 0; j < n; ++j) {
-      const double c = 2 * damping.ratio * std::sqrt(std::max(w[j], 0.0));
-      for (int i = 0; i < n; ++i)
-        MVs[static_cast<std::size_t>(j) * n + i] = c * MV[static_cast<std::size_t>(j) * n + i];
-    }
-    blas.GEMM(Teuchos::NO_TRANS, Teuchos::TRANS, n, n, n, 1.0, MVs.data(), n, MV.data(), n, 0.0, D.data(), n);
-  }
-  return D;
-}
-
-namespace {
-/// |last component| of the unit eigenvector of the symmetric tridiagonal T (diagonal `alpha`,
-/// off-diagonal `beta`) for its eigenvalue `theta`: inverse iteration, two solves with T - theta I
-/// factored once (LU with partial pivoting; theta moved by 1e-13 of itself if a pivot is exactly 0).
-double lastComponent(const std::vector<double>& alpha, const std::vector<double>& beta, double theta) {
-  const int m = static_cast<int>(alpha.size());
-  if (m == 1) return 1.0;
-  Teuchos::LAPACK<int, double> lapack;
-  std::vector<double> dl, d, du, du2(static_cast<std::size_t>(m)), x;
-  std::vector<int> ipiv(static_cast<std::size_t>(m));
-  int info = 1;
-  double shift = theta;
-  for (int attempt = 0; attempt < 8 && info != 0; ++attempt, shift += 1e-13 * std::abs(theta) + 1e-300) {
-    dl.assign(beta.begin(), beta.begin() + (m - 1));
-    du = dl;
-    d = alpha;
-    for (double& v : d) v -= shift;
-    lapack.GTTRF(m, dl.data(), d.data(), du.data(), du2.data(), ipiv.data(), &info);
-  }
-  if (info != 0) return 1.0;  // no factor: the bound beta_j itself, which never declares convergence early
-  x.assign(static_cast<std::size_t>(m), 1.0);
-  for (int pass = 0; pass < 2; ++pass) {
-    lapack.GTTRS('N', m, 1, dl.data(), d.data(), du.data(), du2.data(), ipiv.data(), x.data(), m, &info);
-    double norm = 0;
-    for (double v : x) norm = std::max(norm, std::abs(v));
-    for (double& v : x) v /= norm;
-  }
-  double norm2 = 0;
-  for (double v : x) norm2 += v * v;
-  return std::abs(x[static_cast<std::size_t>(m) - 1]) / std::sqrt(norm2);
-}
-}  // namespace
-
-HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector<int>& stiffenedDofs,
-                                    double addedStiffness) {
-  EPAPHE_REQUIRE(model.sparse(), "highestEigenvalue: body '" << model.name << "' is not a full model with lumped mass");
-  const int n = model.size;
-  std::vector<double> s(static_cast<std::size_t>(n)), spring(static_cast<std::size_t>(n), 0.0);
-  for (int i = 0; i < n; ++i) s[i] = 1.0 / std::sqrt(model.lumpedMass[i]);
-  for (int i : stiffenedDofs) spring[i] = addedStiffness;
-  HighestEigenvalue r;
-  // Gershgorin: every eigenvalue of M^{-1} (K + k S) is at most max_i sum_j |(K + k S)_ij| / m_i.
-  const SparseRows& K = model.sparseK;
-  for (int i = 0; i < n; ++i) {
-    double row = spring[i];
-    for (std::size_t k = K.rowStart[i]; k < K.rowStart[i + 1]; ++k) row += std::abs(K.values[k]);
-    r.gershgorin = std::max(r.gershgorin, row / model.lumpedMass[i]);
-  }
-  // Lanczos on A = M^{-1/2} (K + k S) M^{-1/2}: A x = s .* ((K + k S) (s .* x)), s = m^{-1/2}
-  const BodyOperator Kop = BodyOperator::sparse(K, "epaphe::dynamics::lanczos::K");
-  std::vector<double> v(static_cast<std::size_t>(n)), vPrev(v.size(), 0.0);
-  const DenseVector wView("epaphe::dynamics::lanczos::w", n), svView("epaphe::dynamics::lanczos::sv", n);
-  double* w = wView.data();
-  double* sv = svView.data();
-  std::uint64_t seed = 0x9e3779b97f4a7c15ull;  // fixed: the same estimate at every run
-  double norm = 0;
-  for (double& x : v) {
-    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
-    x = static_cast<double>(seed >> 11) / 9007199254740992.0 - 0.5;
-    norm += x * x;
-  }
-  for (double& x : v) x /= std::sqrt(norm);
-  std::vector<double> alpha, beta;  // T: diagonal alpha, off-diagonal beta
-  Teuchos::LAPACK<int, double> lapack;
-  const int maxIterations = std::min(n, 1000);
-  double betaPrev = 0;
-  for (int j = 0; j < maxIterations; ++j) {
-    for (int i = 0; i < n; ++i) sv[i] = s[i] * v[i];
-    Kop.apply(1.0, svView, 0.0, wView);
-    double a = 0;
-    for (int i = 0; i < n; ++i) {
-      w[i] = s[i] * (w[i] + spring[i] * sv[i]);
-      a += w[i] * v[i];
-    }
-    double b = 0;
-    for (int i = 0; i < n; ++i) {
-      w[i] -= a * v[i] + betaPrev * vPrev[i];  // w = A v_j - alpha_j v_j - beta_{j-1} v_{j-1}
-      b += w[i] * w[i];
-    }
-    b = std::sqrt(b);
-    alpha.push_back(a);
-    r.iterations = j + 1;
-    // The largest Ritz value theta of T_j and its residual bound beta_j |last component of its vector|.
-    const int m = j + 1;
-    if (m % 10 == 0 || m == maxIterations || b <= 1e-14 * std::abs(a)) {
-      // T's eigenvalues alone (dsteqr without vectors: O(m^2), where the m x m eigenvectors cost
-      // O(m^3) and 3 s of the setup at a thousand iterations), then the largest one's eigenvector by
-      // two steps of inverse iteration on the tridiagonal T - theta I (dgttrf/dgttrs, O(m)).
-      std::vector<double> d(alpha), e(beta), none(1);
-      int info = 0;
-      lapack.STEQR('N', m, d.data(), e.data(), none.data(), 1, none.data(), &info);
-      EPAPHE_REQUIRE(info == 0,
-                     "stable step of body '" << model.name << "': LAPACK dsteqr failed (info " << info << ")");
-      r.ritz = d[m - 1];
-      r.residual = b * lastComponent(alpha, beta, r.ritz);
-      if (r.residual <= 1e-10 * r.ritz) {
-        r.converged = true;
-        break;
-      }
-    }
-    if (b == 0.0) break;  // an invariant subspace without convergence: the Gershgorin bound
-    beta.push_back(b);
-    betaPrev = b;
-    for (int i = 0; i < n; ++i) {
-      vPrev[i] = v[i];
-      v[i] = w[i] / b;
-    }
-  }
-  r.value = r.converged ? std::min(r.ritz + r.residual, r.gershgorin) : r.gershgorin;
-  return r;
-}
-
-StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& stiffenedDofs, double addedStiffness,
-                            const DampingOptions& damping) {
-  StableStep s;
-  if (model.sparse()) {
-    s.omegaMax = std::sqrt(highestEigenvalue(model, stiffenedDofs, addedStiffness).value);
-  } else if (model.massless()) {
-    // The retained DOFs carry no mass: the last kept mode sets the step. (Penalty springs, which would
-    // stiffen the modes through Phi_b, are refused for such a body: see Simulation's checkReductions.)
-    EPAPHE_REQUIRE(addedStiffness == 0.0, "body '" << model.name
-                                                   << "' has a massless boundary: no penalty springs "
-                                                      "on it (use Lagrange contact)");
-    s.omegaMax = 2 * M_PI * model.modeFrequencies.back();
-  } else {
-    const int n = model.size;
-    std::vector<double> K = model.K;
-    for (int i : stiffenedDofs) K[static_cast<std::size_t>(i) * n + i] += addedStiffness;
-    const std::vector<double> f = denseFrequencies(K, model.M, n);
-    s.omegaMax = 2 * M_PI * f.back();
-  }
-  s.critical = 2.0 / s.omegaMax;
-  double xi = 0;
-  if (damping.type == DampingType::Rayleigh) xi = 0.5 * (damping.alpha / s.omegaMax + damping.beta * s.omegaMax);
-  if (damping.type == DampingType::Modal) xi = damping.ratio;
-  s.critical *= std::sqrt(1 + xi * xi) - xi;
-  return s;
-}
-
-std::string fullModelDampingProblem(const DampingOptions& damping) {
-  if (damping.type == DampingType::Modal)
-    return "modal damping needs every mode of the full model; use Rayleigh damping with Beta = 0 (D = Alpha M), "
-           "or reduce the body";
-  if (damping.type == DampingType::Rayleigh && damping.beta != 0.0) {
-    std::ostringstream os;
-    os << "Rayleigh Beta = " << damping.beta << " makes M/h^2 + D/2h non-diagonal (a linear solve per step); set "
-       << "Beta = 0 (and no 'Rayleigh frequencies', which give Beta > 0), or reduce the body";
-    return os.str();
-  }
-  return "";
-}
-
 namespace {
 
 /// The massless boundary's operators (ReducedModel::massless(), q = [u_b, eta]): the flexibility P
@@ -510,19 +117,19 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     Kmid_ = BodyOperator::diagonal(o.Kmid, "epaphe::dynamics::Kmid");
     M_ = BodyOperator::denseOrDiagonal(model.M, n, "epaphe::dynamics::M");  // diag(0, I)
     P_ = BodyOperator::dense(o.P, n, "epaphe::dynamics::P");
-    boundary_ = model.boundarySize();
-    residual_ = true;
-    modes_ = model.numModes;
-    phiB_ = model.boundaryModes;
-    ae1_ = std::move(o.Ae1);
-    be1_ = std::move(o.Be1);
-    pe_ = std::move(o.Pe);
-    modalDamping_ = std::move(o.d);
-    ginv_ = std::move(o.Ginv);
-    for (Residual& r : residuals_) {  // sized once: residual() allocates nothing
+    massless_.boundary = model.boundarySize();
+    massless_.on = true;
+    massless_.modes = model.numModes;
+    massless_.phiB = model.boundaryModes;
+    massless_.ae1 = std::move(o.Ae1);
+    massless_.be1 = std::move(o.Be1);
+    massless_.pe = std::move(o.Pe);
+    massless_.damping = std::move(o.d);
+    massless_.ginv = std::move(o.Ginv);
+    for (Residual& r : massless_.cache) {  // sized once: residual() allocates nothing
       r.q.assign(static_cast<std::size_t>(n), 0.0);
-      r.r.assign(static_cast<std::size_t>(boundary_), 0.0);
-      r.z.assign(static_cast<std::size_t>(boundary_), 0.0);
+      r.r.assign(static_cast<std::size_t>(massless_.boundary), 0.0);
+      r.z.assign(static_cast<std::size_t>(massless_.boundary), 0.0);
     }
   } else {
     const std::vector<double> D = dampingMatrix(model, damping);
@@ -569,11 +176,11 @@ void CentralDifference::setConstantForce(const std::vector<double>& f) {
   }
   Kokkos::deep_copy(f_, fh);
   P_.apply(1.0, f_, 0.0, Pf_);
-  if (residual_) {
+  if (massless_.on) {
     // Massless boundary: a body force (the weight, T^T M e_d = [0, Phi^T M e_d]) acts on the modes
     // alone and in full at t_n, P_e f_eta, the boundary following; P holds half of that for the
     // boundary's averaged force (constructor), hence the factor 2.
-    for (int c = 0; c < boundary_; ++c)
+    for (int c = 0; c < massless_.boundary; ++c)
       EPAPHE_REQUIRE(f[c] == 0.0, "a constant force on the massless boundary's DOF "
                                       << c << " (" << f[c] << "): only the modes carry mass and take body forces");
     epaphe::axpby(0.0, Pf_, 2.0, Pf_);
@@ -585,21 +192,22 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
   double* qs = qstar.data();
   const double* q0 = qn.data();
   const double* q1 = qnm1.data();
-  if (residual_) {
+  if (massless_.on) {
     // The massless boundary's A and B by their factors (masslessOperators): with C q_n - C (q_n -
     // q_{n-1}) = C q_{n-1} and the boundary's rows cancelling, the same predictor is
     //   eta* = (1 + A_e) eta_n + (1 + B_e) (eta_n - eta_{n-1}) + P_e Phi_b^T z_{n-1} / 2,  u_b* = Phi_b eta*
     // (the boundary follows the modes), z_{n-1} = G^{-1} r_{n-1} made at step n-2 for the exchange:
     // 2 nb m products instead of 2 n^2 (1.9k against 9.2k on rotor 37's 68 DOFs), equal to the dense
     // form to round-off.
-    const int nb = boundary_, m = modes_;
+    const int nb = massless_.boundary, m = massless_.modes;
     double* eta = qs + nb;
     const Residual& prev = residual(q1);
     Teuchos::BLAS<int, double> blas;
-    blas.GEMV(Teuchos::TRANS, nb, m, 1.0, phiB_.data(), nb, prev.z.data(), 1, 0.0, eta, 1);  // Phi_b^T z_{n-1}
+    blas.GEMV(Teuchos::TRANS, nb, m, 1.0, massless_.phiB.data(), nb, prev.z.data(), 1, 0.0, eta, 1);  // Phi_b^T z_{n-1}
     for (int k = 0; k < m; ++k)
-      eta[k] = 0.5 * pe_[k] * eta[k] + ae1_[k] * q0[nb + k] + be1_[k] * (q0[nb + k] - q1[nb + k]);
-    blas.GEMV(Teuchos::NO_TRANS, nb, m, 1.0, phiB_.data(), nb, eta, 1, 0.0, qs, 1);  // Phi_b eta*
+      eta[k] =
+          0.5 * massless_.pe[k] * eta[k] + massless_.ae1[k] * q0[nb + k] + massless_.be1[k] * (q0[nb + k] - q1[nb + k]);
+    blas.GEMV(Teuchos::NO_TRANS, nb, m, 1.0, massless_.phiB.data(), nb, eta, 1, 0.0, qs, 1);  // Phi_b eta*
     if (forced_) {
       const double* pf = Pf_.data();
       for (int i = 0; i < n; ++i) qs[i] += pf[i];
@@ -629,23 +237,25 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
 }
 
 const CentralDifference::Residual& CentralDifference::residual(const double* q) const {
-  const std::size_t n = static_cast<std::size_t>(boundary_ + modes_);
-  ++residualUses_;
-  for (Residual& s : residuals_)  // the same values give the same z: a pure function of q
+  const std::size_t n = static_cast<std::size_t>(massless_.boundary + massless_.modes);
+  ++massless_.uses;
+  for (Residual& s : massless_.cache)  // the same values give the same z: a pure function of q
     if (s.used > 0 && std::memcmp(s.q.data(), q, n * sizeof(double)) == 0) {
-      s.used = residualUses_;
+      s.used = massless_.uses;
       return s;
     }
   // a new q replaces the least recently used entry: never the one the previous call returned
-  Residual& s = *std::min_element(residuals_.begin(), residuals_.end(),
+  Residual& s = *std::min_element(massless_.cache.begin(), massless_.cache.end(),
                                   [](const Residual& x, const Residual& y) { return x.used < y.used; });
-  s.used = residualUses_;
-  const int nb = boundary_, m = modes_;
+  s.used = massless_.uses;
+  const int nb = massless_.boundary, m = massless_.modes;
   std::copy(q, q + n, s.q.data());
   std::copy(q, q + nb, s.r.data());
   Teuchos::BLAS<int, double> blas;
-  blas.GEMV(Teuchos::NO_TRANS, nb, m, -1.0, phiB_.data(), nb, q + nb, 1, 1.0, s.r.data(), 1);  // r = u_b - Phi_b eta
-  blas.GEMV(Teuchos::NO_TRANS, nb, nb, 1.0, ginv_.data(), nb, s.r.data(), 1, 0.0, s.z.data(), 1);  // z = G^{-1} r
+  blas.GEMV(Teuchos::NO_TRANS, nb, m, -1.0, massless_.phiB.data(), nb, q + nb, 1, 1.0, s.r.data(),
+            1);  // r = u_b - Phi_b eta
+  blas.GEMV(Teuchos::NO_TRANS, nb, nb, 1.0, massless_.ginv.data(), nb, s.r.data(), 1, 0.0, s.z.data(),
+            1);  // z = G^{-1} r
   return s;
 }
 
@@ -669,16 +279,16 @@ double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVecto
 
 double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
   if (!damped_) return 0.0;
-  if (residual_) {
+  if (massless_.on) {
     // dq^T (D + h S) dq by its factors (masslessOperators): sum_k d_k deta_k^2 + h du^T (z_{n+1} -
     // z_{n-1}), z = G^{-1} r the residual's force (z_{n+1} made here, z_{n-1} two steps ago)
-    const int nb = boundary_, m = modes_;
+    const int nb = massless_.boundary, m = massless_.modes;
     const double* a = qnp1.data();
     const double* b = qnm1.data();
     const Residual& za = residual(a);
     const Residual& zb = residual(b);  // (za stays valid: the least recently used entry is replaced)
     double modal = 0.0;
-    for (int k = 0; k < m; ++k) modal += modalDamping_[k] * (a[nb + k] - b[nb + k]) * (a[nb + k] - b[nb + k]);
+    for (int k = 0; k < m; ++k) modal += massless_.damping[k] * (a[nb + k] - b[nb + k]) * (a[nb + k] - b[nb + k]);
     double exchange = 0.0;
     for (int c = 0; c < nb; ++c) exchange += (a[c] - b[c]) * (za.z[c] - zb.z[c]);
     return (modal + h_ * exchange) / (4 * h_);
@@ -723,7 +333,7 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
   M_.apply2(pair_, image_);
   const double kinHalf = 0.5 * dotColumn(X, Y);
   e.kinetic = 0.5 * dotColumn(X + n, Y + n);
-  if (!residual_) {
+  if (!massless_.on) {
     // One product K q_n serves both terms, K being symmetric: q_n^T K q_{n+1} = q_{n+1}^T (K q_n);
     // a lumped model takes it from the predictor, without a product.
     const bool kept = kqnOf_ == a;  // the step's own q_n: predict() made K q_n
@@ -744,7 +354,7 @@ CentralDifference::EnergyTerms CentralDifference::energies(const DenseVector& qn
     own += a[i] * km[i] * a[i];
   }
   double resN = 0.0, resN1 = 0.0;
-  for (int c = 0; c < boundary_; ++c) {
+  for (int c = 0; c < massless_.boundary; ++c) {
     resN += rn.r[c] * rn.z[c];
     resN1 += rn1.r[c] * rn1.z[c];
   }

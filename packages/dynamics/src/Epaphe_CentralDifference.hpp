@@ -27,10 +27,12 @@
 // A massless boundary (ReducedModel::massless(), q = [u_b, eta]) steps its modes this way and sets
 // u_b = Phi_b eta + G f; its A, B and F, and the residual's energy and dissipation, are derived in
 // the constructor.
-#include "Epaphe_ReducedModel.hpp"
+#include "Epaphe_BodyOperator.hpp"
+#include "Epaphe_Damping.hpp"
 #include "Epaphe_Flexibility.hpp"
+#include "Epaphe_ReducedModel.hpp"
+#include "Epaphe_StableStep.hpp"
 
-#include <KokkosSparse_CrsMatrix.hpp>
 #include <Kokkos_Core.hpp>
 
 #include <array>
@@ -38,104 +40,6 @@
 #include <vector>
 
 namespace epaphe {
-
-enum class DampingType { None = 0, Rayleigh = 1, Modal = 2 };
-
-struct DampingOptions {
-  DampingType type = DampingType::None;
-  double alpha = 0.0;  // Rayleigh: D = alpha M + beta K (eq. 4.3)
-  double beta = 0.0;
-  double ratio = 0.0;  // Modal: xi, the same on every mode (eqs. 4.4-4.5)
-};
-
-/// Rayleigh coefficients giving damping ratio xi1 at f1 and xi2 at f2 (Hz), from
-/// xi(omega) = alpha / (2 omega) + beta omega / 2 (the intent of thesis eqs. 4.1-4.2):
-///   beta = 2 (xi2 w2 - xi1 w1) / (w2^2 - w1^2),  alpha = 2 w1 w2 (xi1 w2 - xi2 w1) / (w2^2 - w1^2).
-void rayleighFromRatios(double f1, double xi1, double f2, double xi2, double& alpha, double& beta);
-
-/// One linear operator of a body in its coordinates: dense (a reduced body's K, M, D, A, B),
-/// sparse (a full body's K, a KokkosKernels CrsMatrix) or diagonal (a lumped mass, a
-/// mass-proportional damping). Its vectors live in host memory (the explicit step runs there).
-class BodyOperator {
-public:
-  using Sparse = KokkosSparse::CrsMatrix<double, int, Kokkos::DefaultExecutionSpace, void, std::size_t>;
-  BodyOperator() = default;
-  /// n x n, column-major (stored by rows: see forRowBlocks).
-  static BodyOperator dense(const std::vector<double>& a, int n, const std::string& label);
-  /// A in compressed rows.
-  static BodyOperator sparse(const SparseRows& a, const std::string& label);
-  static BodyOperator diagonal(const std::vector<double>& d, const std::string& label);
-  /// dense(), or diagonal() when every entry off the diagonal is zero (a massless boundary's mass,
-  /// diag(0, I)): the same products, without reading n^2 - n zeros.
-  static BodyOperator denseOrDiagonal(const std::vector<double>& a, int n, const std::string& label);
-
-  /// y = alpha A x + beta y (beta = 0: y is overwritten).
-  void apply(double alpha, const DenseVector& x, double beta, const DenseVector& y) const;
-  /// Y = A X for two vectors at once (n x 2, column-major): a dense operator is read once (one BLAS
-  /// dgemm, about the cost of one dgemv: 0.63 against 1.15 us for two on 68 x 68, 23 against 39 us
-  /// on 419 x 419, OpenBLAS 0.3.21 on this project's machine).
-  void apply2(const DenseMatrix& x, const DenseMatrix& y) const;
-  /// A dense operator's entries replaced by `a` (n x n, column-major) in place, nothing allocated.
-  void assignDense(const std::vector<double>& a);
-  /// The dense operator, column-major (a copy: it is stored by rows; empty when not dense).
-  DenseMatrix denseMatrix() const;
-  /// Bytes one apply() reads of the operator's own storage (values and indices).
-  std::size_t bytes() const;
-  const DenseVector& diagonalEntries() const { return diagonal_; }
-
-private:
-  DenseMatrix dense_;
-  Sparse sparse_;
-  DenseVector diagonal_;
-  enum class Kind { None, Dense, Sparse, Diagonal } kind_ = Kind::None;
-};
-
-/// Per kept mode of a massless-boundary model, its damping d_j (D_e = diag(d)): Rayleigh
-/// alpha + beta Omega_j^2, modal 2 xi Omega_j, none 0.
-std::vector<double> modalDamping(const ReducedModel& model, const DampingOptions& damping);
-
-/// The damping matrix (dense, column-major). Massless boundary: diag(0, modalDamping) (the
-/// boundary carries no mass, hence no damping force). Modal (eqs. 4.4-4.5): with V the M-orthonormal modes
-/// of (K, M) (V^T M V = I, V^T K V = Omega^2), D = V^{-T} diag(2 xi omega_i) V^{-1}
-/// = M V diag(2 xi omega_i) V^T M, so that V^T D V = diag(2 xi omega_i): every mode of the
-/// reduced structure gets the ratio xi, rigid-body modes (omega = 0) none.
-std::vector<double> dampingMatrix(const ReducedModel& model, const DampingOptions& damping);
-
-struct StableStep {
-  double omegaMax = 0;  // highest circular frequency of (K + added stiffness, M), rad/s
-  double critical = 0;  // largest stable step of the central difference, s
-};
-
-/// Central difference is stable for h <= 2/omega_max (thesis Table 2.1); with damping ratio xi on
-/// the highest mode, h <= 2/omega_max (sqrt(1 + xi^2) - xi), xi = (alpha/omega_max + beta omega_max)/2
-/// for Rayleigh damping, xi for modal damping. `addedStiffness`
-/// is put on the diagonal of `stiffenedDofs` (penalty springs, conservatively on all 3 directions).
-/// omega_max^2 is the highest eigenvalue of (K, M): a dense reduced model's by LAPACK, a full
-/// model's by highestEigenvalue().
-StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& stiffenedDofs, double addedStiffness,
-                            const DampingOptions& damping);
-
-/// Why `damping` cannot be used with a full model with lumped mass (empty: it can): M/h^2 + D/2h
-/// must stay diagonal, so D = alpha M (Rayleigh with beta = 0) or none.
-std::string fullModelDampingProblem(const DampingOptions& damping);
-
-struct HighestEigenvalue {
-  double value = 0;       // the estimate used: Ritz value + residual bound, or the Gershgorin bound
-  double ritz = 0;        // largest Ritz value (a lower bound)
-  double residual = 0;    // its residual bound: an eigenvalue lies within it
-  double gershgorin = 0;  // max_i sum_j |K_ij| / m_i, an upper bound of every eigenvalue
-  int iterations = 0;
-  bool converged = false;  // false: `value` is the Gershgorin bound
-};
-
-/// The highest eigenvalue of M^{-1} (K + k S) for a full model with lumped mass (M = diag(m), K
-/// sparse, S = diag(1 on `stiffenedDofs`)): Lanczos on the symmetric M^{-1/2} (K + k S) M^{-1/2},
-/// products by BodyOperator's sparse product, from a fixed pseudo-random start, until the residual bound
-/// beta_j |s_j| of the largest Ritz value theta is below 1e-10 theta (at most 1000 iterations, no
-/// reorthogonalization: the extreme Ritz values converge first). The estimate is theta + that
-/// bound, never above the Gershgorin bound, which is used when Lanczos does not converge.
-HighestEigenvalue highestEigenvalue(const ReducedModel& model, const std::vector<int>& stiffenedDofs,
-                                    double addedStiffness);
 
 class CentralDifference {
 public:
@@ -160,7 +64,8 @@ public:
   /// Bytes of the operators one predict() reads (A, and B when damped): the memory traffic floor of
   /// a step's integration.
   std::size_t predictBytes() const {
-    if (residual_) return (ginv_.size() + phiB_.size()) * sizeof(double);        // Phi_b, and G^{-1} for z_{n-1}
+    if (massless_.on)
+      return (massless_.ginv.size() + massless_.phiB.size()) * sizeof(double);   // Phi_b, and G^{-1} for z_{n-1}
     return (kqn_.extent(0) > 0 ? K_ : A_).bytes() + (damped_ ? B_.bytes() : 0);  // lumped: K, not A
   }
 
@@ -184,11 +89,6 @@ private:
   double h_;
   bool damped_ = false;
   bool forced_ = false;
-  bool residual_ = false;  // massless boundary: energy by Kmid_ and the residual's r . z, exchange by z
-  int boundary_ = 0;       // massless boundary: its DOFs, q's first entries
-  int modes_ = 0;          // massless boundary: the modes, q's last entries
-  std::vector<double> phiB_, ae1_, be1_, pe_;  // massless boundary: predict()'s factors (masslessOperators)
-  std::vector<double> modalDamping_, ginv_;    // and dampingIncrement()'s
   /// Massless boundary: the residual r = u_b - Phi_b eta of a q and its force z = G^{-1} r (nb m + nb^2
   /// products), made once per q: a step reads z of q_{n+1} (the exchange), of q_{n-1} (the predictor)
   /// and at a record of q_n and q_{n+1} (the energy). Found by q's values, not its buffer: whatever
@@ -198,9 +98,18 @@ private:
     std::vector<double> q, r, z;
     long long used = 0;  // the call that last returned it (0: empty)
   };
+  /// What a massless boundary adds (on: energy by Kmid_ and the residual's r . z, exchange by z).
+  struct Massless {
+    bool on = false;
+    int boundary = 0;                        // its DOFs, q's first entries
+    int modes = 0;                           // the modes, q's last entries
+    std::vector<double> phiB, ae1, be1, pe;  // predict()'s factors (masslessOperators)
+    std::vector<double> damping, ginv;       // and dampingIncrement()'s
+    mutable std::array<Residual, 3> cache;   // residual()'s
+    mutable long long uses = 0;
+  };
   const Residual& residual(const double* q) const;
-  mutable std::array<Residual, 3> residuals_;
-  mutable long long residualUses_ = 0;
+  Massless massless_;
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_;
   std::vector<double> pDense_, aDense_;  // a dense model's P (column-major) and setStiffness()'s -P K
   DenseVector f_, Pf_;
