@@ -43,7 +43,7 @@ void CoatingContact::setRows(const ContactStepViews& v, const Kokkos::View<int*>
   const auto row = v.row;
   const auto gap = v.gap;
   const auto element = v.element;
-  const auto branch = branch_;
+  const auto branch = unmanaged(branch_);
   const CoatingViews c = coat_;
   const bool penalty = penalty_;
   const double kp = kp_;
@@ -91,7 +91,7 @@ void CoatingContact::penetrations(const ContactStepViews& v, const Kokkos::View<
   const auto dir = v.dir;
   const auto force = v.force;
   const auto gap = v.gap;
-  const auto p = p_;
+  const auto p = unmanaged(p_);
   forEach(
       "epaphe::coating::penetration", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
@@ -115,8 +115,8 @@ int CoatingContact::classify(const ContactStepViews& v, const Kokkos::View<int*>
   const auto element = v.element;
   const auto gap = v.gap;
   const auto force = v.force;
-  const auto branch = branch_;
-  const auto p = p_;
+  const auto branch = unmanaged(branch_);
+  const auto p = unmanaged(p_);
   const CoatingViews c = coat_;
   int changes = 0;
   reduce(
@@ -182,7 +182,7 @@ void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& a
   }
   const auto act = v.upload(active);
   if (penalty_) {  // the element's compression is the predicted one (the force was computed there)
-    const auto p = p_;
+    const auto p = unmanaged(p_);
     const auto gap = v.gap;
     forEach(
         "epaphe::coating::predicted", nA, 2, KOKKOS_LAMBDA(const int a) { p(act(a)) = -gap(act(a)); });
@@ -192,10 +192,10 @@ void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& a
   }
   const auto element = v.element;
   const auto force = v.force;
-  const auto p = p_;
-  const auto upNext = upNext_;
-  const auto sigma = sigma_;
-  const auto energy = energy_;
+  const auto p = unmanaged(p_);
+  const auto upNext = unmanaged(upNext_);
+  const auto sigma = unmanaged(sigma_);
+  const auto energy = unmanaged(energy_);
   const CoatingViews c = coat_;
   // per node: the return mapping at its final compression (Epaphe_AbradableCoating.hpp)
   forEach(

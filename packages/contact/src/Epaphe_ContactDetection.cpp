@@ -195,15 +195,15 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.foot = Kokkos::View<double* [2]>("epaphe::contact::foot", nc);
   v.footX = DetectionViews::Vec3("epaphe::contact::foot_point", nc);
   v.iterations = Kokkos::View<int*>("epaphe::contact::iterations", nc);
-  v.xLast = DetectionViews::Vec3("epaphe::contact::x_last", nc);
-  v.tLast = Kokkos::View<double*>("epaphe::contact::t_last", nc);
-  v.gLast = Kokkos::View<double*>("epaphe::contact::g_last", nc);
-  v.eligible = Kokkos::View<int*>("epaphe::contact::eligible", nc);
-  v.skipped = Kokkos::View<int*>("epaphe::contact::skipped", nc);
-  v.refine = Kokkos::View<int*>("epaphe::contact::refine", nc);
-  v.bound = Kokkos::View<double*>("epaphe::contact::gap_bound", nc);
-  v.travel = Kokkos::View<double*>("epaphe::contact::surface_travel", ns);
-  v.travelLast = Kokkos::View<double**>("epaphe::contact::surface_travel_last", nc, ns);
+  v.skip.xLast = DetectionViews::Vec3("epaphe::contact::x_last", nc);
+  v.skip.tLast = Kokkos::View<double*>("epaphe::contact::t_last", nc);
+  v.skip.gLast = Kokkos::View<double*>("epaphe::contact::g_last", nc);
+  v.skip.eligible = Kokkos::View<int*>("epaphe::contact::eligible", nc);
+  v.skip.skipped = Kokkos::View<int*>("epaphe::contact::skipped", nc);
+  v.skip.refine = Kokkos::View<int*>("epaphe::contact::refine", nc);
+  v.skip.bound = Kokkos::View<double*>("epaphe::contact::gap_bound", nc);
+  v.skip.travel = Kokkos::View<double*>("epaphe::contact::surface_travel", ns);
+  v.skip.travelLast = Kokkos::View<double**>("epaphe::contact::surface_travel_last", nc, ns);
   ctrlLast_.resize(static_cast<std::size_t>(ns));
   v.offset = Kokkos::View<double*>("epaphe::contact::penetration_offset", nc);
   v.offsetSurf = Kokkos::View<int*>("epaphe::contact::penetration_surface", nc);
@@ -283,8 +283,8 @@ GuardOptions guardOptions(const Teuchos::ParameterList& cp) {
 }
 
 void ContactDetection::reset() {
-  Kokkos::deep_copy(v_.eligible, 0);
-  Kokkos::deep_copy(v_.travel, 0.0);  // every node projects next: the motion so far no longer matters
+  Kokkos::deep_copy(v_.skip.eligible, 0);
+  Kokkos::deep_copy(v_.skip.travel, 0.0);  // every node projects next: the motion so far no longer matters
   Kokkos::deep_copy(v_.uvRate, 0.0);
   for (auto& c : ctrlLast_) c.clear();
 }
@@ -294,15 +294,15 @@ std::vector<double> ContactDetection::skipState() const {
   const int nc = numNodes(), ns = numSurfaces();
   std::vector<double> st;
   for (int k = 0; k < nc; ++k) {
-    st.push_back(v_.eligible(k));
-    for (int d = 0; d < 3; ++d) st.push_back(v_.xLast(k, d));
-    st.push_back(v_.tLast(k));
-    st.push_back(v_.gLast(k));
-    for (int s = 0; s < ns; ++s) st.push_back(v_.travelLast(k, s));
+    st.push_back(v_.skip.eligible(k));
+    for (int d = 0; d < 3; ++d) st.push_back(v_.skip.xLast(k, d));
+    st.push_back(v_.skip.tLast(k));
+    st.push_back(v_.skip.gLast(k));
+    for (int s = 0; s < ns; ++s) st.push_back(v_.skip.travelLast(k, s));
     for (int s = 0; s < ns; ++s)
       for (int c = 0; c < 2; ++c) st.push_back(v_.uvRate(k, s, c));
   }
-  for (int s = 0; s < ns; ++s) st.push_back(v_.travel(s));
+  for (int s = 0; s < ns; ++s) st.push_back(v_.skip.travel(s));
   for (const auto& c : ctrlLast_) {
     st.push_back(static_cast<double>(c.size()));
     st.insert(st.end(), c.begin(), c.end());
@@ -320,15 +320,15 @@ void ContactDetection::setSkipState(const std::vector<double>& st) {
     return st[i++];
   };
   for (int k = 0; k < nc; ++k) {
-    v_.eligible(k) = static_cast<int>(next());
-    for (int d = 0; d < 3; ++d) v_.xLast(k, d) = next();
-    v_.tLast(k) = next();
-    v_.gLast(k) = next();
-    for (int s = 0; s < ns; ++s) v_.travelLast(k, s) = next();
+    v_.skip.eligible(k) = static_cast<int>(next());
+    for (int d = 0; d < 3; ++d) v_.skip.xLast(k, d) = next();
+    v_.skip.tLast(k) = next();
+    v_.skip.gLast(k) = next();
+    for (int s = 0; s < ns; ++s) v_.skip.travelLast(k, s) = next();
     for (int s = 0; s < ns; ++s)
       for (int c = 0; c < 2; ++c) v_.uvRate(k, s, c) = next();
   }
-  for (int s = 0; s < ns; ++s) v_.travel(s) = next();
+  for (int s = 0; s < ns; ++s) v_.skip.travel(s) = next();
   for (auto& c : ctrlLast_) {
     c.resize(static_cast<std::size_t>(next()));
     for (double& x : c) x = next();
@@ -396,7 +396,7 @@ void ContactDetection::rebuildCarried(const DenseVector& q) {
       r = std::max(r, std::sqrt(rr));
     }
     last.assign(h.ctrl.data(), h.ctrl.data() + 3 * n);
-    v_.travel(s) += step;
+    v_.skip.travel(s) += step;
     v_.turn(s, 7) = r;
   }
 }
@@ -431,15 +431,42 @@ void ContactDetection::detect(const DenseVector& q, double t, bool all) {
 int ContactDetection::refine() {
   fence();
   int n = 0;
-  for (int k = 0; k < numNodes(); ++k) n += v_.refine(k) != 0;
+  for (int k = 0; k < numNodes(); ++k) n += v_.skip.refine(k) != 0;
   if (n > 0) project(true, true);
   return n;
 }
 
+DetectionViews DetectionViews::untracked() const {
+  DetectionViews u;
+  u.dof = unmanaged(dof);
+  u.X = unmanaged(X);
+  u.x = unmanaged(x);
+  u.surf = unmanaged(surf);
+  u.rot = unmanaged(rot);
+  u.turn = unmanaged(turn);
+  u.uv = unmanaged(uv);
+  u.uvRate = unmanaged(uvRate);
+  u.gap = unmanaged(gap);
+  u.selected = unmanaged(selected);
+  u.normal = unmanaged(normal);
+  u.foot = unmanaged(foot);
+  u.footX = unmanaged(footX);
+  u.iterations = unmanaged(iterations);
+  u.skip = SkipViews{unmanaged(skip.xLast),    unmanaged(skip.tLast),   unmanaged(skip.gLast),
+                     unmanaged(skip.eligible), unmanaged(skip.skipped), unmanaged(skip.refine),
+                     unmanaged(skip.bound),    unmanaged(skip.travel),  unmanaged(skip.travelLast)};
+  u.offset = unmanaged(offset);
+  u.offsetSurf = unmanaged(offsetSurf);
+  u.coat = CoatingViews{unmanaged(coat.law), unmanaged(coat.grid), unmanaged(coat.wear), unmanaged(coat.area),
+                        unmanaged(coat.surface)};
+  u.element = unmanaged(element);
+  return u;
+}
+
 void ContactDetection::project(bool all, bool refineOnly) {
-  const parallel_detail::UntrackedViews untracked;  // local copies of views it owns; nothing allocated
-  const DetectionViews v = v_;
-  const DenseVector q = q_;
+  // local copies of the views it owns, unmanaged (no reference counted); nothing allocated
+  const DetectionViews v = v_.untracked();
+  const DenseVector q = unmanaged(q_);
   const int nc = numNodes(), ns = numSurfaces();
   const double tol = opt_.nrTolerance;
   const int maxIt = opt_.nrMaxIterations;
@@ -452,30 +479,31 @@ void ContactDetection::project(bool all, bool refineOnly) {
   const long expected = skip && !refineOnly ? std::max(lastProjected_, 1) : nc;
   forEach(
       "epaphe::contact::detect", nc, 30L + 600L * ns * expected / nc, KOKKOS_LAMBDA(const int k) {
-        if (refineOnly && !v.refine(k)) return;
+        if (refineOnly && !v.skip.refine(k)) return;
         double x[3];
         for (int d = 0; d < 3; ++d) x[d] = v.X(k, d) + q(v.dof(k, d));
         for (int d = 0; d < 3; ++d) v.x(k, d) = x[d];
-        if (skip && v.eligible(k)) {
+        if (skip && v.skip.eligible(k)) {
           double dx = 0.0;
-          for (int d = 0; d < 3; ++d) dx += (x[d] - v.xLast(k, d)) * (x[d] - v.xLast(k, d));
+          for (int d = 0; d < 3; ++d) dx += (x[d] - v.skip.xLast(k, d)) * (x[d] - v.skip.xLast(k, d));
           double move = ::sqrt(dx);
           for (int s = 0; s < ns; ++s)
-            move += ::fabs(v.turn(s, 0)) * (t - v.tLast(k)) * v.turn(s, 7) + (v.travel(s) - v.travelLast(k, s));
+            move += ::fabs(v.turn(s, 0)) * (t - v.skip.tLast(k)) * v.turn(s, 7) +
+                    (v.skip.travel(s) - v.skip.travelLast(k, s));
           // The distance to a surface is 1-Lipschitz in the node's position and moves by at most the
           // surface's own motion: the gap now is at least the last one less `move`, and the node cannot
           // have crossed the surface (a crossing needs a segment at least gLast long). A lower bound of
           // the gap, b > 0: out of contact for certain (b is kept for the add passes' refine test).
-          const double b = v.gLast(k) - move;
+          const double b = v.skip.gLast(k) - move;
           if (b > 0.0) {
-            v.skipped(k) = 1;
-            v.bound(k) = b;
+            v.skip.skipped(k) = 1;
+            v.skip.bound(k) = b;
             v.iterations(k) = 0;
             return;
           }
         }
-        v.skipped(k) = 0;
-        v.refine(k) = 0;
+        v.skip.skipped(k) = 0;
+        v.skip.refine(k) = 0;
         int best = -1, its = 0, element = -1;
         double g = 1e300, gmin = 1e300;
         bool eligible = true;
@@ -489,7 +517,7 @@ void ContactDetection::project(bool all, bool refineOnly) {
             for (int i = 0; i < 3; ++i)
               xs[i] = cc[i] + v.rot(s, 0, i) * r[0] + v.rot(s, 1, i) * r[1] + v.rot(s, 2, i) * r[2];
           }
-          const double uLast = v.uv(k, s, 0), vLast = v.uv(k, s, 1), dt = t - v.tLast(k);
+          const double uLast = v.uv(k, s, 0), vLast = v.uv(k, s, 1), dt = t - v.skip.tLast(k);
           const bool warm = uLast == uLast && vLast == vLast;
           double u0 = uLast, v0 = vLast;
           if (!warm) {
@@ -516,7 +544,7 @@ void ContactDetection::project(bool all, bool refineOnly) {
           v.uv(k, s, 1) = p.v;
           its = p.iterations > its ? p.iterations : its;
           eligible = eligible && p.converged && !(p.beyond > 0.0);
-          v.travelLast(k, s) = v.travel(s);
+          v.skip.travelLast(k, s) = v.skip.travel(s);
           // through a coating: the gap to its current profile; the bound's to the unworn one
           const int e = v.coat.element(s, S, p.u, p.v, v.selected(k) == s ? v.element(k) : -1);
           const double pg = p.gap - v.coat.offset(s, e);
@@ -545,10 +573,10 @@ void ContactDetection::project(bool all, bool refineOnly) {
         v.selected(k) = best;
         v.element(k) = element;
         v.iterations(k) = its;
-        for (int d = 0; d < 3; ++d) v.xLast(k, d) = x[d];
-        v.tLast(k) = t;
-        v.gLast(k) = gmin;
-        v.eligible(k) = eligible && gmin > 0.0 ? 1 : 0;
+        for (int d = 0; d < 3; ++d) v.skip.xLast(k, d) = x[d];
+        v.skip.tLast(k) = t;
+        v.skip.gLast(k) = gmin;
+        v.skip.eligible(k) = eligible && gmin > 0.0 ? 1 : 0;
       });
   fence();
   int projected = 0, iters = 0;

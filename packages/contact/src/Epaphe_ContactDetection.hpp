@@ -99,6 +99,17 @@ struct GuardOptions {
 /// The guards' keys of a validated Contact list (see ContactDetection::getValidParameters).
 GuardOptions guardOptions(const Teuchos::ParameterList& contact);
 
+/// The skipping of nodes certified out of contact, per node k unless said: position, time and
+/// smallest gap of the last projection; eligible: it may be skipped.
+struct SkipViews {
+  Kokkos::View<double* [3]> xLast;
+  Kokkos::View<double*> tLast, gLast;
+  Kokkos::View<int*> eligible, skipped, refine;
+  Kokkos::View<double*> bound;        // a lower bound of a skipped node's gap
+  Kokkos::View<double*> travel;       // [s] T_s: the carried surface's summed largest control-point motion
+  Kokkos::View<double**> travelLast;  // [k][s] T_s at the node's last projection
+};
+
 /// Everything the detection kernel reads and writes, allocated once at setup; copied by value into
 /// the kernel (views only). Per node k unless said; per surface s for the surface data.
 struct DetectionViews {
@@ -117,13 +128,7 @@ struct DetectionViews {
   Kokkos::View<double* [2]> foot;     // foot point parameters (u, v) on the selected surface
   Vec3 footX;                         // foot point, bodies' frame
   Kokkos::View<int*> iterations;      // Newton iterations of this step (max over surfaces; 0: skipped)
-  // skipping: position, time and smallest gap of the last projection; eligible: it may be skipped
-  Vec3 xLast;
-  Kokkos::View<double*> tLast, gLast;
-  Kokkos::View<int*> eligible, skipped, refine;
-  Kokkos::View<double*> bound;        // a lower bound of a skipped node's gap
-  Kokkos::View<double*> travel;       // [s] T_s: the carried surface's summed largest control-point motion
-  Kokkos::View<double**> travelLast;  // [k][s] T_s at the node's last projection
+  SkipViews skip;                     // the skipping of distant nodes
   // initial penetrations resolved gently (setPenetrationOffsets): the depth d_k >= 0 added to the
   // gap on surface offsetSurf(k) (-1: none), ramped down to 0 at the ramp's end
   Kokkos::View<double*> offset;
@@ -133,6 +138,10 @@ struct DetectionViews {
   // use the unworn profile (t), which no node can have passed unprojected
   CoatingViews coat;
   Kokkos::View<int*> element;
+
+  /// The same views, unmanaged (Epaphe_Parallel.hpp: unmanaged): what the step copies into its
+  /// kernels, counting no references; this object keeps the memory.
+  DetectionViews untracked() const;
 };
 
 class ContactDetection {
@@ -150,7 +159,7 @@ public:
   void setReferencePositions(const std::vector<double>& X);
   /// Detects at q and time t. `all`: project every node (no skipping).
   void detect(const DenseVector& q, double t, bool all);
-  /// Projects the nodes flagged in views().refine (at the q and t of the last detect()), clears
+  /// Projects the nodes flagged in views().skip.refine (at the q and t of the last detect()), clears
   /// the flags and their `skipped` state; returns how many.
   int refine();
   /// Every node projects at the next detect() (a changed warm start, initial penetrations).

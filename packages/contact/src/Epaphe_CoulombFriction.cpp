@@ -89,21 +89,21 @@ void CoulombFriction::prepare(const ContactStepViews& v, const std::vector<int>&
   // state: sliding against the predicted tangential motion (t = -d_t / |d_t|) when there is one,
   // stuck otherwise.
   const auto normal = v.normal;
-  const auto basis = basis_;
-  const auto disp = disp_;
+  const auto basis = unmanaged(basis_);
+  const auto disp = unmanaged(disp_);
   const auto tangent = v.tangent;
-  const auto state = state_;
-  const auto returns = returns_;
+  const auto state = unmanaged(state_);
+  const auto returns = unmanaged(returns_);
   const auto x = v.x;
   const RelativeMotion D = v.D;
-  const Difference<DenseVector> dq{q, qn};
+  const Difference<DenseVector> dq{unmanaged(q), unmanaged(qn)};
   const auto surfOf = v.surf;
   const auto turn = v.turn;
   const auto footX = v.footX;
   const double h = h_;
   const bool warm = warm_;
-  const auto prev = prev_;
-  const auto prevTangent = prevTangent_;
+  const auto prev = unmanaged(prev_);
+  const auto prevTangent = unmanaged(prevTangent_);
   const auto active = v.upload(activeH);
   forEach(
       "epaphe::contact::friction_prepare", static_cast<int>(activeH.size()), 60, KOKKOS_LAMBDA(const int a) {
@@ -275,8 +275,8 @@ void CoulombFriction::localFlexibility(const ContactStepViews& v, const Kokkos::
                     std::is_same<decltype(v.C)::array_layout, Kokkos::LayoutRight>::value,
                 "the friction kernels read 3 x 3 blocks of T, C and the bases as contiguous runs");
   const auto C = v.C;
-  const auto basis = basis_;
-  const auto T = local_;
+  const auto basis = unmanaged(basis_);
+  const auto T = unmanaged(local_);
   // F is symmetric, so C_ba = C_ab^T and T_ba = T_ab^T: node a makes the blocks b >= a and their
   // transposes (each pair by one thread: no two threads write one block)
   forEach(
@@ -318,15 +318,15 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   const bool penalty = penalty_;
   const double kp = kp_;
   constexpr int slide = kSlide;
-  const auto off = unknownOffset_;
-  const auto T = local_;
-  const auto basis = basis_;
-  const auto state = state_;
-  const auto disp = disp_;
+  const auto off = unmanaged(unknownOffset_);
+  const auto T = unmanaged(local_);
+  const auto basis = unmanaged(basis_);
+  const auto state = unmanaged(state_);
+  const auto disp = unmanaged(disp_);
   const auto gap = v.gap;
-  const auto A = MCf_;
-  const auto rhs = rhs_;
-  const auto column = column_;
+  const auto A = unmanaged(MCf_);
+  const auto rhs = unmanaged(rhs_);
+  const auto column = unmanaged(column_);
   const bool rows = v.rows;  // a normal law's own rows (v.row): alpha, beta, gamma; penalty: {0, 1, force}
   const auto row = v.row;
   // Raw pointers into T (T_ab's 3 x 3 entries contiguous, row i at 3 i) and A (column-major,
@@ -430,17 +430,17 @@ bool CoulombFriction::releasePulled(std::vector<int>& activeH, int& nA, int& rel
 int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
   // classify: proposed next state and direction per active node
   const double mu = mu_;
-  const auto T = local_;
-  const auto basis = basis_;
+  const auto T = unmanaged(local_);
+  const auto basis = unmanaged(basis_);
   const auto tangent = v.tangent;
-  const auto state = state_;
-  const auto disp = disp_;
-  const auto sol = sol_;
+  const auto state = unmanaged(state_);
+  const auto disp = unmanaged(disp_);
+  const auto sol = unmanaged(sol_);
   constexpr int slide = kSlide;
-  const auto nextState = nextState_;
-  const auto nextTangent = nextTangent_;
-  const auto returns = returns_;
-  const auto column = column_;
+  const auto nextState = unmanaged(nextState_);
+  const auto nextTangent = unmanaged(nextTangent_);
+  const auto returns = unmanaged(returns_);
+  const auto column = unmanaged(column_);
   int changes = 0;
   reduce(
       "epaphe::contact::friction_classify", nA, 15L * nA,
@@ -515,12 +515,12 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
 }
 
 void CoulombFriction::commitClassification(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA) {
-  const auto state = state_;
+  const auto state = unmanaged(state_);
   const auto tangent = v.tangent;
-  const auto nextState = nextState_;
-  const auto nextTangent = nextTangent_;
+  const auto nextState = unmanaged(nextState_);
+  const auto nextTangent = unmanaged(nextTangent_);
   constexpr int slide = kSlide;
-  const auto returns2 = returns_;
+  const auto returns2 = unmanaged(returns_);
   forEach(
       "epaphe::contact::friction_commit", nA, 5, KOKKOS_LAMBDA(const int a) {
         const int ka = active(a);
@@ -539,12 +539,12 @@ void CoulombFriction::storeForces(const ContactStepViews& v, const std::vector<i
   for (int a = 0; a < nA; ++a) v.force(activeH[a]) = solH_(3 * a);
   const auto active = v.upload(activeH);
   const auto normal = v.normal;
-  const auto basis = basis_;
+  const auto basis = unmanaged(basis_);
   const auto tangent = v.tangent;
-  const auto state = state_;
+  const auto state = unmanaged(state_);
   const auto dir = v.dir;
   const auto muA = v.mu;
-  const auto sol = sol_;
+  const auto sol = unmanaged(sol_);
   const auto force = v.force;
   forEach(
       "epaphe::contact::friction_reset", nc, 5, KOKKOS_LAMBDA(const int k) {

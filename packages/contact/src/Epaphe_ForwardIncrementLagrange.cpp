@@ -49,7 +49,7 @@ void ForwardIncrementLagrange::enforce(const ContactStepViews& v, std::vector<in
     const auto C = v.C;
     const auto normal = v.normal;
     const auto dir = v.dir;
-    const auto MC = MC_;
+    const auto MC = unmanaged(MC_);
     // MC_ab = n_a^T C_ab c_b (eq. 2.32), C_ab = D_a F D_b^T, one row per active node.
     forEach(
         "epaphe::contact::matrix", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {

@@ -287,21 +287,21 @@ void RelativeFlexibility::motionEntries(const DetectionViews& dv) {
   // For every node on a surface: the entries of D_k, i.e. the spline weights of its foot point on
   // a carried surface.
   const auto foot = dv.foot;
-  const auto ops = carried_.ops;
-  const auto opOff = carried_.opOff;
-  const auto info = carried_.info;
+  const auto ops = unmanaged(carried_.ops);
+  const auto opOff = unmanaged(carried_.opOff);
+  const auto info = unmanaged(carried_.info);
   const auto surf = dv.selected;
-  const auto gridOff = carried_.gridOff;
-  const auto gridDof = carried_.gridDof;
+  const auto gridOff = unmanaged(carried_.gridOff);
+  const auto gridDof = unmanaged(carried_.gridDof);
   const auto dof = dv.dof;
-  const auto wu = wu_, wv = wv_;
-  const auto entDof = D_.dof;
-  const auto entW = D_.w;
-  const auto entN = D_.count;
-  const auto entRot = D_.rot;
+  const auto wu = unmanaged(wu_), wv = unmanaged(wv_);
+  const auto entDof = unmanaged(D_.dof);
+  const auto entW = unmanaged(D_.w);
+  const auto entN = unmanaged(D_.count);
+  const auto entRot = unmanaged(D_.rot);
   const auto rot = dv.rot;
-  const auto patch = patch_;
-  const auto ctrlOff = ctrl_.off;
+  const auto patch = unmanaged(patch_);
+  const auto ctrlOff = unmanaged(ctrl_.off);
   const int maxE = static_cast<int>(D_.w.extent(1));
   forEach(
       "epaphe::contact::relative_motion", static_cast<long>(dv.gap.extent(0)),
@@ -357,17 +357,17 @@ void RelativeFlexibility::relativeColumns(const std::vector<int>& activeH, const
   // Then C_ab = D_a (F D_b^T).
   const int nA = static_cast<int>(activeH.size());
   const auto surf = dv.selected;
-  const auto info = carried_.info;
-  const auto patch = patch_;
-  const auto pbasis = pbasis_;
-  const auto pcell = pcell_;
-  const auto ctrlDim = ctrl_.dim;
-  const auto rot = D_.rot;
-  const auto T = T_;
-  const auto tOff = ctrl_.tOff;
-  const auto need = needRange_;
-  const auto Pm = ctrl_.P;
-  const auto pOff = ctrl_.pOff;
+  const auto info = unmanaged(carried_.info);
+  const auto patch = unmanaged(patch_);
+  const auto pbasis = unmanaged(pbasis_);
+  const auto pcell = unmanaged(pcell_);
+  const auto ctrlDim = unmanaged(ctrl_.dim);
+  const auto rot = unmanaged(D_.rot);
+  const auto T = unmanaged(T_);
+  const auto tOff = unmanaged(ctrl_.tOff);
+  const auto need = unmanaged(needRange_);
+  const auto Pm = unmanaged(ctrl_.P);
+  const auto pOff = unmanaged(ctrl_.pOff);
   const int ns = static_cast<int>(carried_.info.extent(0));
   if (ctrl_.tRows > 0) {
     // per patch node, its patch: the first control point (i, j) and the cubic basis of the foot
@@ -442,20 +442,20 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
                                         const DetectionViews& dv) {
   const int nA = static_cast<int>(activeH.size());
   const auto surf = dv.selected;
-  const auto info = carried_.info;
-  const auto F = F_;
-  const auto T = T_;
-  const auto tOff = ctrl_.tOff;
-  const auto nodeBlk = nodeBlk_;
-  const auto patch = patch_;
-  const auto blocks = blocks_;
-  const auto pcell = pcell_;
-  const auto pbasis = pbasis_;
-  const auto wv = wv_;
-  const auto C = C_;
-  const auto known = known_;
-  const auto fixed = fixedC_;
-  const RelativeMotion D = D_;
+  const auto info = unmanaged(carried_.info);
+  const auto F = F_.untracked();
+  const auto T = unmanaged(T_);
+  const auto tOff = unmanaged(ctrl_.tOff);
+  const Kokkos::View<int*> nodeBlk = unmanaged(nodeBlk_);  // (FlexibleColumn refers to it)
+  const auto patch = unmanaged(patch_);
+  const auto blocks = unmanaged(blocks_);
+  const auto pcell = unmanaged(pcell_);
+  const auto pbasis = unmanaged(pbasis_);
+  const auto wv = unmanaged(wv_);
+  const auto C = unmanaged(C_);
+  const auto known = unmanaged(known_);
+  const auto fixed = unmanaged(fixedC_);
+  const RelativeMotion D = motion();
   // C_ab = D_a (F D_b^T), one active node a per iteration, every b unless both were active at the
   // last pass of this step too (D and F do not change within a step: C_ab was made then).
   // Node a's own part reads F D_b^T at a's DOFs: F's block at (a's DOFs, b's) when both are in one
@@ -543,31 +543,32 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
 
 void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, const Kokkos::View<double*>& force,
                                      const Kokkos::View<double* [3]>& dir, const Kokkos::View<int*>& surf,
-                                     const DenseVector& dq, int n) const {
+                                     const DenseVector& dqOut, int n) const {
   // dq = F G lambda (eqs. 2.35-2.36), G_a = D_a^T c_a. On the dense rows of F: node a's own part,
   // F's columns at its DOFs, and a patch node's part on its surface's block, F (B_u x B_v) x, the
   // control columns times the control points' coefficients x summed over the nodes first. On a
   // diagonal block, dq_i = F_ii (sum_a D_a^T c_a lambda_a)_i, scattered from the entries of D (one
   // thread: the same sums in the same order on any number of threads).
-  const auto F = F_;
+  const auto F = F_.untracked();
+  const auto dq = unmanaged(dqOut);
   const auto act = active;  // ascending: the sums below run in node order
   const int T = Kokkos::DefaultHostExecutionSpace().concurrency();
-  const auto blocks = blocks_;
-  const auto nodeBlk = nodeBlk_;
-  const auto dof = D_.dof;  // entry 0: the node's own DOFs
-  const auto patch = patch_;
-  const auto coefOff = ctrl_.coefOff;
-  const auto ctrlOff = ctrl_.off;
-  const auto ctrlDim = ctrl_.dim;
-  const auto coef = ctrl_.coef;
-  const auto ctrl = ctrl_.G;
-  const auto info = carried_.info;
+  const auto blocks = unmanaged(blocks_);
+  const Kokkos::View<int*> nodeBlk = unmanaged(nodeBlk_);  // (FlexibleColumn refers to it)
+  const auto dof = unmanaged(D_.dof);                      // entry 0: the node's own DOFs
+  const auto patch = unmanaged(patch_);
+  const auto coefOff = unmanaged(ctrl_.coefOff);
+  const auto ctrlOff = unmanaged(ctrl_.off);
+  const auto ctrlDim = unmanaged(ctrl_.dim);
+  const auto coef = unmanaged(ctrl_.coef);
+  const auto ctrl = unmanaged(ctrl_.G);
+  const auto info = unmanaged(carried_.info);
   const int ns = static_cast<int>(carried_.info.extent(0));
   const bool patches = ctrl_.coef.extent(0) > 0;
   if (patches) {  // x = -sum_k lambda_k b_a b_b R_k^T c_k, over the patch nodes in node order
-    const auto rot = D_.rot;
-    const auto pbasis = pbasis_;
-    const auto pcell = pcell_;
+    const auto rot = unmanaged(D_.rot);
+    const auto pbasis = unmanaged(pbasis_);
+    const auto pcell = unmanaged(pcell_);
     forEach(
         "epaphe::contact::control_coefficients", 1, 0, KOKKOS_LAMBDA(const int) {
           for (std::size_t x = 0; x < coef.extent(0); ++x) coef(x) = 0.0;
@@ -620,7 +621,7 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
         }
       });
   if (F.denseRows < F.size()) {
-    const RelativeMotion Dk = D_;
+    const RelativeMotion Dk = motion();
     forEach(
         "epaphe::contact::correction_diagonal", 1, 0, KOKKOS_LAMBDA(const int) {
           for (std::size_t k = 0; k < force.extent(0); ++k) {

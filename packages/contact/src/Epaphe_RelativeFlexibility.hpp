@@ -17,6 +17,7 @@
 #include "Epaphe_ContactDetection.hpp"
 #include "Epaphe_DenseTypes.hpp"
 #include "Epaphe_Flexibility.hpp"
+#include "Epaphe_Parallel.hpp"
 #include "Epaphe_RelativeMotion.hpp"
 
 #include <Kokkos_Core.hpp>
@@ -101,12 +102,15 @@ public:
   /// dq = F G lambda (eqs. 2.35-2.36) of the first nA nodes of `active` (ascending), their forces
   /// `force`, directions `dir` and selected surfaces `surf`; n: the system size.
   void correction(const Kokkos::View<int*>& active, int nA, const Kokkos::View<double*>& force,
-                  const Kokkos::View<double* [3]>& dir, const Kokkos::View<int*>& surf, const DenseVector& dq,
+                  const Kokkos::View<double* [3]>& dir, const Kokkos::View<int*>& surf, const DenseVector& dqOut,
                   int n) const;
 
-  /// D_k's entries and C_ab (views shared with the enforcement).
-  RelativeMotion motion() const { return D_; }
-  const Kokkos::View<double** [3][3]>& C() const { return C_; } const Flexibility::Packed& flexibility() const {
+  /// D_k's entries and C_ab, unmanaged (Epaphe_Parallel.hpp): views shared with the enforcement,
+  /// copied by the step's kernels; this object keeps the memory.
+  RelativeMotion motion() const {
+    return RelativeMotion{unmanaged(D_.dof), unmanaged(D_.w), unmanaged(D_.count), unmanaged(D_.rot)};
+  }
+  Kokkos::View<double** [3][3]> C() const { return unmanaged(C_); } const Flexibility::Packed& flexibility() const {
     return F_;
   }
 

@@ -43,10 +43,11 @@ struct RelativeMotion {
 /// read (a's body carries no surface, SurfaceContact refuses that, so no patch of k's is on a's
 /// block; a's grid DOFs on a dense block make a a patch node, whose C uses T); in a diagonal block
 /// of F, F_ii times the weights of node k's entries at DOF i (the only rows where D_k^T is not zero).
+/// Made per item inside kernels: it refers to the kernel's own copies, copies no view.
 struct FlexibleColumn {
-  Flexibility::Packed F;
-  RelativeMotion D;
-  Kokkos::View<int*> nodeBlock;
+  const Flexibility::Packed& F;
+  const RelativeMotion& D;
+  const Kokkos::View<int*>& nodeBlock;
   int k, e;
   KOKKOS_INLINE_FUNCTION double operator()(int i) const {
     if (F.denseRow(i) >= 0) {

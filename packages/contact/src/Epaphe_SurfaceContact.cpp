@@ -110,33 +110,41 @@ void SurfaceContact::initWorkViews(const ContactNodes& nodes, int N) {
       }
     gapTolerance_ = 1e-12 * std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300});
   }
-  v_.tangent = Kokkos::View<double* [3]>("epaphe::contact::tangent", nc);
-  v_.dir = Kokkos::View<double* [3]>("epaphe::contact::direction", nc);
-  v_.mu = Kokkos::View<double*>("epaphe::contact::friction", nc);
-  v_.force = Kokkos::View<double*>("epaphe::contact::force", nc);
-  v_.active = Kokkos::View<int*>("epaphe::contact::active", nc);
-  host_.mu = Kokkos::create_mirror_view(v_.mu);
-  host_.tangent = Kokkos::create_mirror_view(v_.tangent);
+  results_.tangent = Kokkos::View<double* [3]>("epaphe::contact::tangent", nc);
+  results_.dir = Kokkos::View<double* [3]>("epaphe::contact::direction", nc);
+  results_.mu = Kokkos::View<double*>("epaphe::contact::friction", nc);
+  results_.force = Kokkos::View<double*>("epaphe::contact::force", nc);
+  results_.active = Kokkos::View<int*>("epaphe::contact::active", nc);
+  host_.mu = Kokkos::create_mirror_view(results_.mu);
+  host_.tangent = Kokkos::create_mirror_view(results_.tangent);
   host_.gap = Kokkos::create_mirror_view(detection_->views().gap);
-  host_.force = Kokkos::create_mirror_view(v_.force);
+  host_.force = Kokkos::create_mirror_view(results_.force);
   host_.surf = Kokkos::create_mirror_view(detection_->views().selected);
   activeH_.reserve(nc);
 }
 
 void SurfaceContact::initStepViews() {
   const DetectionViews& dv = detection_->views();
-  v_.gap = dv.gap;
-  v_.surf = dv.selected;
-  v_.normal = dv.normal;
-  v_.x = dv.x;
-  v_.footX = dv.footX;
-  v_.turn = dv.turn;
+  v_.gap = unmanaged(dv.gap);
+  v_.surf = unmanaged(dv.selected);
+  v_.normal = unmanaged(dv.normal);
+  v_.x = unmanaged(dv.x);
+  v_.footX = unmanaged(dv.footX);
+  v_.turn = unmanaged(dv.turn);
   v_.D = flex_->motion();
   v_.C = flex_->C();
-  v_.element = dv.element;
+  v_.active = unmanaged(results_.active);
+  v_.force = unmanaged(results_.force);
+  v_.mu = unmanaged(results_.mu);
+  v_.dir = unmanaged(results_.dir);
+  v_.tangent = unmanaged(results_.tangent);
+  v_.element = unmanaged(dv.element);
   v_.coat = dv.coat;
   v_.rows = coating_ != nullptr;
-  if (v_.rows) v_.row = Kokkos::View<double* [3]>("epaphe::contact::normal_rows", numNodes());
+  if (v_.rows) {
+    results_.row = Kokkos::View<double* [3]>("epaphe::contact::normal_rows", numNodes());
+    v_.row = unmanaged(results_.row);
+  }
 }
 
 std::vector<double> SurfaceContact::warmStarts() const {
@@ -177,12 +185,10 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
   }
 
   ScopedPhase phase(cost, "contact");
-  // From here the step only copies views it owns into locals (kernel captures) and allocates none
-  // (contact.step-budget): as inside a Kokkos region, the copies need not count references (two
-  // atomic operations per copy, 4.6 % of a blade run with friction). No member view is assigned below.
-  const parallel_detail::UntrackedViews untracked;
+  // From here the step copies unmanaged views into locals and kernel captures (Epaphe_Parallel.hpp:
+  // unmanaged; no reference counted) and allocates none (contact.step-budget).
   if (!startStep()) return;
-  const DetectionViews& dv = detection_->views();
+  const DetectionViews dv = detection_->views().untracked();
   flex_->motionEntries(dv);
   flex_->forgetPairs();  // D (and so C) changed
   // Active set (Lagrange): the nodes the predictor made penetrate, less those the surface would
@@ -216,7 +222,7 @@ bool SurfaceContact::startStep() {
   projectionsSkipped_ += ns * (nc - projected);
   if (numActive_ > 0) return true;
   enforcement_->commit(v_, activeH_);
-  const auto tangent = v_.tangent;
+  const auto tangent = unmanaged(v_.tangent);
   fill(v_.force, 0.0);
   if (opt_.friction > 0.0) {
     fill(v_.mu, 0.0);
@@ -234,19 +240,19 @@ bool SurfaceContact::addPenetrating() {
   // g + n . D_k dq >= bound - |D_k dq|); when the bound does not decide, it is projected (refine)
   // and tested again with its exact gap
   const int nc = numNodes();
-  const DetectionViews& dv = detection_->views();
-  const auto dq = dq_;
-  const auto force = v_.force;
+  const DetectionViews dv = detection_->views().untracked();
+  const auto dq = unmanaged(dq_);
+  const auto force = unmanaged(v_.force);
   int added = 0;
   for (int attempt = 0;; ++attempt) {
     const RelativeMotion D = flex_->motion();
     const auto normal = dv.normal;
     const auto gap = dv.gap;
     const auto surf = dv.selected;
-    const auto corrected = corrected_;
-    const auto skipped = dv.skipped;
-    const auto refine = dv.refine;
-    const auto bound = dv.bound;
+    const auto corrected = unmanaged(corrected_);
+    const auto skipped = dv.skip.skipped;
+    const auto refine = dv.skip.refine;
+    const auto bound = dv.skip.bound;
     const double eps = gapTolerance_;
     added = 0;
     reduce(
@@ -285,19 +291,20 @@ void SurfaceContact::finishStep(const DenseVector& q) {
     copy(host_.mu, v_.mu);
     copy(host_.tangent, v_.tangent);
   }
-  const auto dq = dq_;
+  const auto dq = unmanaged(dq_);
+  const auto qs = unmanaged(q);
   forEach(
-      "epaphe::contact::apply_correction", q.extent(0), 1, KOKKOS_LAMBDA(const int i) { q(i) += dq(i); });
+      "epaphe::contact::apply_correction", q.extent(0), 1, KOKKOS_LAMBDA(const int i) { qs(i) += dq(i); });
   fence();
 }
 
 double SurfaceContact::workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const {
   double w = 0.0;
   if (numActive_ == 0) return w;
-  const auto dir = v_.dir;
-  const auto force = v_.force;
+  const auto dir = unmanaged(v_.dir);
+  const auto force = unmanaged(v_.force);
   const RelativeMotion D = flex_->motion();
-  const Difference<DenseVector> dq{qNext, qPrev};
+  const Difference<DenseVector> dq{unmanaged(qNext), unmanaged(qPrev)};
   reduce(
       "epaphe::contact::work", numNodes(), 10,
       KOKKOS_LAMBDA(const int k, double& s) {
@@ -314,11 +321,11 @@ double SurfaceContact::workIncrement(const DenseVector& qNext, const DenseVector
 std::array<double, 2> SurfaceContact::workIncrementSplit(const DenseVector& qNext, const DenseVector& qPrev) const {
   double friction = 0.0;
   if (numActive_ == 0) return {0.0, 0.0};
-  const auto mu = v_.mu;
-  const auto tangent = v_.tangent;
-  const auto force = v_.force;
+  const auto mu = unmanaged(v_.mu);
+  const auto tangent = unmanaged(v_.tangent);
+  const auto force = unmanaged(v_.force);
   const RelativeMotion D = flex_->motion();
-  const Difference<DenseVector> dq{qNext, qPrev};
+  const Difference<DenseVector> dq{unmanaged(qNext), unmanaged(qPrev)};
   reduce(
       "epaphe::contact::friction_work", numNodes(), 10,
       KOKKOS_LAMBDA(const int k, double& s) {

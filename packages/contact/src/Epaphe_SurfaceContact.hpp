@@ -182,6 +182,12 @@ public:
   void setCoatingState(const std::vector<double>& state);
 
 private:
+  /// The per-node results the enforcement writes (owned here; v_ holds them unmanaged).
+  struct StepResults {
+    Kokkos::View<double*> force, mu;
+    Kokkos::View<double*[3]> dir, tangent, row;
+    Kokkos::View<int*> active;
+  };
   /// Host copies of the per-node results (the same memory as the views on a host backend).
   struct HostResults {
     Kokkos::View<double*>::HostMirror gap, force, mu;
@@ -207,8 +213,9 @@ private:
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactEnforcement> enforcement_;
   CoatingContact* coating_ = nullptr;  // enforcement_ when a surface has a coating
-  // what the enforcement sees: the detection's views (shared, not copies), D and C (flex_), and the
-  // per-node results it writes: force, direction c_a, mu_a, t_a
+  // what the enforcement sees, unmanaged: the detection's views (shared, not copies), D and C (flex_),
+  // and the per-node results it writes (results_): force, direction c_a, mu_a, t_a
+  StepResults results_;
   ContactStepViews v_;
   HostResults host_;
   DenseVector dq_;                // the correction F G lambda

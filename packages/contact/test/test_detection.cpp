@@ -180,13 +180,13 @@ TEST(ContactDetection, RefineProjectsExactlyTheFlaggedNodes) {
   q(2) = -0.1;                      // node 0 moves down by 0.1: 0.5 - 0.1 > 0, still skipped
   d.detect(q, 1e-3, false);
   EXPECT_EQ(d.lastProjected(), 0);
-  EXPECT_EQ(d.views().skipped(0), 1);
-  EXPECT_NEAR(d.views().bound(0), 0.4, 1e-14);  // the last gap less the motion since
-  EXPECT_NEAR(d.views().gap(0), 0.5, 1e-14);    // the last projection's
-  d.views().refine(0) = 1;
+  EXPECT_EQ(d.views().skip.skipped(0), 1);
+  EXPECT_NEAR(d.views().skip.bound(0), 0.4, 1e-14);  // the last gap less the motion since
+  EXPECT_NEAR(d.views().gap(0), 0.5, 1e-14);         // the last projection's
+  d.views().skip.refine(0) = 1;
   EXPECT_EQ(d.refine(), 1);
-  EXPECT_EQ(d.views().skipped(0), 0);
-  EXPECT_EQ(d.views().skipped(1), 1);
+  EXPECT_EQ(d.views().skip.skipped(0), 0);
+  EXPECT_EQ(d.views().skip.skipped(1), 1);
   EXPECT_NEAR(d.views().gap(0), 0.4, 1e-14);
   d.reset();
   d.detect(q, 2e-3, false);

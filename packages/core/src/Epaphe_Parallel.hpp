@@ -31,25 +31,27 @@ constexpr long kDefaultSerialWorkNs = 20000;
 /// Sets the threshold for this process (tests and benchmarks: 0 makes every loop a Kokkos kernel).
 void setSerialWorkNs(long ns);
 
+/// The unmanaged view type of a view type V: the same data, layout and memory, no reference count.
+template <class V>
+using Unmanaged = Kokkos::View<typename V::data_type, typename V::array_layout, typename V::device_type,
+                               Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+
+/// An unmanaged view of v's memory: nothing allocated, no reference counted, and neither are they by
+/// the copies of it or of a view assigned from it. The explicit step copies views into locals and
+/// kernel captures, and kernels copy structs of views per item; counting references costs two atomic
+/// operations per view and copy (measured 6.7 % of a blade run's instructions), so the step copies
+/// unmanaged views of the views their owner keeps (allocated at setup, alive as long as the step).
+template <class V>
+Unmanaged<V> unmanaged(const V& v) {
+  return Unmanaged<V>(v);
+}
+
 namespace parallel_detail {
 constexpr bool kHostAccessible =
     Kokkos::SpaceAccessibility<Kokkos::HostSpace, Kokkos::DefaultExecutionSpace::memory_space>::accessible;
 inline bool serial(long n, long nsPerItem) {
   return kHostAccessible && (Kokkos::DefaultExecutionSpace().concurrency() == 1 || n * nsPerItem < serialWorkNs());
 }
-/// While alive, copies of views on this thread do not count references, as inside a Kokkos parallel
-/// region (a kernel body that copies a struct of views per item would otherwise pay two atomic
-/// operations per view and copy: measured 6.7 % of a blade run's instructions). Thread-local.
-struct UntrackedViews {
-  using Record = Kokkos::Impl::SharedAllocationRecord<void, void>;
-  const bool was = Record::tracking_enabled();
-  UntrackedViews() { Record::tracking_disable(); }
-  ~UntrackedViews() {
-    if (was) Record::tracking_enable();
-  }
-  UntrackedViews(const UntrackedViews&) = delete;
-  UntrackedViews& operator=(const UntrackedViews&) = delete;
-};
 /// A kernel launched by forEach and not yet waited for by fence().
 inline bool& launched() {
   static bool pending = false;
@@ -95,7 +97,6 @@ template <class F>
 void forEach(const char* name, long n, long nsPerItem, const F& f) {
   if (n <= 0) return;
   if (parallel_detail::serial(n, nsPerItem)) {
-    const parallel_detail::UntrackedViews untracked;
     for (long i = 0; i < n; ++i) f(static_cast<int>(i));
   } else {
     Kokkos::parallel_for(name, Kokkos::RangePolicy<>(0, n), f);
@@ -123,7 +124,6 @@ void forRowBlocks(const char* name, int n, long ns, int align, const F& f) {
 template <class F, class R>
 void reduce(const char* name, long n, long nsPerItem, const F& f, const R& reducer) {
   if (parallel_detail::serial(n, nsPerItem)) {
-    const parallel_detail::UntrackedViews untracked;
     typename R::value_type v;
     reducer.init(v);
     for (long i = 0; i < n; ++i) f(static_cast<int>(i), v);

@@ -6,6 +6,7 @@
 // its part of F D^T and of the correction F G lambda is a scaling of the entries of D, with no
 // N x N storage anywhere.
 #include "Epaphe_DenseTypes.hpp"
+#include "Epaphe_Parallel.hpp"
 
 #include <Kokkos_Core.hpp>
 
@@ -40,6 +41,12 @@ public:
     int denseRows = 0;
 
     int size() const { return static_cast<int>(denseRow.extent(0)); }
+    /// The same views, unmanaged (Epaphe_Parallel.hpp: unmanaged): what a step copies into its
+    /// kernels, counting no references; this Packed keeps the memory.
+    Packed untracked() const {
+      return Packed{unmanaged(blocks), unmanaged(start),    unmanaged(dense),
+                    unmanaged(diag),   unmanaged(denseRow), denseRows};
+    }
   };
   /// The packed copy (built at each call: at setup).
   Packed pack() const;
