@@ -25,18 +25,18 @@ CoulombFriction::CoulombFriction(double mu, bool penalty, double kp, double h, i
   bestState_ = Kokkos::View<int*>("epaphe::contact::best_state", nc);
   nextTangent_ = Kokkos::View<double* [3]>("epaphe::contact::next_tangent", nc);
   bestTangent_ = Kokkos::View<double* [3]>("epaphe::contact::best_tangent", nc);
-  MCf_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::friction_matrix", 3 * nc, 3 * nc);
-  sol_ = Kokkos::View<double*>("epaphe::contact::friction_solution", 3 * nc);
-  rhs_ = Kokkos::View<double*>("epaphe::contact::friction_rhs", 3 * nc);
-  unknownOffset_ = Kokkos::View<int*>("epaphe::contact::friction_unknowns", nc + 1);
-  unknownOffsetH_ = Kokkos::create_mirror_view(unknownOffset_);
-  MCfH_ = Kokkos::create_mirror_view(MCf_);
-  solH_ = Kokkos::create_mirror_view(sol_);
-  rhsH_ = Kokkos::create_mirror_view(rhs_);
+  sys_.MCf = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::friction_matrix", 3 * nc, 3 * nc);
+  sys_.sol = Kokkos::View<double*>("epaphe::contact::friction_solution", 3 * nc);
+  sys_.rhs = Kokkos::View<double*>("epaphe::contact::friction_rhs", 3 * nc);
+  sys_.unknownOffset = Kokkos::View<int*>("epaphe::contact::friction_unknowns", nc + 1);
+  sys_.unknownOffsetH = Kokkos::create_mirror_view(sys_.unknownOffset);
+  sys_.MCfH = Kokkos::create_mirror_view(sys_.MCf);
+  sys_.solH = Kokkos::create_mirror_view(sys_.sol);
+  sys_.rhsH = Kokkos::create_mirror_view(sys_.rhs);
   prev_ = Kokkos::View<int*>("epaphe::contact::previous_state", nc);
   prevTangent_ = Kokkos::View<double* [3]>("epaphe::contact::previous_tangent", nc);
   keep_.reserve(nc);
-  ipiv_.reserve(3 * static_cast<std::size_t>(nc));
+  sys_.ipiv.reserve(3 * static_cast<std::size_t>(nc));
 }
 
 Teuchos::RCP<const Teuchos::ParameterList> CoulombFriction::getValidParameters() {
@@ -239,7 +239,7 @@ void CoulombFriction::checkSelfLocking(const ContactStepViews& v, const std::vec
   const double kappa = penalty_ ? 1.0 / kp_ : 0.0;
   for (int a = 0; a < nA; ++a) {
     const int k = activeH[a];
-    if (state_(k) != kSlide || !(solH_(3 * a) > 0.0)) continue;
+    if (state_(k) != kSlide || !(sys_.solH(3 * a) > 0.0)) continue;
     ++lock_.sliding;
     double cn = 0.0;
     for (int j = 0; j < 3; ++j) cn += local_(k, k, 0, j) * column_(k, j);
@@ -312,20 +312,20 @@ void CoulombFriction::assembleSystem(const ContactStepViews& v, const Kokkos::Vi
   // Only the unknowns that are not known beforehand: lambda_a unless the normal law is penalty
   // (lambda_a = k_p (-g*_a), eq. 2.34), s1_a and s2_a only while node a sticks (a sliding node's
   // force is lambda_a (n_a + mu t_a), its tangential unknowns are zero). The known forces move to
-  // the right-hand side. Node a's first unknown is unknownOffset_(a): a step whose active nodes
+  // the right-hand side. Node a's first unknown is sys_.unknownOffset(a): a step whose active nodes
   // all slide solves nA (Lagrange) or no unknowns instead of 3 nA. Row i of node a, column j of
   // node b: e_i,a^T C_ab c_j,b = (T_ab c_j,b)_i, c_j,b in b's basis (slidingColumn).
   const bool penalty = penalty_;
   const double kp = kp_;
   constexpr int slide = kSlide;
-  const auto off = unmanaged(unknownOffset_);
+  const auto off = unmanaged(sys_.unknownOffset);
   const auto T = unmanaged(local_);
   const auto basis = unmanaged(basis_);
   const auto state = unmanaged(state_);
   const auto disp = unmanaged(disp_);
   const auto gap = v.gap;
-  const auto A = unmanaged(MCf_);
-  const auto rhs = unmanaged(rhs_);
+  const auto A = unmanaged(sys_.MCf);
+  const auto rhs = unmanaged(sys_.rhs);
   const auto column = unmanaged(column_);
   const bool rows = v.rows;  // a normal law's own rows (v.row): alpha, beta, gamma; penalty: {0, 1, force}
   const auto row = v.row;
@@ -382,42 +382,42 @@ void CoulombFriction::countUnknowns(const ContactStepViews& v, const std::vector
   int m = 0;
   double c0[3];
   for (int a = 0; a < nA; ++a) {
-    unknownOffsetH_(a) = m;
+    sys_.unknownOffsetH(a) = m;
     m += (penalty_ ? 0 : 1) + (state_(activeH[a]) == kSlide ? 0 : 2);
     // this pass's sliding columns, read by every row of the system and by classify()
     if (slidingColumn(basis_, v.tangent, state_, activeH[a], mu_, kSlide, c0))
       for (int i = 0; i < 3; ++i) column_(activeH[a], i) = c0[i];
   }
-  unknownOffsetH_(nA) = m;
-  copy(unknownOffset_, unknownOffsetH_);
+  sys_.unknownOffsetH(nA) = m;
+  copy(sys_.unknownOffset, sys_.unknownOffsetH);
 }
 
 void CoulombFriction::solveSystem(const ContactStepViews& v, const std::vector<int>& active, int nA, int ld) {
-  const int m = unknownOffsetH_(nA);
+  const int m = sys_.unknownOffsetH(nA);
   if (m > 0) {
-    copy(MCfH_, MCf_);
-    copy(rhsH_, rhs_);
-    const int info = solveDense(m, MCfH_.data(), ld, rhsH_.data(), ipiv_);
+    copy(sys_.MCfH, sys_.MCf);
+    copy(sys_.rhsH, sys_.rhs);
+    const int info = solveDense(m, sys_.MCfH.data(), ld, sys_.rhsH.data(), sys_.ipiv);
     EPAPHE_REQUIRE(info == 0, "contact: the friction contact system of "
                                   << nA << " active nodes (" << m << " unknowns) is singular (zero pivot at unknown "
                                   << info << ")");
   }
   // (lambda, s1, s2) of every active node: the solved unknowns and the known ones
   for (int a = 0; a < nA; ++a) {
-    const int ka = active[a], o = unknownOffsetH_(a);
+    const int ka = active[a], o = sys_.unknownOffsetH(a);
     const bool sl = state_(ka) == kSlide;
-    solH_(3 * a) = penalty_ ? (v.rows ? v.row(ka, 2) : kp_ * (-v.gap(ka))) : rhsH_(o);
+    sys_.solH(3 * a) = penalty_ ? (v.rows ? v.row(ka, 2) : kp_ * (-v.gap(ka))) : sys_.rhsH(o);
     const int t = penalty_ ? o : o + 1;
-    solH_(3 * a + 1) = sl ? 0.0 : rhsH_(t);
-    solH_(3 * a + 2) = sl ? 0.0 : rhsH_(t + 1);
+    sys_.solH(3 * a + 1) = sl ? 0.0 : sys_.rhsH(t);
+    sys_.solH(3 * a + 2) = sl ? 0.0 : sys_.rhsH(t + 1);
   }
-  copy(sol_, solH_);
+  copy(sys_.sol, sys_.solH);
 }
 
 bool CoulombFriction::releasePulled(std::vector<int>& activeH, int& nA, int& releases, int nc) {
   keep_.clear();
   for (int a = 0; a < nA; ++a)
-    if (solH_(3 * a) >= 0.0) keep_.push_back(activeH[a]);
+    if (sys_.solH(3 * a) >= 0.0) keep_.push_back(activeH[a]);
   if (static_cast<int>(keep_.size()) < nA && releases < nc) {
     ++releases;
     activeH.swap(keep_);
@@ -435,7 +435,7 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
   const auto tangent = v.tangent;
   const auto state = unmanaged(state_);
   const auto disp = unmanaged(disp_);
-  const auto sol = unmanaged(sol_);
+  const auto sol = unmanaged(sys_.sol);
   constexpr int slide = kSlide;
   const auto nextState = unmanaged(nextState_);
   const auto nextTangent = unmanaged(nextTangent_);
@@ -536,7 +536,7 @@ void CoulombFriction::storeForces(const ContactStepViews& v, const std::vector<i
   const int nc = static_cast<int>(v.force.extent(0));
   // forces: lambda_a, and the direction c_a = n_a + mu_a t_a with mu_a t_a = s_a / lambda_a
   for (int k = 0; k < nc; ++k) v.force(k) = 0.0;
-  for (int a = 0; a < nA; ++a) v.force(activeH[a]) = solH_(3 * a);
+  for (int a = 0; a < nA; ++a) v.force(activeH[a]) = sys_.solH(3 * a);
   const auto active = v.upload(activeH);
   const auto normal = v.normal;
   const auto basis = unmanaged(basis_);
@@ -544,7 +544,7 @@ void CoulombFriction::storeForces(const ContactStepViews& v, const std::vector<i
   const auto state = unmanaged(state_);
   const auto dir = v.dir;
   const auto muA = v.mu;
-  const auto sol = unmanaged(sol_);
+  const auto sol = unmanaged(sys_.sol);
   const auto force = v.force;
   forEach(
       "epaphe::contact::friction_reset", nc, 5, KOKKOS_LAMBDA(const int k) {

@@ -43,16 +43,16 @@ private:
   void prepare(const ContactStepViews& v, const std::vector<int>& active, const DenseVector& q, const DenseVector& qn);
   void solve(const ContactStepViews& v, std::vector<int>& active);
   // the phases of one solve (`active`: the uploaded active set, its first nA entries):
-  // friction system MCf_ and right-hand side rhs_ of the current states, in the unknowns that are
-  // not known beforehand (unknownOffset_)
+  // friction system MCf and right-hand side rhs of the current states, in the unknowns that are
+  // not known beforehand (unknownOffset)
   void assembleSystem(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);
   // T_ab = B_a C_ab B_b^T of the active pairs, B_a the rows (n_a, e1_a, e2_a): C in the nodes' own
   // bases, once per step (the passes read it instead of turning C_ab into the bases each time)
   void localFlexibility(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);
-  // solves it in place (ld: MCf_'s leading dimension); solH_, then sol_, hold (lambda, s1, s2) of
+  // solves it in place (ld: MCf's leading dimension); solH, then sol, hold (lambda, s1, s2) of
   // every active node, the known ones included
   void solveSystem(const ContactStepViews& v, const std::vector<int>& activeH, int nA, int ld);
-  // unknownOffset_ of the current states: per active node its first unknown, [nA] their count
+  // unknownOffset of the current states: per active node its first unknown, [nA] their count
   void countUnknowns(const ContactStepViews& v, const std::vector<int>& activeH, int nA);
   // Lagrange: drops the nodes with lambda < 0 from activeH (nA updated); true when any was dropped
   bool releasePulled(std::vector<int>& activeH, int& nA, int& releases, int nc);
@@ -80,17 +80,22 @@ private:
   Kokkos::View<int*> state_, nextState_, bestState_;  // kStick, kSlide
   Kokkos::View<double*[3]> nextTangent_, bestTangent_;
   Kokkos::View<int*> returns_;
-  Kokkos::View<double**, Kokkos::LayoutLeft> MCf_;  // friction system, 3 nc x 3 nc
-  Kokkos::View<double**, Kokkos::LayoutLeft>::HostMirror MCfH_;
-  Kokkos::View<double*> sol_;  // the solution, (lambda, s1, s2) per active node, known ones included
-  Kokkos::View<double*>::HostMirror solH_;
-  Kokkos::View<double*> rhs_;  // right-hand side / solution of the solved unknowns
-  Kokkos::View<double*>::HostMirror rhsH_;
-  Kokkos::View<int*> unknownOffset_;  // per active position: its first solved unknown; [nA]: their count
-  Kokkos::View<int*>::HostMirror unknownOffsetH_;
+  /// The friction system of a pass and its solution, with their host copies.
+  struct System {
+    Kokkos::View<double**, Kokkos::LayoutLeft> MCf;  // friction system, 3 nc x 3 nc
+    Kokkos::View<double**, Kokkos::LayoutLeft>::HostMirror MCfH;
+    Kokkos::View<double*> sol;  // the solution, (lambda, s1, s2) per active node, known ones included
+    Kokkos::View<double*>::HostMirror solH;
+    Kokkos::View<double*> rhs;  // right-hand side / solution of the solved unknowns
+    Kokkos::View<double*>::HostMirror rhsH;
+    Kokkos::View<int*> unknownOffset;  // per active position: its first solved unknown; [nA]: their count
+    Kokkos::View<int*>::HostMirror unknownOffsetH;
+    std::vector<int> ipiv;  // the pivots of the solve
+  };
+  System sys_;
   Kokkos::View<int*> prev_;                // last step's final state (0: not in contact)
   Kokkos::View<double* [3]> prevTangent_;  // and direction
-  std::vector<int> keep_, ipiv_;
+  std::vector<int> keep_;
   std::vector<double> static_;  // per node S_a, 9 entries row-major (empty: none given)
   SelfLocking lock_;
 };
