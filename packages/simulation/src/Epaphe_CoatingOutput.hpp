@@ -23,6 +23,7 @@
 #include "Epaphe_EnergyMonitor.hpp"
 #include "Epaphe_ExplicitLoop.hpp"
 #include "Epaphe_Hdf5File.hpp"
+#include "Epaphe_SurfaceContact.hpp"
 
 namespace epaphe {
 

@@ -11,6 +11,7 @@
 #include "Epaphe_ExplicitLoop.hpp"
 #include "Epaphe_Hdf5File.hpp"
 #include "Epaphe_SceneBody.hpp"
+#include "Epaphe_SurfaceContact.hpp"
 
 #include <memory>
 #include <vector>
