@@ -66,7 +66,7 @@ void keep(LockRecord& least, LockRecord& first, double margin, int node, double 
 }  // namespace
 
 void SelfLockingMonitor::afterCorrect(ExplicitLoop& loop) {
-  const SurfaceContact* contact = loop.contact();
+  const SurfaceContact* contact = contact_;
   if (contact == nullptr) return;
   const SelfLocking* lock = contact->enforcement().selfLocking();
   if (lock == nullptr || lock->sliding == 0) return;

@@ -12,6 +12,7 @@
 // the correction's margin only.
 #include "Epaphe_ExplicitLoop.hpp"
 #include "Epaphe_ReducedModel.hpp"
+#include "Epaphe_SurfaceContact.hpp"
 
 #include <string>
 #include <vector>
@@ -31,8 +32,9 @@ struct LockRecord {
 
 class SelfLockingMonitor : public LoopObserver {
 public:
-  /// `h`: the time step (a correction at step n sets the forces at t_{n+1}).
-  explicit SelfLockingMonitor(double h) : h_(h) {}
+  /// `contact`: the loop's contact (null: none); `h`: the time step (a correction at step n sets the
+  /// forces at t_{n+1}).
+  SelfLockingMonitor(const SurfaceContact* contact, double h) : contact_(contact), h_(h) {}
   void afterCorrect(ExplicitLoop& loop) override;
   /// Quasi-static (eq. (50)) and correction (eq. (48)) margins: least over the run, and first lock.
   const LockRecord& least() const { return least_; }
@@ -42,6 +44,7 @@ public:
   long long checks() const { return checks_; }  // sliding nodes checked (node-steps)
 
 private:
+  const SurfaceContact* contact_;
   double h_;
   LockRecord least_, leastStep_, first_, firstStep_;
   long long checks_ = 0;

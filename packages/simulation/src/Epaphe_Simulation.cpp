@@ -145,7 +145,7 @@ const RunSummary& Simulation::run() {
                           coating ? coating->series() : std::vector<io::Series*>{});
   StopControl stop(stopAfterSteps_, "continue with epaphe-run " + deck_.origin + " --restart " + output_);
   ProgressReport progress(P.sublist("Run").get<double>("Progress interval"));
-  SelfLockingMonitor locking(h);
+  SelfLockingMonitor locking(contact, h);
   for (LoopObserver* o : std::initializer_list<LoopObserver*>{runUp.get(), &locking, &monitor, &history, coating.get(),
                                                               fields.get(), &stop, &checkpoints, &progress})
     if (o != nullptr) loop.addObserver(o);
