@@ -145,11 +145,11 @@ TEST(ContactDetection, SkippingChangesNoGapOfANodeInContactAndBoundsTheOthers) {
     for (int k = 0; k < nc; ++k) {
       const bool inB = b.selected(k) >= 0 && b.gap(k) < 0.0;
       contacts += inB;
-      if (a.skipped(k)) {
+      if (a.skip.skipped(k)) {
         ++skippedTotal;
         ASSERT_GE(b.selected(k), 0) << "step " << n << " node " << k;
-        EXPECT_GT(a.bound(k), 0.0);
-        EXPECT_LE(a.bound(k), b.gap(k) + 1e-12) << "step " << n << " node " << k << ": the bound is no bound";
+        EXPECT_GT(a.skip.bound(k), 0.0);
+        EXPECT_LE(a.skip.bound(k), b.gap(k) + 1e-12) << "step " << n << " node " << k << ": the bound is no bound";
         EXPECT_FALSE(inB);
         continue;
       }
