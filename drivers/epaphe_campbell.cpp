@@ -114,13 +114,14 @@ int main(int argc, char** argv) {
     EPAPHE_REQUIRE(!retained.empty(), ctx << " has neither 'Reduction->Retained node set' nor 'Contact node set'");
     if (count < 0) count = rp.get<int>("Frequency check") > 0 ? rp.get<int>("Frequency check") : 10;
     const epaphe::RotationOptions rotation = epaphe::rotationOptions(rotp, ctx + ", Rotation");
-    const epaphe::CraigBamptonOptions co = epaphe::reductionOptions(rp);
+    const auto reduction = epaphe::reductionMethod(rp);  // the options of a Craig-Bampton-like method
+    const auto* modal = dynamic_cast<const epaphe::ModalReduction*>(reduction.get());
+    const epaphe::CraigBamptonOptions co = modal ? modal->options() : epaphe::craigBamptonOptions(rp, false);
     std::ostream& out = rt.out();
 
-    std::unique_ptr<epaphe::SpeedSampleSource> source;
-    if (!imported.empty()) source = epaphe::calculixSpeedSource(imported, body, rt.comm());
-    const epaphe::FullModel rest = source ? source->reference() : epaphe::buildBodyModel(body, bp, deckPath, rt.comm());
-    if (!source) source = std::make_unique<epaphe::BuiltInSpeedSource>(rest, rotation);
+    epaphe::FullModel restStorage;
+    const auto source = epaphe::bodySpeedSource(body, bp, deckPath, rt.comm(), rotation, restStorage);
+    const epaphe::FullModel& rest = source->reference();
     const auto retainedNodes = rest.mesh.nodeSet(retained, ctx + ", retained set");
     const std::string contactSet = bp.get<std::string>("Contact node set");
     const auto contact = rest.mesh.nodeSet(contactSet.empty() ? retained : contactSet, ctx + ", contact set");

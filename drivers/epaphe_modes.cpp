@@ -118,24 +118,25 @@ int main(int argc, char** argv) {
     }
     const std::vector<int> retainedNodes =
         full.mesh.nodeSet(retained, deckPath + ": body '" + body + "', retained set");
-    const epaphe::CraigBamptonOptions base = epaphe::reductionOptions(rp);
     const std::string method = rp.get<std::string>("Method");
-    const auto kind = epaphe::deck::getEnum<epaphe::ReductionMethod>(rp, "Method");
-    EPAPHE_REQUIRE(kind != epaphe::ReductionKind::None && kind != epaphe::ReductionKind::FullLumped,
+    const auto reduction = epaphe::reductionMethod(rp);
+    auto* modal = dynamic_cast<epaphe::ModalReduction*>(reduction.get());
+    EPAPHE_REQUIRE(modal != nullptr && reduction->retainsNodes(),
                    deckPath << ": body '" << body << "', 'Reduction->Method' = '" << method
                             << "' keeps the full model: "
                                "it has no modes to vary; its frequency check is in epaphe-run's summary");
+    const epaphe::CraigBamptonOptions base = modal->options();
     std::vector<std::vector<double>> reduced;
     std::vector<double> seconds;
     std::vector<int> sizes;
     std::vector<double> f;  // the full model's: Craig-Bampton computes them through its K_CC factor
     double checkSeconds = 0;
     for (std::size_t k = 0; k < modes.size(); ++k) {  // the deck's reduction method, with each mode count
-      epaphe::CraigBamptonOptions o = base;
-      o.modes = modes[k];
-      o.checkFrequencies = k + 1 == modes.size() ? std::min(count, full.numFree - 1) : 0;
+      modal->options() = base;
+      modal->options().modes = modes[k];
+      modal->options().checkFrequencies = k + 1 == modes.size() ? std::min(count, full.numFree - 1) : 0;
       epaphe::ReductionReport rep;
-      const epaphe::ReducedModel red = epaphe::reduceBody(full, retainedNodes, rp, o, &rep);
+      const epaphe::ReducedModel red = reduction->reduce(full, retainedNodes, &rep);
       reduced.push_back(epaphe::reducedFrequencies(red));
       seconds.push_back(rep.seconds);
       sizes.push_back(red.size);

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""epaphe-modes reduces a body by its deck's 'Reduction->Method' (the one reduceBody of epaphe-run).
+"""epaphe-modes reduces a body by its deck's 'Reduction->Method' (the one ReductionRegistry method epaphe-run uses).
 
 On inputs/rotor37-massless.xml (16 tip nodes retained):
   1. Massless boundary: its modes are the full model's lowest normal modes (retained nodes free), so

@@ -33,7 +33,7 @@ struct CraigBamptonOptions {
   double checkTolerance = 1e-6;
   /// Massless boundary: keep, of the lowest `candidates` elastic modes (0: just the lowest `modes`),
   /// the `modes` that a load spread evenly over the retained nodes along `loadDirection` excites most
-  /// (selectByParticipation in Epaphe_CraigBampton.cpp).
+  /// (selectByParticipation in Epaphe_MasslessBoundary.cpp).
   int candidates = 0;
   /// Massless boundary: every eigenpair at once by LAPACK on the dense matrices (small models)
   /// instead of Anasazi's lowest ones.

@@ -20,6 +20,7 @@ SpeedSample BuiltInSpeedSource::sample(double speed) {
   first_ = false;
   previousSpeed_ = speed;
   previousState_ = s.staticDisplacement;
+  s.report = std::move(sr);
   return s;
 }
 

@@ -2,6 +2,9 @@
 
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_Error.hpp"
+#include "Epaphe_ModelImporter.hpp"
+#include "Epaphe_BuiltInMeshes.hpp"
+#include "Epaphe_ReductionMethod.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 #include "Epaphe_CentralDifference.hpp"
 
@@ -17,22 +20,6 @@ namespace epaphe {
 using namespace deck;
 
 namespace {
-
-/// The keys of a casing's clearance law, shared by the rigid Casing surface and the Casing mesh
-/// (`who` names them in the documentation, `radiusKey` is the nominal radius' key).
-void addClearanceLaw(Teuchos::ParameterList& pl, const std::string& who, const std::string& radiusKey) {
-  addEnum(pl, "Clearance law", "None", {"None", "Two-lobe", "Harmonics"},
-          {int(ClearanceLaw::None), int(ClearanceLaw::TwoLobe), int(ClearanceLaw::Harmonics)},
-          who + ": radius = " + radiusKey +
-              " + (z - Axial position) tan(Cone angle) + gap(theta, z), theta from +x towards "
-              "+y. None: gap = Clearance; Two-lobe (NASA rotor 37, Piollet, Nyssen & Batailly 2019, eqs. 3-4): gap = "
-              "c (1 - 2 exp(-((mod(theta, pi)/pi - 0.5)/0.15)^2)), c = Clearance; Harmonics: gap = Clearance - "
-              "sum_k A_k(z) cos(n_k theta), A_k linear in z between its values at the two ends of the Axial range");
-  addDouble(pl, "Clearance", 0.0, who + ": c of the clearance law (m)");
-  addIntArray(pl, "Harmonic orders", {}, who + ", Harmonics: the orders n_k");
-  addDoubleArray(pl, "Amplitudes at first end", {}, who + ", Harmonics: A_k at the first end of the Axial range (m)");
-  addDoubleArray(pl, "Amplitudes at last end", {}, who + ", Harmonics: A_k at the last end of the Axial range (m)");
-}
 
 /// Run: what the run is called and how it uses the machine.
 void addRunParameters(Teuchos::ParameterList& pl) {
@@ -53,144 +40,42 @@ void addRunParameters(Teuchos::ParameterList& pl) {
           "(docs/user/divergence.md)");
 }
 
-/// Bodies-><name>->Mesh: the body's finite-element mesh (built-in or imported).
+/// Bodies-><name>->Mesh: the body's finite-element mesh, by the importer 'Type' names among the
+/// registered ones (Epaphe_ModelImporter.hpp), and every importer's keys.
 void addMeshParameters(Teuchos::ParameterList& body) {
   auto& mesh = body.sublist("Mesh", false, "The body's finite-element mesh");
-  addEnum(mesh, "Type", "Box",
-          {"Box", "Ring segment", "Blade", "Casing", "Sphere", "CalculiX", "Matrix Market", "code_aster"},
-          {int(MeshType::Box), int(MeshType::RingSegment), int(MeshType::Blade), int(MeshType::Casing),
-           int(MeshType::Sphere), int(MeshType::Calculix), int(MeshType::MatrixMarket), int(MeshType::CodeAster)},
-          "Box: structured 8-node hexahedra, node sets all, x-, x+, y-, y+, z-, z+. Ring segment: a thick "
-          "cylindrical arc about the z axis through Origin, node sets all, inner, outer, end-, end+, z-, z+. "
-          "Blade: a twisted, cambered blade standing along +y about the engine axis z (Hub radius .. Tip radius, "
-          "Chord, Blade thickness, Stagger, Twist, Camber, Cone angle, Axial position; Elements {span, chord, "
-          "thickness}), node sets all, root, tip, le, te, pressure, suction, tip-le, tip-te; each tip node at the "
-          "tip radius of its cone. "
-          "Casing: a full 360-degree casing about the z axis whose inner face follows the Clearance law of the "
-          "rigid Casing surface (Inner radius at Axial position, Cone angle, Axial range in absolute z), a wall of "
-          "Thickness outside it; Elements {through the thickness, around the circumference (at least 4), along "
-          "the axis}; node sets all, inner, outer, front and back (the faces at the first and last z, where it is "
-          "clamped); the node grids inner and outer are closed around the axis (their B-splines are periodic). "
-          "Sphere: a solid ball of Radius about Center, a cube of Elements {nx, ny, nz} (nx, ny even) mapped "
-          "onto it shell by shell (smooth cube-to-sphere map), optionally graded towards the lower pole (Pole "
-          "grading); node sets all, the six caps x-, x+, y-, y+, z- (the lower cap, around the pole (0, 0, "
-          "-Radius) from Center), z+ (each with its node grid, outward), and z-pole (the pole's node). "
-          "CalculiX, Matrix Market, code_aster: K and M imported from the files below (paths relative to the deck "
-          "file's directory); the body's Material is then unused, its boundary conditions and node sets are the "
-          "files' own (CalculiX *BOUNDARY and *NSET; a node set file), plus node set 'all'");
-  addString(mesh, "Input file", "",
-            "CalculiX: the input deck jobname.inp (mesh, *NSET, *BOUNDARY, *INCLUDEs) of "
-            "the run with *FREQUENCY, SOLVER=MATRIXSTORAGE");
-  addString(mesh, "Matrix job", "",
-            "CalculiX: path without extension of that run's jobname.sti (K), .mas (M) and "
-            ".dof (DOF of each row); empty: the Input file without its .inp");
-  addString(mesh, "Stiffness file", "",
-            "Matrix Market: K.mtx (%%MatrixMarket coordinate, general or symmetric); "
-            "code_aster: K as 'row column value' lines (one triangle or both)");
-  addString(mesh, "Mass file", "", "Matrix Market, code_aster: M, as the Stiffness file");
-  addString(mesh, "DOF file", "",
-            "Matrix Market: 'node direction' per matrix row; code_aster: the DOF numbering "
-            "of every equation ('N12 DX', Lagrange rows 'N12 LAGR:DX', dropped)");
-  addString(mesh, "Node file", "", "Matrix Market, code_aster: 'id x y z' per node");
-  addString(mesh, "Node set file", "", "Matrix Market, code_aster (optional): 'name id id ...' per line");
-  addString(mesh, "Clamped node file", "",
-            "code_aster (optional): node ids fixed in every direction, besides "
-            "the DOFs code_aster dualized");
-  addDoubleArray(mesh, "Origin", {0, 0, 0},
-                 "Box: corner with the smallest coordinates; Ring segment: a point of "
-                 "its axis (m)");
-  addDoubleArray(mesh, "Lengths", {0.2, 0.02, 0.02}, "Box: edge lengths along x, y, z (m)");
-  addIntArray(mesh, "Elements", {100, 1, 1},
-              "Box: hexahedra along x, y, z; Ring segment: through the "
-              "thickness, along the arc, along the axis; Casing: through the "
-              "thickness, around the circumference, along the axis; Sphere: "
-              "hexahedra along x, y, z of the mapped cube (x, y even)");
-  addDouble(mesh, "Inner radius", 0.15,
-            "Ring segment: inner radius; Casing: radius of the inner cone at the Axial "
-            "position, before the clearance law (m)",
-            1e-300);
-  addDouble(mesh, "Thickness", 0.03, "Ring segment, Casing: radial thickness (m)", 1e-300);
-  addDoubleArray(mesh, "Angles", {135, 225}, "Ring segment: first and last angle (degrees, from +x to +y)");
-  addDoubleArray(mesh, "Axial range", {-0.05, 0.05},
-                 "Ring segment: first and last z, from Origin; Casing: first "
-                 "and last z (m)");
-  addDoubleArray(mesh, "Center", {0, 0, 0}, "Sphere: centre of the ball (m)");
-  addDouble(mesh, "Radius", 0.01, "Sphere: radius of the ball (m)", 1e-300);
-  addDouble(mesh, "Pole grading", 1.0,
-            "Sphere: element size at the lower pole (and across the z axis) as a "
-            "fraction of the uniform size, in [0.02, 1]; 1: no grading. Geometric "
-            "spacing: the elements grow away from the pole and the axis (to 3.2 "
-            "times the uniform size for 0.15). Refines where a ball dropped along -z "
-            "touches (Hertz contact radius sqrt(R delta))",
-            0.02, 1.0);
-  addDouble(mesh, "Hub radius", 0.2, "Blade: radius of the root (m)", 1e-300);
-  addDouble(mesh, "Tip radius", 0.3, "Blade: radius of the tip at the Axial position (m)", 1e-300);
-  addDouble(mesh, "Chord", 0.06, "Blade: chord length (m)", 1e-300);
-  addDouble(mesh, "Blade thickness", 0.004, "Blade: thickness (m)", 1e-300);
-  addDouble(mesh, "Stagger", 30.0, "Blade: angle of the root chord to the engine axis (degrees)");
-  addDouble(mesh, "Twist", 20.0, "Blade: stagger added from root to tip (degrees)");
-  addDouble(mesh, "Camber", 0.05, "Blade: height of the parabolic camber line, as a fraction of the chord");
-  addDouble(mesh, "Cone angle", 0.0,
-            "Blade: half-angle of the tip cone; Casing: of the inner cone (degrees; the "
-            "radius grows by tan(angle) per metre along z)",
-            -60.0, 60.0);
-  addDouble(mesh, "Axial position", 0.0,
-            "Blade: z of mid-chord; Casing: z where the inner cone's radius is the "
-            "Inner radius (m)");
-  addClearanceLaw(mesh, "Casing", "Inner radius");
+  const std::vector<std::string> names = ImporterRegistry::names();
+  std::vector<int> values;
+  std::string doc;
+  for (const std::string& name : names) {
+    values.push_back(static_cast<int>(values.size()));
+    doc += (doc.empty() ? "" : ". ") + name + ": " + ImporterRegistry::make(name, "the deck schema")->documentation();
+  }
+  addEnum(mesh, "Type", "Box", names, values, doc);
+  mesh.setParameters(*importerParameters());
 }
 
-/// Bodies-><name>->Reduction: the model reduction (thesis section 2.3).
+/// Bodies-><name>->Reduction: the model reduction (thesis section 2.3): 'Method' among the registered
+/// methods (Epaphe_ReductionMethod.hpp), each method's own keys, and the keys of every method.
 void addReductionParameters(Teuchos::ParameterList& body) {
   auto& red = body.sublist("Reduction", false, "Model reduction (thesis section 2.3)");
-  addEnum(red, "Method", "Craig-Bampton", {"Craig-Bampton", "Guyan", "None", "Full, lumped mass", "Massless boundary"},
-          {int(ReductionMethod::CraigBampton), int(ReductionMethod::Guyan), int(ReductionMethod::None),
-           int(ReductionMethod::FullLumped), int(ReductionMethod::MasslessBoundary)},
-          "Craig-Bampton (eq. 2.12), Guyan (eq. 2.11, no modes), None (the full model, dense: small models only) "
-          "or Full, lumped mass (no reduction: K kept sparse, M lumped to its diagonal by HRZ scaling, a step is "
-          "one sparse product and the contact flexibility is diagonal; cheaper than a dense reduced model once "
-          "the retained interface is large, see docs/user/models.md; damping: none or Rayleigh with Beta = 0; "
-          "'Fixed-interface modes', 'Retained node set' and the cache are unused; 'Frequency check' compares "
-          "the lumped model's frequencies with the consistent-mass model's), or Massless boundary (MacNeal's "
-          "residual flexibility: the body's own lowest normal modes with the retained nodes free, plus the "
-          "static response to the contact forces; the retained DOFs carry no mass, so the stable step is set by "
-          "the last kept mode, not by the boundary; a body without clamps keeps its 6 rigid-body modes besides "
-          "and its static part is the inertia-relief flexibility; an initial velocity is projected onto the "
-          "modes, exactly for a free body, and the log says the kinetic energy a held body loses; Lagrange "
-          "contact only)");
-  addInt(red, "Fixed-interface modes", 20,
-         "Modes kept: Craig-Bampton's fixed-interface modes, or for Massless "
-         "boundary the body's elastic normal modes with the retained nodes free",
-         0, 100000);
-  addInt(red, "Candidate modes", 0,
-         "Massless boundary: compute this many of the lowest elastic modes and keep "
-         "the 'Fixed-interface modes' of them that a load along 'Load direction' on every "
-         "retained node excites most (their generalized force, Kammer & Triller's effective "
-         "mass); 0: the lowest modes, as many as kept",
-         0, 100000);
-  addEnum(red, "Eigensolver", "Anasazi", {"Anasazi", "LAPACK dense"}, {0, 1},
-          "Massless boundary: Anasazi (block Krylov-Schur, shift-invert through the factor: the lowest modes of "
-          "any model) or LAPACK dense (every mode at once by dsygvd on the dense K and M: models of at most "
-          "6000 DOFs; with 'Candidate modes', the whole spectrum to choose from for the cost of a few Anasazi "
-          "pairs)");
-  addDoubleArray(red, "Load direction", {0, 0, 0},
-                 "Massless boundary with 'Candidate modes': the direction of the "
-                 "load the contact puts on the retained nodes, e.g. a wall's normal");
+  const std::vector<std::string> names = ReductionRegistry::names();
+  std::vector<int> values;
+  std::string doc;
+  std::vector<Teuchos::RCP<const Teuchos::ParameterList>> keys;
+  for (const std::string& name : names) {
+    const auto method = ReductionRegistry::make(name, "the deck schema");
+    values.push_back(static_cast<int>(values.size()));
+    doc += (doc.empty() ? "" : "; ") + name + ": " + method->documentation();
+    keys.push_back(method->getValidParameters());
+  }
+  addEnum(red, "Method", "Craig-Bampton", names, values, doc);
+  for (const auto& k : keys) red.setParametersNotAlreadySet(*k);
   addString(red, "Retained node set", "", "Nodes kept as physical DOFs (empty: the contact node set)");
-  addEnum(red, "Linear solver", "MUMPS", {"MUMPS", "KLU2", "Belos CG"},
-          {int(LinearSolver::Mumps), int(LinearSolver::Klu2), int(LinearSolver::BelosCg)},
-          "Solver of K_CC for the constraint modes and inside Anasazi's shift-invert: MUMPS or KLU2 (Amesos2 "
-          "direct; KLU2 one MPI rank only), or Belos CG (Belos block conjugate gradients, Jacobi-preconditioned, "
-          "no factor stored: less memory, usually slower; see 'Iterative tolerance')");
-  addDouble(red, "Iterative tolerance", 1e-12, "Belos CG: relative residual at which a solve stops", 1e-300, 1e-2);
   addBool(red, "Cache", true,
           "Store the reduced model in HDF5 and reuse it while the model and reduction "
           "parameters are unchanged");
   addString(red, "Cache file", "", "Cache path (empty: <output file stem>.<body>.rom.h5)");
-  addInt(red, "Frequency check", 10,
-         "Compare this many frequencies of the reduced model with the full "
-         "model's (Anasazi); 0: skip",
-         0, 1000);
 }
 
 /// Bodies: one sublist per flexible body (mesh, material, boundary conditions, contact nodes, reduction).
@@ -407,7 +292,10 @@ void addOutputParameters(Teuchos::ParameterList& pl) {
 }  // namespace
 
 Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
-  static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
+  // Rebuilt when a reduction method or an importer was registered since (its keys and name join it).
+  static Teuchos::RCP<const Teuchos::ParameterList> valid;
+  static int version = -1;
+  if (valid.is_null() || version != ReductionRegistry::version() + ImporterRegistry::version()) {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Epaphe"));
     addRunParameters(*pl);
     addBodyParameters(*pl);
@@ -415,8 +303,9 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addContactParameters(*pl);
     addTimeParameters(*pl);
     addOutputParameters(*pl);
-    return Teuchos::RCP<const Teuchos::ParameterList>(pl);
-  }();
+    valid = pl;
+    version = ReductionRegistry::version() + ImporterRegistry::version();
+  }
   return valid;
 }
 

@@ -1,7 +1,6 @@
 #pragma once
 // The valid parameters of an Epaphe deck, with documentation, defaults and validators.
-#include "Epaphe_Mesh.hpp"          // ClearanceLaw
-#include "Epaphe_ReducedModel.hpp"  // ReductionKind
+#include "Epaphe_Mesh.hpp"  // ClearanceLaw
 #include "Epaphe_LinearSolver.hpp"
 
 #include <Teuchos_ParameterList.hpp>
@@ -11,18 +10,6 @@
 
 namespace epaphe {
 
-enum class MeshType {
-  Box = 0,
-  RingSegment = 1,
-  Blade = 2,
-  Calculix = 3,
-  MatrixMarket = 4,
-  CodeAster = 5,
-  Casing = 6,
-  Sphere = 7
-};
-// 'Reduction->Method' and 'Linear solver' are the enums the reductions and the solvers take.
-using ReductionMethod = ReductionKind;
 enum class SurfaceType { Plane = 0, CylinderArc = 1, BodyFace = 2, Casing = 3 };
 
 /// The whole deck: lists Run, Bodies (one sublist per body), Surfaces (one per surface),

@@ -41,7 +41,7 @@ HistoryOutput::HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_p
       file.writeDoubles(g + "/frequencies/reduced", b.reducedFrequencies);
       file.writeDoubles(g + "/frequencies/full", b.fullFrequencies);
       file.writeDoubles(g + "/frequencies/fixed_interface", b.rom.modeFrequencies);
-      file.setAttribute(g, "reduction", b.rom.method());
+      file.setAttribute(g, "reduction", b.method);
       file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
     }
     if (!b.watched.empty()) {

@@ -76,7 +76,7 @@ ImportedSpeeds importedSpeeds(const std::string& body, const ParameterList& bp, 
   const std::string ctx = deckPath + ": body '" + body + "', '" + deck::pathOf(rot, "Imported speeds") + "'";
   EPAPHE_REQUIRE(speeds.size() == jobs.size(), ctx << " has " << speeds.size() << " speed(s) and 'Imported jobs' "
                                                    << jobs.size() << " job(s); give one ccx job per speed");
-  EPAPHE_REQUIRE(deck::getEnum<MeshType>(bp.sublist("Mesh"), "Type") == MeshType::Calculix,
+  EPAPHE_REQUIRE(bp.sublist("Mesh").get<std::string>("Type") == "CalculiX",  // the importer these jobs are read as
                  ctx << ": the matrices at speed are read from CalculiX jobs, but 'Mesh->Type' is "
                      << bp.sublist("Mesh").get<std::string>("Type") << "; set it to CalculiX or remove the key");
   EPAPHE_REQUIRE(speeds.size() >= 2, ctx << " has " << speeds.size() << " speed; the parametric model needs 2 or more "

@@ -160,24 +160,14 @@ void Scene::build() {
 /// rotation). Reads the imported files: call it on rank 0.
 std::string Scene::reducedModelKey(const Body& body, const ParameterList& bp) const {
   const ParameterList& rp = bp.sublist("Reduction");
-  return contentKey(
-      bodyModelKeyText(body.name, bp, deck_.origin) + "clamped=" + bp.get<std::string>("Clamped node set") +
-      "\nretained=" + retainedSetOf(body, rp) + "\nmethod=" + rp.get<std::string>("Method") +
-      "\nmodes=" + std::to_string(rp.get<int>("Fixed-interface modes")) +
-      "\ncheck=" + std::to_string(rp.get<int>("Frequency check")) + "\nsolver=" + rp.get<std::string>("Linear solver") +
-      "\ntolerance=" + std::to_string(rp.get<double>("Iterative tolerance")) +
-      "\ncandidates=" + std::to_string(rp.get<int>("Candidate modes")) +
-      "\neigensolver=" + rp.get<std::string>("Eigensolver") + "\nload=" +
-      [&] {
-        std::string t;
-        for (double x : deck::getDoubles(rp, "Load direction")) t += std::to_string(x) + " ";
-        return t;
-      }() +
-      rotationKeyText(bp.sublist("Rotation")));
+  return contentKey(bodyModelKeyText(body.name, bp, deck_.origin) +
+                    "clamped=" + bp.get<std::string>("Clamped node set") + "\nretained=" + retainedSetOf(body, rp) +
+                    "\nmethod=" + rp.get<std::string>("Method") + reductionMethod(rp)->cacheKeyText() +
+                    rotationKeyText(bp.sublist("Rotation")));
 }
 
 /// The body's reduced model: from its cache when the key (model files, mesh, reduction parameters)
-/// matches, else built and reduced by the factory (reduceBody), frequency-checked and cached.
+/// matches, else built and reduced by its method (Epaphe_ReductionMethod.hpp), frequency-checked and cached.
 void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
   const std::string& origin = deck_.origin;
   std::ostream& out = rt_.out();
@@ -185,8 +175,8 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
   const std::string ctx = origin + ": body '" + b->name + "'";
   bodyModelFiles(b->name, bp, origin);  // every rank checks the files exist before anything waits on rank 0
   const std::string cacheFile = cacheFileOf(rp, output_, b->name);
-  const bool useCache =  // a lumped full model has nothing to reduce
-      rp.get<bool>("Cache") && deck::getEnum<ReductionMethod>(rp, "Method") != ReductionMethod::FullLumped;
+  const auto method = reductionMethod(rp);
+  const bool useCache = rp.get<bool>("Cache") && method->cacheable();  // a lumped full model has nothing to reduce
   const std::string key = useCache && rt_.comm()->getRank() == 0 ? reducedModelKey(*b, bp) : std::string();
 
   const RotationOptions rotation = rotationOptions(bp.sublist("Rotation"), ctx + ", Rotation");
@@ -195,7 +185,7 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
     const SpeedParametricModel pm = parametricModel(b, bp, key, cacheFile, useCache, rotation);
     if (const SpeedLaw law = speedLawOf(bp.sublist("Rotation")); law.ramp) {
       // a run-up: the model at the start speed, and its stiffness over the range on that basis
-      SpeedParametricModel::FixedBasis f = pm.onFixedBasis(law.start, reductionOptions(rp).modes, ctx);
+      SpeedParametricModel::FixedBasis f = pm.onFixedBasis(law.start, method->parametricModes(), ctx);
       b->rom = std::move(f.model);
       b->runUp = std::make_unique<RunUpModel>();
       b->runUp->law = law;
@@ -207,18 +197,20 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
           << " rad/s at " << law.t1 << " s: the stiffness and static state follow the speed on the basis at "
           << law.start << " rad/s (refreshed every " << b->runUp->xiStep << " in (Omega/Omega_max)^2)\n";
     } else {
-      b->rom = pm.at(std::abs(rotation.speed), reductionOptions(rp).modes, ctx);
+      b->rom = pm.at(std::abs(rotation.speed), method->parametricModes(), ctx);
     }
     b->rom.speed = rotation.speed;
-    out << "[" << b->name << "] " << b->rom.method() << " at " << rotation.speed << " rad/s from the parametric model ("
+    b->method = method->modelName(b->rom);
+    out << "[" << b->name << "] " << b->method << " at " << rotation.speed << " rad/s from the parametric model ("
         << pm.base.size << " DOFs, samples";
     for (double w : pm.speeds) out << " " << w;
     out << " rad/s): " << b->rom.size << " reduced DOFs\n";
   } else {
     loadOrBuildReducedModel(b, bp, key, cacheFile, useCache, rotation);
+    b->method = method->modelName(b->rom);
   }
   if (b->fromCache)
-    out << "[" << b->name << "] reduced model (" << b->rom.method() << ", " << b->rom.size << " DOFs) reused from "
+    out << "[" << b->name << "] reduced model (" << b->method << ", " << b->rom.size << " DOFs) reused from "
         << cacheFile << "\n";
   b->fullFrequencies = b->rom.fullFrequencies;
   if (!b->rom.sparse()) b->reducedFrequencies = reducedFrequencies(b->rom);
@@ -226,7 +218,7 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
 }
 
 /// The body's reduced model at rest or at its speed ('Rotation->Speed'): from its cache when the key
-/// matches, else built (at speed: Epaphe_ModelAtSpeed.hpp), reduced by the factory (reduceBody),
+/// matches, else built (at speed: Epaphe_ModelAtSpeed.hpp), reduced by its method (reductionMethod),
 /// frequency-checked and cached.
 void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std::string& key,
                                     const std::string& cacheFile, bool useCache, const RotationOptions& rotation) {
@@ -236,7 +228,7 @@ void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std:
   const ParameterList& rp = bp.sublist("Reduction");
   const std::string ctx = origin + ": body '" + b->name + "'";
   const std::string retainedSet = retainedSetOf(*b, rp);
-  const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
+  const auto method = reductionMethod(rp);
   const int checkCount = rp.get<int>("Frequency check");
   int cached = 0;
   if (useCache && comm->getRank() == 0) cached = loadReducedModel(cacheFile, key, b->rom) ? 1 : 0;
@@ -252,8 +244,10 @@ void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std:
         << full.mesh.hexes.size() << " hexahedra, " << (hasBuiltInMesh(bp) ? "built" : "imported") << " in "
         << formatDuration(built.seconds()) << "\n";
     SpeedReport atSpeed;
-    if (rotation.speed != 0) {  // checkScene refused a rotating imported model
-      full = modelAtSpeed(full, rotation, &atSpeed);
+    if (rotation.speed != 0) {  // checkScene refused a rotating imported model: Epaphe's elements at the speed
+      SpeedSample sample = BuiltInSpeedSource(full, rotation).sample(rotation.speed);
+      full = std::move(sample.model);
+      atSpeed = std::move(sample.report);
       out << "[" << b->name << "] at " << rotation.speed << " rad/s: "
           << (atSpeed.stiffened ? "stress-stiffened (" + std::to_string(atSpeed.passes) + " passes)"
                                 : std::string("linear"))
@@ -263,30 +257,22 @@ void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std:
       if (atSpeed.passes > 0) out << ", the stress-stiffened one moves it by " << 100 * atSpeed.stiffenedChange << " %";
       out << "); Coriolis terms Omega ||G|| / sqrt(||K|| ||M||) = " << atSpeed.coriolisRatio << " (not kept)\n";
     }
-    const CraigBamptonOptions cbo = reductionOptions(rp);
-    const bool retains = method != ReductionMethod::None && method != ReductionMethod::FullLumped;
+    const bool retains = method->retainsNodes();
     EPAPHE_REQUIRE(!retains || !retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
                                                          << " needs a 'Retained node set' (or a 'Contact node set')");
     const auto retainedNodes =
         retains ? full.mesh.nodeSet(retainedSet, ctx + ", 'Reduction->Retained node set'") : std::vector<int>{};
     try {  // the reduction's errors name the body; add the deck
-      b->rom = reduceBody(full, retainedNodes, rp, cbo, &b->report);
+      b->rom = method->reduce(full, retainedNodes, &b->report);
     } catch (const Error& e) {
       throw Error(origin + ": " + e.what());
     }
     b->rom.speed = rotation.speed;
     b->rom.staticDisplacement = std::move(atSpeed.staticDisplacement);
-    if (b->rom.sparse())
-      out << "[" << b->name << "] full model kept: K sparse (" << b->rom.sparseK.values.size()
-          << " entries), mass lumped to its diagonal (HRZ)\n";
-    else if (retains)
-      out << "[" << b->name << "] " << b->rom.method() << ": " << b->report.retainedDofs << " retained DOFs + "
-          << cbo.modes << " modes = " << b->rom.size << " reduced DOFs in " << formatDuration(b->report.seconds)
-          << " on " << comm->getSize() << " rank(s) (factor " << formatDuration(b->report.factorSeconds)
-          << ", constraint modes " << formatDuration(b->report.constraintSeconds) << ", eigenmodes "
-          << formatDuration(b->report.eigenSeconds) << ")\n";
+    if (const std::string line = method->describe(b->rom, b->report, comm->getSize()); !line.empty())
+      out << "[" << b->name << "] " << line << "\n";
     if (checkCount > 0) {
-      const FrequencyCheck fc = frequencyCheck(full, b->rom, cbo, checkCount, b->report);
+      const FrequencyCheck fc = method->frequencyCheck(full, b->rom, checkCount, b->report);
       b->rom.fullFrequencies = fc.full;
       if (b->rom.sparse()) b->reducedFrequencies = fc.lumped;
       out << "[" << b->name << "] frequency check: the full model's lowest " << fc.full.size() << " frequencies "
@@ -336,17 +322,9 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
     return pm;
   }
   Stopwatch built;
-  // The full model at each sample speed: from Epaphe's elements, or from CalculiX jobs at the
-  // imported speeds (Epaphe_ImportedSpeedSource.hpp).
   const ImportedSpeeds imported = importedSpeeds(b->name, bp, deck_.origin);
-  std::unique_ptr<SpeedSampleSource> source;
-  FullModel full;
-  if (imported.empty()) {
-    full = buildBodyModel(b->name, bp, deck_.origin, comm);
-    source = std::make_unique<BuiltInSpeedSource>(full, rotation);
-  } else {
-    source = calculixSpeedSource(imported, b->name, comm);
-  }
+  FullModel rest;
+  const auto source = bodySpeedSource(b->name, bp, deck_.origin, comm, rotation, rest);
   const std::string retainedSet = retainedSetOf(*b, rp);
   const std::string ctx = deck_.origin + ": body '" + b->name + "'";
   EPAPHE_REQUIRE(!retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
@@ -355,15 +333,13 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
   const auto range = deck::getDoubles(rotp, "Speed range");
   const auto speeds =
       imported.empty() ? sampleSpeeds(range[0], range[1], rotp.get<int>("Sample speeds")) : imported.speeds;
-  const bool massless = deck::getEnum<ReductionMethod>(rp, "Method") == ReductionMethod::MasslessBoundary;
   try {
-    pm = massless ? parametricMasslessBoundary(*source, retainedNodes, reductionOptions(rp), speeds, &b->report)
-                  : parametricCraigBampton(*source, retainedNodes, reductionOptions(rp), speeds, &b->report);
+    pm = reductionMethod(rp)->parametricModel(*source, retainedNodes, speeds, &b->report);
   } catch (const Error& e) {
     throw Error(deck_.origin + ": " + e.what());
   }
   out << "[" << b->name << "] parametric model over " << range[0] << " to " << range[1] << " rad/s: " << speeds.size()
-      << (massless ? " massless-boundary" : " Craig-Bampton") << " reductions and "
+      << (pm.base.massless() ? " massless-boundary" : " Craig-Bampton") << " reductions and "
       << (imported.empty() ? (pm.staticState == StaticState::StressStiffened ? "stress-stiffened" : "linear")
                            : "CalculiX (imported)")
       << " static states, common basis of " << pm.base.size << " DOFs (" << pm.boundarySize << " retained), in "
@@ -460,8 +436,8 @@ void Scene::setInitialState(Body* b, const ParameterList& bp, double h, const Da
         EPAPHE_REQUIRE(
             rayleigh <= 1e-10 * scale,
             ctx << ", 'Gravity' = {" << grav[0] << ", " << grav[1] << ", " << grav[2] << "}: a rigid translation along "
-                << "xyz"[d] << " is not a motion of its " << b->rom.method() << " model (t^T K t / t^T M t = "
-                << rayleigh << " s^-2, against " << scale << " for its stiffest DOF): the body is held"
+                << "xyz"[d] << " is not a motion of its " << b->method << " model (t^T K t / t^T M t = " << rayleigh
+                << " s^-2, against " << scale << " for its stiffest DOF): the body is held"
                 << (clamped.empty() ? " by the imported model's boundary conditions"
                                     : " by 'Clamped node set' = '" + clamped + "'")
                 << ", so M t is not its weight T^T M e; use 'Full, lumped mass' (weight exact "

@@ -34,6 +34,7 @@ private:
 
 struct SceneBody {
   std::string name;
+  std::string method;  // its reduction method's name for its model (ReductionMethod::modelName)
   ReducedModel rom;
   bool fromCache = false;
   ReductionReport report;

@@ -21,19 +21,10 @@ using Teuchos::ParameterList;
 
 namespace {
 
-/// Box edge lengths, casing meshes and degenerate planes.
+/// Each body's importer's refusals (Box edge lengths, casing meshes) and degenerate planes.
 void checkGeometry(const ParameterList& P, const std::string& origin) {
   const ParameterList& bl = P.sublist("Bodies");
-  for (auto it = bl.begin(); it != bl.end(); ++it) {
-    const ParameterList& mp = bl.sublist(bl.name(it)).sublist("Mesh");
-    if (deck::getEnum<MeshType>(mp, "Type") == MeshType::Casing) checkCasingMesh(bl.name(it), mp, origin);
-    if (deck::getEnum<MeshType>(mp, "Type") != MeshType::Box) continue;
-    const auto L = deck::getVec3(mp, "Lengths", origin);
-    for (int d = 0; d < 3; ++d)
-      EPAPHE_REQUIRE(L[d] > 0, origin << ": '" << deck::pathOf(mp, "Lengths") << "' = {" << L[0] << ", " << L[1] << ", "
-                                      << L[2] << "}: the length along "
-                                      << "xyz"[d] << " is " << L[d] << "; every edge length must be positive");
-  }
+  for (auto it = bl.begin(); it != bl.end(); ++it) checkBodyImport(bl.name(it), bl.sublist(bl.name(it)), origin);
   const ParameterList& surfs = P.sublist("Surfaces");
   for (auto it = surfs.begin(); it != surfs.end(); ++it) {
     const ParameterList& s = surfs.sublist(surfs.name(it));
@@ -50,33 +41,34 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
   }
 }
 
-/// The bodies' Reduction lists against the rest of the deck: a massless boundary takes Lagrange
-/// contact; a full model with lumped mass takes no retained set
-/// and only damping that keeps M/h^2 + D/2h diagonal.
+/// The bodies' Reduction lists against the rest of the deck, as each method answers: a method that
+/// cannot take penalty contact (the massless boundary) takes Lagrange; a diagonal mass (the full model
+/// with lumped mass) only damping that keeps M/h^2 + D/2h diagonal; a method that keeps every node no
+/// retained set.
 void checkReductions(const ParameterList& P, const DampingOptions& damping, const std::string& origin) {
   const ParameterList& bl = P.sublist("Bodies");
   const ParameterList& dp = P.sublist("Time").sublist("Damping");
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     const ParameterList& bp = bl.sublist(bl.name(it));
     const ParameterList& rp = bp.sublist("Reduction");
-    const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
+    const auto method = reductionMethod(rp);
     const std::string ctx = origin + ": body '" + bl.name(it) + "', '" + deck::pathOf(rp, "Method") + "' = '" +
                             rp.get<std::string>("Method") + "'";
-    if (method == ReductionMethod::MasslessBoundary) {
+    if (const std::string why = method->penaltyContactProblem(); !why.empty()) {
       const ParameterList& cp = P.sublist("Contact");
-      EPAPHE_REQUIRE(deck::getEnum<ContactMethod>(cp, "Method") == ContactMethod::Lagrange,
-                     ctx << " with '" << deck::pathOf(cp, "Method") << "' = '" << cp.get<std::string>("Method")
-                         << "': a penalty force computed from the predicted gap would ignore the boundary's static "
-                            "residual flexibility (its nodes have no mass to lag behind the force); use 'Lagrange', "
-                            "or 'Craig-Bampton' for penalty contact");
+      EPAPHE_REQUIRE(
+          deck::getEnum<ContactMethod>(cp, "Method") == ContactMethod::Lagrange,
+          ctx << " with '" << deck::pathOf(cp, "Method") << "' = '" << cp.get<std::string>("Method") << "': " << why);
     }
-    if (method != ReductionMethod::FullLumped) continue;
-    const std::string problem = fullModelDampingProblem(damping);
-    EPAPHE_REQUIRE(problem.empty(), ctx << " with '" << deck::pathOf(dp, "Type") << "' = '"
-                                        << dp.get<std::string>("Type") << "': " << problem);
-    EPAPHE_REQUIRE(rp.get<std::string>("Retained node set").empty(),
-                   ctx << " keeps every node, but '" << deck::pathOf(rp, "Retained node set") << "' = '"
-                       << rp.get<std::string>("Retained node set") << "'; remove the key (or reduce the body)");
+    if (method->diagonalMass()) {
+      const std::string problem = fullModelDampingProblem(damping);
+      EPAPHE_REQUIRE(problem.empty(), ctx << " with '" << deck::pathOf(dp, "Type") << "' = '"
+                                          << dp.get<std::string>("Type") << "': " << problem);
+    }
+    if (!method->retainsNodes())
+      EPAPHE_REQUIRE(rp.get<std::string>("Retained node set").empty(),
+                     ctx << " keeps every node, but '" << deck::pathOf(rp, "Retained node set") << "' = '"
+                         << rp.get<std::string>("Retained node set") << "'; remove the key (or reduce the body)");
   }
 }
 
@@ -181,9 +173,8 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
   const ParameterList& bp = P.sublist("Bodies").sublist(body);
   const ParameterList& rp = bp.sublist("Reduction");
   const std::string ctx = origin + ": body '" + body + "'";
-  const auto method = deck::getEnum<ReductionMethod>(rp, "Method");
-  const bool reduced = method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan ||
-                       method == ReductionMethod::MasslessBoundary;
+  const auto method = reductionMethod(rp);
+  const bool reduced = method->retainsNodes();
 
   const std::string clampedSet = bp.get<std::string>("Clamped node set"),
                     contactSet = bp.get<std::string>("Contact node set");
@@ -214,46 +205,14 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
     }
 
   const int freeDofs = 3 * (mesh.numNodes() - static_cast<int>(clamped.size()));
-  const int retainedDofs = 3 * static_cast<int>(retained.size()), modes = rp.get<int>("Fixed-interface modes");
-  if (method == ReductionMethod::CraigBampton)
-    EPAPHE_REQUIRE(modes <= freeDofs - retainedDofs,
-                   ctx << ": " << modes << " fixed-interface modes asked but only " << freeDofs - retainedDofs
-                       << " condensed DOFs exist (" << freeDofs << " free, " << retainedDofs << " retained); set '"
-                       << deck::pathOf(rp, "Fixed-interface modes") << "' <= " << freeDofs - retainedDofs);
-  if (method == ReductionMethod::MasslessBoundary) {
-    const int rigid = clamped.empty() ? 6 : 0;  // a free body keeps its rigid-body modes too
-    EPAPHE_REQUIRE(retainedDofs + modes + rigid <= freeDofs,
-                   ctx << ": " << retainedDofs << " retained DOFs and " << modes << " modes"
-                       << (rigid ? " (and the free body's 6 rigid-body modes)" : "") << " exceed the model's "
-                       << freeDofs << " free DOFs; keep fewer modes");
-  }
-  if (const int candidates = rp.get<int>("Candidate modes"); candidates > 0) {
-    EPAPHE_REQUIRE(
-        method == ReductionMethod::MasslessBoundary,
-        ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates
-            << " selects modes for a Massless boundary only; remove it, or set 'Method' to Massless boundary");
-    EPAPHE_REQUIRE(candidates >= modes, ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates
-                                            << " is fewer than the " << modes << " 'Fixed-interface modes' kept");
-    const int rigid = clamped.empty() ? 6 : 0;
-    EPAPHE_REQUIRE(retainedDofs + candidates + rigid <= freeDofs,
-                   ctx << ": " << candidates << " candidate modes and " << retainedDofs << " retained DOFs exceed the "
-                       << "model's " << freeDofs << " free DOFs; ask fewer 'Candidate modes'");
-    const auto d = deck::getVec3(rp, "Load direction", origin);
-    EPAPHE_REQUIRE(d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0,
-                   ctx << ": '" << deck::pathOf(rp, "Candidate modes") << "' = " << candidates
-                       << " needs the direction "
-                       << "of the contact's load: set '" << deck::pathOf(rp, "Load direction") << "', e.g. {1, 0, 0}");
-  }
-  const auto g = deck::getVec3(bp, "Gravity", origin);
-  if (!clamped.empty() && (method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan))
-    for (int d = 0; d < 3; ++d)
-      EPAPHE_REQUIRE(g[d] == 0,
-                     ctx << ", 'Gravity' = {" << g[0] << ", " << g[1] << ", " << g[2] << "}: a rigid translation along "
-                         << "xyz"[d] << " is not a motion of its " << rp.get<std::string>("Method")
-                         << " model (its rigid translations are held): "
-                         << "the body is held by 'Clamped node set' = '" << clampedSet
-                         << "', so M t is not its weight T^T M e; use 'Full, lumped mass' (weight exact with "
-                            "clamps), or remove the key");
+  ReductionMeshFacts facts;
+  facts.context = ctx;
+  facts.reduction = &rp;
+  facts.freeDofs = freeDofs;
+  facts.retainedDofs = 3 * static_cast<int>(retained.size());
+  facts.clampedSet = clampedSet;
+  facts.gravity = deck::getVec3(bp, "Gravity", origin);
+  method->checkMesh(facts);
 
   const ParameterList& surfs = P.sublist("Surfaces");
   for (auto it = surfs.begin(); it != surfs.end(); ++it) {
@@ -451,24 +410,14 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
                      ctx << "->Speed = " << rotation.speed << " rad/s is outside 'Speed range' {" << range[0] << ", "
                          << range[1]
                          << "}: the parametric model covers only its range; widen the range or change the speed");
-      const auto method = deck::getEnum<ReductionMethod>(bp.sublist("Reduction"), "Method");
-      EPAPHE_REQUIRE(method == ReductionMethod::CraigBampton || method == ReductionMethod::Guyan ||
-                         method == ReductionMethod::MasslessBoundary,
+      const auto method = reductionMethod(bp.sublist("Reduction"));
+      EPAPHE_REQUIRE(method->hasParametricModel(),
                      ctx << "->Speed range: the parametric model over a speed range is built by Craig-Bampton, "
                          << "Guyan or the massless boundary, not by '"
                          << bp.sublist("Reduction").get<std::string>("Method")
                          << "'; set 'Reduction->Method' to Craig-Bampton, or remove 'Speed range' (the model is then "
                             "reduced at 'Speed' directly)");
-      if (method == ReductionMethod::MasslessBoundary) {
-        const auto& rp = bp.sublist("Reduction");
-        EPAPHE_REQUIRE(
-            !bp.get<std::string>("Clamped node set").empty(),
-            ctx << "->Speed range: a massless-boundary model over a speed range needs a held body; name a "
-                << "'Clamped node set' (a free body has rigid-body modes the parametric model does not keep)");
-        EPAPHE_REQUIRE(rp.get<int>("Candidate modes") <= rp.get<int>("Fixed-interface modes"),
-                       ctx << "->Speed range: a massless-boundary model over a speed range keeps the lowest modes; "
-                           << "remove 'Reduction->Candidate modes' (" << rp.get<int>("Candidate modes") << ")");
-      }
+      method->checkSpeedRange(bp, ctx);
     }
   }
   checkBodyFacesNotOwnContact(P, origin);
@@ -477,7 +426,7 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
   if (!restart) io::Hdf5File::checkCreatable(outputPath);
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     const ParameterList& rp = bl.sublist(bl.name(it)).sublist("Reduction");
-    if (rp.get<bool>("Cache") && deck::getEnum<ReductionMethod>(rp, "Method") != ReductionMethod::FullLumped)
+    if (rp.get<bool>("Cache") && reductionMethod(rp)->cacheable())
       io::Hdf5File::checkCreatable(cacheFileOf(rp, outputPath, bl.name(it)));
   }
 }

@@ -286,11 +286,11 @@ void Simulation::printSummary(std::ostream& os) const {
      << ") ====\n";
   for (const auto& b : scene_->bodies()) {
     if (b->rom.sparse())
-      os << "body '" << b->name << "': " << b->rom.method() << ", " << b->rom.size << " DOFs (sparse K, "
+      os << "body '" << b->name << "': " << b->method << ", " << b->rom.size << " DOFs (sparse K, "
          << b->rom.sparseK.values.size() << " entries)\n";
     else
-      os << "body '" << b->name << "': " << b->rom.method() << ", " << b->rom.size << " reduced DOFs ("
-         << b->rom.numModes << " modes)" << (b->fromCache ? ", from cache" : "") << "\n";
+      os << "body '" << b->name << "': " << b->method << ", " << b->rom.size << " reduced DOFs (" << b->rom.numModes
+         << " modes)" << (b->fromCache ? ", from cache" : "") << "\n";
     const std::size_t nf = std::min(b->fullFrequencies.size(), b->reducedFrequencies.size());
     if (nf > 0) {
       os << (b->rom.sparse() ? "   mode   consistent (Hz) lumped (Hz)  rel. error\n"
