@@ -98,6 +98,8 @@ struct GuardOptions {
 };
 /// The guards' keys of a validated Contact list (see ContactDetection::getValidParameters).
 GuardOptions guardOptions(const Teuchos::ParameterList& contact);
+/// The detection's keys of a Contact list holding them (see ContactDetection::getValidParameters).
+DetectionOptions detectionOptions(const Teuchos::ParameterList& contact);
 
 /// Everything the detection kernel reads and writes, allocated once at setup; copied by value into
 /// the kernel (views only). Per node k unless said; per surface s for the surface data.

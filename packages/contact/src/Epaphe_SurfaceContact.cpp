@@ -72,13 +72,10 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   controlColumns();
   initDetection(nodes);
   initWorkViews(nodes, N);
-  enforcement_ = makeContactEnforcement(opt_, nc);
-  const CoatingViews& coat = detection_->views().coat;
-  if (coat.any()) {  // nodes facing a coated surface follow its element law; the deck's law solves its rows
-    enforcement_ = std::make_unique<CoatingContact>(std::move(enforcement_), opt_.method == ContactMethod::Penalty,
-                                                    opt_.penaltyStiffness, coat, nc);
-    coating_ = static_cast<CoatingContact*>(enforcement_.get());
-  }
+  // the deck's law, with friction, and on nodes facing a coated surface the coating's law (its rows
+  // solved by the deck's law): all three through the law's registry entry (Epaphe_ContactLaw.hpp)
+  enforcement_ = makeContactEnforcement(opt_, nc, &detection_->views().coat, &coating_);
+  frictional_ = enforcement_->frictional();
   initStepViews();
 }
 
@@ -202,11 +199,7 @@ void SurfaceContact::initCarriedSurfaces(const Kokkos::View<int* [2]>::HostMirro
 }
 
 void SurfaceContact::initDetection(const ContactNodes& nodes) {
-  DetectionOptions dopt;
-  dopt.nrTolerance = opt_.nrTolerance;
-  dopt.nrMaxIterations = opt_.nrMaxIterations;
-  dopt.edgeTolerance = opt_.edgeTolerance;
-  dopt.skipDistant = opt_.skipDistant;
+  const DetectionOptions dopt = detectionOptions(opt_.complete());
   detection_ = std::make_unique<ContactDetection>(nodes.dofs, nodes.X, surfaces_, dopt);
   surfaces_ = detection_->surfaces();  // axes made unit
   const DetectionViews& dv = detection_->views();
@@ -333,7 +326,7 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     if (surfH_(k) >= 0 && gapH_(k) < 0.0) activeH_.push_back(k);
   }
   numActive_ = static_cast<int>(activeH_.size());
-  const bool friction = opt_.friction > 0.0;
+  const bool friction = frictional_;
   const long long ns = detection_->numSurfaces(), projected = detection_->lastProjected();
   projections_ += ns * projected;  // a node not skipped is projected on every surface
   projectionsSkipped_ += ns * (nc - projected);

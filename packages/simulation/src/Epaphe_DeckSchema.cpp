@@ -2,6 +2,7 @@
 
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_Error.hpp"
+#include "Epaphe_ObserverKind.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 #include "Epaphe_CentralDifference.hpp"
 
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 namespace epaphe {
@@ -333,10 +335,10 @@ void addSurfaceParameters(Teuchos::ParameterList& pl) {
           "for the other side");
 }
 
-/// Contact: the contact treatment, each strategy's own keys.
+/// Contact: the contact treatment, the registered laws' names and each law's own keys.
 void addContactParameters(Teuchos::ParameterList& pl) {
   auto& contact = pl.sublist("Contact", false, "Contact treatment (thesis section 2.5)");
-  contact.setParameters(*contactValidParameters());  // each strategy's own keys
+  contact.setParameters(*contactValidParameters());  // each law's own keys (Epaphe_ContactLaw.hpp)
 }
 
 /// Time: the explicit central difference and its damping.
@@ -407,7 +409,13 @@ void addOutputParameters(Teuchos::ParameterList& pl) {
 }  // namespace
 
 Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
-  static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
+  // built again when a program registers a contact law or an observer: their keys are in the schema
+  static std::mutex mutex;
+  static Teuchos::RCP<const Teuchos::ParameterList> valid;
+  static std::pair<int, int> revision{-1, -1};
+  std::lock_guard<std::mutex> lock(mutex);
+  const std::pair<int, int> now{contactLawRevision(), observerRevision()};
+  if (valid.is_null() || now != revision) {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Epaphe"));
     addRunParameters(*pl);
     addBodyParameters(*pl);
@@ -415,8 +423,10 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addContactParameters(*pl);
     addTimeParameters(*pl);
     addOutputParameters(*pl);
-    return Teuchos::RCP<const Teuchos::ParameterList>(pl);
-  }();
+    addObserverParameters(*pl);
+    valid = pl;
+    revision = now;
+  }
   return valid;
 }
 
