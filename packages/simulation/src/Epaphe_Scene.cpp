@@ -509,7 +509,7 @@ void Scene::checkContactAtStart(const ParameterList& cp, double h) {
   }
 }
 
-/// The stable step of each body (with the penalty springs on its contact and carried surface DOFs)
+/// The stable step of each body (with the contact law's springs on its contact and carried surface DOFs)
 /// against the deck's time step: an Error, or a warning with 'Allow unstable time step'.
 void Scene::checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, const ContactOptions& copt,
                              const DampingOptions& damping) {
