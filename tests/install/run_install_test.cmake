@@ -63,6 +63,9 @@ step(${CMAKE_COMMAND} -S "${SOURCE}" -B "${WORK}/build" "-DCMAKE_PREFIX_PATH=${W
 step(${CMAKE_COMMAND} --build "${WORK}/build")
 step("${WORK}/build/consumer")
 step("${WORK}/build/consumer_online")
+# A contact law and observers of the consumer's own on a deck that names them (consumer_extension.cpp
+# asserts that the law made the run's forces and that the observers saw every step).
+step("${WORK}/build/consumer_extension" "${SOURCE}/custom-law.xml" "${WORK}/run/custom-law.h5")
 # Epaphe's libraries are static: the shared ones the online consumer needs are Trilinos' it uses.
 execute_process(COMMAND ldd "${WORK}/build/consumer_online" OUTPUT_VARIABLE _ldd TIMEOUT 60)
 if(_ldd MATCHES "libtpetra|libamesos2|libanasazi|libbelos")

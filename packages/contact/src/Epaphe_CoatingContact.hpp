@@ -43,6 +43,7 @@ public:
                const DenseVector* qn) override;
   bool closesGaps() const override { return inner_->closesGaps(); }
   double addedStiffness() const override;
+  bool frictional() const override { return inner_->frictional(); }
   int lastPasses() const override { return inner_->lastPasses(); }
   void reset() override { inner_->reset(); }
   const SelfLocking* selfLocking() const override { return inner_->selfLocking(); }

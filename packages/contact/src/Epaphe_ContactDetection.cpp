@@ -282,6 +282,15 @@ GuardOptions guardOptions(const Teuchos::ParameterList& cp) {
   return o;
 }
 
+DetectionOptions detectionOptions(const Teuchos::ParameterList& cp) {
+  DetectionOptions o;
+  o.nrTolerance = cp.get<double>("Newton tolerance");
+  o.nrMaxIterations = cp.get<int>("Newton max iterations");
+  o.edgeTolerance = cp.get<double>("Edge tolerance");
+  o.skipDistant = cp.get<bool>("Skip distant nodes");
+  return o;
+}
+
 void ContactDetection::reset() {
   Kokkos::deep_copy(v_.skip.eligible, 0);
   Kokkos::deep_copy(v_.skip.travel, 0.0);  // every node projects next: the motion so far no longer matters

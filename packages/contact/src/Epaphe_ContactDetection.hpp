@@ -98,6 +98,8 @@ struct GuardOptions {
 };
 /// The guards' keys of a validated Contact list (see ContactDetection::getValidParameters).
 GuardOptions guardOptions(const Teuchos::ParameterList& contact);
+/// The detection's keys of a Contact list holding them (see ContactDetection::getValidParameters).
+DetectionOptions detectionOptions(const Teuchos::ParameterList& contact);
 
 /// The skipping of nodes certified out of contact, per node k unless said: position, time and
 /// smallest gap of the last projection; eligible: it may be skipped.

@@ -1,10 +1,7 @@
 #include "Epaphe_ContactEnforcement.hpp"
 
-#include "Epaphe_ContactDetection.hpp"
-#include "Epaphe_CoulombFriction.hpp"
-#include "Epaphe_Deck.hpp"
+#include "Epaphe_CoatingContact.hpp"
 #include "Epaphe_Error.hpp"
-#include "Epaphe_ForwardIncrementLagrange.hpp"
 
 #include <cmath>
 
@@ -18,44 +15,45 @@ Kokkos::View<int*> ContactStepViews::upload(const std::vector<int>& list) const 
   return a;
 }
 
-std::unique_ptr<ContactEnforcement> makeContactEnforcement(const ContactOptions& o, int numNodes) {
-  EPAPHE_REQUIRE(
-      std::isfinite(o.friction) && o.friction >= 0.0,
-      "contact: friction coefficient mu = " << o.friction << "; it must be a finite value >= 0 (0: frictionless)");
-  std::unique_ptr<ContactEnforcement> normal;
-  if (o.method == ContactMethod::Penalty)
-    normal = std::make_unique<PenaltyContact>(o.penaltyStiffness);
-  else
-    normal = std::make_unique<ForwardIncrementLagrange>(o.lumped, numNodes);
-  if (o.friction == 0.0) return normal;
-  return std::make_unique<CoulombFriction>(o.friction, o.method == ContactMethod::Penalty, o.penaltyStiffness,
-                                           o.timeStep, numNodes, std::move(normal), o.warmFriction);
+Teuchos::ParameterList ContactOptions::complete() const {
+  Teuchos::ParameterList all = *contactValidParameters();
+  all.setParameters(contact);  // the keys set over the defaults
+  return all;
 }
 
-Teuchos::RCP<const Teuchos::ParameterList> contactValidParameters() {
-  auto pl = Teuchos::rcp(new Teuchos::ParameterList("Contact"));
-  deck::addEnum(*pl, "Method", "Lagrange", {"Lagrange", "Penalty"},
-                {int(ContactMethod::Lagrange), int(ContactMethod::Penalty)},
-                "Lagrange: forward-increment multipliers (eqs. 2.30-2.33); Penalty: lambda = kp * penetration "
-                "(eq. 2.34)");
-  pl->setParameters(*PenaltyContact::getValidParameters());
-  pl->setParameters(*ContactDetection::getValidParameters());
-  pl->setParameters(*ForwardIncrementLagrange::getValidParameters());
-  pl->setParameters(*CoulombFriction::getValidParameters());
-  return pl;
+std::string ContactOptions::method() const {
+  return contact.isParameter("Method") ? contact.get<std::string>("Method") : std::string("Lagrange");
+}
+
+std::unique_ptr<ContactEnforcement> makeContactEnforcement(const ContactOptions& o, int numNodes,
+                                                           const CoatingViews* coat, CoatingContact** coating) {
+  const Teuchos::ParameterList cp = o.complete();
+  const ContactLaw& law = contactLaw(o.method());
+  const ContactLawSetup setup{numNodes, o.timeStep};
+  const double mu = cp.get<double>("Friction coefficient");
+  EPAPHE_REQUIRE(std::isfinite(mu) && mu >= 0.0,
+                 "contact: friction coefficient mu = " << mu << "; it must be a finite value >= 0 (0: frictionless)");
+  std::unique_ptr<ContactEnforcement> e = law.make(cp, setup);
+  if (mu > 0.0) {
+    EPAPHE_REQUIRE(law.supportsFriction(), "contact: the law '" << law.name() << "' has no Coulomb friction (mu = "
+                                                                << mu << "); set 'Friction coefficient' = 0");
+    e = law.withFriction(std::move(e), mu, cp.get<bool>("Warm friction start"), cp, setup);
+  }
+  if (coating) *coating = nullptr;
+  if (coat && coat->any()) {  // nodes facing a coated surface follow its element law; the deck's law solves its rows
+    EPAPHE_REQUIRE(law.supportsCoatings(), "contact: the law '" << law.name()
+                                                                << "' takes no abradable coating; remove the "
+                                                                   "surfaces' 'Coating' elements");
+    auto c = law.withCoating(std::move(e), *coat, cp, setup);
+    if (coating) *coating = c.get();
+    e = std::move(c);
+  }
+  return e;
 }
 
 ContactOptions contactOptions(const Teuchos::ParameterList& cp, double h) {
   ContactOptions o;
-  o.method = deck::getEnum<ContactMethod>(cp, "Method");
-  o.penaltyStiffness = cp.get<double>("Penalty stiffness");
-  o.nrTolerance = cp.get<double>("Newton tolerance");
-  o.nrMaxIterations = cp.get<int>("Newton max iterations");
-  o.lumped = cp.get<bool>("Lump contact matrix");
-  o.friction = cp.get<double>("Friction coefficient");
-  o.edgeTolerance = cp.get<double>("Edge tolerance");
-  o.skipDistant = cp.get<bool>("Skip distant nodes");
-  o.warmFriction = cp.get<bool>("Warm friction start");
+  o.contact = cp;
   o.timeStep = h;
   return o;
 }

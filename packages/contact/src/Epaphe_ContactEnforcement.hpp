@@ -1,43 +1,52 @@
 #pragma once
 // Contact enforcement: the law that turns the detected gaps of the active nodes into contact forces
-// (thesis section 2.5.2), behind one interface, made by a factory from the deck's Contact list.
+// (thesis section 2.5.2), behind one interface, made from the deck's Contact list by the law 'Method' names.
 //
 //   ForwardIncrementLagrange  eqs. 2.30-2.33: MC lambda = -g*, the gaps close exactly
 //   PenaltyContact            eq. 2.34: lambda = k_p (-g*)
 //   CoulombFriction           eqs. 2.29, 2.31: a joint normal-tangential solve with either normal law
 //   CoatingContact            an abradable coating's element law (Legrand et al. 2012) on the nodes
-//                             facing a coated surface, as rows the law above it solves (made by
-//                             SurfaceContact when a surface has a coating)
+//                             facing a coated surface, as rows the law above it solves (made
+//                             through the law's registry entry when a surface has a coating)
 //
 // A strategy sees the step through ContactStepViews (views allocated once by SurfaceContact and
 // shared with the detection) and the host list of active nodes; it writes, per active node, the
 // force lambda_k and the direction c_k = n_k + mu_k t_k of the correction, and removes from the
 // list the nodes it releases. The correction q += F G lambda and the add passes are the operator's
-// (Epaphe_SurfaceContact.cpp). Each strategy owns its deck parameters (getValidParameters()).
+// (Epaphe_SurfaceContact.cpp). Each law owns its deck parameters and is made through the registry of
+// Epaphe_ContactLaw.hpp, keyed by 'Contact->Method'.
 #include "Epaphe_AbradableCoating.hpp"
+#include "Epaphe_ContactLaw.hpp"
 #include "Epaphe_RelativeMotion.hpp"
 
 #include <Kokkos_Core.hpp>
 #include <Teuchos_ParameterList.hpp>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace epaphe {
 
-enum class ContactMethod { Lagrange = 0, Penalty = 1 };
+class CoatingContact;
 
+/// What the contact operator is built from: the deck's Contact list (its 'Method' names a registered
+/// law, Epaphe_ContactLaw.hpp; then the law's own keys, friction's and the detection's; a key not
+/// given takes its default) and the time step.
 struct ContactOptions {
-  ContactMethod method = ContactMethod::Lagrange;
-  double penaltyStiffness = 1e10;  // k_p (N/m), penalty only
-  double nrTolerance = 1e-8;       // crit_NR: Newton stop on the parameter step
-  int nrMaxIterations = 50;
-  bool lumped = false;          // lump the contact matrix MC (section 2.5.2)
-  double friction = 0.0;        // Coulomb coefficient mu >= 0 (eq. 2.31); 0: frictionless
-  double edgeTolerance = 1e-3;  // a node beyond an open edge by less (in patches) still touches
-  double timeStep = 0.0;        // h: the rotation of turning surfaces over a step (friction)
-  bool skipDistant = true;      // skip the projection of nodes certified out of contact (detection)
-  bool warmFriction = true;     // start the stick/slip classification from the last step's state
+  Teuchos::ParameterList contact{"Contact"};
+  double timeStep = 0.0;  // h: the rotation of turning surfaces over a step (friction)
+  /// Sets a key of the Contact list ("Method", "Penalty stiffness", "Friction coefficient", ...).
+  template <class T>
+  ContactOptions& set(const std::string& key, const T& value) {
+    contact.set(key, value);
+    return *this;
+  }
+  ContactOptions& set(const std::string& key, const char* value) { return set(key, std::string(value)); }
+  /// The Contact list with every key (defaults for those not set).
+  Teuchos::ParameterList complete() const;
+  /// The law 'Method' names ("Lagrange" when not set).
+  std::string method() const;
 };
 
 /// What a strategy reads and writes at a step, per contact node k unless said. Views only: copy
@@ -93,6 +102,8 @@ public:
   virtual bool closesGaps() const = 0;
   /// Diagonal stiffness the law adds at each contact DOF (k_p for penalty), for the stable step.
   virtual double addedStiffness() const { return 0.0; }
+  /// True when the law applies friction (directions c_k off the normals).
+  virtual bool frictional() const { return false; }
   /// Classification passes of the last step (friction), 0 otherwise.
   virtual int lastPasses() const { return 0; }
   /// Forgets what the law carries from step to step (friction's warm start): the next step starts
@@ -108,13 +119,15 @@ public:
   virtual void setStaticCompliance(const std::vector<double>& /*blocks*/) {}
 };
 
-/// The strategy the options ask for: Lagrange or penalty, wrapped in Coulomb friction when mu > 0.
+/// The enforcement the options ask for: the law 'Method' names (ContactLaw::make), wrapped in Coulomb
+/// friction when 'Friction coefficient' > 0 (ContactLaw::withFriction), then, when `coat` holds a
+/// coating, in the coating law (ContactLaw::withCoating; `coating` then points to it, else nullptr).
 /// `numNodes`: the contact nodes (work arrays are sized once for all of them).
-std::unique_ptr<ContactEnforcement> makeContactEnforcement(const ContactOptions& options, int numNodes);
+std::unique_ptr<ContactEnforcement> makeContactEnforcement(const ContactOptions& options, int numNodes,
+                                                           const CoatingViews* coat = nullptr,
+                                                           CoatingContact** coating = nullptr);
 
-/// The deck's Contact list: Method, then every strategy's and the detection's parameters.
-Teuchos::RCP<const Teuchos::ParameterList> contactValidParameters();
-/// Reads a validated Contact list; h is the time step.
+/// The options of a validated Contact list; h is the time step.
 ContactOptions contactOptions(const Teuchos::ParameterList& contact, double h);
 
 }  // namespace epaphe

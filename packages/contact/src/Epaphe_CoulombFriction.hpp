@@ -34,6 +34,7 @@ public:
                const DenseVector* qn) override;
   bool closesGaps() const override { return frictionless_->closesGaps(); }
   double addedStiffness() const override { return frictionless_->addedStiffness(); }
+  bool frictional() const override { return true; }
   int lastPasses() const override { return lastPasses_; }
   void reset() override;
   const SelfLocking* selfLocking() const override { return &lock_; }

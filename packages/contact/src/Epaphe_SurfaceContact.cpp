@@ -59,13 +59,10 @@ SurfaceContact::SurfaceContact(ContactNodes nodes, std::vector<ContactSurface> s
   flex_ = std::make_unique<RelativeFlexibility>(flexibility, blocks, nodes, surfaces_);
   initDetection(nodes);
   initWorkViews(nodes, N);
-  enforcement_ = makeContactEnforcement(opt_, nc);
-  const CoatingViews& coat = detection_->views().coat;
-  if (coat.any()) {  // nodes facing a coated surface follow its element law; the deck's law solves its rows
-    enforcement_ = std::make_unique<CoatingContact>(std::move(enforcement_), opt_.method == ContactMethod::Penalty,
-                                                    opt_.penaltyStiffness, coat, nc);
-    coating_ = static_cast<CoatingContact*>(enforcement_.get());
-  }
+  // the deck's law, with friction, and on nodes facing a coated surface the coating's law (its rows
+  // solved by the deck's law): all three through the law's registry entry (Epaphe_ContactLaw.hpp)
+  enforcement_ = makeContactEnforcement(opt_, nc, &detection_->views().coat, &coating_);
+  frictional_ = enforcement_->frictional();
   initStepViews();
 }
 
@@ -88,11 +85,7 @@ void SurfaceContact::setCoatingState(const std::vector<double>& state) {
 }
 
 void SurfaceContact::initDetection(const ContactNodes& nodes) {
-  DetectionOptions dopt;
-  dopt.nrTolerance = opt_.nrTolerance;
-  dopt.nrMaxIterations = opt_.nrMaxIterations;
-  dopt.edgeTolerance = opt_.edgeTolerance;
-  dopt.skipDistant = opt_.skipDistant;
+  const DetectionOptions dopt = detectionOptions(opt_.complete());
   detection_ = std::make_unique<ContactDetection>(nodes.dofs, nodes.X, surfaces_, dopt);
   surfaces_ = detection_->surfaces();  // axes made unit
 }
@@ -224,7 +217,7 @@ bool SurfaceContact::startStep() {
   enforcement_->commit(v_, activeH_);
   const auto tangent = unmanaged(v_.tangent);
   fill(v_.force, 0.0);
-  if (opt_.friction > 0.0) {
+  if (frictional_) {
     fill(v_.mu, 0.0);
     forEach(
         "epaphe::contact::no_friction", nc, 1, KOKKOS_LAMBDA(const int k) {
@@ -287,7 +280,7 @@ bool SurfaceContact::addPenetrating() {
 
 void SurfaceContact::finishStep(const DenseVector& q) {
   enforcement_->commit(v_, activeH_);  // a coating's wear follows the step's final forces
-  if (opt_.friction > 0.0) {
+  if (frictional_) {
     copy(host_.mu, v_.mu);
     copy(host_.tangent, v_.tangent);
   }

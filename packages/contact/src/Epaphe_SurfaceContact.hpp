@@ -105,7 +105,7 @@ public:
   /// `qCurrent` = q_n gives each node's motion over the step, hence the friction direction t_a.
   void correct(const DenseVector& qPredicted, const DenseVector& qCurrent, CostSplit& cost);
   /// The same without q_n, i.e. with no motion over the step: no friction direction (t_a = 0,
-  /// c_a = n_a) whatever ContactOptions::friction is.
+  /// c_a = n_a) whatever the friction coefficient is.
   void correct(const DenseVector& q, CostSplit& cost);
 
   /// Gaps of the nodes at q without correcting anything (for output); gap() then returns them.
@@ -151,7 +151,7 @@ public:
   /// Per node, after correct(): the friction coefficient mu_a actually applied, c_a = n_a + mu_a t_a
   /// (mu while sliding, 0 <= mu_a <= mu when stuck, 0 without contact or tangential force), and the
   /// unit direction t_a of the friction force (zero when there is none); both stay zero when
-  /// ContactOptions::friction = 0.
+  /// 'Friction coefficient' = 0.
   Kokkos::View<double*>::HostMirror appliedFriction() const { return host_.mu; }
   Kokkos::View<double* [3]>::HostMirror tangent() const { return host_.tangent; } int lastIterations() const {
     return lastIterations_;
@@ -213,6 +213,7 @@ private:
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactEnforcement> enforcement_;
   CoatingContact* coating_ = nullptr;  // enforcement_ when a surface has a coating
+  bool frictional_ = false;  // enforcement_ applies friction
   // what the enforcement sees, unmanaged: the detection's views (shared, not copies), D and C (flex_),
   // and the per-node results it writes (results_): force, direction c_a, mu_a, t_a
   StepResults results_;

@@ -10,6 +10,8 @@
 
 #include "TestSurfaces.hpp"
 
+#include <Teuchos_StandardParameterEntryValidators.hpp>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -43,11 +45,11 @@ struct Masses {
   }
 };
 
-ContactOptions options(ContactMethod m, double mu = 0.0) {
+ContactOptions options(const std::string& m, double mu = 0.0) {
   ContactOptions o;
-  o.method = m;
-  o.friction = mu;
-  o.penaltyStiffness = 1e6;
+  o.set("Method", m);
+  o.set("Friction coefficient", mu);
+  o.set("Penalty stiffness", 1e6);
   o.timeStep = 1e-3;
   return o;
 }
@@ -55,16 +57,16 @@ ContactOptions options(ContactMethod m, double mu = 0.0) {
 }  // namespace
 
 TEST(ContactEnforcement, TheFactoryMakesTheLawTheOptionsAskFor) {
-  EXPECT_STREQ(makeContactEnforcement(options(ContactMethod::Lagrange), 4)->name(), "Lagrange");
-  EXPECT_STREQ(makeContactEnforcement(options(ContactMethod::Penalty), 4)->name(), "Penalty");
-  auto f = makeContactEnforcement(options(ContactMethod::Penalty, 0.3), 4);
+  EXPECT_STREQ(makeContactEnforcement(options("Lagrange"), 4)->name(), "Lagrange");
+  EXPECT_STREQ(makeContactEnforcement(options("Penalty"), 4)->name(), "Penalty");
+  auto f = makeContactEnforcement(options("Penalty", 0.3), 4);
   EXPECT_STREQ(f->name(), "Coulomb friction");
   EXPECT_DOUBLE_EQ(f->addedStiffness(), 1e6);  // the normal law's
   EXPECT_FALSE(f->closesGaps());
-  EXPECT_TRUE(makeContactEnforcement(options(ContactMethod::Lagrange, 0.3), 4)->closesGaps());
-  EXPECT_THROW(makeContactEnforcement(options(ContactMethod::Lagrange, -0.1), 4), Error);
-  ContactOptions bad = options(ContactMethod::Penalty);
-  bad.penaltyStiffness = 0.0;
+  EXPECT_TRUE(makeContactEnforcement(options("Lagrange", 0.3), 4)->closesGaps());
+  EXPECT_THROW(makeContactEnforcement(options("Lagrange", -0.1), 4), Error);
+  ContactOptions bad = options("Penalty");
+  bad.set("Penalty stiffness", 0.0);
   EXPECT_THROW(makeContactEnforcement(bad, 4), Error);
 }
 
@@ -79,16 +81,71 @@ TEST(ContactEnforcement, EachStrategyOwnsItsKeysAndTheContactListHasThemAll) {
   deck.setParameters(*all);
   deck.set("Friction coefficient", 0.25);
   const ContactOptions o = contactOptions(deck, 2e-6);
-  EXPECT_EQ(o.method, ContactMethod::Lagrange);
-  EXPECT_DOUBLE_EQ(o.friction, 0.25);
+  EXPECT_EQ(o.method(), "Lagrange");
+  const Teuchos::ParameterList complete = o.complete();
+  EXPECT_DOUBLE_EQ(complete.get<double>("Friction coefficient"), 0.25);
   EXPECT_DOUBLE_EQ(o.timeStep, 2e-6);
-  EXPECT_TRUE(o.skipDistant);
+  EXPECT_TRUE(detectionOptions(complete).skipDistant);
+  // a key not set takes its default
+  EXPECT_DOUBLE_EQ(ContactOptions{}.complete().get<double>("Penalty stiffness"), 1e10);
+}
+
+TEST(ContactLaw, TheRegistryAnswersForEachLaw) {
+  const std::vector<std::string> names = contactLawNames();
+  ASSERT_GE(names.size(), 2u);
+  EXPECT_EQ(names[0], "Lagrange");
+  EXPECT_EQ(names[1], "Penalty");
+  const Teuchos::ParameterList cp = options("Penalty").complete();
+  const ContactLaw& penalty = contactLaw("Penalty");
+  EXPECT_FALSE(penalty.closesGaps());
+  EXPECT_DOUBLE_EQ(penalty.stableStepStiffness(cp), 3e6);  // each penalty spring counts three times
+  EXPECT_DOUBLE_EQ(penalty.springStiffness(cp), 1e6);
+  EXPECT_EQ(penalty.stiffnessKey(), "Penalty stiffness");
+  const ContactLaw& lagrange = contactLaw("Lagrange");
+  EXPECT_TRUE(lagrange.closesGaps());
+  EXPECT_DOUBLE_EQ(lagrange.stableStepStiffness(cp), 0.0);
+  EXPECT_DOUBLE_EQ(lagrange.springStiffness(cp), 0.0);
+  EXPECT_THROW(contactLaw("Lagrang"), Error);
+  // the Method enum of the schema lists the registered laws
+  const auto valid = contactValidParameters();
+  const auto method = Teuchos::rcp_dynamic_cast<const Teuchos::StringToIntegralParameterEntryValidator<int>>(
+      valid->getEntry("Method").validator());
+  ASSERT_FALSE(method.is_null());
+  EXPECT_EQ(static_cast<std::size_t>(method->validStringValues()->size()), names.size());
+  // a second law of the same name, or a key another law holds, is refused
+  struct Copy final : public ContactLaw {
+    std::string n;
+    Teuchos::RCP<const Teuchos::ParameterList> keys;
+    Copy(std::string name, Teuchos::RCP<const Teuchos::ParameterList> k) : n(std::move(name)), keys(std::move(k)) {}
+    std::string name() const override { return n; }
+    std::string description() const override { return "a copy"; }
+    Teuchos::RCP<const Teuchos::ParameterList> getValidParameters() const override { return keys; }
+    std::unique_ptr<ContactEnforcement> make(const Teuchos::ParameterList&, const ContactLawSetup&) const override {
+      return nullptr;
+    }
+    bool closesGaps() const override { return false; }
+  };
+  const auto refusal = [](const std::shared_ptr<const ContactLaw>& law) {
+    try {
+      registerContactLaw(law);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("registered");
+  };
+  EXPECT_NE(refusal(std::make_shared<Copy>("Penalty", Teuchos::rcp(new Teuchos::ParameterList)))
+                .find("a contact law named 'Penalty' is registered already"),
+            std::string::npos);
+  EXPECT_NE(refusal(std::make_shared<Copy>("Other", PenaltyContact::getValidParameters()))
+                .find("which the Contact list holds already; rename it"),
+            std::string::npos);
+  EXPECT_EQ(contactLawNames().size(), names.size());
 }
 
 TEST(ContactEnforcement, LagrangeClosesEveryGapAndReleasesNothingOnAFloor) {
   // Node k predicted at z = -1e-3 (k odd) or above the floor: lambda = -g / F, the node lands on it.
   Masses m(4);
-  SurfaceContact c = m.make(options(ContactMethod::Lagrange));
+  SurfaceContact c = m.make(options("Lagrange"));
   DenseVector q("q", 12);
   for (int k = 0; k < 4; ++k) q(3 * k + 2) = k % 2 ? -1e-3 : 2e-3;
   CostSplit cost;
@@ -102,7 +159,7 @@ TEST(ContactEnforcement, LagrangeClosesEveryGapAndReleasesNothingOnAFloor) {
 
 TEST(ContactEnforcement, PenaltyPushesByItsStiffnessAndLeavesTheRest) {
   Masses m(2);
-  SurfaceContact c = m.make(options(ContactMethod::Penalty));
+  SurfaceContact c = m.make(options("Penalty"));
   DenseVector q("q", 6);
   q(2) = -1e-3;
   q(5) = 1e-3;
@@ -121,7 +178,7 @@ TEST(ContactEnforcement, CoulombFrictionSticksInsideTheConeAndSlidesOnItsEdge) {
   for (const double dx : {2e-4, 8e-4}) {
     Masses m(1);
     const double mu = 0.5;
-    SurfaceContact c = m.make(options(ContactMethod::Lagrange, mu));
+    SurfaceContact c = m.make(options("Lagrange", mu));
     DenseVector q("q", 3), qn("qn", 3);
     q(0) = dx;
     q(2) = -1e-3;
@@ -212,7 +269,7 @@ struct CarriedPlane {
     for (int g = 0; g < kGridDofs; ++g) cs.gridDofs.push_back(3 * kNodes + g);
     cs.gridX = grid;
     cs.phase = 0.3;
-    ContactOptions o = options(ContactMethod::Lagrange, mu);
+    ContactOptions o = options("Lagrange", mu);
     return SurfaceContact(nodes, {cs}, {ContactBlock{0, 3 * kNodes}, ContactBlock{3 * kNodes, kGridDofs}}, o, F);
   }
 };
@@ -258,7 +315,7 @@ TEST(ContactEnforcement, SelfLockingMarginsAreOneLessMuOverTheirCriticalCoeffici
   // and (S_zz - mu S_zx + 1/k_p) / (S_zz + 1/k_p) (penalty).
   const double a = 2e-4, b = 1e-4, czz = 3e-4, mu = 0.5;
   const double S[9] = {4e-6, 0.0, 3e-6, 0.0, 4e-6, 0.0, 3e-6, 0.0, 2e-6};  // row-major, x y z
-  for (const ContactMethod method : {ContactMethod::Lagrange, ContactMethod::Penalty}) {
+  for (const std::string method : {"Lagrange", "Penalty"}) {
     BSplineSurface floor = floorPlane();
     ContactNodes nodes;
     const int dof[3] = {0, 1, 2};
@@ -269,8 +326,9 @@ TEST(ContactEnforcement, SelfLockingMarginsAreOneLessMuOverTheirCriticalCoeffici
     F(1, 1) = a;
     F(2, 2) = czz;
     F(0, 2) = F(2, 0) = b;
+    const double kp = 1e5;
     ContactOptions o = options(method, mu);
-    o.penaltyStiffness = 1e5;
+    o.set("Penalty stiffness", kp);
     SurfaceContact c(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, 3}}, o, Flexibility(F));
     c.setStaticCompliance(std::vector<double>(S, S + 9));
     DenseVector q("q", 3), qn("qn", 3);
@@ -283,7 +341,7 @@ TEST(ContactEnforcement, SelfLockingMarginsAreOneLessMuOverTheirCriticalCoeffici
     ASSERT_EQ(lock->sliding, 1);
     EXPECT_NEAR(c.tangent()(0, 0), -1.0, 1e-12);
     EXPECT_NEAR(lock->stepMargin, 1.0 - mu * b / czz, 1e-12);
-    const double kappa = method == ContactMethod::Penalty ? 1.0 / o.penaltyStiffness : 0.0;
+    const double kappa = method == "Penalty" ? 1.0 / kp : 0.0;
     EXPECT_NEAR(lock->margin, (S[8] - mu * S[6] + kappa) / (S[8] + kappa), 1e-12);
     EXPECT_EQ(lock->node, 0);
   }

@@ -40,7 +40,7 @@ struct Scene {
   }
   SurfaceContact make(double mu, bool coated = false) {
     ContactOptions o;
-    o.friction = mu;
+    o.set("Friction coefficient", mu);
     o.timeStep = 1e-3;
     ContactSurface s{&floor, nullptr, -1, {}, {}};
     if (coated) {  // 5 mm of coating that the pushed nodes load into its plastic range

@@ -115,8 +115,8 @@ TEST(SurfaceContact, PenaltyForceIsKpTimesPenetration) {
   const BSplineSurface s = wall();
   CentralDifference cd(r, h, {});
   ContactOptions o;
-  o.method = ContactMethod::Penalty;
-  o.penaltyStiffness = kp;
+  o.set("Method", "Penalty");
+  o.set("Penalty stiffness", kp);
   SurfaceContact c(r, {0}, {&s}, o, cd.flexibility());
   DenseVector qm("qm", 3), q("q", 3), qp("qp", 3);
   set(qm, -h * v, 0, 0);

@@ -245,7 +245,7 @@ struct NodeOnPlate {
     q[2] = -0.0015;             // the node (at z = 0.001 - 0.0015) has crossed the plate
     q[3 + 3 * 5 + 2] = 0.0002;  // which bends a little towards it
   }
-  std::vector<double> correct(bool diagonal, ContactMethod method, std::vector<double>* force) {
+  std::vector<double> correct(bool diagonal, const std::string& method, std::vector<double>* force) {
     ContactNodes nodes;
     const int dof[3] = {0, 1, 2};
     const double x[3] = {1.3, 1.6, 0.001};
@@ -278,8 +278,8 @@ struct NodeOnPlate {
       F.append(Flexibility(F1));
     }
     ContactOptions o;
-    o.method = method;
-    o.penaltyStiffness = 1e3;
+    o.set("Method", method);
+    o.set("Penalty stiffness", 1e3);
     SurfaceContact c(nodes, {cs}, {ContactBlock{0, 3}, ContactBlock{3, 48}}, o, F);
     DenseVector v("q", 51);
     set(v, q);
@@ -292,14 +292,14 @@ struct NodeOnPlate {
     const double predicted = c.gap()(0);
     EXPECT_LT(predicted, 0.0);
     c.measureGaps(v, cost);
-    if (method == ContactMethod::Lagrange) EXPECT_LT(std::abs(c.gap()(0)), 1e-5 * std::abs(predicted));
+    if (method == "Lagrange") EXPECT_LT(std::abs(c.gap()(0)), 1e-5 * std::abs(predicted));
     return get(v);
   }
 };
 }  // namespace
 
 TEST(LumpedContact, DiagonalFlexibilityBlockEqualsTheSameDenseBlock) {
-  for (ContactMethod method : {ContactMethod::Lagrange, ContactMethod::Penalty}) {
+  for (const std::string& method : {"Lagrange", "Penalty"}) {
     NodeOnPlate s;
     std::vector<double> fd, fs;
     const auto qd = s.correct(true, method, &fd);

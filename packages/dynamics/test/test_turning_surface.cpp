@@ -153,7 +153,7 @@ TEST(TurningCarriedSurface, EnergyBalanceIsExactWhileTheSurfaceTurns) {
   // external work, with and without friction.
   for (const double mu : {0.0, 0.3}) {
     ContactOptions o;
-    o.friction = mu;
+    o.set("Friction coefficient", mu);
     const double h = 1e-3;
     Scene s({0.2, 0.9999, 0.1}, 2.0, 0.5, 1e4, h, -1.0, M_PI / 2, o);
     s.cdNode.setConstantForce({0.0, 200.0, 0.0});
@@ -238,7 +238,7 @@ TEST(TurningRigidDrum, FrictionDragsAFreeBodyTowardsTheSurfaceSpeed) {
     cs.surface = &surface;
     cs.omega = omega;
     ContactOptions o;
-    o.friction = mu;
+    o.set("Friction coefficient", mu);
     o.timeStep = h;
     SurfaceContact contact(std::move(cn), {cs}, {{0, 3}}, o, cd.flexibility());
     DenseVector Q[3] = {DenseVector("q0", 3), DenseVector("q1", 3), DenseVector("q2", 3)};

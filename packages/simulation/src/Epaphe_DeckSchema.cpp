@@ -5,14 +5,17 @@
 #include "Epaphe_ModelImporter.hpp"
 #include "Epaphe_BuiltInMeshes.hpp"
 #include "Epaphe_ReductionMethod.hpp"
+#include "Epaphe_ObserverKind.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 #include "Epaphe_CentralDifference.hpp"
 
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 namespace epaphe {
@@ -218,10 +221,10 @@ void addSurfaceParameters(Teuchos::ParameterList& pl) {
           "for the other side");
 }
 
-/// Contact: the contact treatment, each strategy's own keys.
+/// Contact: the contact treatment, the registered laws' names and each law's own keys.
 void addContactParameters(Teuchos::ParameterList& pl) {
   auto& contact = pl.sublist("Contact", false, "Contact treatment (thesis section 2.5)");
-  contact.setParameters(*contactValidParameters());  // each strategy's own keys
+  contact.setParameters(*contactValidParameters());  // each law's own keys (Epaphe_ContactLaw.hpp)
 }
 
 /// Time: the explicit central difference and its damping.
@@ -292,10 +295,15 @@ void addOutputParameters(Teuchos::ParameterList& pl) {
 }  // namespace
 
 Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
-  // Rebuilt when a reduction method or an importer was registered since (its keys and name join it).
+  // Built again when a program registers a contact law, an observer, a reduction method or an importer:
+  // their names and keys are in the schema.
+  static std::mutex mutex;
   static Teuchos::RCP<const Teuchos::ParameterList> valid;
-  static int version = -1;
-  if (valid.is_null() || version != ReductionRegistry::version() + ImporterRegistry::version()) {
+  static std::array<int, 4> revision{-1, -1, -1, -1};
+  std::lock_guard<std::mutex> lock(mutex);
+  const std::array<int, 4> now{contactLawRevision(), observerRevision(), ReductionRegistry::version(),
+                               ImporterRegistry::version()};
+  if (valid.is_null() || now != revision) {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Epaphe"));
     addRunParameters(*pl);
     addBodyParameters(*pl);
@@ -303,8 +311,9 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addContactParameters(*pl);
     addTimeParameters(*pl);
     addOutputParameters(*pl);
+    addObserverParameters(*pl);
     valid = pl;
-    version = ReductionRegistry::version() + ImporterRegistry::version();
+    revision = now;
   }
   return valid;
 }

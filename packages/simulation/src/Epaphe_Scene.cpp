@@ -487,7 +487,7 @@ void Scene::checkContactAtStart(const ParameterList& cp, double h) {
   }
 }
 
-/// The stable step of each body (with the penalty springs on its contact and carried surface DOFs)
+/// The stable step of each body (with the contact law's springs on its contact and carried surface DOFs)
 /// against the deck's time step: an Error, or a warning with 'Allow unstable time step'.
 void Scene::checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, const ContactOptions& copt,
                              const DampingOptions& damping) {
@@ -495,7 +495,8 @@ void Scene::checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, c
   std::ostream& out = rt_.out();
   const ParameterList& tp = deck_.params->sublist("Time");
   const double h = tp.get<double>("Time step");
-  // Stable step of each body, with the penalty springs on its contact and surface DOFs.
+  const ContactLaw& law = contactLaw(copt.method());
+  // Stable step of each body, with the contact law's springs on its contact and surface DOFs.
   for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
     Body* b = bodies_[ib].get();
     std::vector<int> contactDofs;
@@ -503,11 +504,8 @@ void Scene::checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, c
       for (int d = 0; d < 3; ++d)
         if (b->rom.nodeDof[3 * n + d] >= 0) contactDofs.push_back(b->rom.nodeDof[3 * n + d]);
     contactDofs.insert(contactDofs.end(), carriedDofs[ib].begin(), carriedDofs[ib].end());
-    // The penalty acts on the predicted gap (forward increment, eq. 2.28 with lambda = kp (-g*)):
-    // for a mass m on a spring kp alone, u_{n+1} = (1 - a)(2 u_n - u_{n-1}), a = h^2 kp / m, whose
-    // roots stay in the unit circle for a <= 4/3, a third of the 4 of an ordinary spring
-    // (h omega <= 2). So each penalty spring counts three times in the estimate.
-    const double kAdded = (contact_ && copt.method == ContactMethod::Penalty) ? 3.0 * copt.penaltyStiffness : 0.0;
+    // The stiffness the contact law adds on these DOFs (Penalty: 3 kp, see Epaphe_ContactLaw.cpp).
+    const double kAdded = contact_ ? law.stableStepStiffness(copt.contact) : 0.0;
     b->stable = criticalTimeStep(b->rom, contactDofs, kAdded, damping);
     if (b->runUp) {  // a run-up: the smallest critical step over the ramp's speeds (9 of them, even in xi)
       const RunUpModel& r = *b->runUp;
@@ -523,9 +521,10 @@ void Scene::checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, c
       std::ostringstream os;
       os << origin << ": 'Time->Time step' = " << h << " s exceeds the critical step " << b->stable.critical
          << " s of body '" << b->name << "' (highest frequency " << b->stable.omegaMax / (2 * M_PI) << " Hz"
-         << (kAdded > 0 ? ", penalty springs included" : "") << "); the central difference would blow up. Use "
-         << "'Time step' <= " << 0.9 * b->stable.critical << " s";
-      if (kAdded > 0) os << " or a smaller 'Penalty stiffness'";
+         << (kAdded > 0 ? ", the " + law.name() + " law's springs included" : "")
+         << "); the central difference would blow "
+         << "up. Use 'Time step' <= " << 0.9 * b->stable.critical << " s";
+      if (kAdded > 0 && !law.stiffnessKey().empty()) os << " or a smaller '" << law.stiffnessKey() << "'";
       if (!tp.get<bool>("Allow unstable time step")) throw Error(os.str() + ", or set 'Allow unstable time step'.");
       out << "warning: " << os.str() << "\n";
     }
@@ -658,7 +657,7 @@ std::vector<std::vector<int>> Scene::setupSurfacesAndContact(const ContactOption
   for (const auto& b : bodies_) flexibility.append(b->integrator->flexibility());
   contactX_ = nodes.X;
   contact_ = std::make_unique<SurfaceContact>(std::move(nodes), std::move(contactSurfaces), blocks, copt, flexibility);
-  if (copt.friction > 0.0) {  // the quasi-static self-locking check (Epaphe_SelfLockingMonitor.hpp)
+  if (contact_->enforcement().frictional()) {  // the quasi-static self-locking check (Epaphe_SelfLockingMonitor.hpp)
     std::vector<double> S;
     for (const auto& b : bodies_) {
       const std::vector<double> Sb = staticContactCompliance(b->rom, b->contactNodes);

@@ -2,6 +2,7 @@
 
 #include "Epaphe_BodyModel.hpp"
 #include "Epaphe_ContactEnforcement.hpp"
+#include "Epaphe_ContactLaw.hpp"
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Error.hpp"
@@ -41,6 +42,29 @@ void checkGeometry(const ParameterList& P, const std::string& origin) {
   }
 }
 
+/// The contact law 'Method' names: friction and coatings only on a law that takes them, then the
+/// law's own refusals (ContactLaw::check).
+void checkContactLaw(const ParameterList& P, const std::string& origin) {
+  const ParameterList& cp = P.sublist("Contact");
+  const ContactLaw& law = contactLaw(cp.get<std::string>("Method"));
+  const std::string ctx = origin + ": '" + deck::pathOf(cp, "Method") + "' = '" + law.name() + "'";
+  EPAPHE_REQUIRE(law.supportsFriction() || cp.get<double>("Friction coefficient") == 0.0,
+                 ctx << " has no Coulomb friction, but '" << deck::pathOf(cp, "Friction coefficient") << "' = "
+                     << cp.get<double>("Friction coefficient") << "; set it to 0 or choose a law with friction");
+  if (!law.supportsCoatings()) {
+    const ParameterList& sl = P.sublist("Surfaces");
+    for (auto it = sl.begin(); it != sl.end(); ++it) {
+      if (!sl.isSublist(sl.name(it)) || !sl.sublist(sl.name(it)).isSublist("Coating")) continue;
+      const ParameterList& coating = sl.sublist(sl.name(it)).sublist("Coating");
+      const auto el = deck::getInts(coating, "Elements");
+      EPAPHE_REQUIRE(el.size() != 2 || el[0] * el[1] == 0,
+                     ctx << " takes no abradable coating, but '" << deck::pathOf(coating, "Elements")
+                         << "' gives one; remove the coating or choose a law with coatings");
+    }
+  }
+  law.check(cp, origin);
+}
+
 /// The bodies' Reduction lists against the rest of the deck, as each method answers: a method that
 /// cannot take penalty contact (the massless boundary) takes Lagrange; a diagonal mass (the full model
 /// with lumped mass) only damping that keeps M/h^2 + D/2h diagonal; a method that keeps every node no
@@ -56,9 +80,9 @@ void checkReductions(const ParameterList& P, const DampingOptions& damping, cons
                             rp.get<std::string>("Method") + "'";
     if (const std::string why = method->penaltyContactProblem(); !why.empty()) {
       const ParameterList& cp = P.sublist("Contact");
-      EPAPHE_REQUIRE(
-          deck::getEnum<ContactMethod>(cp, "Method") == ContactMethod::Lagrange,
-          ctx << " with '" << deck::pathOf(cp, "Method") << "' = '" << cp.get<std::string>("Method") << "': " << why);
+      EPAPHE_REQUIRE(contactLaw(cp.get<std::string>("Method")).closesGaps(),
+                     ctx << " with '" << deck::pathOf(cp, "Method") << "' = '" << cp.get<std::string>("Method")
+                         << "', a law that does not close the gaps: " << why);
     }
     if (method->diagonalMass()) {
       const std::string problem = fullModelDampingProblem(damping);
@@ -383,7 +407,7 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
   numberOfSteps(P, origin);
   const ParameterList& tp = P.sublist("Time");
   const DampingOptions damping = dampingOptions(tp, origin);
-  contactOptions(P.sublist("Contact"), tp.get<double>("Time step"));
+  checkContactLaw(P, origin);
   checkReductions(P, damping, origin);
   checkBodyFaceReferences(P, origin);
   for (auto it = bl.begin(); it != bl.end(); ++it) {

@@ -116,16 +116,16 @@ const RunSummary& Simulation::run() {
     for (int i = 0; i < b.rom.size; ++i) qp(i) = -h * b.v0[i] + 0.5 * h * h * b.a0[i];
     Kokkos::deep_copy(qPrev, qp);
   }
-  // Penalty: stable springs only give back what they hold, so the bodies' energy can never exceed
-  // what they were given (initial, external work, the springs compressed by initial penetrations).
-  // (Not with a turning surface: a moving casing does work on the bodies.)
+  // A law whose forces are stable springs (Penalty) only gives back what they hold, so the bodies'
+  // energy can never exceed what they were given (initial, external work, the springs compressed by
+  // initial penetrations). (Not with a turning surface: a moving casing does work on the bodies.)
   // a run-up puts its bodies at their start before the energy monitor takes E_0
   std::unique_ptr<RunUp> runUp;
   if (!driven.empty()) runUp = std::make_unique<RunUp>(driven, scene_->corrector(), scene_->contactPositions());
-  const bool penalty = contact && fastestRotation(P) == 0.0 &&
-                       deck::getEnum<ContactMethod>(P.sublist("Contact"), "Method") == ContactMethod::Penalty;
-  EnergyMonitor monitor(loop, {O.get<int>("Every"), O.get<double>("Energy balance tolerance"),
-                               penalty ? P.sublist("Contact").get<double>("Penalty stiffness") : 0.0});
+  const ParameterList& cp = P.sublist("Contact");
+  const double springs =
+      contact && fastestRotation(P) == 0.0 ? contactLaw(cp.get<std::string>("Method")).springStiffness(cp) : 0.0;
+  EnergyMonitor monitor(loop, {O.get<int>("Every"), O.get<double>("Energy balance tolerance"), springs});
   HistoryOutput history(file, bodies, contact, monitor, fresh);
   std::unique_ptr<FieldOutput> fields;
   if (const int fieldsEvery = O.get<int>("Fields every"); fieldsEvery > 0) {
@@ -140,14 +140,23 @@ const RunSummary& Simulation::run() {
     coating = std::make_unique<CoatingOutput>(file, *contact, monitor, wearEvery, fresh);
   }
   if (fields && coating) fields->setCoatings(coating->surfaces());
+  // the observers the deck enables (registry) and those a program added, with their series
+  const std::vector<std::unique_ptr<RunObserver>> made = makeDeckObservers(P, {file, *scene_, monitor, fresh});
+  std::vector<RunObserver*> extra;
+  for (const auto& o : made) extra.push_back(o.get());
+  extra.insert(extra.end(), added_.begin(), added_.end());
+  std::vector<io::Series*> series = coating ? coating->series() : std::vector<io::Series*>{};
+  for (RunObserver* o : extra)
+    for (io::Series* os : o->series()) series.push_back(os);
   Checkpoints checkpoints(file, loop, contact, history, fields.get(),
-                          {O.get<int>("Checkpoint every"), O.get<double>("Checkpoint interval")},
-                          coating ? coating->series() : std::vector<io::Series*>{});
+                          {O.get<int>("Checkpoint every"), O.get<double>("Checkpoint interval")}, series);
   StopControl stop(stopAfterSteps_, "continue with epaphe-run " + deck_.origin + " --restart " + output_);
   ProgressReport progress(P.sublist("Run").get<double>("Progress interval"));
   SelfLockingMonitor locking(contact, h);
-  for (LoopObserver* o : std::initializer_list<LoopObserver*>{runUp.get(), &locking, &monitor, &history, coating.get(),
-                                                              fields.get(), &stop, &checkpoints, &progress})
+  std::vector<LoopObserver*> observers{runUp.get(), &locking, &monitor, &history, coating.get(), fields.get()};
+  observers.insert(observers.end(), extra.begin(), extra.end());
+  observers.insert(observers.end(), {&stop, &checkpoints, &progress});
+  for (LoopObserver* o : observers)
     if (o != nullptr) loop.addObserver(o);
 
   if (fresh) {
@@ -180,6 +189,9 @@ const RunSummary& Simulation::run() {
   summary_.totals = loop.accumulators();
   if (runUp) rt_.out() << "run-up: " << runUp->refreshes() << " stiffness refreshes\n";
   if (coating) summary_.coating = coating->summary();
+  summary_.observers.clear();
+  for (RunObserver* o : extra)
+    for (const std::string& line : o->summary()) summary_.observers.push_back(line);
   summary_.checkpoints = checkpoints.count();
   summary_.checkpointSeconds = checkpoints.seconds();
   summary_.steps = loop.stepsDone();
@@ -353,6 +365,7 @@ void Simulation::printSummary(std::ostream& os) const {
   os << buf;
   for (const auto& line : summary_.coating) os << line << "\n";
   if (!summary_.selfLocking.empty()) os << summary_.selfLocking << "\n";
+  for (const auto& line : summary_.observers) os << line << "\n";
   std::snprintf(buf, sizeof buf, "energy balance: max relative error %.3e\n", summary_.totals.maxBalanceError);
   os << buf;
   os << "status: " << summary_.status << "; output " << output_ << "\n";

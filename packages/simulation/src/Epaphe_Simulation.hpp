@@ -1,7 +1,8 @@
 #pragma once
 // A run described by a deck: the scene (Epaphe_Scene.hpp: bodies built and reduced on every MPI
 // rank, surfaces, contact) and, on rank 0, the explicit loop (Epaphe_ExplicitLoop.hpp) with its
-// observers: energy monitor, HDF5 history, field frames, checkpoints, stop control and progress.
+// observers: energy monitor, HDF5 history, field frames, checkpoints, stop control and progress, and
+// those a program adds or registers (Epaphe_RunObserver.hpp).
 //
 // Output layout (HDF5), one record every `Output->Every` steps, record k at time t_k:
 //   /                      attributes: epaphe_version, name, status ("running", "complete",
@@ -34,6 +35,7 @@
 #include "Epaphe_EnergyMonitor.hpp"
 #include "Epaphe_ExplicitLoop.hpp"
 #include "Epaphe_Hdf5File.hpp"
+#include "Epaphe_RunObserver.hpp"
 #include "Epaphe_Runtime.hpp"
 #include "Epaphe_Scene.hpp"
 #include "Epaphe_SelfLockingMonitor.hpp"
@@ -56,13 +58,14 @@ struct RunSummary {
   LoopAccumulators totals;  // contact times, impulse, peak force, worst balance error (relative),
                             // steps whose contact-node motion exceeded the smallest patch
   CostSplit cost;
-  long long firstStep = 0;           // > 0 when restarted from a checkpoint
-  long long checkpoints = 0;         // written by this run
-  double checkpointSeconds = 0;      // their total wall time
-  int stopSignal = 0;                // SIGINT or SIGTERM when interrupted
-  bool stoppedEarly = false;         // interrupted, or stopped by setStopAfterSteps
-  std::vector<std::string> coating;  // per coated surface: wear, dissipation, lobes (complete runs)
-  double stopTime = -1;              // s: the time of the step an error stopped (-1: none)
+  long long firstStep = 0;             // > 0 when restarted from a checkpoint
+  long long checkpoints = 0;           // written by this run
+  double checkpointSeconds = 0;        // their total wall time
+  int stopSignal = 0;                  // SIGINT or SIGTERM when interrupted
+  bool stoppedEarly = false;           // interrupted, or stopped by setStopAfterSteps
+  std::vector<std::string> coating;    // per coated surface: wear, dissipation, lobes (complete runs)
+  std::vector<std::string> observers;  // the summary lines of the observers a program added or registered
+  double stopTime = -1;                // s: the time of the step an error stopped (-1: none)
   // friction: the self-locking check over the run (Epaphe_SelfLockingMonitor.hpp), least margins
   // and first locks, quasi-static (eq. (50)) and the correction's own (eq. (48)); `selfLocking`: the
   // summary line (empty without friction)
@@ -88,6 +91,10 @@ public:
   /// the history series are cut to the checkpoint's records and the run appends to them. The
   /// output file becomes `file`.
   void setRestart(const std::string& file);
+  /// Adds an observer to the run (after the built-in writers of a step, before the stop control,
+  /// checkpoints and progress; Epaphe_RunObserver.hpp), with those the deck enables. The run does not
+  /// own it; it must outlive run().
+  void addObserver(RunObserver* observer) { added_.push_back(observer); }
   /// Testing: after this many steps (counted from the start of the run), write a checkpoint, set
   /// the status "stopped: ..." and return, as after SIGTERM.
   void setStopAfterSteps(long long steps) { stopAfterSteps_ = steps; }
@@ -115,6 +122,7 @@ private:
   RunSummary summary_;
   std::string restart_;
   long long stopAfterSteps_ = -1;
+  std::vector<RunObserver*> added_;  // addObserver
 };
 
 }  // namespace epaphe
