@@ -138,13 +138,18 @@ int main(int argc, char** argv) {
         << parametricSeconds / restSeconds << " x one Craig-Bampton reduction at rest ("
         << epaphe::formatDuration(restSeconds) << ")\n";
 
+    if (!pm.base.coriolis.empty())
+      out << "[" << body << "] the curves keep the Coriolis terms (the whirls of M q'' + Omega G_r q' + K q = 0); "
+          << "the full model's points and the direct reductions do not\n";
     // The curves: the model each run at that speed uses.
     std::vector<double> speeds, growth;
     std::vector<std::vector<double>> freq;
     for (int k = 0; k < points; ++k) {
       const double w = range[0] + (range[1] - range[0]) * k / (points - 1);
       const epaphe::ReducedModel r = pm.at(w, co.modes, ctx);
-      auto f = epaphe::reducedFrequencies(r);
+      // with 'Rotation->Coriolis' the run's model whirls: M q'' + Omega G_r q' + K q = 0
+      auto f = r.coriolis.empty() ? epaphe::reducedFrequencies(r)
+                                  : epaphe::gyroscopicFrequencies(r.K, r.M, r.coriolis, w, r.size);
       f.resize(std::min<std::size_t>(f.size(), static_cast<std::size_t>(count)));
       speeds.push_back(w);
       freq.push_back(f);

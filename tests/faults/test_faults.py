@@ -296,6 +296,26 @@ if a.case == "restart":
                 [1100, 2300],
             )
         )
+        # the same blade at its fixed start speed with the Coriolis terms kept (a non-symmetric flexibility
+        # P = [M/h^2 + Omega G_r/2h]^-1 in the contact correction)
+        cases.append(
+            (
+                "coriolis",
+                variant(
+                    a.runup_deck,
+                    os.path.join(W, "coriolis.xml"),
+                    {
+                        "Time->End time": "1.5e-4",
+                        "Output->Every": "7",
+                        "Run->Progress interval": ("0", "double"),
+                        "Bodies->Blade->Rotation->Speed law->Type": "Constant",
+                        "Bodies->Blade->Rotation->Coriolis": ("true", "bool"),
+                        "Bodies->Blade->Reduction->Cache file": ("coriolis.rom.h5", "string"),
+                    },
+                ),
+                [500, 1100],
+            )
+        )
     for name, deck, stops in cases:
         t0 = time.time()
         A, B = f"{name}-a.h5", f"{name}-b.h5"

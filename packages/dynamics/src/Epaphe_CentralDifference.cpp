@@ -88,6 +88,16 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
   const int n = model.size;
   EPAPHE_REQUIRE(h > 0 && std::isfinite(h), "time step = " << h << " s; it must be a finite value > 0");
   damped_ = damping.type != DampingType::None;
+  dissipative_ = damped_;
+  gyroscopic_ = !model.coriolis.empty() && model.speed != 0.0;
+  if (gyroscopic_) {
+    // dense reduced models only (SceneCheck refuses the others first)
+    EPAPHE_REQUIRE(!model.sparse() && !model.massless() &&
+                       model.coriolis.size() == static_cast<std::size_t>(n) * static_cast<std::size_t>(n),
+                   "body '" << model.name << "': the Coriolis terms are kept on a dense reduced model only, not on a "
+                            << model.method() << " model");
+    damped_ = true;  // B = -P (D + Omega G_r) / h
+  }
   if (model.sparse()) {
     // M = diag(m), D = alpha M, P = [M/h^2 + D/2h]^{-1} and B = -P D / h diagonal, K sparse
     const std::string problem = fullModelDampingProblem(damping);
@@ -133,18 +143,26 @@ CentralDifference::CentralDifference(const ReducedModel& model, double h, const 
     }
   } else {
     const std::vector<double> D = dampingMatrix(model, damping);
-    // P = [M/h^2 + D/2h]^{-1}
+    // With the Coriolis terms, the velocity term is (D + Omega G_r) (q_{n+1} - q_{n-1}) / 2h: Omega G_r
+    // takes the damping's place in P and B (the header), and M/h^2 + (D + Omega G_r)/2h is not symmetric
+    std::vector<double> DG = D;
+    if (gyroscopic_)
+      for (std::size_t k = 0; k < DG.size(); ++k) DG[k] += model.speed * model.coriolis[k];
+    // P = [M/h^2 + (D + Omega G_r)/2h]^{-1}
     std::vector<double> lhs(D.size());
-    for (std::size_t k = 0; k < lhs.size(); ++k) lhs[k] = model.M[k] / (h * h) + D[k] / (2 * h);
-    const std::vector<double> P = spdInverse(lhs, n, "M/h^2 + D/2h of body '" + model.name + "'",
-                                             "check the mass matrix and the damping coefficients");
-    // A = -P K, B = -P D / h
+    for (std::size_t k = 0; k < lhs.size(); ++k) lhs[k] = model.M[k] / (h * h) + DG[k] / (2 * h);
+    const std::vector<double> P = gyroscopic_
+                                      ? generalInverse(lhs, n, "M/h^2 + (D + Omega G)/2h of body '" + model.name + "'",
+                                                       "check the mass matrix and the damping coefficients")
+                                      : spdInverse(lhs, n, "M/h^2 + D/2h of body '" + model.name + "'",
+                                                   "check the mass matrix and the damping coefficients");
+    // A = -P K, B = -P (D + Omega G_r) / h
     std::vector<double> A(D.size()), B(D.size());
     Teuchos::BLAS<int, double> blas;
     blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, -1.0, P.data(), n, model.K.data(), n, 0.0, A.data(), n);
     A_ = BodyOperator::dense(A, n, "epaphe::dynamics::A");
     if (damped_) {
-      blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, -1.0 / h, P.data(), n, D.data(), n, 0.0, B.data(), n);
+      blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, n, n, n, -1.0 / h, P.data(), n, DG.data(), n, 0.0, B.data(), n);
       B_ = BodyOperator::dense(B, n, "epaphe::dynamics::B");
     }
     K_ = BodyOperator::dense(model.K, n, "epaphe::dynamics::K");
@@ -261,6 +279,7 @@ const CentralDifference::Residual& CentralDifference::residual(const double* q) 
 
 void CentralDifference::setStiffness(const std::vector<double>& K) {
   const int n = static_cast<int>(f_.extent(0));
+  EPAPHE_REQUIRE(!gyroscopic_, "CentralDifference::setStiffness: a run-up keeps no Coriolis terms");
   EPAPHE_REQUIRE(!pDense_.empty() && K.size() == pDense_.size(),
                  "CentralDifference::setStiffness: a dense reduced model of size " << n << " only (" << K.size()
                                                                                    << " entries given)");
@@ -279,6 +298,7 @@ double CentralDifference::halfStepEnergy(const DenseVector& qn, const DenseVecto
 
 double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
   if (!damped_) return 0.0;
+  if (!dissipative_ && !massless_.on) return 0.0;  // Coriolis alone: dq^T (Omega G_r) dq = 0, G_r skew
   if (massless_.on) {
     // dq^T (D + h S) dq by its factors (masslessOperators): sum_k d_k deta_k^2 + h du^T (z_{n+1} -
     // z_{n-1}), z = G^{-1} r the residual's force (z_{n+1} made here, z_{n-1} two steps ago)

@@ -24,6 +24,17 @@
 // The run accumulates the right-hand side (contact and external work) and the damping term, so
 // the balance error measures what the scheme itself does not conserve: round-off, or a bug.
 //
+// Coriolis terms (a body at speed that keeps them, ReducedModel::coriolis: docs/theory/integration.md).
+// M q'' + (D + Omega G_r) q' + K q = f with G_r skew (G_r^T = -G_r) is the same scheme with D replaced
+// by D + Omega G_r in the centred velocity (q_{n+1} - q_{n-1}) / 2h:
+//   P = [M/h^2 + (D + Omega G_r)/2h]^{-1},   B = -P (D + Omega G_r) / h,
+// P no longer symmetric (inverted by LU; the contact flexibility is then not symmetric either). In the
+// energy identity the gyroscopic term is (q_{n+1}-q_{n-1})^T Omega G_r (q_{n+1}-q_{n-1}) / 4h = 0 for a skew
+// G_r: it does no work, and the balance is the one above with D alone. The identity keeps E_{n+1/2}
+// constant without damping, and E_{n+1/2} = 1/2 v^T (M - h^2 K/4) v + 1/2 q_{n+1/2}^T K q_{n+1/2} is
+// positive for h < 2/omega_max of (K, M): the stable step is that of the model without the Coriolis
+// terms (criticalTimeStep).
+//
 // A massless boundary (ReducedModel::massless(), q = [u_b, eta]) steps its modes this way and sets
 // u_b = Phi_b eta + G f; its A, B and F, and the residual's energy and dissipation, are derived in
 // the constructor.
@@ -87,7 +98,9 @@ public:
 
 private:
   double h_;
-  bool damped_ = false;
+  bool damped_ = false;       // B is applied: damping, or the Coriolis terms
+  bool dissipative_ = false;  // damping (D != 0): dampingIncrement() is not 0
+  bool gyroscopic_ = false;   // the Coriolis terms Omega G_r are kept (ReducedModel::coriolis)
   bool forced_ = false;
   /// Massless boundary: the residual r = u_b - Phi_b eta of a q and its force z = G^{-1} r (nb m + nb^2
   /// products), made once per q: a step reads z of q_{n+1} (the exchange), of q_{n-1} (the predictor)

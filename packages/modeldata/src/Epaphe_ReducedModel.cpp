@@ -137,6 +137,20 @@ std::vector<double> spdInverse(std::vector<double> A, int n, const std::string& 
   return A;
 }
 
+std::vector<double> generalInverse(std::vector<double> A, int n, const std::string& what, const std::string& fix) {
+  Teuchos::LAPACK<int, double> lapack;
+  std::vector<int> pivots(static_cast<std::size_t>(n));
+  int info = 0;
+  lapack.GETRF(n, n, A.data(), n, pivots.data(), &info);
+  EPAPHE_REQUIRE(info == 0, what << " is singular (LU found a zero pivot at column " << info << "): " << fix);
+  double query = 0;
+  lapack.GETRI(n, A.data(), n, pivots.data(), &query, -1, &info);
+  std::vector<double> work(static_cast<std::size_t>(std::max(query, 1.0)));
+  lapack.GETRI(n, A.data(), n, pivots.data(), work.data(), static_cast<int>(work.size()), &info);
+  EPAPHE_REQUIRE(info == 0, what << ": LAPACK dgetri found it singular (info " << info << ")");
+  return A;
+}
+
 std::vector<double> denseFrequencies(const std::vector<double>& K, const std::vector<double>& M, int n) {
   std::vector<double> w = denseEigenpairs(K, M, n);
   for (double& x : w) x = std::sqrt(std::max(x, 0.0)) / (2 * M_PI);

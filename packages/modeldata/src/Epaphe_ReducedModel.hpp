@@ -70,6 +70,10 @@ struct ReducedModel {
   std::array<double, 3> translationMass = {0, 0, 0};  // massless boundary: e_d^T M e_d over the free DOFs
   double speed = 0;                                   // a body at speed: Omega (rad/s) of its model, 0 at rest
   std::vector<double> staticDisplacement;  // a body at speed: u_s, 3 per node (coords are x + u_s); empty at rest
+  /// A body at speed that keeps its Coriolis terms ('Rotation->Coriolis'): G_r = V^T G V per unit speed
+  /// (size x size, column-major, skew), V the reduction's basis (the recovery) and G = 2 int rho N^T [a]_x N,
+  /// so that speed * G_r is the gyroscopic matrix in M q'' + speed G_r q' + K q = f. Empty: not kept.
+  std::vector<double> coriolis;
 
   /// The deck's name of its kind ("Craig-Bampton", ...), for messages and files.
   std::string method() const { return reductionName(kind); }
@@ -112,6 +116,10 @@ std::vector<double> denseEigenpairs(const std::vector<double>& K, const std::vec
 /// Inverse of a symmetric positive definite n x n matrix (column-major) by Cholesky; an Error names
 /// `what`, the failing column and `fix` when it is not positive definite.
 std::vector<double> spdInverse(std::vector<double> A, int n, const std::string& what, const std::string& fix);
+
+/// Inverse of a general nonsingular n x n matrix (column-major) by LU with partial pivoting (LAPACK
+/// dgetrf, dgetri); an Error names `what` and `fix` when it is singular.
+std::vector<double> generalInverse(std::vector<double> A, int n, const std::string& what, const std::string& fix);
 
 /// Natural frequencies (Hz, ascending) of a dense model. Negative round-off eigenvalues give 0.
 std::vector<double> denseFrequencies(const std::vector<double>& K, const std::vector<double>& M, int n);

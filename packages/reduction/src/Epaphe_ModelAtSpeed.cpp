@@ -7,6 +7,8 @@
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_MultiVector.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_LAPACK.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -105,9 +107,96 @@ FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& o, SpeedRep
     // Omega ||G|| / sqrt(||K(Omega)|| ||M||), G = 2 int rho N^T [a]_x N: kg/s against kg/s
     const double scale = std::sqrt(at.K->getFrobeniusNorm() * rest.M->getFrobeniusNorm());
     report->coriolisRatio = scale > 0 ? 2 * std::abs(o.speed) * c.coriolis->getFrobeniusNorm() / scale : 0;
+    report->coriolis = c.coriolis;
     report->seconds = watch.seconds();
   }
   return at;
+}
+
+std::vector<double> reducedCoriolis(const CrsMatrix& halfG, const FullModel& full, const std::vector<double>& recovery,
+                                    int n) {
+  const auto map = halfG.getRowMap();
+  EPAPHE_REQUIRE(recovery.size() == full.eq.size() * static_cast<std::size_t>(n),
+                 "body '" << full.name << "': a recovery of " << recovery.size() << " entries for " << full.eq.size()
+                          << " DOFs and " << n << " reduced coordinates");
+  // V over the free DOFs (the recovery's rows at clamped DOFs are zero), then G V and V^T (G V)
+  MultiVector V(map, static_cast<std::size_t>(n)), GV(map, static_cast<std::size_t>(n));
+  {
+    auto v = V.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (std::size_t i = 0; i < full.eq.size(); ++i) {
+      const int g = full.eq[i];
+      if (g < 0 || !map->isNodeGlobalElement(g)) continue;
+      const LO l = map->getLocalElement(g);
+      for (int j = 0; j < n; ++j) v(l, j) = recovery[i * n + j];
+    }
+  }
+  halfG.apply(V, GV);
+  std::vector<double> local(static_cast<std::size_t>(n) * n, 0.0), G(local.size());
+  {
+    auto v = V.getLocalViewHost(Tpetra::Access::ReadOnly);
+    auto w = GV.getLocalViewHost(Tpetra::Access::ReadOnly);
+    const int m = static_cast<int>(V.getLocalLength());
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        double s = 0;
+        for (int r = 0; r < m; ++r) s += v(r, i) * w(r, j);
+        local[static_cast<std::size_t>(j) * n + i] = s;
+      }
+  }
+  Teuchos::reduceAll(*map->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), G.data());
+  // G_r = 2 V^T (G/2) V, skew: (A - A^T) / 2 of it, exactly skew
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i <= j; ++i) {
+      const double v = G[static_cast<std::size_t>(j) * n + i] - G[static_cast<std::size_t>(i) * n + j];
+      G[static_cast<std::size_t>(j) * n + i] = v;
+      G[static_cast<std::size_t>(i) * n + j] = -v;
+    }
+  return G;
+}
+
+std::vector<double> gyroscopicFrequencies(const std::vector<double>& K, const std::vector<double>& M,
+                                          const std::vector<double>& G, double speed, int n) {
+  // A = [0 I; -M^-1 K, -M^-1 speed G] (2n x 2n, column-major): M^-1 [K, speed G] by one Cholesky solve
+  const std::size_t nn = static_cast<std::size_t>(n) * n;
+  std::vector<double> rhs(2 * nn), chol = M;
+  for (std::size_t k = 0; k < nn; ++k) {
+    rhs[k] = K[k];
+    rhs[nn + k] = G.empty() ? 0.0 : speed * G[k];
+  }
+  Teuchos::LAPACK<int, double> lapack;
+  int info = 0;
+  lapack.POTRF('L', n, chol.data(), n, &info);
+  EPAPHE_REQUIRE(info == 0,
+                 "gyroscopic frequencies: the mass matrix is not positive definite (dpotrf info " << info << ")");
+  lapack.POTRS('L', n, 2 * n, chol.data(), n, rhs.data(), n, &info);
+  const int N = 2 * n;
+  std::vector<double> A(static_cast<std::size_t>(N) * N, 0.0);
+  for (int i = 0; i < n; ++i) A[static_cast<std::size_t>(n + i) * N + i] = 1.0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      A[static_cast<std::size_t>(j) * N + n + i] = -rhs[static_cast<std::size_t>(j) * n + i];
+      A[static_cast<std::size_t>(n + j) * N + n + i] = -rhs[nn + static_cast<std::size_t>(j) * n + i];
+    }
+  std::vector<double> wr(static_cast<std::size_t>(N)), wi(wr.size()), none(1);
+  double query = 0;
+  lapack.GEEV('N', 'N', N, A.data(), N, wr.data(), wi.data(), none.data(), 1, none.data(), 1, &query, -1, &info);
+  std::vector<double> work(static_cast<std::size_t>(query));
+  lapack.GEEV('N', 'N', N, A.data(), N, wr.data(), wi.data(), none.data(), 1, none.data(), 1, work.data(),
+              static_cast<int>(work.size()), &info);
+  EPAPHE_REQUIRE(info == 0, "gyroscopic frequencies: LAPACK dgeev failed (info " << info << ")");
+  // a real model's eigenvalues come in conjugate pairs s, conj(s): keep those with Im s >= 0, one per
+  // whirl (a zero frequency, a rigid-body or static mode, twice: keep half of them)
+  std::vector<double> f;
+  int zeros = 0;
+  for (int k = 0; k < N; ++k) {
+    if (wi[k] > 0)
+      f.push_back(wi[k] / (2 * M_PI));
+    else if (wi[k] == 0)
+      ++zeros;
+  }
+  for (int k = 0; k < zeros / 2; ++k) f.push_back(0.0);
+  std::sort(f.begin(), f.end());
+  return f;
 }
 
 }  // namespace epaphe

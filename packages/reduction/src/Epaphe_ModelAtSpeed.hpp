@@ -6,7 +6,8 @@
 //   K(Omega) = K_e + K_sigma(u_s) - Omega^2 M_perp                    the tangent stiffness,
 // M unchanged, and the nodes moved to x + u_s, so that contact and clearances start from the static
 // position at speed (the tip growth). Terms: Epaphe_Centrifugal.hpp. The Coriolis matrix Omega G is
-// assembled and its size reported (SpeedReport::coriolisRatio), not kept in the model.
+// assembled and its size reported (SpeedReport::coriolisRatio); with RotationOptions::coriolis the
+// reduced model keeps it, G_r = V^T G V (reducedCoriolis), and the explicit step carries Omega G_r q'.
 #include "Epaphe_Centrifugal.hpp"
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_LinearSolver.hpp"
@@ -27,6 +28,7 @@ struct RotationOptions {
   SpinAxis axis;
   bool stressStiffening = true;  // K_sigma
   bool spinSoftening = true;     // -Omega^2 M_perp, in the static state and in K(Omega)
+  bool coriolis = false;         // keep the Coriolis terms Omega G in the dynamics ('Rotation->Coriolis')
   StaticState staticState = StaticState::Automatic;
   double staticTolerance = 0.01;
   LinearSolver solver = LinearSolver::Mumps;
@@ -48,11 +50,28 @@ struct SpeedReport {
   /// Omega ||G|| / sqrt(||K(Omega)|| ||M||) in the Frobenius norm (both kg/s): the size of the Coriolis
   /// terms against the stiffness and inertia they act beside (a ratio, not an error estimate).
   double coriolisRatio = 0;
+  /// G / 2 = int rho N^T [a]_x N per unit speed over the free DOFs (CentrifugalTerms::coriolis), on the
+  /// mesh at rest.
+  Teuchos::RCP<const CrsMatrix> coriolis;
   double seconds = 0;
 };
 
 /// The model at speed (see above); `rest` must come from built-in elements (rest.material). The
 /// report, when given, gets the static state.
 FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& options, SpeedReport* report);
+
+/// G_r = V^T G V (n x n, column-major, skew), G = 2 `halfG` (CentrifugalTerms::coriolis, over the free
+/// DOFs of `full`), V the basis whose rows over every node's DOFs are `recovery` ((3 numNodes) x n,
+/// row-major, a reduced model's u = R q): the reduced model's Coriolis matrix per unit speed. Its skew
+/// part is kept (the projection's round-off removed). On every rank.
+std::vector<double> reducedCoriolis(const CrsMatrix& halfG, const FullModel& full, const std::vector<double>& recovery,
+                                    int n);
+
+/// The frequencies (Hz, ascending) of the gyroscopic model M q'' + speed G q' + K q = 0 (n x n dense,
+/// column-major; M positive definite): the moduli of the imaginary parts of the eigenvalues of the first
+/// order form [0 I; -M^-1 K -M^-1 speed G] (LAPACK dgeev), each whirl once (a pair +-i w counted once).
+/// With speed G = 0 they are the frequencies of (K, M).
+std::vector<double> gyroscopicFrequencies(const std::vector<double>& K, const std::vector<double>& M,
+                                          const std::vector<double>& G, double speed, int n);
 
 }  // namespace epaphe

@@ -65,6 +65,7 @@ void writeReducedModel(io::Hdf5File& f, const ReducedModel& r, const std::string
     f.writeDoubles("/fullFrequencies", r.fullFrequencies);
     f.writeDoubles("/speed", std::vector<double>{r.speed});
     f.writeDoubles("/staticDisplacement", r.staticDisplacement);
+    if (!r.coriolis.empty()) f.writeDoubles("/coriolis", {n, n}, r.coriolis.data());
     f.writeDoubles("/boundaryModes", r.boundaryModes);
     f.writeDoubles("/residualFlexibility", r.residualFlexibility);
     f.writeDoubles("/modalTranslation", r.modalTranslation);
@@ -108,6 +109,7 @@ bool readReducedModel(const io::Hdf5File& f, const std::string& path, ReducedMod
   const auto speed = f.readDoubles("/speed");
   r.speed = speed.empty() ? 0.0 : speed[0];
   r.staticDisplacement = f.readDoubles("/staticDisplacement");
+  r.coriolis = f.exists("/coriolis") ? f.readDoubles("/coriolis") : std::vector<double>();
   r.boundaryModes.clear();  // massless boundary only (files written before it have neither)
   r.residualFlexibility.clear();
   r.modalTranslation.clear();

@@ -83,6 +83,9 @@ public:
 
   /// Non-empty when its model cannot take penalty contact: why, and the fix (SceneCheck).
   virtual std::string penaltyContactProblem() const { return ""; }
+  /// True when its model is a dense projection u = V q of the full model (V: ReducedModel::recovery), so
+  /// that a rotating body can keep its Coriolis terms as G_r = V^T G V ('Rotation->Coriolis', SceneCheck).
+  virtual bool projectsCoriolis() const { return false; }
   /// True when its mass matrix is diagonal: damping must keep M/h^2 + D/2h diagonal (SceneCheck).
   virtual bool diagonalMass() const { return false; }
   /// Refusals of its parameters against a built-in mesh (mode counts, gravity on a held body), made

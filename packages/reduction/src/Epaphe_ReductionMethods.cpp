@@ -176,6 +176,7 @@ public:
     refuseHeldGravity(f);
   }
   bool hasParametricModel() const override { return true; }
+  bool projectsCoriolis() const override { return true; }
   SpeedParametricModel parametricModel(SpeedSampleSource& source, const std::vector<int>& retained,
                                        const std::vector<double>& speeds, ReductionReport* report) const override {
     return parametricCraigBampton(source, retained, options_, speeds, report);
@@ -215,6 +216,7 @@ public:
     return unreducedModel(full);
   }
   bool retainsNodes() const override { return false; }
+  bool projectsCoriolis() const override { return true; }
   void checkMesh(const ReductionMeshFacts& f) const override { refuseCandidates(f); }
 };
 
@@ -232,6 +234,7 @@ public:
     return sparseModel(withLumpedMass(full));
   }
   bool cacheable() const override { return false; }
+  bool projectsCoriolis() const override { return false; }
   bool diagonalMass() const override { return true; }
   std::string describe(const ReducedModel& m, const ReductionReport&, int) const override {
     return "full model kept: K sparse (" + std::to_string(m.sparseK.values.size()) +

@@ -313,6 +313,7 @@ SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std
   for (std::size_t i = 0; i < rows; ++i)
     for (int c = 0; c < r; ++c) T[i * N + nR + c] = Y[static_cast<std::size_t>(c) * rows + i];
   interpolate(p, rest, samples);
+  if (const auto G = source.coriolis(); !G.is_null()) p.base.coriolis = reducedCoriolis(*G, rest, T, N);
   ReductionReport rep = samples.rep;
   rep.seconds = total.seconds();
   rep.projectSeconds = rep.seconds - rep.factorSeconds - rep.constraintSeconds - rep.eigenSeconds;
@@ -462,6 +463,19 @@ ReducedModel SpeedParametricModel::at(double speed, int modes, const std::string
   r.M = transposeTimes(Sm.data(), N, MS.data(), N, N, n, n);
   symmetrize(r.K, n);
   symmetrize(r.M, n);
+  if (!base.coriolis.empty()) {  // G_r = S^T G_T S, skew as G_T is
+    Dense GS(KS.size());
+    blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, N, n, N, 1.0, base.coriolis.data(), N, Sm.data(), N, 0.0, GS.data(),
+              N);
+    r.coriolis = transposeTimes(Sm.data(), N, GS.data(), N, N, n, n);
+    for (int j = 0; j < n; ++j)  // exactly skew: (A - A^T) / 2
+      for (int i = 0; i <= j; ++i) {
+        const std::size_t ij = static_cast<std::size_t>(j) * n + i, ji = static_cast<std::size_t>(i) * n + j;
+        const double v = 0.5 * (r.coriolis[ij] - r.coriolis[ji]);
+        r.coriolis[ij] = v;
+        r.coriolis[ji] = -v;
+      }
+  }
   // recovery T S: row-major T (rows x N) is column-major T^T (N x rows); (T S)^T = S^T T^T
   const int rows = static_cast<int>(base.recovery.size() / static_cast<std::size_t>(N));
   r.recovery.assign(static_cast<std::size_t>(rows) * n, 0.0);
@@ -529,6 +543,7 @@ ReducedModel SpeedParametricModel::masslessAt(double speed, int modes, const std
   lapack.POTRS('L', N, nb, chol.data(), N, X.data(), N, &info);
   ReducedModel r = base;
   r.kind = ReductionKind::MasslessBoundary;
+  r.coriolis.clear();  // not kept on a massless boundary (refused by the scene's checks)
   r.numModes = modes;
   r.size = nb + modes;
   r.modeFrequencies.clear();

@@ -30,6 +30,9 @@ public:
   /// choice resolved at the first, fastest, sample; imported: what the other code computed, reported
   /// as Linear).
   virtual StaticState staticState() const = 0;
+  /// G / 2 per unit speed over the reference's free DOFs (Epaphe_Centrifugal.hpp) when the body keeps
+  /// its Coriolis terms ('Rotation->Coriolis'); null otherwise, or when the source has no elements.
+  virtual Teuchos::RCP<const CrsMatrix> coriolis() const { return Teuchos::null; }
 };
 
 /// The samples from Epaphe's elements: modelAtSpeed(rest, rotation at the speed). An automatic static
@@ -43,6 +46,9 @@ public:
   SpeedSample sample(double speed) override;
   StaticState staticState() const override {
     return common_.staticState == StaticState::Automatic ? StaticState::Linear : common_.staticState;
+  }
+  Teuchos::RCP<const CrsMatrix> coriolis() const override {
+    return common_.coriolis ? assembleCentrifugal(rest_, common_.axis).coriolis : Teuchos::null;
   }
 
 private:

@@ -142,6 +142,7 @@ RotationOptions rotationOptions(const ParameterList& rotation, const std::string
                     context + "->Axis");
   o.stressStiffening = rotation.get<bool>("Stress stiffening");
   o.spinSoftening = rotation.get<bool>("Spin softening");
+  o.coriolis = rotation.get<bool>("Coriolis");
   o.staticState = deck::getEnum<StaticState>(rotation, "Static state");
   o.staticTolerance = rotation.get<double>("Static tolerance");
   return o;
@@ -165,6 +166,7 @@ std::string rotationKeyText(const ParameterList& rotation) {
   t << "stiffening=" << rotation.get<bool>("Stress stiffening") << " softening=" << rotation.get<bool>("Spin softening")
     << " static=" << rotation.get<std::string>("Static state")
     << " tolerance=" << rotation.get<double>("Static tolerance");
+  if (rotation.get<bool>("Coriolis")) t << " coriolis";  // (absent when off: the keys of models without it)
   return t.str();
 }
 

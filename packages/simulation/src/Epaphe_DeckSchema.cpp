@@ -147,6 +147,10 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
   addBool(rot, "Spin softening", true,
           "Keep -Omega^2 M_perp, the change of the centrifugal load with the "
           "displacement, in the static state and in the stiffness");
+  addBool(rot, "Coriolis", false,
+          "Keep the Coriolis (gyroscopic) terms Omega G u' in the dynamics, G = 2 int rho N^T [a]_x N, "
+          "projected on the reduced basis (Craig-Bampton, Guyan or None; a fixed speed, no 'Speed law' ramp, "
+          "a built-in mesh, frictionless contact); false: their size is reported only");
   auto& law = rot.sublist("Speed law", false,
                           "A run-up: the body's speed follows a law in time, its model and "
                           "static state taken from the parametric model at each speed, and the "

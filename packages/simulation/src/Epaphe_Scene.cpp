@@ -71,6 +71,7 @@ void broadcast(ReducedModel& r, const Teuchos::Comm<int>& comm) {
   Teuchos::broadcast(comm, 0, 3, r.translationMass.data());
   Teuchos::broadcast(comm, 0, Teuchos::outArg(r.speed));
   bcastVec(r.staticDisplacement);
+  bcastVec(r.coriolis);
   std::vector<double> xyz;
   if (comm.getRank() == 0)
     for (const auto& c : r.coords) xyz.insert(xyz.end(), c.begin(), c.end());
@@ -214,6 +215,7 @@ void Scene::loadOrReduce(Body* b, const ParameterList& bp) {
         << cacheFile << "\n";
   b->fullFrequencies = b->rom.fullFrequencies;
   if (!b->rom.sparse()) b->reducedFrequencies = reducedFrequencies(b->rom);
+  if (!b->rom.coriolis.empty()) reportCoriolis(*b, out);
   if (!b->rom.staticDisplacement.empty()) reportGrowth(*b, bp, out);
 }
 
@@ -255,7 +257,8 @@ void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std:
           << "; largest static displacement " << atSpeed.largestDisplacement << " m (node "
           << full.mesh.nodeId(atSpeed.largestNode) << "; linear state " << atSpeed.linearLargest << " m";
       if (atSpeed.passes > 0) out << ", the stress-stiffened one moves it by " << 100 * atSpeed.stiffenedChange << " %";
-      out << "); Coriolis terms Omega ||G|| / sqrt(||K|| ||M||) = " << atSpeed.coriolisRatio << " (not kept)\n";
+      out << "); Coriolis terms Omega ||G|| / sqrt(||K|| ||M||) = " << atSpeed.coriolisRatio
+          << (rotation.coriolis ? " (kept)\n" : " (not kept)\n");
     }
     const bool retains = method->retainsNodes();
     EPAPHE_REQUIRE(!retains || !retainedSet.empty(), ctx << ": reduction " << rp.get<std::string>("Method")
@@ -269,6 +272,8 @@ void Scene::loadOrBuildReducedModel(Body* b, const ParameterList& bp, const std:
     }
     b->rom.speed = rotation.speed;
     b->rom.staticDisplacement = std::move(atSpeed.staticDisplacement);
+    if (rotation.coriolis && !atSpeed.coriolis.is_null())  // G_r = V^T G V (checkScene: a dense reduction)
+      b->rom.coriolis = reducedCoriolis(*atSpeed.coriolis, full, b->rom.recovery, b->rom.size);
     if (const std::string line = method->describe(b->rom, b->report, comm->getSize()); !line.empty())
       out << "[" << b->name << "] " << line << "\n";
     if (checkCount > 0) {
@@ -346,6 +351,34 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
       << formatDuration(built.seconds()) << "\n";
   if (useCache && comm->getRank() == 0) saveParametricModel(pm, cacheFile, key);
   return pm;
+}
+
+/// What the kept Coriolis terms do to the reduced model: its lowest frequencies with them (the whirls of
+/// M q'' + Omega G_r q' + K q = 0) against those of (K, M), the largest relative change.
+void Scene::reportCoriolis(const Body& b, std::ostream& out) const {
+  const ReducedModel& r = b.rom;
+  if (r.size > 1000) {  // the first-order eigenproblem is 2n x 2n, dense: minutes past a few thousand
+    out << "[" << b.name << "] Coriolis terms kept (Omega G_r, " << r.size << " x " << r.size
+        << "); their effect on the frequencies is computed for models of 1000 DOFs or fewer\n";
+    return;
+  }
+  const std::vector<double> g = gyroscopicFrequencies(r.K, r.M, r.coriolis, r.speed, r.size);
+  const std::size_t count = std::min<std::size_t>({10, g.size(), b.reducedFrequencies.size()});
+  double largest = 0;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const double f0 = b.reducedFrequencies[k];
+    const double change = f0 > 0 ? std::abs(g[k] / f0 - 1) : 0.0;
+    if (change > largest) {
+      largest = change;
+      at = k;
+    }
+  }
+  out << "[" << b.name << "] Coriolis terms kept (Omega G_r, " << r.size << " x " << r.size << "): the lowest " << count
+      << " frequencies move by up to " << 100 * largest << " %";
+  if (count > 0)
+    out << " (mode " << at + 1 << ": " << b.reducedFrequencies[at] << " Hz without, " << g[at] << " Hz with)";
+  out << "\n";
 }
 
 /// The static displacement at speed of the contact and watched node sets: its largest length and

@@ -66,6 +66,7 @@ private:
   SpeedParametricModel parametricModel(Body* body, const Teuchos::ParameterList& bodyParams, const std::string& key,
                                        const std::string& cacheFile, bool useCache, const RotationOptions& rotation);
   void reportGrowth(const Body& body, const Teuchos::ParameterList& bodyParams, std::ostream& out) const;
+  void reportCoriolis(const Body& body, std::ostream& out) const;
   void setInitialState(Body* body, const Teuchos::ParameterList& bodyParams, double h, const DampingOptions& damping);
   /// Builds the surfaces and the contact; returns, per body, the reduced DOFs of the surfaces it
   /// carries (penalty springs act on them too, for the stable step).

@@ -383,6 +383,34 @@ void checkRunUp(const ParameterList& P, const std::string& origin) {
                                         "surfaces follow one law, so give one body the ramp");
 }
 
+/// A body that keeps its Coriolis terms ('Rotation->Coriolis'): a dense reduced model (their skew
+/// matrix enters the step's velocity term: Epaphe_CentralDifference.hpp), Epaphe's own elements (G is
+/// assembled from them), a fixed speed (P = [M/h^2 + (D + Omega G)/2h]^-1, the contact's flexibility,
+/// would change along a ramp) and frictionless contact (friction reads a symmetric flexibility).
+void checkCoriolis(const ParameterList& P, const std::string& origin) {
+  const ParameterList& bl = P.sublist("Bodies");
+  for (auto it = bl.begin(); it != bl.end(); ++it) {
+    const ParameterList& bp = bl.sublist(bl.name(it));
+    const ParameterList& rot = bp.sublist("Rotation");
+    if (!rot.get<bool>("Coriolis")) continue;
+    const std::string ctx = origin + ": body '" + bl.name(it) + "', Rotation->Coriolis = true";
+    EPAPHE_REQUIRE(reductionMethod(bp.sublist("Reduction"))->projectsCoriolis(),
+                   ctx << ": the Coriolis terms are kept on a dense reduced model (Craig-Bampton, Guyan or None), "
+                       << "not with 'Reduction->Method' = '" << bp.sublist("Reduction").get<std::string>("Method")
+                       << "'; set the method to Craig-Bampton, or 'Coriolis' to false (their size is then reported)");
+    EPAPHE_REQUIRE(hasBuiltInMesh(bp),
+                   ctx << ": the Coriolis matrix is assembled from the elements of Epaphe's built-in meshes, and this "
+                       << "body's model is imported; set 'Coriolis' to false");
+    EPAPHE_REQUIRE(!speedLawOf(rot).ramp,
+                   ctx << ": a run-up ('Speed law' Type Ramp) keeps no Coriolis terms (the step's flexibility would "
+                       << "change with the speed); set 'Coriolis' to false, or run at a fixed speed");
+    const double mu = P.sublist("Contact").get<double>("Friction coefficient");
+    EPAPHE_REQUIRE(mu == 0.0, ctx << ": 'Contact->Friction coefficient' = " << mu
+                                  << "; the Coriolis terms make the contact flexibility non-symmetric, which the "
+                                  << "friction solve does not take; set the coefficient to 0 or 'Coriolis' to false");
+  }
+}
+
 }  // namespace
 
 long long numberOfSteps(const ParameterList& P, const std::string& origin) {
@@ -446,6 +474,7 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
   }
   checkBodyFacesNotOwnContact(P, origin);
   checkRunUp(P, origin);
+  checkCoriolis(P, origin);
   // The files the run creates: the history, and each reduced-model cache.
   if (!restart) io::Hdf5File::checkCreatable(outputPath);
   for (auto it = bl.begin(); it != bl.end(); ++it) {
