@@ -56,7 +56,7 @@ public:
   std::string description() const override { return "lambda = k * penetration^(3/2)"; }
   Teuchos::RCP<const Teuchos::ParameterList> getValidParameters() const override {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Hertz"));
-    epaphe::deck::addDouble(*pl, "Hertz stiffness", 1e13, "k (N/m^1.5) of the Hertz law", 1e-300);
+    epaphe::deck::addDouble(*pl, "Hertz stiffness", 3e11, "k (N/m^1.5) of the Hertz law", 1e-300);
     return pl;
   }
   std::unique_ptr<epaphe::ContactEnforcement> make(const Teuchos::ParameterList& contact,
@@ -145,8 +145,11 @@ int main(int argc, char** argv) {
     // the run completed, with the law's forces: contact over many steps, its peak the run's peak
     ok = ok && summary.status == "complete";
     ok = ok && lawCalls > 100 && lawPeak > 0.0 && std::abs(observed - lawPeak) <= 1e-12 * lawPeak;
-    // the bar's impact force rho c A v = 1.6 MN (V1), whatever the law: within 30 %
-    ok = ok && std::abs(lawPeak - 1.6e6) < 0.3 * 1.6e6;
+    // whatever the law, the elastic bar (0.64 kg at 100 m/s) rebounds: the impulse is 2 m v = 128 N s
+    // (V1; within 2 %), and the peak is of the order of its impact force rho c A v = 1.6 MN (within 50 %:
+    // the Hertz spring is softer than the bar's end and rings)
+    ok = ok && std::abs(summary.totals.impulse - 128.0) < 0.02 * 128.0;
+    ok = ok && std::abs(lawPeak - 1.6e6) < 0.5 * 1.6e6;
     // both observers saw every step
     ok = ok && observedSteps == summary.steps && counter.steps == summary.steps && summary.steps > 0;
   } catch (const std::exception& e) {

@@ -213,7 +213,7 @@ private:
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactEnforcement> enforcement_;
   CoatingContact* coating_ = nullptr;  // enforcement_ when a surface has a coating
-  bool frictional_ = false;  // enforcement_ applies friction
+  bool frictional_ = false;            // enforcement_ applies friction
   // what the enforcement sees, unmanaged: the detection's views (shared, not copies), D and C (flex_),
   // and the per-node results it writes (results_): force, direction c_a, mu_a, t_a
   StepResults results_;

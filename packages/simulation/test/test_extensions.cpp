@@ -88,8 +88,8 @@ std::string deckWith(const std::string& mesh, const std::string& reduction) {
   </ParameterList></ParameterList>
   <ParameterList name="Surfaces"><ParameterList name="Wall">
     <Parameter name="Origin" type="Array(double)" value="{0.2001, -0.1, -0.1}"/>
-    <Parameter name="U" type="Array(double)" value="{0, 0.2, 0}"/>
-    <Parameter name="V" type="Array(double)" value="{0, 0, 0.2}"/>
+    <Parameter name="U" type="Array(double)" value="{0, 0, 0.2}"/>
+    <Parameter name="V" type="Array(double)" value="{0, 0.2, 0}"/>
   </ParameterList></ParameterList>
   <ParameterList name="Time">
     <Parameter name="Time step" type="double" value="2e-7"/>
