@@ -13,6 +13,8 @@
 #include "Epaphe_Runtime.hpp"
 #include "Epaphe_Simulation.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -36,8 +38,8 @@ public:
     return pl;
   }
   void setParameters(const Teuchos::ParameterList& rp) override {
+    options_ = craigBamptonOptions(rp, false);  // the solver keys and their defaults, as Craig-Bampton's
     options_.modes = rp.get<int>("Test modes");
-    options_.checkFrequencies = rp.get<int>("Frequency check");
   }
   std::string cacheKeyText() const override { return "\ntest modes=" + std::to_string(options_.modes); }
   bool cacheable() const override { return false; }
@@ -82,7 +84,8 @@ std::string deckWith(const std::string& mesh, const std::string& reduction) {
     <ParameterList name="Mesh">)xml" +
          mesh + R"xml(</ParameterList>
     <ParameterList name="Reduction">)xml" +
-         reduction + R"xml(<Parameter name="Frequency check" type="int" value="3"/></ParameterList>
+         reduction + R"xml(<Parameter name="Frequency check" type="int" value="3"/>
+      <Parameter name="Cache" type="bool" value="false"/></ParameterList>
     <Parameter name="Contact node set" type="string" value="x+"/>
     <Parameter name="Initial velocity" type="Array(double)" value="{5, 0, 0}"/>
   </ParameterList></ParameterList>
@@ -144,16 +147,29 @@ TEST(Extensions, ACustomReductionAndImporterRunADeckAsTheBuiltInOnesTheyCopy) {
   ASSERT_EQ(mine.status, box.status);
   EXPECT_EQ(mine.steps, box.steps);
   EXPECT_GT(box.totals.impulse, 0.0);  // the bar hits the wall
-  EXPECT_EQ(mine.totals.impulse, box.totals.impulse);
-  EXPECT_EQ(mine.totals.maxForce, box.totals.maxForce);
-  EXPECT_EQ(mine.totals.contactWork, box.totals.contactWork);
+  // Anasazi starts each eigen-solve from a random block: the two reductions agree to round-off, not bits
+  const double tol = 1e-9;
+  EXPECT_NEAR(mine.totals.impulse, box.totals.impulse, tol * box.totals.impulse);
+  EXPECT_NEAR(mine.totals.maxForce, box.totals.maxForce, tol * box.totals.maxForce);
+  EXPECT_NEAR(mine.totals.contactWork, box.totals.contactWork, tol * std::abs(box.totals.contactWork));
 
   const io::Hdf5File a("extensions-custom.h5", io::Hdf5File::Mode::ReadOnly);
   const io::Hdf5File b("extensions-box.h5", io::Hdf5File::Mode::ReadOnly);
   EXPECT_EQ(a.stringAttribute("/bodies/Bar", "reduction"), "Test reduction");
   EXPECT_EQ(b.stringAttribute("/bodies/Bar", "reduction"), "Craig-Bampton");
-  EXPECT_EQ(a.readDoubles("/energy/total"), b.readDoubles("/energy/total"));
-  EXPECT_EQ(a.readDoubles("/bodies/Bar/frequencies/full"), b.readDoubles("/bodies/Bar/frequencies/full"));
+  auto expectClose = [tol](const std::vector<double>& x, const std::vector<double>& y, const char* what) {
+    ASSERT_EQ(x.size(), y.size()) << what;
+    ASSERT_FALSE(x.empty()) << what;
+    const double scale =
+        std::abs(*std::max_element(y.begin(), y.end(), [](double p, double q) { return std::abs(p) < std::abs(q); }));
+    for (std::size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(x[i], y[i], tol * scale) << what << " [" << i << "]";
+  };
+  expectClose(a.readDoubles("/energy/total"), b.readDoubles("/energy/total"), "/energy/total");
+  // the free bar's lowest 3 are rigid-body modes: zero, to the shift-invert solve's noise (about 1e-3 Hz)
+  const auto fa = a.readDoubles("/bodies/Bar/frequencies/full"), fb = b.readDoubles("/bodies/Bar/frequencies/full");
+  ASSERT_EQ(fa.size(), 3u);
+  ASSERT_EQ(fb.size(), 3u);
+  for (std::size_t i = 0; i < fa.size(); ++i) EXPECT_NEAR(fa[i], fb[i], 1e-2) << "full frequency " << i << " (Hz)";
 }
 
 int main(int argc, char** argv) {
