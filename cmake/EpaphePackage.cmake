@@ -37,4 +37,7 @@ function(epaphe_add_package)
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
   install(FILES ${P_HEADERS} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/epaphe)
+  # the installed headers, for the API documentation (cmake/EpapheDoc.cmake)
+  list(TRANSFORM P_HEADERS PREPEND "${CMAKE_CURRENT_SOURCE_DIR}/")
+  set_property(GLOBAL APPEND PROPERTY EPAPHE_INSTALLED_HEADERS ${P_HEADERS})
 endfunction()

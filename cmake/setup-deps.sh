@@ -30,7 +30,7 @@ DEB_PACKAGES=(
   libhdf5-openmpi-dev hdf5-tools
   libgtest-dev
   python3 python3-numpy python3-h5py python3-matplotlib python3-venv python3-pip python3-setuptools python3-mypy
-  clang-format black
+  clang-format black doxygen
   calculix-ccx
   python3-siconos
 )

@@ -34,13 +34,13 @@
 
 namespace epaphe {
 
-/// A coating's deck data (Surfaces-><s>->Coating).
+/// A coating's deck data (`Surfaces-><s>->Coating`).
 struct CoatingMaterial {
-  double thickness = 0;         // t (m); 0: the coating is absent and the surface acts rigid
-  double youngsModulus = 0;     // E (Pa)
-  double yieldStress = 0;       // sigma_Y (Pa); a huge value: elastic
-  double hardeningModulus = 0;  // H (Pa), >= 0 (0: perfectly plastic)
-  int elements[2] = {0, 0};     // n_u x n_v (around, along the axis for a Casing)
+  double thickness = 0;         ///< t (m); 0: the coating is absent and the surface acts rigid
+  double youngsModulus = 0;     ///< E (Pa)
+  double yieldStress = 0;       ///< sigma_Y (Pa); a huge value: elastic
+  double hardeningModulus = 0;  ///< H (Pa), >= 0 (0: perfectly plastic)
+  int elements[2] = {0, 0};     ///< n_u x n_v (around, along the axis for a Casing)
   /// The deck's Coating list (validated), with its keys' documentation.
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
   /// Reads a validated Coating list; `where` names it for errors.
@@ -87,9 +87,9 @@ struct ElementLaw {
 struct CoatingViews {
   Kokkos::View<double* [4]> law;
   Kokkos::View<int* [3]> grid;
-  Kokkos::View<double*> wear;  // [e] plastic shortening u_p (m)
-  Kokkos::View<double*> area;  // [e] face area A_e (m^2)
-  Kokkos::View<int*> surface;  // [e] its surface
+  Kokkos::View<double*> wear;  ///< [e] plastic shortening u_p (m)
+  Kokkos::View<double*> area;  ///< [e] face area A_e (m^2)
+  Kokkos::View<int*> surface;  ///< [e] its surface
 
   /// Element of surface s under the foot point (u, v) (s's own parameters), -1 without a coating.
   /// `previous`: the element the node had on s at its last projection (-1: none): it is kept while
@@ -140,7 +140,9 @@ void coatingCentres(const BSplineSurface& surface, const CoatingMaterial& m, con
 struct WearLobes {
   int count = 0, dominantOrder = 0;
   double maxWear = 0;
-  std::vector<double> angles, harmonicAngles;  // rad
+  ///@{
+  std::vector<double> angles, harmonicAngles;  ///< rad
+  ///@}
 };
 WearLobes wearLobes(const std::vector<double>& angle, const double* wear, int nu, int nv);
 

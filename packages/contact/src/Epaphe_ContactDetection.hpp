@@ -72,7 +72,7 @@ struct ContactSurface {
   /// projected in the surface's frame (x_s = c + R^T (x - c)); normals and foot points are turned
   /// back; a carrying body's grid motion is turned by R in D_a (see Epaphe_SurfaceContact.hpp).
   double omega = 0.0;
-  double phase = 0.0;  // angle (rad) at t = 0: the surface is turned by omega t + phase
+  double phase = 0.0;  ///< angle (rad) at t = 0: the surface is turned by omega t + phase
   /// A run-up (law.ramp): the surface is turned by law.angle(t) + phase instead (Epaphe_SpeedLaw.hpp).
   SpeedLaw law{};
   std::array<double, 3> axis{0.0, 0.0, 1.0}, center{0.0, 0.0, 0.0};
@@ -82,10 +82,10 @@ struct ContactSurface {
 };
 
 struct DetectionOptions {
-  double nrTolerance = 1e-8;  // crit_NR: Newton stop on the parameter step
+  double nrTolerance = 1e-8;  ///< crit_NR: Newton stop on the parameter step
   int nrMaxIterations = 50;
-  double edgeTolerance = 1e-3;  // a node beyond an open edge by less (in patches) still touches
-  bool skipDistant = true;      // skip the projection of nodes certified out of contact
+  double edgeTolerance = 1e-3;  ///< a node beyond an open edge by less (in patches) still touches
+  bool skipDistant = true;      ///< skip the projection of nodes certified out of contact
 };
 
 /// What a detection cannot see, guarded (Epaphe_ContactGuards.hpp): a node moving farther than a
@@ -94,7 +94,7 @@ enum class InitialPenetration { Refuse = 0, ResolveGently = 1 };
 struct GuardOptions {
   bool allowLargeMotion = false;
   InitialPenetration initialPenetration = InitialPenetration::Refuse;
-  double rampTime = 0.0;  // T (s); 0: 100 time steps
+  double rampTime = 0.0;  ///< T (s); 0: 100 time steps
 };
 /// The guards' keys of a validated Contact list (see ContactDetection::getValidParameters).
 GuardOptions guardOptions(const Teuchos::ParameterList& contact);
@@ -107,37 +107,37 @@ struct SkipViews {
   Kokkos::View<double* [3]> xLast;
   Kokkos::View<double*> tLast, gLast;
   Kokkos::View<int*> eligible, skipped, refine;
-  Kokkos::View<double*> bound;        // a lower bound of a skipped node's gap
-  Kokkos::View<double*> travel;       // [s] T_s: the carried surface's summed largest control-point motion
-  Kokkos::View<double**> travelLast;  // [k][s] T_s at the node's last projection
+  Kokkos::View<double*> bound;        ///< a lower bound of a skipped node's gap
+  Kokkos::View<double*> travel;       ///< [s] T_s: the carried surface's summed largest control-point motion
+  Kokkos::View<double**> travelLast;  ///< [k][s] T_s at the node's last projection
 };
 
 /// Everything the detection kernel reads and writes, allocated once at setup; copied by value into
 /// the kernel (views only). Per node k unless said; per surface s for the surface data.
 struct DetectionViews {
   using Vec3 = Kokkos::View<double* [3]>;
-  Kokkos::View<int* [3]> dof;         // q index of each contact node DOF
-  Vec3 X;                             // reference positions
-  Vec3 x;                             // positions at the last detect()
-  Kokkos::View<SurfaceView*> surf;    // [s] the surfaces (a carried one re-copied after its update)
-  Kokkos::View<double* [3][3]> rot;   // [s] R(omega t + phase)
-  Kokkos::View<double* [9]> turn;     // [s] omega, axis (3), center (3), r_s, turning (1) or not (0)
-  Kokkos::View<double** [2]> uv;      // [k][s] warm start (NaN: cold start from the nearest grid node)
-  Kokkos::View<double** [2]> uvRate;  // [k][s] d(u, v)/dt of the foot point between its last two projections
-  Kokkos::View<double*> gap;          // selected gap (1e300: beyond every surface)
-  Kokkos::View<int*> selected;        // selected surface (-1: none)
-  Vec3 normal;                        // unit normal n_k at the foot point, bodies' frame
-  Kokkos::View<double* [2]> foot;     // foot point parameters (u, v) on the selected surface
-  Vec3 footX;                         // foot point, bodies' frame
-  Kokkos::View<int*> iterations;      // Newton iterations of this step (max over surfaces; 0: skipped)
-  SkipViews skip;                     // the skipping of distant nodes
-  // initial penetrations resolved gently (setPenetrationOffsets): the depth d_k >= 0 added to the
-  // gap on surface offsetSurf(k) (-1: none), ramped down to 0 at the ramp's end
+  Kokkos::View<int* [3]> dof;         ///< q index of each contact node DOF
+  Vec3 X;                             ///< reference positions
+  Vec3 x;                             ///< positions at the last detect()
+  Kokkos::View<SurfaceView*> surf;    ///< [s] the surfaces (a carried one re-copied after its update)
+  Kokkos::View<double* [3][3]> rot;   ///< [s] R(omega t + phase)
+  Kokkos::View<double* [9]> turn;     ///< [s] omega, axis (3), center (3), r_s, turning (1) or not (0)
+  Kokkos::View<double** [2]> uv;      ///< [k][s] warm start (NaN: cold start from the nearest grid node)
+  Kokkos::View<double** [2]> uvRate;  ///< [k][s] d(u, v)/dt of the foot point between its last two projections
+  Kokkos::View<double*> gap;          ///< selected gap (1e300: beyond every surface)
+  Kokkos::View<int*> selected;        ///< selected surface (-1: none)
+  Vec3 normal;                        ///< unit normal n_k at the foot point, bodies' frame
+  Kokkos::View<double* [2]> foot;     ///< foot point parameters (u, v) on the selected surface
+  Vec3 footX;                         ///< foot point, bodies' frame
+  Kokkos::View<int*> iterations;      ///< Newton iterations of this step (max over surfaces; 0: skipped)
+  SkipViews skip;                     ///< the skipping of distant nodes
+  /// initial penetrations resolved gently (setPenetrationOffsets): the depth d_k >= 0 added to the
+  /// gap on surface offsetSurf(k) (-1: none), ramped down to 0 at the ramp's end
   Kokkos::View<double*> offset;
   Kokkos::View<int*> offsetSurf;
-  // abradable coatings: the gap on a coated surface is to its profile, the surface moved towards
-  // the node by t - u_p of the element under the foot point (element(k), -1: none); skipping bounds
-  // use the unworn profile (t), which no node can have passed unprojected
+  /// abradable coatings: the gap on a coated surface is to its profile, the surface moved towards
+  /// the node by t - u_p of the element under the foot point (element(k), -1: none); skipping bounds
+  /// use the unworn profile (t), which no node can have passed unprojected
   CoatingViews coat;
   Kokkos::View<int*> element;
 

@@ -35,7 +35,7 @@ class CoatingContact;
 /// given takes its default) and the time step.
 struct ContactOptions {
   Teuchos::ParameterList contact{"Contact"};
-  double timeStep = 0.0;  // h: the rotation of turning surfaces over a step (friction)
+  double timeStep = 0.0;  ///< h: the rotation of turning surfaces over a step (friction)
   /// Sets a key of the Contact list ("Method", "Penalty stiffness", "Friction coefficient", ...).
   template <class T>
   ContactOptions& set(const std::string& key, const T& value) {
@@ -53,25 +53,27 @@ struct ContactOptions {
 /// members into kernels by value.
 struct ContactStepViews {
   using Vec3 = Kokkos::View<double* [3]>;
-  Kokkos::View<double*> gap;        // g*_k (detection)
-  Kokkos::View<int*> surf;          // selected surface (-1: none)
-  Vec3 normal, x, footX;            // n_k, position, foot point (bodies' frame)
-  Kokkos::View<double* [9]> turn;   // [s] omega, axis, center, ... (ContactDetection)
-  RelativeMotion D;                 // D_k's entries (valid for the nodes on a surface)
-  Kokkos::View<double** [3][3]> C;  // C_ab = D_a F D_b^T of the active pairs
-  Kokkos::View<int*> active;        // the active nodes (first nA entries, see upload())
-  Kokkos::View<double*> force;      // lambda_k (N)
-  Kokkos::View<double*> mu;         // mu_k applied (friction)
-  Vec3 dir;                         // c_k = n_k + mu_k t_k
-  Vec3 tangent;                     // t_k (unit, or zero)
-  // A normal law other than the rigid one (CoatingContact) states each active node's normal row,
-  //     alpha_k n_k^T sum_b C_kb f_b + beta_k lambda_k = gamma_k   (f_b = lambda_b c_b),
-  // when `rows` is set: row(k) = {alpha, beta, gamma}; {1, 0, -g*_k} is the rigid Lagrange row
-  // (eq. 2.33) and {0, 1, F} a known force F (penalty). Lagrange and friction solve these rows.
+  Kokkos::View<double*> gap;  ///< g*_k (detection)
+  Kokkos::View<int*> surf;    ///< selected surface (-1: none)
+  ///@{
+  Vec3 normal, x, footX;  ///< n_k, position, foot point (bodies' frame)
+  ///@}
+  Kokkos::View<double* [9]> turn;   ///< [s] omega, axis, center, ... (ContactDetection)
+  RelativeMotion D;                 ///< D_k's entries (valid for the nodes on a surface)
+  Kokkos::View<double** [3][3]> C;  ///< C_ab = D_a F D_b^T of the active pairs
+  Kokkos::View<int*> active;        ///< the active nodes (first nA entries, see upload())
+  Kokkos::View<double*> force;      ///< lambda_k (N)
+  Kokkos::View<double*> mu;         ///< mu_k applied (friction)
+  Vec3 dir;                         ///< c_k = n_k + mu_k t_k
+  Vec3 tangent;                     ///< t_k (unit, or zero)
+  /// A normal law other than the rigid one (CoatingContact) states each active node's normal row,
+  ///     alpha_k n_k^T sum_b C_kb f_b + beta_k lambda_k = gamma_k   (f_b = lambda_b c_b),
+  /// when `rows` is set: row(k) = {alpha, beta, gamma}; {1, 0, -g*_k} is the rigid Lagrange row
+  /// (eq. 2.33) and {0, 1, F} a known force F (penalty). Lagrange and friction solve these rows.
   Kokkos::View<double* [3]> row;
   bool rows = false;
-  Kokkos::View<int*> element;  // coating element under node k (-1: none; detection)
-  CoatingViews coat;           // the coatings (detection)
+  Kokkos::View<int*> element;  ///< coating element under node k (-1: none; detection)
+  CoatingViews coat;           ///< the coatings (detection)
   /// Copies the host list into `active` (no allocation) and returns the view of its entries.
   Kokkos::View<int*> upload(const std::vector<int>& list) const;
 };
@@ -81,11 +83,11 @@ struct ContactStepViews {
 /// quasi-static one (the body's static compliance, eq. (50)); `stepMargin`: the correction's own
 /// (its Delassus block C_aa, eq. (48)). Nodes are contact indices (-1: no sliding node).
 struct SelfLocking {
-  double margin = 1.0;      // least quasi-static margin of the sliding nodes (1: none checked)
-  int node = -1;            // its node
-  double stepMargin = 1.0;  // least margin of the correction's Delassus block
-  int stepNode = -1;        // its node
-  int sliding = 0;          // sliding nodes checked
+  double margin = 1.0;      ///< least quasi-static margin of the sliding nodes (1: none checked)
+  int node = -1;            ///< its node
+  double stepMargin = 1.0;  ///< least margin of the correction's Delassus block
+  int stepNode = -1;        ///< its node
+  int sliding = 0;          ///< sliding nodes checked
 };
 
 class ContactEnforcement {

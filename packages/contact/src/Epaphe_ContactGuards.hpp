@@ -41,14 +41,14 @@ namespace epaphe {
 
 /// The worst initial penetration found at t = 0.
 struct PenetrationReport {
-  int count = 0;                                  // nodes deeper than the tolerance
-  double deepest = 0.0;                           // largest depth (m, > 0)
-  int node = -1;                                  // contact index of the deepest node
-  int surface = -1;                               // the surface it penetrates
-  std::array<double, 3> position{0.0, 0.0, 0.0};  // its position at t = 0
+  int count = 0;                                  ///< nodes deeper than the tolerance
+  double deepest = 0.0;                           ///< largest depth (m, > 0)
+  int node = -1;                                  ///< contact index of the deepest node
+  int surface = -1;                               ///< the surface it penetrates
+  std::array<double, 3> position{0.0, 0.0, 0.0};  ///< its position at t = 0
   double tolerance = 0.0;
-  int facing = 0;             // nodes over a surface at t = 0 (their projection inside it)
-  std::vector<double> depth;  // per node, 0 when not penetrating
+  int facing = 0;             ///< nodes over a surface at t = 0 (their projection inside it)
+  std::vector<double> depth;  ///< per node, 0 when not penetrating
 };
 
 class ContactGuards {

@@ -26,8 +26,8 @@ struct CoatingViews;
 
 /// What a law's enforcement is built for.
 struct ContactLawSetup {
-  int numNodes = 0;       // contact nodes: work arrays are sized once for all of them
-  double timeStep = 0.0;  // h (friction: the turning surfaces' motion over a step)
+  int numNodes = 0;       ///< contact nodes: work arrays are sized once for all of them
+  double timeStep = 0.0;  ///< h (friction: the turning surfaces' motion over a step)
 };
 
 class ContactLaw {

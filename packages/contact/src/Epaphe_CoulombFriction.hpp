@@ -83,15 +83,15 @@ private:
   Kokkos::View<int*> returns_;
   /// The friction system of a pass and its solution, with their host copies.
   struct System {
-    Kokkos::View<double**, Kokkos::LayoutLeft> MCf;  // friction system, 3 nc x 3 nc
+    Kokkos::View<double**, Kokkos::LayoutLeft> MCf;  ///< friction system, 3 nc x 3 nc
     Kokkos::View<double**, Kokkos::LayoutLeft>::HostMirror MCfH;
-    Kokkos::View<double*> sol;  // the solution, (lambda, s1, s2) per active node, known ones included
+    Kokkos::View<double*> sol;  ///< the solution, (lambda, s1, s2) per active node, known ones included
     Kokkos::View<double*>::HostMirror solH;
-    Kokkos::View<double*> rhs;  // right-hand side / solution of the solved unknowns
+    Kokkos::View<double*> rhs;  ///< right-hand side / solution of the solved unknowns
     Kokkos::View<double*>::HostMirror rhsH;
-    Kokkos::View<int*> unknownOffset;  // per active position: its first solved unknown; [nA]: their count
+    Kokkos::View<int*> unknownOffset;  ///< per active position: its first solved unknown; [nA]: their count
     Kokkos::View<int*>::HostMirror unknownOffsetH;
-    std::vector<int> ipiv;  // the pivots of the solve
+    std::vector<int> ipiv;  ///< the pivots of the solve
   };
   System sys_;
   Kokkos::View<int*> prev_;                // last step's final state (0: not in contact)

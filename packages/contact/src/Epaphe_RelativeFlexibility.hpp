@@ -34,10 +34,10 @@ struct ContactBlock {
 /// The contact nodes: per node its 3 DOF indices in the system q, its reference position, the block
 /// of its body and a label (its node number in that body, for output).
 struct ContactNodes {
-  std::vector<int> dofs;    // 3 per node
-  std::vector<double> X;    // 3 per node
-  std::vector<int> block;   // 1 per node
-  std::vector<int> labels;  // 1 per node
+  std::vector<int> dofs;    ///< 3 per node
+  std::vector<double> X;    ///< 3 per node
+  std::vector<int> block;   ///< 1 per node
+  std::vector<int> labels;  ///< 1 per node
   void add(int label, int blk, const int dof[3], const double x[3]) {
     labels.push_back(label);
     block.push_back(blk);
@@ -57,25 +57,25 @@ struct CarriedSurfaceViews {
   Kokkos::View<int* [2]> opOff;
   Kokkos::View<double*> ops;
   Kokkos::View<int* [6]> info;
-  int maxGrid[2] = {0, 0};  // largest nu, nv of a carried surface
+  int maxGrid[2] = {0, 0};  ///< largest nu, nv of a carried surface
 };
 
 /// F times the carried surfaces' interpolation and its offsets, made once (offsets -1: none).
 struct ControlColumns {
-  // per carried surface on a dense block: F (B_u x B_v) on the block's rows, column (e2, a, b) of the
-  // extended control grid (nuE x nvE) at off(s) + ((e2 nuE + a) nvE + b) n
+  /// per carried surface on a dense block: F (B_u x B_v) on the block's rows, column (e2, a, b) of the
+  /// extended control grid (nuE x nvE) at off(s) + ((e2 nuE + a) nvE + b) n
   Kokkos::View<double*> G;
   Kokkos::View<long*> off;
   Kokkos::View<int* [2]> dim;
-  // per such surface, T's rows: tOff(s) + 3 nv A + 3 q + e2 (tRows in all)
+  /// per such surface, T's rows: tOff(s) + 3 nv A + 3 q + e2 (tRows in all)
   Kokkos::View<long*> tOff;
   long tRows = 0;
-  // ...the columns of s on the grid of a carried surface s2 of the same block, contracted with B_u as
-  // T is: P(s2, s) at pOff(s2, s), column (e2, a, b) of s, row 3 nv2 A + 3 q + e2'
+  /// ...the columns of s on the grid of a carried surface s2 of the same block, contracted with B_u as
+  /// T is: P(s2, s) at pOff(s2, s), column (e2, a, b) of s, row 3 nv2 A + 3 q + e2'
   Kokkos::View<double*> P;
   Kokkos::View<long**> pOff;
-  // per such surface: the active nodes' coefficients on its control columns at coefOff(s) +
-  // (e2 nuE + a) nvE + b (summed over the nodes, then applied by the correction)
+  /// per such surface: the active nodes' coefficients on its control columns at coefOff(s) +
+  /// (e2 nuE + a) nvE + b (summed over the nodes, then applied by the correction)
   Kokkos::View<double*> coef;
   Kokkos::View<long*> coefOff;
 };

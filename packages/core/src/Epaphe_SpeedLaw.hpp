@@ -14,9 +14,13 @@
 namespace epaphe {
 
 struct SpeedLaw {
-  bool ramp = false;          // false: constant at `start`
-  double start = 0, end = 0;  // rad/s
-  double t0 = 0, t1 = 0;      // s, t1 > t0 for a ramp
+  bool ramp = false;  ///< false: constant at `start`
+  ///@{
+  double start = 0, end = 0;  ///< rad/s
+  ///@}
+  ///@{
+  double t0 = 0, t1 = 0;  ///< s, t1 > t0 for a ramp
+  ///@}
   double scale = 1;
 
   double speed(double t) const {

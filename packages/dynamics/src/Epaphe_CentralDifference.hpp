@@ -81,7 +81,7 @@ public:
   }
 
   /// Energy terms of the identity above.
-  double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;  // E_{n+1/2}
+  double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;  ///< E_{n+1/2}
   double dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
   double externalWorkIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
   /// Kinetic energy 1/2 v^T M v and strain energy 1/2 q^T K q.
@@ -109,16 +109,20 @@ private:
   /// replaced: a reference stays valid over the next call.
   struct Residual {
     std::vector<double> q, r, z;
-    long long used = 0;  // the call that last returned it (0: empty)
+    long long used = 0;  ///< the call that last returned it (0: empty)
   };
   /// What a massless boundary adds (on: energy by Kmid_ and the residual's r . z, exchange by z).
   struct Massless {
     bool on = false;
-    int boundary = 0;                        // its DOFs, q's first entries
-    int modes = 0;                           // the modes, q's last entries
-    std::vector<double> phiB, ae1, be1, pe;  // predict()'s factors (masslessOperators)
-    std::vector<double> damping, ginv;       // and dampingIncrement()'s
-    mutable std::array<Residual, 3> cache;   // residual()'s
+    int boundary = 0;  ///< its DOFs, q's first entries
+    int modes = 0;     ///< the modes, q's last entries
+    ///@{
+    std::vector<double> phiB, ae1, be1, pe;  ///< predict()'s factors (masslessOperators)
+    ///@}
+    ///@{
+    std::vector<double> damping, ginv;  ///< and dampingIncrement()'s
+    ///@}
+    mutable std::array<Residual, 3> cache;  ///< residual()'s
     mutable long long uses = 0;
   };
   const Residual& residual(const double* q) const;

@@ -13,9 +13,9 @@ enum class DampingType { None = 0, Rayleigh = 1, Modal = 2 };
 
 struct DampingOptions {
   DampingType type = DampingType::None;
-  double alpha = 0.0;  // Rayleigh: D = alpha M + beta K (eq. 4.3)
+  double alpha = 0.0;  ///< Rayleigh: D = alpha M + beta K (eq. 4.3)
   double beta = 0.0;
-  double ratio = 0.0;  // Modal: xi, the same on every mode (eqs. 4.4-4.5)
+  double ratio = 0.0;  ///< Modal: xi, the same on every mode (eqs. 4.4-4.5)
 };
 
 /// Rayleigh coefficients giving damping ratio xi1 at f1 and xi2 at f2 (Hz), from

@@ -16,10 +16,14 @@ namespace epaphe {
 struct EnergySnapshot {
   double time = 0;
   long long step = 0;
-  double kinetic = 0, strain = 0, total = 0;                           // J: sum over the bodies; total = E_{n+1/2}
-  double contactWork = 0, externalWork = 0, damping = 0, initial = 0;  // J
-  double driveWork = 0;                                                // J, a run-up's
-  double balance = 0;                                                  // relative
+  ///@{
+  double kinetic = 0, strain = 0, total = 0;  ///< J: sum over the bodies; total = E_{n+1/2}
+  ///@}
+  ///@{
+  double contactWork = 0, externalWork = 0, damping = 0, initial = 0;  ///< J
+  ///@}
+  double driveWork = 0;  ///< J, a run-up's
+  double balance = 0;    ///< relative
 };
 
 /// How the bodies' energy E = kinetic + strain grew over the last records (EnergyMonitor::growth).
@@ -31,20 +35,26 @@ struct EnergySnapshot {
 /// strain energies grow, which an unstable step does).
 struct EnergyGrowth {
   bool unbounded = false;
-  int records = 0;                                                   // records of the rise
-  double t0 = 0, t1 = 0;                                             // s
-  double e0 = 0, e1 = 0;                                             // J, kinetic + strain
-  double efolding = 0;                                               // s
-  double contactWork = 0, externalWork = 0, damping = 0, total = 0;  // J, changes over the rise
-  double balance = 0;                                                // relative balance error at the last record
+  int records = 0;  ///< records of the rise
+  ///@{
+  double t0 = 0, t1 = 0;  ///< s
+  ///@}
+  ///@{
+  double e0 = 0, e1 = 0;  ///< J, kinetic + strain
+  ///@}
+  double efolding = 0;  ///< s
+  ///@{
+  double contactWork = 0, externalWork = 0, damping = 0, total = 0;  ///< J, changes over the rise
+  ///@}
+  double balance = 0;  ///< relative balance error at the last record
   /// "contact work", "external work" or "the integrator"
   std::string source() const;
 };
 
 struct EnergyMonitorOptions {
-  int every = 1;                // Output->Every: the steps measured (and the last)
-  double tolerance = 1e-2;      // Output->Energy balance tolerance
-  double penaltyStiffness = 0;  // > 0: check the penalty bound (penalty contact, no turning surface)
+  int every = 1;                ///< Output->Every: the steps measured (and the last)
+  double tolerance = 1e-2;      ///< Output->Energy balance tolerance
+  double penaltyStiffness = 0;  ///< > 0: check the penalty bound (penalty contact, no turning surface)
 };
 
 class EnergyMonitor : public LoopObserver {

@@ -30,18 +30,24 @@ struct LoopBody {
   std::string name;
   const CentralDifference* integrator = nullptr;
   int offset = 0, size = 0;
-  bool driven = false;  // its speed follows a law (Epaphe_RunUp.hpp): the loop keeps its drive work
+  bool driven = false;  ///< its speed follows a law (Epaphe_RunUp.hpp): the loop keeps its drive work
 };
 
 /// What the loop sums over the run: everything a checkpoint must keep to continue it exactly.
 struct LoopAccumulators {
-  double contactWork = 0;                      // J, sum of the contact work increments
-  double firstContact = -1, lastContact = -1;  // s, steps with a positive total contact force
-  double impulse = 0, maxForce = 0;            // N s, N
-  double maxBalanceError = 0;                  // the energy monitor's largest |balance error|
-  std::vector<double> damping, externalWork;   // J, per body
-  std::vector<double> driveWork;               // J, per body when a body is driven, else empty
-  long long largeMotionSteps = 0;              // steps the guards let through (allowed by the deck)
+  double contactWork = 0;  ///< J, sum of the contact work increments
+  ///@{
+  double firstContact = -1, lastContact = -1;  ///< s, steps with a positive total contact force
+  ///@}
+  ///@{
+  double impulse = 0, maxForce = 0;  ///< N s, N
+  ///@}
+  double maxBalanceError = 0;  ///< the energy monitor's largest |balance error|
+  ///@{
+  std::vector<double> damping, externalWork;  ///< J, per body
+  ///@}
+  std::vector<double> driveWork;   ///< J, per body when a body is driven, else empty
+  long long largeMotionSteps = 0;  ///< steps the guards let through (allowed by the deck)
 
   /// The values a checkpoint stores, in the order of names() (time first).
   std::vector<double> values(double time) const;

@@ -33,13 +33,13 @@ namespace epaphe {
 
 /// One driven body's polynomials, as the scene builds them.
 struct RunUpModel {
-  SpeedLaw law;                                // the body's speed in time
-  double maxSpeed = 1;                         // Omega_max of xi
-  std::vector<std::vector<double>> stiffness;  // R_0 .. R_(S-1), n x n column-major
-  std::vector<std::vector<double>> growth;     // g_0 .. g_(S-1) at its contact nodes, 3 per node
-  std::vector<double> restX;                   // its contact nodes at rest, 3 per node
-  int contactBegin = 0;                        // its first node in the contact's order
-  double xiStep = 1e-3;                        // dxi
+  SpeedLaw law;                                ///< the body's speed in time
+  double maxSpeed = 1;                         ///< Omega_max of xi
+  std::vector<std::vector<double>> stiffness;  ///< R_0 .. R_(S-1), n x n column-major
+  std::vector<std::vector<double>> growth;     ///< g_0 .. g_(S-1) at its contact nodes, 3 per node
+  std::vector<double> restX;                   ///< its contact nodes at rest, 3 per node
+  int contactBegin = 0;                        ///< its first node in the contact's order
+  double xiStep = 1e-3;                        ///< dxi
 
   long long level(double t) const;
   double xiOf(long long level) const { return xiStep * static_cast<double>(level); }
@@ -52,7 +52,7 @@ struct RunUpModel {
 class RunUp : public LoopObserver {
 public:
   struct Driven {
-    std::size_t body = 0;  // its index among the loop's bodies
+    std::size_t body = 0;  ///< its index among the loop's bodies
     CentralDifference* integrator = nullptr;
     const RunUpModel* model = nullptr;
   };

@@ -9,8 +9,8 @@
 namespace epaphe {
 
 struct StableStep {
-  double omegaMax = 0;  // highest circular frequency of (K + added stiffness, M), rad/s
-  double critical = 0;  // largest stable step of the central difference, s
+  double omegaMax = 0;  ///< highest circular frequency of (K + added stiffness, M), rad/s
+  double critical = 0;  ///< largest stable step of the central difference, s
 };
 
 /// Central difference is stable for h <= 2/omega_max (thesis Table 2.1); with damping ratio xi on
@@ -23,12 +23,12 @@ StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& s
                             const DampingOptions& damping);
 
 struct HighestEigenvalue {
-  double value = 0;       // the estimate used: Ritz value + residual bound, or the Gershgorin bound
-  double ritz = 0;        // largest Ritz value (a lower bound)
-  double residual = 0;    // its residual bound: an eigenvalue lies within it
-  double gershgorin = 0;  // max_i sum_j |K_ij| / m_i, an upper bound of every eigenvalue
+  double value = 0;       ///< the estimate used: Ritz value + residual bound, or the Gershgorin bound
+  double ritz = 0;        ///< largest Ritz value (a lower bound)
+  double residual = 0;    ///< its residual bound: an eigenvalue lies within it
+  double gershgorin = 0;  ///< max_i sum_j |K_ij| / m_i, an upper bound of every eigenvalue
   int iterations = 0;
-  bool converged = false;  // false: `value` is the Gershgorin bound
+  bool converged = false;  ///< false: `value` is the Gershgorin bound
 };
 
 /// The highest eigenvalue of M^{-1} (K + k S) for a full model with lumped mass (M = diag(m), K

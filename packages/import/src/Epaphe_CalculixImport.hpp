@@ -21,15 +21,15 @@
 namespace epaphe {
 
 struct CalculixFiles {
-  std::string input;     // jobname.inp: mesh, node sets, *BOUNDARY
-  std::string matrices;  // the job of the MATRIXSTORAGE run: path without extension of .sti, .mas, .dof
+  std::string input;     ///< jobname.inp: mesh, node sets, *BOUNDARY
+  std::string matrices;  ///< the job of the MATRIXSTORAGE run: path without extension of .sti, .mas, .dof
 };
 
 /// The parts of a CalculiX/Abaqus input deck Epaphe reads.
 struct CalculixInput {
-  Mesh mesh;                // nodeIds: CalculiX node numbers; node sets named as in the deck, plus "all"
-  std::vector<char> fixed;  // 3 * numNodes: DOFs fixed by *BOUNDARY
-  std::vector<char> used;   // numNodes: node belongs to an element
+  Mesh mesh;                ///< nodeIds: CalculiX node numbers; node sets named as in the deck, plus "all"
+  std::vector<char> fixed;  ///< 3 * numNodes: DOFs fixed by *BOUNDARY
+  std::vector<char> used;   ///< numNodes: node belongs to an element
 };
 
 /// Reads `path` and the files it *INCLUDEs (relative to the including file).

@@ -25,12 +25,12 @@
 namespace epaphe {
 
 struct CodeAsterFiles {
-  std::string stiffness;     // BStiff.mat
-  std::string mass;          // BMass.mat
-  std::string dofs;          // BDof.txt: one line per equation
-  std::string nodes;         // Body.dat: "id x y z" per line
-  std::string clampedNodes;  // optional (BBC.dat): node ids fixed in every direction
-  std::string nodeSets;      // optional: "name id id ..." per line
+  std::string stiffness;     ///< BStiff.mat
+  std::string mass;          ///< BMass.mat
+  std::string dofs;          ///< BDof.txt: one line per equation
+  std::string nodes;         ///< Body.dat: "id x y z" per line
+  std::string clampedNodes;  ///< optional (BBC.dat): node ids fixed in every direction
+  std::string nodeSets;      ///< optional: "name id id ..." per line
 };
 
 /// Reads on rank 0 and distributes K and M (physical free DOFs only) over `comm`.

@@ -13,11 +13,11 @@
 namespace epaphe {
 
 struct MatrixMarketFiles {
-  std::string stiffness;  // K.mtx
-  std::string mass;       // M.mtx
-  std::string dofs;       // one line per matrix row: "node direction" (1..3, x..z or DX..DZ)
-  std::string nodes;      // one line per node: "id x y z"
-  std::string nodeSets;   // optional ("" for none): one line per set, "name id id ..."
+  std::string stiffness;  ///< K.mtx
+  std::string mass;       ///< M.mtx
+  std::string dofs;       ///< one line per matrix row: "node direction" (1..3, x..z or DX..DZ)
+  std::string nodes;      ///< one line per node: "id x y z"
+  std::string nodeSets;   ///< optional ("" for none): one line per set, "name id id ..."
 
   /// prefix.K.mtx, prefix.M.mtx, prefix.dofs, prefix.nodes, prefix.nsets
   static MatrixMarketFiles withPrefix(const std::string& prefix);

@@ -26,8 +26,8 @@ namespace epaphe {
 /// A body of a deck, as an importer sees it.
 struct ImportRequest {
   std::string body;
-  const Teuchos::ParameterList* bodyParams = nullptr;  // the body's validated list (Mesh, Material, ...)
-  std::string deckPath;                                // files are relative to its directory
+  const Teuchos::ParameterList* bodyParams = nullptr;  ///< the body's validated list (Mesh, Material, ...)
+  std::string deckPath;                                ///< files are relative to its directory
 
   const Teuchos::ParameterList& mesh() const { return bodyParams->sublist("Mesh"); }
   /// "<deck>: body '<name>'", the start of every message.

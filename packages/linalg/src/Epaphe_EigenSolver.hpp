@@ -14,18 +14,20 @@
 namespace epaphe {
 
 struct EigenOptions {
-  int count = 10;            // eigenpairs wanted
-  double shift = 0.0;        // sigma
-  double tolerance = 1e-10;  // Anasazi relative residual tolerance
+  int count = 10;            ///< eigenpairs wanted
+  double shift = 0.0;        ///< sigma
+  double tolerance = 1e-10;  ///< Anasazi relative residual tolerance
   int maxRestarts = 500;
 };
 
 struct EigenResult {
-  std::vector<double> lambda;                          // ascending eigenvalues (omega^2)
-  Teuchos::RCP<MultiVector> vectors;                   // M-orthonormal eigenvectors, same order
-  int restarts = 0;                                    // Anasazi iterations
-  long operatorApplications = 0, operatorVectors = 0;  // shift-invert applications, vectors in them
-  double operatorSeconds = 0;                          // wall time in them (M products and solves)
+  std::vector<double> lambda;         ///< ascending eigenvalues (omega^2)
+  Teuchos::RCP<MultiVector> vectors;  ///< M-orthonormal eigenvectors, same order
+  int restarts = 0;                   ///< Anasazi iterations
+  ///@{
+  long operatorApplications = 0, operatorVectors = 0;  ///< shift-invert applications, vectors in them
+  ///@}
+  double operatorSeconds = 0;  ///< wall time in them (M products and solves)
 };
 
 /// `factorOfShifted` solves with K - shift * M (K itself when shift = 0).

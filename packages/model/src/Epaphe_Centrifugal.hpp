@@ -32,7 +32,7 @@ SpinAxis spinAxis(const std::array<double, 3>& point, const std::array<double, 3
 /// Per unit speed: f_c (Omega^2 f_c is the load), M_perp (-Omega^2 M_perp is the spin softening) and
 /// G / 2 (Omega G is the Coriolis matrix), over the model's free DOFs.
 struct CentrifugalTerms {
-  Teuchos::RCP<MultiVector> load;  // one column
+  Teuchos::RCP<MultiVector> load;  ///< one column
   Teuchos::RCP<CrsMatrix> perpendicularMass;
   Teuchos::RCP<CrsMatrix> coriolis;
 };

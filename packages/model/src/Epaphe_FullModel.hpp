@@ -20,9 +20,11 @@ namespace epaphe {
 struct FullModel {
   std::string name;
   Mesh mesh;
-  std::vector<int> eq;  // 3 * node + direction -> free DOF index, or -1 when constrained
+  std::vector<int> eq;  ///< 3 * node + direction -> free DOF index, or -1 when constrained
   int numFree = 0;
-  Teuchos::RCP<CrsMatrix> K, M;  // over the free DOFs, row map contiguous and uniform
+  ///@{
+  Teuchos::RCP<CrsMatrix> K, M;  ///< over the free DOFs, row map contiguous and uniform
+  ///@}
   /// The material of a model assembled from its elements (assembleHexModel), so that terms of the
   /// same elements can be added later (the centrifugal load, the geometric stiffness); empty for an
   /// imported model, whose elements Epaphe does not know.

@@ -6,9 +6,9 @@
 namespace epaphe {
 
 struct Material {
-  double density = 0;  // kg/m^3
-  double young = 0;    // Pa
-  double poisson = 0;  // -
+  double density = 0;  ///< kg/m^3
+  double young = 0;    ///< Pa
+  double poisson = 0;  ///< -
 };
 
 /// Throws epaphe::Error naming `context` when a property is out of its physical range.

@@ -33,11 +33,11 @@ public:
   /// What the contact kernels read, copied into them by value. The rows of the dense blocks are
   /// numbered consecutively ("dense rows").
   struct Packed {
-    Kokkos::View<int* [2]> blocks;     // per block: offset, size
-    Kokkos::View<std::size_t*> start;  // per block: where its entries start in `dense` (dense blocks)
-    Kokkos::View<double*> dense;       // the dense blocks, each column-major, one after the other
-    Kokkos::View<double*> diag;        // per system row: F_ii of a diagonal block (0 in a dense block)
-    Kokkos::View<int*> denseRow;       // per system row: its dense row, or -1 in a diagonal block
+    Kokkos::View<int* [2]> blocks;     ///< per block: offset, size
+    Kokkos::View<std::size_t*> start;  ///< per block: where its entries start in `dense` (dense blocks)
+    Kokkos::View<double*> dense;       ///< the dense blocks, each column-major, one after the other
+    Kokkos::View<double*> diag;        ///< per system row: F_ii of a diagonal block (0 in a dense block)
+    Kokkos::View<int*> denseRow;       ///< per system row: its dense row, or -1 in a diagonal block
     int denseRows = 0;
 
     int size() const { return static_cast<int>(denseRow.extent(0)); }
@@ -54,7 +54,7 @@ public:
 private:
   struct Block {
     int offset = 0, size = 0;
-    DenseMatrix dense;  // empty for a diagonal block
+    DenseMatrix dense;  ///< empty for a diagonal block
     DenseVector diag;
   };
   std::vector<Block> blocks_;

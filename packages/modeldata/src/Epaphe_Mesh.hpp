@@ -18,10 +18,10 @@ struct NodeGrid {
 
 struct Mesh {
   std::vector<std::array<double, 3>> coords;
-  std::vector<std::array<int, 8>> hexes;             // node indices, VTK/Abaqus C3D8 order
-  std::vector<int> nodeIds;                          // imported: node index -> the FE code's number; else empty
-  std::map<std::string, std::vector<int>> nodeSets;  // sorted node indices
-  std::map<std::string, NodeGrid> nodeGrids;         // ordered faces, for surfaces built on a body
+  std::vector<std::array<int, 8>> hexes;             ///< node indices, VTK/Abaqus C3D8 order
+  std::vector<int> nodeIds;                          ///< imported: node index -> the FE code's number; else empty
+  std::map<std::string, std::vector<int>> nodeSets;  ///< sorted node indices
+  std::map<std::string, NodeGrid> nodeGrids;         ///< ordered faces, for surfaces built on a body
 
   int numNodes() const { return static_cast<int>(coords.size()); }
   /// The number a user knows node `index` by: the FE code's number when imported, else the index.
@@ -88,10 +88,12 @@ Mesh makeSphereMesh(const std::array<double, 3>& center, double radius, const st
 struct BladeGeometry {
   double hubRadius = 0.2, tipRadius = 0.3;
   double chord = 0.06, thickness = 0.004;
-  double stagger = 30.0, twist = 20.0;  // degrees
-  double camber = 0.05;                 // of the chord
-  double coneAngle = 0.0;               // degrees
-  double axialPosition = 0.0;           // z of mid-chord (m)
+  ///@{
+  double stagger = 30.0, twist = 20.0;  ///< degrees
+  ///@}
+  double camber = 0.05;        ///< of the chord
+  double coneAngle = 0.0;      ///< degrees
+  double axialPosition = 0.0;  ///< z of mid-chord (m)
 };
 Mesh makeBladeMesh(const BladeGeometry& geometry, const std::array<int, 3>& elements);
 
@@ -108,14 +110,16 @@ enum class ClearanceLaw { None = 0, TwoLobe = 1, Harmonics = 2 };
 ///               (z = axialRange[0]) to amplitudesLast (z = axialRange[1]).
 /// The rigid Casing surface and the casing mesh's inner face both follow radius(theta, z).
 struct CasingGeometry {
-  double radius = 0.3;         // m, of the cone at axialPosition
-  double axialPosition = 0.0;  // m
-  double coneAngle = 0.0;      // degrees
+  double radius = 0.3;         ///< m, of the cone at axialPosition
+  double axialPosition = 0.0;  ///< m
+  double coneAngle = 0.0;      ///< degrees
   std::array<double, 2> axialRange{-0.03, 0.03};
   ClearanceLaw law = ClearanceLaw::None;
-  double clearance = 0.0;                               // m
-  std::vector<int> orders;                              // Harmonics: n_k
-  std::vector<double> amplitudesFirst, amplitudesLast;  // Harmonics: A_k at the two ends (m)
+  double clearance = 0.0;   ///< m
+  std::vector<int> orders;  ///< Harmonics: n_k
+  ///@{
+  std::vector<double> amplitudesFirst, amplitudesLast;  ///< Harmonics: A_k at the two ends (m)
+  ///@}
 
   /// z of station j of n equally spaced over the axial range (j = 0 .. n - 1).
   double axialStation(int j, int n) const { return axialRange[0] + (axialRange[1] - axialRange[0]) * j / (n - 1); }

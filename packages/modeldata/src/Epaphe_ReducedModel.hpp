@@ -31,7 +31,7 @@ namespace epaphe {
 
 /// A sparse matrix in compressed rows (0-based column indices, sorted in each row).
 struct SparseRows {
-  std::vector<std::size_t> rowStart;  // rows + 1 entries
+  std::vector<std::size_t> rowStart;  ///< rows + 1 entries
   std::vector<int> cols;
   std::vector<double> values;
   int rows() const { return rowStart.empty() ? 0 : static_cast<int>(rowStart.size()) - 1; }
@@ -48,28 +48,30 @@ ReductionKind reductionKindNamed(const std::string& name);
 
 struct ReducedModel {
   std::string name;
-  ReductionKind kind = ReductionKind::None;  // what it is; method(), sparse() and massless() follow
+  ReductionKind kind = ReductionKind::None;  ///< what it is; method(), sparse() and massless() follow
 
   int size = 0;
-  int numModes = 0;              // fixed-interface modes kept
-  std::vector<double> K, M;      // size x size, column-major, symmetric
-  std::vector<int> nodeDof;      // 3 * node + d -> index in q equal to that DOF, or -1
-  std::vector<double> recovery;  // (3 * numNodes) x size, row-major: u = R q
+  int numModes = 0;  ///< fixed-interface modes kept
+  ///@{
+  std::vector<double> K, M;  ///< size x size, column-major, symmetric
+  ///@}
+  std::vector<int> nodeDof;      ///< 3 * node + d -> index in q equal to that DOF, or -1
+  std::vector<double> recovery;  ///< (3 * numNodes) x size, row-major: u = R q
   std::vector<std::array<double, 3>> coords;
-  std::vector<std::array<int, 8>> hexes;  // the mesh, for field output (ParaView)
+  std::vector<std::array<int, 8>> hexes;  ///< the mesh, for field output (ParaView)
   std::map<std::string, std::vector<int>> nodeSets;
-  std::map<std::string, NodeGrid> nodeGrids;  // ordered faces (surfaces carried by the body)
+  std::map<std::string, NodeGrid> nodeGrids;  ///< ordered faces (surfaces carried by the body)
   std::vector<int> retainedNodes;
-  std::vector<double> modeFrequencies;      // fixed-interface modes (Hz)
-  std::vector<double> fullFrequencies;      // lowest frequencies of the full model it came from (Hz), if computed
-  SparseRows sparseK;                       // full model with lumped mass: K (size x size)
-  std::vector<double> lumpedMass;           // full model with lumped mass: diag(M) (size)
-  std::vector<double> boundaryModes;        // massless boundary: Phi_b, (size - numModes) x numModes, column-major
-  std::vector<double> residualFlexibility;  // massless boundary: G, square on the retained DOFs, column-major
-  std::vector<double> modalTranslation;     // massless boundary: Phi^T M e_d, numModes x 3, column-major
-  std::array<double, 3> translationMass = {0, 0, 0};  // massless boundary: e_d^T M e_d over the free DOFs
-  double speed = 0;                                   // a body at speed: Omega (rad/s) of its model, 0 at rest
-  std::vector<double> staticDisplacement;  // a body at speed: u_s, 3 per node (coords are x + u_s); empty at rest
+  std::vector<double> modeFrequencies;      ///< fixed-interface modes (Hz)
+  std::vector<double> fullFrequencies;      ///< lowest frequencies of the full model it came from (Hz), if computed
+  SparseRows sparseK;                       ///< full model with lumped mass: K (size x size)
+  std::vector<double> lumpedMass;           ///< full model with lumped mass: diag(M) (size)
+  std::vector<double> boundaryModes;        ///< massless boundary: Phi_b, (size - numModes) x numModes, column-major
+  std::vector<double> residualFlexibility;  ///< massless boundary: G, square on the retained DOFs, column-major
+  std::vector<double> modalTranslation;     ///< massless boundary: Phi^T M e_d, numModes x 3, column-major
+  std::array<double, 3> translationMass = {0, 0, 0};  ///< massless boundary: e_d^T M e_d over the free DOFs
+  double speed = 0;                                   ///< a body at speed: Omega (rad/s) of its model, 0 at rest
+  std::vector<double> staticDisplacement;  ///< a body at speed: u_s, 3 per node (coords are x + u_s); empty at rest
   /// A body at speed that keeps its Coriolis terms ('Rotation->Coriolis'): G_r = V^T G V per unit speed
   /// (size x size, column-major, skew), V the reduction's basis (the recovery) and G = 2 int rho N^T [a]_x N,
   /// so that speed * G_r is the gyroscopic matrix in M q'' + speed G_r q' + K q = f. Empty: not kept.

@@ -19,9 +19,9 @@
 namespace epaphe {
 
 struct CraigBamptonOptions {
-  int modes = 0;                              // fixed-interface modes kept
-  LinearSolver solver = LinearSolver::Mumps;  // K_CC: Amesos2 MUMPS or KLU2 (one factor), or Belos CG (iterative)
-  double iterativeTolerance = 1e-12;          // Belos CG: relative residual of each solve
+  int modes = 0;                              ///< fixed-interface modes kept
+  LinearSolver solver = LinearSolver::Mumps;  ///< K_CC: Amesos2 MUMPS or KLU2 (one factor), or Belos CG (iterative)
+  double iterativeTolerance = 1e-12;          ///< Belos CG: relative residual of each solve
   double eigenTolerance = 1e-10;
   /// Craig-Bampton and Guyan: the full model's lowest `checkFrequencies` frequencies, computed
   /// through the reduction's K_CC factor (no second factorization) into ReducedModel::fullFrequencies
@@ -45,14 +45,14 @@ struct CraigBamptonOptions {
 };
 
 struct ReductionReport {
-  double seconds = 0;  // wall time of the whole reduction
+  double seconds = 0;  ///< wall time of the whole reduction
   double factorSeconds = 0, constraintSeconds = 0, eigenSeconds = 0, projectSeconds = 0;
-  double checkSeconds = 0;  // the frequency check (checkFrequencies), not part of `seconds`
+  double checkSeconds = 0;  ///< the frequency check (checkFrequencies), not part of `seconds`
   int retainedDofs = 0, condensedDofs = 0;
-  int eigenIterations = 0;       // Anasazi iterations
-  long eigenSolves = 0;          // vectors through the shift-invert operator
-  double eigenSolveSeconds = 0;  // of eigenSeconds, the time in the operator (M products and solves)
-  long solverIterations = 0;     // Belos CG: iterations of all solves (constraint modes and Anasazi)
+  int eigenIterations = 0;       ///< Anasazi iterations
+  long eigenSolves = 0;          ///< vectors through the shift-invert operator
+  double eigenSolveSeconds = 0;  ///< of eigenSeconds, the time in the operator (M products and solves)
+  long solverIterations = 0;     ///< Belos CG: iterations of all solves (constraint modes and Anasazi)
 };
 
 /// `retained`: nodes whose DOFs stay physical (interface, contact nodes). Runs on every rank of

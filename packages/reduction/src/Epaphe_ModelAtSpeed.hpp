@@ -24,11 +24,11 @@ namespace epaphe {
 enum class StaticState { Linear = 0, StressStiffened = 1, Automatic = 2 };
 
 struct RotationOptions {
-  double speed = 0;  // Omega (rad/s); the sign gives the sense about the axis
+  double speed = 0;  ///< Omega (rad/s); the sign gives the sense about the axis
   SpinAxis axis;
-  bool stressStiffening = true;  // K_sigma
-  bool spinSoftening = true;     // -Omega^2 M_perp, in the static state and in K(Omega)
-  bool coriolis = false;         // keep the Coriolis terms Omega G in the dynamics ('Rotation->Coriolis')
+  bool stressStiffening = true;  ///< K_sigma
+  bool spinSoftening = true;     ///< -Omega^2 M_perp, in the static state and in K(Omega)
+  bool coriolis = false;         ///< keep the Coriolis terms Omega G in the dynamics ('Rotation->Coriolis')
   StaticState staticState = StaticState::Automatic;
   double staticTolerance = 0.01;
   LinearSolver solver = LinearSolver::Mumps;
@@ -40,13 +40,13 @@ struct RotationOptions {
 
 struct SpeedReport {
   double speed = 0;
-  std::vector<double> staticDisplacement;  // u_s, 3 per node (mesh order)
-  double largestDisplacement = 0;          // max over nodes of |u_s| (m)
+  std::vector<double> staticDisplacement;  ///< u_s, 3 per node (mesh order)
+  double largestDisplacement = 0;          ///< max over nodes of |u_s| (m)
   int largestNode = -1;
-  double linearLargest = 0;    // the linear static state's largest |u_s| (m)
-  double stiffenedChange = 0;  // |largest stress-stiffened / largest linear - 1|, when computed
-  bool stiffened = false;      // u_s is the stress-stiffened state
-  int passes = 0;              // its fixed-point passes
+  double linearLargest = 0;    ///< the linear static state's largest |u_s| (m)
+  double stiffenedChange = 0;  ///< |largest stress-stiffened / largest linear - 1|, when computed
+  bool stiffened = false;      ///< u_s is the stress-stiffened state
+  int passes = 0;              ///< its fixed-point passes
   /// Omega ||G|| / sqrt(||K(Omega)|| ||M||) in the Frobenius norm (both kg/s): the size of the Coriolis
   /// terms against the stiffness and inertia they act beside (a ratio, not an error estimate).
   double coriolisRatio = 0;

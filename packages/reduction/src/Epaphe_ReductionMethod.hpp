@@ -31,17 +31,17 @@ namespace epaphe {
 /// own frequencies (it has no dense matrices to give them) come in `lumped`.
 struct FrequencyCheck {
   std::vector<double> full, lumped;
-  bool reused = false;            // the reduction's own modes are the full model's (massless boundary)
-  bool throughReduction = false;  // computed by the reduction through its factor (Craig-Bampton, Guyan)
+  bool reused = false;            ///< the reduction's own modes are the full model's (massless boundary)
+  bool throughReduction = false;  ///< computed by the reduction through its factor (Craig-Bampton, Guyan)
   double seconds = 0;
 };
 
 /// What the checks made before any model is built know of a body with a built-in mesh.
 struct ReductionMeshFacts {
-  std::string context;                      // "<deck>: body '<name>'"
-  const Teuchos::ParameterList* reduction;  // the body's Reduction sublist
+  std::string context;                      ///< "<deck>: body '<name>'"
+  const Teuchos::ParameterList* reduction;  ///< the body's Reduction sublist
   int freeDofs = 0, retainedDofs = 0;
-  std::string clampedSet;  // 'Clamped node set' ("" for a free body)
+  std::string clampedSet;  ///< 'Clamped node set' ("" for a free body)
   std::array<double, 3> gravity{0, 0, 0};
 };
 

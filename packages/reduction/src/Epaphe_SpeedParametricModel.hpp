@@ -40,10 +40,10 @@ struct SpeedParametricModel {
   /// boundary's T has no identity block: nodeDof names the rows of T at the retained DOFs, and
   /// modalTranslation holds T^T M e_d (N x 3).
   ReducedModel base;
-  std::vector<double> speeds;                  // the samples, ascending (rad/s)
-  std::vector<std::vector<double>> stiffness;  // C_1 .. C_(S-1), N x N column-major each
-  std::vector<std::vector<double>> growth;     // g_0 .. g_(S-1), 3 per node each
-  int boundarySize = 0;                        // retained DOFs, the first columns of T
+  std::vector<double> speeds;                  ///< the samples, ascending (rad/s)
+  std::vector<std::vector<double>> stiffness;  ///< C_1 .. C_(S-1), N x N column-major each
+  std::vector<std::vector<double>> growth;     ///< g_0 .. g_(S-1), 3 per node each
+  int boundarySize = 0;                        ///< retained DOFs, the first columns of T
   /// The static state of every sample (an Automatic choice resolved at the highest speed).
   StaticState staticState = StaticState::Linear;
 
@@ -65,7 +65,7 @@ struct SpeedParametricModel {
   /// same polynomial in xi as the common-basis model, of the run's size, evaluated without a reduction.
   struct FixedBasis {
     ReducedModel model;
-    std::vector<std::vector<double>> stiffness;  // R_0 .. R_(S-1), n x n column-major each
+    std::vector<std::vector<double>> stiffness;  ///< R_0 .. R_(S-1), n x n column-major each
   };
   FixedBasis onFixedBasis(double speed, int modes, const std::string& context) const;
   /// xi = (speed / maxSpeed)^2, the variable of the polynomials.

@@ -13,10 +13,10 @@
 namespace epaphe {
 
 struct SpeedSample {
-  FullModel model;                         // K(Omega) and M over the reference's DOF numbering
-  std::vector<double> staticDisplacement;  // u_s(Omega), 3 per node (mesh order)
-  double seconds = 0;                      // time to build or read it
-  SpeedReport report;                      // Epaphe's elements: the static state's report (speed 0 otherwise)
+  FullModel model;                         ///< K(Omega) and M over the reference's DOF numbering
+  std::vector<double> staticDisplacement;  ///< u_s(Omega), 3 per node (mesh order)
+  double seconds = 0;                      ///< time to build or read it
+  SpeedReport report;                      ///< Epaphe's elements: the static state's report (speed 0 otherwise)
 };
 
 class SpeedSampleSource {

@@ -24,8 +24,8 @@
 namespace epaphe {
 
 struct CheckpointOptions {
-  int every = 0;        // Output->Checkpoint every (steps; 0: none on this count)
-  double interval = 0;  // Output->Checkpoint interval (s of wall time; 0: none on time)
+  int every = 0;        ///< Output->Checkpoint every (steps; 0: none on this count)
+  double interval = 0;  ///< Output->Checkpoint interval (s of wall time; 0: none on time)
 };
 
 class Checkpoints : public LoopObserver {

@@ -19,8 +19,8 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters();
 /// Reads, validates and completes a deck with defaults. Errors name the file, line and key.
 struct Deck {
   Teuchos::RCP<Teuchos::ParameterList> params;
-  std::string text;    // the file as read, stored in the output
-  std::string origin;  // its path
+  std::string text;    ///< the file as read, stored in the output
+  std::string origin;  ///< its path
 };
 Deck readDeck(const std::string& path);
 Deck readDeckFromString(const std::string& xml, const std::string& origin);

@@ -27,7 +27,7 @@ public:
 
   void afterCorrect(ExplicitLoop& loop) override;
 
-  /// <stem>.xmf for `h5path` (closed): a temporal collection per body whose frames pick one record
+  /// `<stem>.xmf` for `h5path` (closed): a temporal collection per body whose frames pick one record
   /// of the fields by hyperslab, and the rigid surfaces as quads.
   void writeXdmf(const std::string& h5path, const std::string& xmfPath) const;
   /// Coated surfaces (Epaphe_CoatingOutput.hpp): writeXdmf adds each coating's elements with the

@@ -18,9 +18,9 @@
 namespace epaphe {
 
 struct ImportedSpeeds {
-  std::vector<double> speeds;     // rad/s, increasing
-  std::vector<std::string> jobs;  // resolved paths without extension, one per speed
-  std::string input;              // the CalculiX input deck (mesh, sets, *BOUNDARY)
+  std::vector<double> speeds;     ///< rad/s, increasing
+  std::vector<std::string> jobs;  ///< resolved paths without extension, one per speed
+  std::string input;              ///< the CalculiX input deck (mesh, sets, *BOUNDARY)
   bool empty() const { return speeds.empty(); }
 };
 

@@ -37,10 +37,10 @@ public:
 
 /// What an observer made from the deck may use.
 struct ObserverContext {
-  io::Hdf5File& file;            // the run's output: write under a group of its own
-  const Scene& scene;            // bodies, surfaces, contact
-  const EnergyMonitor& monitor;  // monitor.measures(loop): the steps the history records
-  bool fresh;                    // false: a restart (the file holds the records up to the checkpoint)
+  io::Hdf5File& file;            ///< the run's output: write under a group of its own
+  const Scene& scene;            ///< bodies, surfaces, contact
+  const EnergyMonitor& monitor;  ///< monitor.measures(loop): the steps the history records
+  bool fresh;                    ///< false: a restart (the file holds the records up to the checkpoint)
 };
 
 /// The observers the deck enables, in the order of registration.

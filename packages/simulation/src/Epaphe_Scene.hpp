@@ -24,7 +24,7 @@ namespace epaphe {
 /// What the setup found, for the summary.
 struct SetupReport {
   double timeStep = 0, criticalStep = 0, setupSeconds = 0;
-  int initialPenetrations = 0;  // resolved gently (count, deepest in m)
+  int initialPenetrations = 0;  ///< resolved gently (count, deepest in m)
   double initialPenetrationDepth = 0;
   std::vector<std::string> warnings;
 };

@@ -34,7 +34,7 @@ private:
 
 struct SceneBody {
   std::string name;
-  std::string method;  // its reduction method's name for its model (ReductionMethod::modelName)
+  std::string method;  ///< its reduction method's name for its model (ReductionMethod::modelName)
   ReducedModel rom;
   bool fromCache = false;
   ReductionReport report;
@@ -42,14 +42,16 @@ struct SceneBody {
   std::vector<int> contactNodes;
   std::string contactSet;
   std::vector<double> v0;
-  double speed = 0;        // |initial velocity| (m/s), for the run guards
-  std::vector<double> a0;  // initial acceleration M^{-1} f of the constant force (gravity), reduced coordinates
+  double speed = 0;        ///< |initial velocity| (m/s), for the run guards
+  std::vector<double> a0;  ///< initial acceleration M^{-1} f of the constant force (gravity), reduced coordinates
   std::vector<std::pair<std::string, std::vector<int>>> watched;
-  NodeRecovery recoveryWatched;  // the watched nodes, in order
+  NodeRecovery recoveryWatched;  ///< the watched nodes, in order
   StableStep stable;
   std::unique_ptr<CentralDifference> integrator;
-  int offset = 0;                        // its block of the system coordinates
-  int contactBegin = 0, contactEnd = 0;  // its nodes in the contact order
+  int offset = 0;  ///< its block of the system coordinates
+  ///@{
+  int contactBegin = 0, contactEnd = 0;  ///< its nodes in the contact order
+  ///@}
   /// A run-up ('Rotation->Speed law' Ramp): its stiffness and static state over the speeds (null: none).
   /// Until the contact is built, its growth and restX hold every node of rom; then its contact nodes.
   std::unique_ptr<RunUpModel> runUp;

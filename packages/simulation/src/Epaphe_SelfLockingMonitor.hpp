@@ -41,7 +41,7 @@ public:
   const LockRecord& leastStep() const { return leastStep_; }
   const LockRecord& firstLock() const { return first_; }
   const LockRecord& firstStepLock() const { return firstStep_; }
-  long long checks() const { return checks_; }  // sliding nodes checked (node-steps)
+  long long checks() const { return checks_; }  ///< sliding nodes checked (node-steps)
 
 private:
   const SurfaceContact* contact_;

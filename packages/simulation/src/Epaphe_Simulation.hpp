@@ -54,22 +54,24 @@ struct RunSummary {
   std::string status = "not run";
   long long steps = 0;
   double loopSeconds = 0, stepsPerSecond = 0;
-  SetupReport setup;        // time step, critical step, setup time, initial penetrations, warnings
-  LoopAccumulators totals;  // contact times, impulse, peak force, worst balance error (relative),
-                            // steps whose contact-node motion exceeded the smallest patch
+  SetupReport setup;        ///< time step, critical step, setup time, initial penetrations, warnings
+  LoopAccumulators totals;  ///< contact times, impulse, peak force, worst balance error (relative),
+                            ///< steps whose contact-node motion exceeded the smallest patch
   CostSplit cost;
-  long long firstStep = 0;             // > 0 when restarted from a checkpoint
-  long long checkpoints = 0;           // written by this run
-  double checkpointSeconds = 0;        // their total wall time
-  int stopSignal = 0;                  // SIGINT or SIGTERM when interrupted
-  bool stoppedEarly = false;           // interrupted, or stopped by setStopAfterSteps
-  std::vector<std::string> coating;    // per coated surface: wear, dissipation, lobes (complete runs)
-  std::vector<std::string> observers;  // the summary lines of the observers a program added or registered
-  double stopTime = -1;                // s: the time of the step an error stopped (-1: none)
-  // friction: the self-locking check over the run (Epaphe_SelfLockingMonitor.hpp), least margins
-  // and first locks, quasi-static (eq. (50)) and the correction's own (eq. (48)); `selfLocking`: the
-  // summary line (empty without friction)
+  long long firstStep = 0;             ///< > 0 when restarted from a checkpoint
+  long long checkpoints = 0;           ///< written by this run
+  double checkpointSeconds = 0;        ///< their total wall time
+  int stopSignal = 0;                  ///< SIGINT or SIGTERM when interrupted
+  bool stoppedEarly = false;           ///< interrupted, or stopped by setStopAfterSteps
+  std::vector<std::string> coating;    ///< per coated surface: wear, dissipation, lobes (complete runs)
+  std::vector<std::string> observers;  ///< the summary lines of the observers a program added or registered
+  double stopTime = -1;                ///< s: the time of the step an error stopped (-1: none)
+  /// friction: the self-locking check over the run (Epaphe_SelfLockingMonitor.hpp), least margins
+  /// and first locks, quasi-static (eq. (50)) and the correction's own (eq. (48)); `selfLocking`: the
+  /// summary line (empty without friction)
+  ///@{
   LockRecord lockLeast, lockLeastStep, lockFirst, lockFirstStep;
+  ///@}
   std::string selfLocking;
 };
 

@@ -31,10 +31,10 @@ struct BasicSurfaceView {
   int orientation = 1;     ///< unit normal = orientation * (S_u x S_v) / |S_u x S_v|
   int id = 0;              ///< user id of the surface
 
-  // Broad phase of the cold-start closest-point search: uniform bucket grid of cubic cells of side
-  // binSize over the grid nodes. Cell (a,b,c) (a along x) has flat index (a*binDims[1] + b) *
-  // binDims[2] + c and holds the nodes binNodes[binStart[cell] .. binStart[cell+1]), node (i,j)
-  // stored as i*nv + j, ascending within a cell. Empty views (hand-built view): no broad phase.
+  /// Broad phase of the cold-start closest-point search: uniform bucket grid of cubic cells of side
+  /// binSize over the grid nodes. Cell (a,b,c) (a along x) has flat index (a*binDims[1] + b) *
+  /// binDims[2] + c and holds the nodes binNodes[binStart[cell] .. binStart[cell+1]), node (i,j)
+  /// stored as i*nv + j, ascending within a cell. Empty views (hand-built view): no broad phase.
   using Indices = Kokkos::View<int*, MemorySpace>;
   Indices binStart;                       ///< [cells + 1] offsets into binNodes
   Indices binNodes;                       ///< [nu*nv] node indices sorted by cell
