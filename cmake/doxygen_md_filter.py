@@ -3,10 +3,11 @@
 
     doxygen_md_filter.py PAGE... FILE
 
-Prints FILE with each relative link to a Markdown file that is not one of the PAGEs (file names of the
-pages Doxygen reads) turned into its text and the file's path in the repository, "text
-(`docs/user/parameters.md`)" (the path alone when the text names the file): Doxygen would report such a link as an unresolved reference. A link to a
-PAGE loses its #anchor (Doxygen links the page). Lines keep their numbers, so warnings point at the source.
+Prints FILE with each relative link to a Markdown file that is not one of the PAGEs (file names of
+the pages Doxygen reads) turned into its text and the file's path in the repository, "text
+(`docs/user/parameters.md`)" (the path alone when the text names the file): Doxygen would report
+such a link as an unresolved reference. A link to a PAGE loses its #anchor (Doxygen links the
+page). Lines keep their numbers, so warnings point at the source.
 """
 import os
 import re

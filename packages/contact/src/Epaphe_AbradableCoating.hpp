@@ -138,12 +138,16 @@ void coatingCentres(const BSplineSurface& surface, const CoatingMaterial& m, con
 /// |W_n| < 1e-12 n_u max(w)), and the angles where it peaks; the lobe count: circular runs of columns
 /// with w_i > max(w) / 2 (all of them: one), each at its first column of largest w.
 struct WearLobes {
-  int count = 0, dominantOrder = 0;
-  double maxWear = 0;
   ///@{
-  std::vector<double> angles, harmonicAngles;  ///< rad
+  int count = 0, dominantOrder = 0;  ///< the lobe count; the dominant harmonic n (0: none)
+  ///@}
+  double maxWear = 0;  ///< max(w) (m)
+  ///@{
+  std::vector<double> angles, harmonicAngles;  ///< rad: the lobes' angles, the dominant harmonic's peaks
   ///@}
 };
+/// The wear lobes of a coating's final profile (see WearLobes): `angle` per column (rad), `wear` the
+/// nu x nv elements' wear, row-major by column i (m).
 WearLobes wearLobes(const std::vector<double>& angle, const double* wear, int nu, int nv);
 
 }  // namespace epaphe

@@ -12,6 +12,7 @@
 
 namespace epaphe {
 
+/// Systems of fewer unknowns are solved here, larger ones by LAPACK.
 constexpr int kSmallDense = 64;
 
 /// Solves A x = b in place: A (n x n, column-major, leading dimension lda) is overwritten by its LU

@@ -18,6 +18,8 @@
 
 namespace epaphe {
 
+/// The contact as the explicit loop sees it: whole-step calls to detect and correct, check the step's
+/// motion and report energy and statistics (see the file's opening comment).
 class ContactCorrector {
 public:
   virtual ~ContactCorrector() = default;
@@ -34,6 +36,7 @@ public:
   virtual double workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const = 0;
   /// Sum of the normal forces of the last correction (N) and the number of active nodes.
   virtual double totalForce() const = 0;
+  /// The number of active nodes of the last correction.
   virtual int numActive() const = 0;
   /// Per contact node, the normal force of the last correction (N, >= 0).
   virtual Kokkos::View<double*>::HostMirror forces() const = 0;

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+/// Deck reading and validation: Teuchos XML parameter lists, the add* helpers that declare parameters
+/// with their documentation, default and validator, and the typed getters.
 namespace epaphe::deck {
 
 /// Parses an XML deck file. Missing or unreadable file and malformed XML raise epaphe::Error
@@ -38,17 +40,25 @@ std::string nearest(const std::string& key, const std::vector<std::string>& cand
 void printDocumentation(std::ostream& os, const Teuchos::ParameterList& valid, int indent = 0);
 
 // ---- declaring parameters ---------------------------------------------------------------------
+/// Infinity, the default bounds of addDouble().
 constexpr double inf = std::numeric_limits<double>::infinity();
+/// Declares a double parameter: default `def`, documentation `doc`, valid in [min, max].
 void addDouble(Teuchos::ParameterList& pl, const std::string& name, double def, const std::string& doc,
                double min = -inf, double max = inf);
+/// Declares an int parameter: default `def`, documentation `doc`, valid in [min, max].
 void addInt(Teuchos::ParameterList& pl, const std::string& name, int def, const std::string& doc,
             int min = std::numeric_limits<int>::min(), int max = std::numeric_limits<int>::max());
+/// Declares a bool parameter with its default and documentation.
 void addBool(Teuchos::ParameterList& pl, const std::string& name, bool def, const std::string& doc);
+/// Declares a string parameter (any value) with its default and documentation.
 void addString(Teuchos::ParameterList& pl, const std::string& name, const std::string& def, const std::string& doc);
+/// Declares an Array(double) parameter with its default and documentation.
 void addDoubleArray(Teuchos::ParameterList& pl, const std::string& name, const std::vector<double>& def,
                     const std::string& doc);
+/// Declares an Array(int) parameter with its default and documentation.
 void addIntArray(Teuchos::ParameterList& pl, const std::string& name, const std::vector<int>& def,
                  const std::string& doc);
+/// Declares an Array(string) parameter with its default and documentation.
 void addStringArray(Teuchos::ParameterList& pl, const std::string& name, const std::vector<std::string>& def,
                     const std::string& doc);
 /// A string chosen among `names`, stored as the integral value of the matching `values`.
@@ -65,7 +75,9 @@ std::vector<double> getDoubles(const Teuchos::ParameterList& pl, const std::stri
 /// A point or vector {x, y, z}: exactly 3 finite values, else an error naming `origin` (the deck)
 /// and the key's path.
 std::array<double, 3> getVec3(const Teuchos::ParameterList& pl, const std::string& name, const std::string& origin);
+/// A validated Array(int) entry as a std::vector.
 std::vector<int> getInts(const Teuchos::ParameterList& pl, const std::string& name);
+/// A validated Array(string) entry as a std::vector.
 std::vector<std::string> getStrings(const Teuchos::ParameterList& pl, const std::string& name);
 
 /// "Epaphe->Time->Time step" style path of a (sub)list entry, for messages.

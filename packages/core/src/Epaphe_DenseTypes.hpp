@@ -7,7 +7,9 @@
 
 namespace epaphe {
 
+/// A dense matrix, column-major (LAPACK's layout), in the default memory space.
 using DenseMatrix = Kokkos::View<double**, Kokkos::LayoutLeft>;
+/// A dense vector in the default memory space.
 using DenseVector = Kokkos::View<double*>;
 
 }  // namespace epaphe

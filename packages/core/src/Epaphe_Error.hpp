@@ -7,8 +7,10 @@
 
 namespace epaphe {
 
+/// An error meant for the user: the message says what was wrong, where, the value seen and how to fix it.
 class Error : public std::runtime_error {
 public:
+  /// The whole message, as printed to the user.
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 
@@ -17,11 +19,14 @@ public:
 class ErrorBuilder {
 public:
   template <class T>
+  /// Appends `v` to the message (anything an std::ostream prints).
   ErrorBuilder& operator<<(const T& v) {
     os_ << v;
     return *this;
   }
+  /// Throws the Error with the message built so far.
   [[noreturn]] void raise() const { throw Error(os_.str()); }
+  /// The message built so far.
   std::string str() const { return os_.str(); }
 
 private:

@@ -27,6 +27,7 @@ namespace epaphe {
 /// Work (ns) below which a loop runs on the calling thread: EPAPHE_SERIAL_WORK_NS if set, else
 /// kDefaultSerialWorkNs (4x the fork-join cost measured on this project's 2-core machines).
 long serialWorkNs();
+/// The default of serialWorkNs() (ns).
 constexpr long kDefaultSerialWorkNs = 20000;
 /// Sets the threshold for this process (tests and benchmarks: 0 makes every loop a Kokkos kernel).
 void setSerialWorkNs(long ns);
@@ -166,11 +167,15 @@ public:
   ~KernelCounter();
   KernelCounter(const KernelCounter&) = delete;
   KernelCounter& operator=(const KernelCounter&) = delete;
+  /// Parallel regions (for, reduce, scan) launched since construction or reset().
   std::int64_t launches() const;
+  /// Kokkos allocations since construction or reset().
   std::int64_t allocations() const;
+  /// Kokkos deep copies since construction or reset().
   std::int64_t deepCopies() const;
   /// Launches per kernel name.
   std::map<std::string, std::int64_t> byName() const;
+  /// Sets every count to zero.
   void reset();
 };
 

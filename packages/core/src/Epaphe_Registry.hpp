@@ -9,6 +9,8 @@
 
 namespace epaphe {
 
+/// Factories of one kind, keyed by the name the deck uses, kept in the order they were added.
+/// `Factory` is what makes one object (usually an std::function).
 template <class Factory>
 class NamedFactories {
 public:
@@ -31,6 +33,7 @@ public:
     for (const auto& e : entries_) eb << " '" << e.first << "'";
     eb.raise();
   }
+  /// The registered names, in the order they were added.
   std::vector<std::string> names() const {
     std::vector<std::string> n;
     for (const auto& e : entries_) n.push_back(e.first);

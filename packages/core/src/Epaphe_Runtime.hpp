@@ -22,6 +22,8 @@ class GlobalMPISession;
 
 namespace epaphe {
 
+/// The process-wide runtime: MPI (through Teuchos) for the program's lifetime, Kokkos once initialized,
+/// the communicator the runs use and rank-0 output. One per program, made first in main().
 class Runtime {
 public:
   /// Initializes MPI. Kokkos is initialized separately, once the deck gives the thread count.
@@ -32,16 +34,20 @@ public:
 
   /// Initializes Kokkos with `threads` OpenMP threads (0: OMP_NUM_THREADS or all cores).
   void initializeKokkos(int threads);
+  /// The OpenMP threads Kokkos runs on.
   int threads() const;
 
   /// Rank and size in the communicator the runs use: MPI_COMM_WORLD, or this process alone
   /// after useOwnCommunicator().
   int rank() const;
+  /// The number of ranks in comm().
   int size() const;
+  /// The communicator the runs use (MPI_COMM_WORLD, or this process alone after useOwnCommunicator()).
   Teuchos::RCP<const Teuchos::Comm<int>> comm() const;
   /// From now on the runs of this process use a communicator of this process alone, so that each
   /// MPI rank runs its own decks (a speed sweep distributed over ranks). worldComm() still sees all.
   void useOwnCommunicator();
+  /// MPI_COMM_WORLD, whatever useOwnCommunicator() did.
   Teuchos::RCP<const Teuchos::Comm<int>> worldComm() const;
   /// std::cout on rank 0, a sink elsewhere.
   std::ostream& out() const;
@@ -90,6 +96,7 @@ public:
   /// Adds phaseTicks() elapsed (a difference of two readings; a negative one, from a counter that is
   /// not synchronized across cores, counts 0).
   void add(int slot, std::uint64_t from, std::uint64_t to) { ticks_[slot] += to > from ? to - from : 0; }
+  /// The seconds accumulated in `phase` (0 for a phase never added to).
   double get(const std::string& phase) const {
     for (std::size_t i = 0; i < names_.size(); ++i)
       if (names_[i] == phase) return static_cast<double>(ticks_[i]) * secondsPerTick();
@@ -116,10 +123,13 @@ private:
   std::vector<std::uint64_t> ticks_;
 };
 
+/// Wall time since construction or the last restart() (std::chrono::steady_clock).
 class Stopwatch {
 public:
   Stopwatch() : t0_(std::chrono::steady_clock::now()) {}
+  /// Seconds since construction or the last restart().
   double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+  /// Starts counting again from now.
   void restart() { t0_ = std::chrono::steady_clock::now(); }
 
 private:
@@ -129,6 +139,7 @@ private:
 /// RAII: adds the lifetime of the scope to a phase of a CostSplit.
 class ScopedPhase {
 public:
+  /// Starts timing `phase` of `split`; the destructor adds the elapsed time to it.
   ScopedPhase(CostSplit& split, const char* phase) : split_(split), slot_(split.slot(phase)), start_(phaseTicks()) {}
   ~ScopedPhase() { split_.add(slot_, start_, phaseTicks()); }
 

@@ -13,6 +13,8 @@
 
 namespace epaphe {
 
+/// A rotation speed in time: constant, or a linear ramp between two speeds, times `scale` (see the file's
+/// opening comment for the angle).
 struct SpeedLaw {
   bool ramp = false;  ///< false: constant at `start`
   ///@{
@@ -21,13 +23,15 @@ struct SpeedLaw {
   ///@{
   double t0 = 0, t1 = 0;  ///< s, t1 > t0 for a ramp
   ///@}
-  double scale = 1;
+  double scale = 1;  ///< factor on the speed and the angle (-1: the opposite sense)
 
+  /// The speed at time `t` (s), rad/s: `scale` times the constant or ramp speed.
   double speed(double t) const {
     if (!ramp || t <= t0) return scale * start;
     if (t >= t1) return scale * end;
     return scale * (start + (end - start) * (t - t0) / (t1 - t0));
   }
+  /// The angle turned from t = 0 to `t` (rad): the integral of speed().
   double angle(double t) const {
     double a = start * t;
     if (ramp && t > t0) {
@@ -38,6 +42,7 @@ struct SpeedLaw {
   }
   /// The largest |speed| over the run.
   double fastest() const { return std::abs(scale) * std::max(std::abs(start), ramp ? std::abs(end) : 0.0); }
+  /// The same law with `scale` multiplied by `factor`.
   SpeedLaw scaled(double factor) const {
     SpeedLaw l = *this;
     l.scale *= factor;

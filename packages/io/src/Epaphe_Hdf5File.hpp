@@ -16,6 +16,7 @@
 #include <type_traits>
 #include <vector>
 
+/// HDF5 output and input: files, attributes, whole arrays and buffered time series (Hdf5File, Series).
 namespace epaphe::io {
 
 namespace detail {
@@ -25,8 +26,10 @@ struct SeriesState;
 
 class Series;
 
+/// An HDF5 file: attributes, whole arrays and the Series written to it (see the file's opening comment).
 class Hdf5File {
 public:
+  /// How the constructor opens the file.
   enum class Mode {
     Create,    ///< create, or truncate an existing file
     ReadOnly,  ///< open an existing file for reading
@@ -42,13 +45,18 @@ public:
   /// Flushes the live Series of this file, then closes it. Never throws (errors go to stderr;
   /// call close() to see them as exceptions).
   ~Hdf5File();
+  /// Takes over the open file of `other`, which is left closed.
   Hdf5File(Hdf5File&& other) noexcept;
+  /// Closes this file (as the destructor does) and takes over the open file of `other`.
   Hdf5File& operator=(Hdf5File&& other) noexcept;
   Hdf5File(const Hdf5File&) = delete;
   Hdf5File& operator=(const Hdf5File&) = delete;
 
+  /// The file's path, as given to the constructor.
   const std::string& path() const;
+  /// The mode it was opened with.
   Mode mode() const;
+  /// False after close() or a move from this object.
   bool isOpen() const;
 
   /// Writes the buffered records of every live Series of this file, then flushes HDF5's
@@ -69,17 +77,23 @@ public:
   // ---- attributes on a group or dataset ("/" for the root) ---------------------------------
   // Setting an attribute on a missing path creates a group there; setting an existing
   // attribute replaces it (its type may change).
+  /// Sets attribute `name` of the group or dataset `objPath` ("/" for the root) to `value`: a string, a
+  /// double or a 64-bit integer. A missing `objPath` becomes a group; an existing attribute is replaced.
+  ///@{
   void setAttribute(const std::string& objPath, const std::string& name, const std::string& value);
   void setAttribute(const std::string& objPath, const std::string& name, const char* value);
   void setAttribute(const std::string& objPath, const std::string& name, double value);
   void setAttribute(const std::string& objPath, const std::string& name, long long value);
+  ///@}
   /// Any other integer type is stored as a 64-bit integer (avoids int -> double/long long ambiguity).
   template <class T, std::enable_if_t<
                          std::is_integral_v<T> && !std::is_same_v<T, bool> && !std::is_same_v<T, long long>, int> = 0>
   void setAttribute(const std::string& objPath, const std::string& name, T value) {
     setAttribute(objPath, name, static_cast<long long>(value));
   }
+  /// True if the group or dataset `objPath` has an attribute `name`.
   bool hasAttribute(const std::string& objPath, const std::string& name) const;
+  /// Reads a string attribute (an Error if it is missing or not a string).
   std::string stringAttribute(const std::string& objPath, const std::string& name) const;
   /// Also reads integer attributes (converted).
   double doubleAttribute(const std::string& objPath, const std::string& name) const;
@@ -89,10 +103,14 @@ public:
   // ---- whole arrays (row-major), rank 1 to 32 ----------------------------------------------
   // Writing an existing dataset replaces it. `data` holds the product of `dims` values (may be
   // null when that product is 0).
+  /// Writes a whole array of doubles or integers at `path`, of shape `dims` (row-major; `data` holds
+  /// their product of values), or of rank 1 from a vector. An existing dataset is replaced.
+  ///@{
   void writeDoubles(const std::string& path, const std::vector<std::uint64_t>& dims, const double* data);
   void writeDoubles(const std::string& path, const std::vector<double>& values);  // rank 1
   void writeInts(const std::string& path, const std::vector<std::uint64_t>& dims, const long long* data);
   void writeInts(const std::string& path, const std::vector<long long>& values);  // rank 1
+  ///@}
   /// A text as one scalar string dataset (e.g. the input deck).
   void writeString(const std::string& path, const std::string& text);
 
@@ -124,10 +142,14 @@ private:
 /// are appended after the ones it holds.
 class Series {
 public:
+  /// Attaches to the dataset `path` of `file`, created when missing (records of shape `recordDims`),
+  /// or appended to when it exists with that shape; records are written in blocks of `bufferRecords`.
   Series(Hdf5File& file, const std::string& path, std::vector<std::uint64_t> recordDims,
          std::size_t bufferRecords = 1024);
   ~Series();
+  /// Takes over the dataset and the buffered records of `other`.
   Series(Series&& other) noexcept;
+  /// Flushes this series, then takes over the dataset and the buffered records of `other`.
   Series& operator=(Series&& other) noexcept;
   Series(const Series&) = delete;
   Series& operator=(const Series&) = delete;
@@ -140,7 +162,9 @@ public:
   std::size_t recordSize() const;
   /// Records in the series: those already in the file plus those buffered.
   std::size_t size() const;
+  /// The shape of one record ({} for a scalar series).
   const std::vector<std::uint64_t>& recordDims() const;
+  /// The dataset's path in the file.
   const std::string& path() const;
   /// Writes the buffered records to the dataset.
   void flush();

@@ -14,6 +14,8 @@
 
 namespace epaphe {
 
+/// The system flexibility F, block diagonal over the bodies: dense or diagonal blocks (see the file's
+/// opening comment).
 class Flexibility {
 public:
   Flexibility() = default;
@@ -25,9 +27,13 @@ public:
   /// Appends the blocks of `next` after this one's: the flexibility of the two systems stacked.
   void append(const Flexibility& next);
 
+  /// The system's size (the rows of F).
   int size() const { return size_; }
+  /// The number of blocks (bodies).
   int numBlocks() const { return static_cast<int>(blocks_.size()); }
+  /// The first system row of block `b`.
   int offset(int b) const { return blocks_[b].offset; }
+  /// The size of block `b`.
   int blockSize(int b) const { return blocks_[b].size; }
 
   /// What the contact kernels read, copied into them by value. The rows of the dense blocks are
@@ -38,8 +44,9 @@ public:
     Kokkos::View<double*> dense;       ///< the dense blocks, each column-major, one after the other
     Kokkos::View<double*> diag;        ///< per system row: F_ii of a diagonal block (0 in a dense block)
     Kokkos::View<int*> denseRow;       ///< per system row: its dense row, or -1 in a diagonal block
-    int denseRows = 0;
+    int denseRows = 0;                 ///< the rows of all dense blocks
 
+    /// The system's size.
     int size() const { return static_cast<int>(denseRow.extent(0)); }
     /// The same views, unmanaged (Epaphe_Parallel.hpp: unmanaged): what a step copies into its
     /// kernels, counting no references; this Packed keeps the memory.

@@ -12,17 +12,22 @@ namespace epaphe {
 /// Nodes of a structured face in grid order: node (i, j) is nodes[i * nv + j]; the order a
 /// B-spline surface is built from (i along u, j along v).
 struct NodeGrid {
+  /// Nodes along u and along v.
+  ///@{
   int nu = 0, nv = 0;
-  std::vector<int> nodes;
+  ///@}
+  std::vector<int> nodes;  ///< nu x nv node indices, (i, j) at i * nv + j
 };
 
+/// A hexahedral mesh: node coordinates, 8-node elements, node sets and ordered faces.
 struct Mesh {
-  std::vector<std::array<double, 3>> coords;
+  std::vector<std::array<double, 3>> coords;         ///< node coordinates (m)
   std::vector<std::array<int, 8>> hexes;             ///< node indices, VTK/Abaqus C3D8 order
   std::vector<int> nodeIds;                          ///< imported: node index -> the FE code's number; else empty
   std::map<std::string, std::vector<int>> nodeSets;  ///< sorted node indices
   std::map<std::string, NodeGrid> nodeGrids;         ///< ordered faces, for surfaces built on a body
 
+  /// The number of nodes.
   int numNodes() const { return static_cast<int>(coords.size()); }
   /// The number a user knows node `index` by: the FE code's number when imported, else the index.
   int nodeId(int index) const { return nodeIds.empty() ? index : nodeIds[static_cast<std::size_t>(index)]; }
@@ -86,8 +91,14 @@ Mesh makeSphereMesh(const std::array<double, 3>& center, double radius, const st
 /// root (clamped), tip, le and te (leading and trailing edges, smallest and largest xi), pressure
 /// and suction, and tip-le, tip-te (the tip's edge nodes).
 struct BladeGeometry {
+  /// Radii of the hub (the root) and the tip (m).
+  ///@{
   double hubRadius = 0.2, tipRadius = 0.3;
+  ///@}
+  /// Chord and thickness of the blade (m).
+  ///@{
   double chord = 0.06, thickness = 0.004;
+  ///@}
   ///@{
   double stagger = 30.0, twist = 20.0;  ///< degrees
   ///@}
@@ -95,6 +106,7 @@ struct BladeGeometry {
   double coneAngle = 0.0;      ///< degrees
   double axialPosition = 0.0;  ///< z of mid-chord (m)
 };
+/// The blade mesh of `geometry` with `elements` = {span, chord, thickness} elements (see BladeGeometry).
 Mesh makeBladeMesh(const BladeGeometry& geometry, const std::array<int, 3>& elements);
 
 /// How the inner radius of a casing varies around the circumference (thesis chapter 5).
@@ -113,10 +125,11 @@ struct CasingGeometry {
   double radius = 0.3;         ///< m, of the cone at axialPosition
   double axialPosition = 0.0;  ///< m
   double coneAngle = 0.0;      ///< degrees
-  std::array<double, 2> axialRange{-0.03, 0.03};
-  ClearanceLaw law = ClearanceLaw::None;
-  double clearance = 0.0;   ///< m
-  std::vector<int> orders;  ///< Harmonics: n_k
+  std::array<double, 2> axialRange{
+      -0.03, 0.03};  ///< z range of the casing (m); Harmonics: where amplitudesFirst and amplitudesLast apply
+  ClearanceLaw law = ClearanceLaw::None;  ///< how the clearance varies around the circumference
+  double clearance = 0.0;                 ///< m
+  std::vector<int> orders;                ///< Harmonics: n_k
   ///@{
   std::vector<double> amplitudesFirst, amplitudesLast;  ///< Harmonics: A_k at the two ends (m)
   ///@}

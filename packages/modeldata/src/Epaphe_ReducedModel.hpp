@@ -32,8 +32,9 @@ namespace epaphe {
 /// A sparse matrix in compressed rows (0-based column indices, sorted in each row).
 struct SparseRows {
   std::vector<std::size_t> rowStart;  ///< rows + 1 entries
-  std::vector<int> cols;
-  std::vector<double> values;
+  std::vector<int> cols;              ///< column index of each entry
+  std::vector<double> values;         ///< value of each entry
+  /// The number of rows.
   int rows() const { return rowStart.empty() ? 0 : static_cast<int>(rowStart.size()) - 1; }
 };
 
@@ -46,23 +47,25 @@ const char* reductionName(ReductionKind kind);
 /// The kind of a deck name (reductionName's inverse); an Error names the valid ones otherwise.
 ReductionKind reductionKindNamed(const std::string& name);
 
+/// A body's model as the explicit loop uses it: reduced (Craig-Bampton, Guyan, massless boundary) or full
+/// with lumped mass, with what recovers the nodes' displacements, the mesh and the node sets.
 struct ReducedModel {
-  std::string name;
+  std::string name;                          ///< the body's name
   ReductionKind kind = ReductionKind::None;  ///< what it is; method(), sparse() and massless() follow
 
-  int size = 0;
+  int size = 0;      ///< the number of coordinates q
   int numModes = 0;  ///< fixed-interface modes kept
   ///@{
   std::vector<double> K, M;  ///< size x size, column-major, symmetric
   ///@}
-  std::vector<int> nodeDof;      ///< 3 * node + d -> index in q equal to that DOF, or -1
-  std::vector<double> recovery;  ///< (3 * numNodes) x size, row-major: u = R q
-  std::vector<std::array<double, 3>> coords;
-  std::vector<std::array<int, 8>> hexes;  ///< the mesh, for field output (ParaView)
-  std::map<std::string, std::vector<int>> nodeSets;
-  std::map<std::string, NodeGrid> nodeGrids;  ///< ordered faces (surfaces carried by the body)
-  std::vector<int> retainedNodes;
-  std::vector<double> modeFrequencies;      ///< fixed-interface modes (Hz)
+  std::vector<int> nodeDof;                   ///< 3 * node + d -> index in q equal to that DOF, or -1
+  std::vector<double> recovery;               ///< (3 * numNodes) x size, row-major: u = R q
+  std::vector<std::array<double, 3>> coords;  ///< node coordinates (m), at rest (plus staticDisplacement at speed)
+  std::vector<std::array<int, 8>> hexes;      ///< the mesh, for field output (ParaView)
+  std::map<std::string, std::vector<int>> nodeSets;  ///< node sets, sorted node indices
+  std::map<std::string, NodeGrid> nodeGrids;         ///< ordered faces (surfaces carried by the body)
+  std::vector<int> retainedNodes;                    ///< the nodes whose DOFs are kept as coordinates (the interface)
+  std::vector<double> modeFrequencies;               ///< fixed-interface modes (Hz)
   std::vector<double> fullFrequencies;      ///< lowest frequencies of the full model it came from (Hz), if computed
   SparseRows sparseK;                       ///< full model with lumped mass: K (size x size)
   std::vector<double> lumpedMass;           ///< full model with lumped mass: diag(M) (size)
@@ -79,8 +82,11 @@ struct ReducedModel {
 
   /// The deck's name of its kind ("Craig-Bampton", ...), for messages and files.
   std::string method() const { return reductionName(kind); }
+  /// True for a full model with lumped mass (sparse K, diagonal M).
   bool sparse() const { return kind == ReductionKind::FullLumped; }
+  /// True for a massless boundary.
   bool massless() const { return kind == ReductionKind::MasslessBoundary; }
+  /// The retained (boundary) DOFs: the first size - numModes coordinates.
   int boundarySize() const { return size - numModes; }
   /// Massless boundary: Omega_j^2 = (2 pi f_j)^2 of the kept modes, the one definition that the
   /// reduction's K and the integrator use.
@@ -88,9 +94,13 @@ struct ReducedModel {
   /// Massless boundary: K_res = L^T G^{-1} L (size x size, column-major, symmetric), L = [I, -Phi_b],
   /// the stiffness of the static residual r = u_b - Phi_b eta; K = K_res + diag(0, Omega^2).
   std::vector<double> residualStiffness() const;
+  /// The number of nodes.
   int numNodes() const { return static_cast<int>(coords.size()); }
+  /// K(i, j).
   double k(int i, int j) const { return K[static_cast<std::size_t>(j) * size + i]; }
+  /// M(i, j).
   double m(int i, int j) const { return M[static_cast<std::size_t>(j) * size + i]; }
+  /// The row of the recovery R for DOF `d` (0..2) of `node`: `size` values, u = R q.
   const double* recoveryRow(int node, int d) const {
     return recovery.data() + (3 * static_cast<std::size_t>(node) + d) * size;
   }

@@ -20,7 +20,9 @@ namespace epaphe {
 /// Device-copyable description of one surface: copy it by value into a KOKKOS_LAMBDA.
 template <class MemorySpace>
 struct BasicSurfaceView {
+  /// Kokkos' name of the memory space the views live in.
   using memory_space = MemorySpace;
+  /// A view of 3-D points, [i][j][3].
   using Points = Kokkos::View<double***, Kokkos::LayoutRight, MemorySpace>;
   Points ctrl;             ///< extended control points [nu_ext][nv_ext][3] (see top of file)
   Points grid;             ///< passing points (grid nodes) [nu][nv][3], duplicate closing row dropped
@@ -46,10 +48,13 @@ struct BasicSurfaceView {
 
   /// Upper end of the parameter range: n-1 (open) or N (closed, excluded).
   KOKKOS_INLINE_FUNCTION double uMax() const { return periodicU ? double(nu) : double(nu - 1); }
+  /// Upper end of the v range: n-1 (open) or N (closed, excluded).
   KOKKOS_INLINE_FUNCTION double vMax() const { return periodicV ? double(nv) : double(nv - 1); }
 };
 
+/// The surface view in the default execution space's memory, for kernels.
 using SurfaceView = BasicSurfaceView<Kokkos::DefaultExecutionSpace::memory_space>;
+/// The surface view in host memory.
 using HostSurfaceView = BasicSurfaceView<Kokkos::HostSpace>;
 
 namespace surface_detail {
@@ -179,11 +184,12 @@ enum class Closure {
   Periodic  ///< always closed; a repeated closing row, if present, is dropped
 };
 
+/// How a BSplineSurface is built from its grid: the closure of each direction, the orientation and an id.
 struct SurfaceOptions {
-  Closure closureU = Closure::Detect;
-  Closure closureV = Closure::Detect;
-  int orientation = 1;  ///< +1 or -1, see BasicSurfaceView::orientation
-  int id = 0;
+  Closure closureU = Closure::Detect;  ///< closure along u
+  Closure closureV = Closure::Detect;  ///< closure along v
+  int orientation = 1;                 ///< +1 or -1, see BasicSurfaceView::orientation
+  int id = 0;                          ///< user id of the surface
 };
 
 /// Host-side owner of a bicubic interpolating surface (thesis 2.4).
@@ -193,25 +199,37 @@ public:
   /// points: nu x nv grid nodes, 3 doubles each, node (i,j) at points[3*(i*nv + j)],
   /// i along u, j along v. nu, nv >= 4.
   BSplineSurface(std::string name, int nu, int nv, const double* points, SurfaceOptions options = {});
+  /// Same, from a vector of 3 nu nv doubles.
   BSplineSurface(std::string name, int nu, int nv, const std::vector<double>& points, SurfaceOptions options = {});
 
   /// Recomputes the control points for moved nodes (flexible surface), same layout and size as the
   /// constructor input (a repeated closing row/column is read but ignored: the first one wins).
   /// Reuses the interpolation operators B_u, B_v (eq. 2.26): no factorisation.
   void update(const double* points);
+  /// Same, from a vector laid out as the constructor's.
   void update(const std::vector<double>& points);
 
+  /// The surface's name (the deck's).
   const std::string& name() const { return name_; }
+  /// The user id (SurfaceOptions::id).
   int id() const { return view_.id; }
   int nu() const { return view_.nu; }  ///< distinct nodes along u (closing duplicate dropped)
+  /// Distinct nodes along v (closing duplicate dropped).
   int nv() const { return view_.nv; }
   int inputNu() const { return inNu_; }  ///< nodes along u as given to the constructor
+  /// Nodes along v as given to the constructor.
   int inputNv() const { return inNv_; }
+  /// Closed along u.
   bool periodicU() const { return view_.periodicU; }
+  /// Closed along v.
   bool periodicV() const { return view_.periodicV; }
+  /// Upper end of the u range (nu() - 1 open, nu() closed).
   double uMax() const { return view_.uMax(); }
+  /// Upper end of the v range (nv() - 1 open, nv() closed).
   double vMax() const { return view_.vMax(); }
+  /// +1 or -1: the sign of the unit normal relative to S_u x S_v.
   int orientation() const { return view_.orientation; }
+  /// Sets the orientation (+1 or -1).
   void setOrientation(int orientation);
 
   /// Current grid node (i,j), 0 <= i < nu(), 0 <= j < nv(); S(i, j) equals it.
@@ -219,11 +237,13 @@ public:
 
   /// Views in the default execution space's memory (for kernels) and on the host.
   const SurfaceView& view() const { return view_; }
+  /// A copy of the views in host memory.
   HostSurfaceView hostView() const;
 
   /// Dense 1-D interpolation operators (row-major): extended control points = B * passing points.
   /// B_u is nu_ext x nu (nu_ext = nu+2 open, nu+3 closed).
   const std::vector<double>& operatorU() const { return Bu_; }
+  /// B_v, nv_ext x nv (row-major).
   const std::vector<double>& operatorV() const { return Bv_; }
 
 private:

@@ -10,8 +10,11 @@
 
 namespace epaphe {
 
+/// The closest point of a point on a surface: the foot point, the normal, the gap and how Newton did.
 struct Projection {
-  double u, v;       ///< global parameters of the foot point
+  ///@{
+  double u, v;  ///< global parameters of the foot point
+  ///@}
   double point[3];   ///< foot point S(u,v)
   double normal[3];  ///< unit normal at the foot point (orientation applied)
   double gap;        ///< (x - S) . normal; negative = penetration
