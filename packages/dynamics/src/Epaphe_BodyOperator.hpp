@@ -21,12 +21,14 @@ namespace epaphe {
 /// mass-proportional damping). Its vectors live in host memory (the explicit step runs there).
 class BodyOperator {
 public:
+  /// KokkosKernels' compressed-row matrix, the storage of a sparse operator.
   using Sparse = KokkosSparse::CrsMatrix<double, int, Kokkos::DefaultExecutionSpace, void, std::size_t>;
   BodyOperator() = default;
   /// n x n, column-major (stored by rows: see forRowBlocks).
   static BodyOperator dense(const std::vector<double>& a, int n, const std::string& label);
   /// A in compressed rows.
   static BodyOperator sparse(const SparseRows& a, const std::string& label);
+  /// diag(d).
   static BodyOperator diagonal(const std::vector<double>& d, const std::string& label);
   /// dense(), or diagonal() when every entry off the diagonal is zero (a massless boundary's mass,
   /// diag(0, I)): the same products, without reading n^2 - n zeros.
@@ -44,6 +46,7 @@ public:
   DenseMatrix denseMatrix() const;
   /// Bytes one apply() reads of the operator's own storage (values and indices).
   std::size_t bytes() const;
+  /// A diagonal operator's entries (empty when not diagonal).
   const DenseVector& diagonalEntries() const { return diagonal_; }
 
 private:

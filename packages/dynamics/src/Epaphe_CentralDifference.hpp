@@ -52,8 +52,11 @@
 
 namespace epaphe {
 
+/// The explicit central difference of one body (see the file's opening comment): the operators A, B and P
+/// formed once, the predictor, the flexibility P the contact reads and the terms of the energy identity.
 class CentralDifference {
 public:
+  /// Forms the operators of `model` at time step `h` (s) with `damping`.
   CentralDifference(const ReducedModel& model, double h, const DampingOptions& damping);
 
   /// q* = 2 q_n - q_{n-1} + A q_n + B (q_n - q_{n-1}) + P f (f constant; see setConstantForce).
@@ -70,7 +73,9 @@ public:
 
   /// P = [M/h^2 + D/2h]^{-1}: dense, or diagonal for a full model with lumped mass.
   Flexibility flexibility() const;
+  /// The time step h (s).
   double step() const { return h_; }
+  /// True when the body has a damping matrix or Coriolis terms (B is applied).
   bool damped() const { return damped_; }
   /// Bytes of the operators one predict() reads (A, and B when damped): the memory traffic floor of
   /// a step's integration.
@@ -82,18 +87,25 @@ public:
 
   /// Energy terms of the identity above.
   double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;  ///< E_{n+1/2}
+  /// (q_{n+1} - q_{n-1})^T D (q_{n+1} - q_{n-1}) / 4h (J): the energy damping takes over the step.
   double dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
+  /// f . (q_{n+1} - q_{n-1}) / 2 (J): the work of the constant force over the step (0 without one).
   double externalWorkIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
   /// Kinetic energy 1/2 v^T M v and strain energy 1/2 q^T K q.
   double kinetic(const DenseVector& v) const;
+  /// 1/2 q^T K q (J).
   double strain(const DenseVector& q) const;
   /// What an energy record needs, E_{n+1/2} (halfStepEnergy), 1/2 v^T M v and 1/2 q_n^T K q_n, with
   /// each operator read once: M on two velocities, K on q_n alone (K symmetric: q_n^T K q_{n+1} =
   /// q_{n+1}^T (K q_n)), K_res on q_n and q_{n+1} (its two quadratic forms differ): two matrix passes
   /// instead of four (six on a massless boundary). The same sums as the functions above to round-off.
   struct EnergyTerms {
+    /// J: E_{n+1/2}, 1/2 v^T M v, 1/2 q_n^T K q_n
+    ///@{
     double total = 0, kinetic = 0, strain = 0;
+    ///@}
   };
+  /// The three energies of an energy record (J), from q_n, q_{n+1} and the velocity v.
   EnergyTerms energies(const DenseVector& qn, const DenseVector& qnp1, const DenseVector& v) const;
 
 private:

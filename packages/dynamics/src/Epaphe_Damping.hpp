@@ -9,13 +9,15 @@
 
 namespace epaphe {
 
+/// The damping of a body ('Damping->Type').
 enum class DampingType { None = 0, Rayleigh = 1, Modal = 2 };
 
+/// A body's damping: its type and coefficients.
 struct DampingOptions {
-  DampingType type = DampingType::None;
-  double alpha = 0.0;  ///< Rayleigh: D = alpha M + beta K (eq. 4.3)
-  double beta = 0.0;
-  double ratio = 0.0;  ///< Modal: xi, the same on every mode (eqs. 4.4-4.5)
+  DampingType type = DampingType::None;  ///< none, Rayleigh or modal
+  double alpha = 0.0;                    ///< Rayleigh: D = alpha M + beta K (eq. 4.3)
+  double beta = 0.0;                     ///< Rayleigh: the stiffness coefficient (s)
+  double ratio = 0.0;                    ///< Modal: xi, the same on every mode (eqs. 4.4-4.5)
 };
 
 /// Rayleigh coefficients giving damping ratio xi1 at f1 and xi2 at f2 (Hz), from

@@ -13,9 +13,10 @@
 
 namespace epaphe {
 
+/// One energy record: the bodies' energies and the work done on them up to a step, and the balance error.
 struct EnergySnapshot {
-  double time = 0;
-  long long step = 0;
+  double time = 0;     ///< t_n (s)
+  long long step = 0;  ///< n
   ///@{
   double kinetic = 0, strain = 0, total = 0;  ///< J: sum over the bodies; total = E_{n+1/2}
   ///@}
@@ -34,8 +35,8 @@ struct EnergySnapshot {
 /// integrator itself (its balance error, or the half-step energy E_{n+1/2} held while kinetic and
 /// strain energies grow, which an unstable step does).
 struct EnergyGrowth {
-  bool unbounded = false;
-  int records = 0;  ///< records of the rise
+  bool unbounded = false;  ///< true when the energy grows without bound (see above)
+  int records = 0;         ///< records of the rise
   ///@{
   double t0 = 0, t1 = 0;  ///< s
   ///@}
@@ -51,12 +52,16 @@ struct EnergyGrowth {
   std::string source() const;
 };
 
+/// What the energy monitor measures and the tolerance it holds the balance to.
 struct EnergyMonitorOptions {
   int every = 1;                ///< Output->Every: the steps measured (and the last)
   double tolerance = 1e-2;      ///< Output->Energy balance tolerance
   double penaltyStiffness = 0;  ///< > 0: check the penalty bound (penalty contact, no turning surface)
 };
 
+/// The energy balance of the run (the identity of Epaphe_CentralDifference.hpp): measures the bodies'
+/// energies at the steps the history records, fails the run when the balance error exceeds the tolerance,
+/// when the energy is no longer finite or, under penalty contact, when it grows beyond what was given.
 class EnergyMonitor : public LoopObserver {
 public:
   /// Takes E_0 from the loop's state now: construct it after the initial state is set and before
@@ -69,9 +74,12 @@ public:
   const EnergySnapshot& last() const { return last_; }
   /// How the energy grew over the last records this run measured (at most 32 are kept).
   EnergyGrowth growth() const;
+  /// The energy the balance error is relative to: sum over the bodies of |E_0| (J).
   double reference() const { return energyRef_; }
 
+  /// At a measured step: the energy record (last()), its balance error.
   void afterCorrect(ExplicitLoop& loop) override;
+  /// The checks of the measured step: finite energy, the penalty bound, the balance tolerance.
   void endStep(ExplicitLoop& loop) override;
 
 private:

@@ -27,9 +27,12 @@ namespace epaphe {
 /// A body of the loop: its integrator and its block [offset, offset + size) of the system
 /// coordinates (all bodies' reduced coordinates, stacked).
 struct LoopBody {
-  std::string name;
-  const CentralDifference* integrator = nullptr;
+  std::string name;                               ///< the body's name (checkpoint and output names)
+  const CentralDifference* integrator = nullptr;  ///< its central difference (not owned)
+  /// its block of the system coordinates: first index, size
+  ///@{
   int offset = 0, size = 0;
+  ///@}
   bool driven = false;  ///< its speed follows a law (Epaphe_RunUp.hpp): the loop keeps its drive work
 };
 
@@ -51,6 +54,8 @@ struct LoopAccumulators {
 
   /// The values a checkpoint stores, in the order of names() (time first).
   std::vector<double> values(double time) const;
+  /// The names of values(), for `bodies`: time, contact work, contact times, impulse, peak force, balance
+  /// error, then per body its damping and external work (and drive work when a body is driven).
   static std::vector<std::string> names(const std::vector<LoopBody>& bodies);
   /// Restores from values(); `what` names the source for errors.
   void restore(const std::vector<double>& values, const std::string& what);
@@ -62,16 +67,24 @@ class ExplicitLoop;
 class LoopObserver {
 public:
   virtual ~LoopObserver() = default;
+  /// Once, before the first step (after a restart, before the first step run).
   virtual void beginRun(ExplicitLoop&) {}
+  /// Step n starts: previous() = q_{n-1}, current() = q_n.
   virtual void beginStep(ExplicitLoop&) {}
+  /// After the predictor: next() holds q*.
   virtual void afterPredict(ExplicitLoop&) {}
+  /// After the contact correction and the energy increments: next() = q_{n+1}, velocity(b) = v_n.
   virtual void afterCorrect(ExplicitLoop&) {}
+  /// After the rotation: stepsDone() = n + 1; stop requests and checkpoints go here.
   virtual void endStep(ExplicitLoop&) {}
+  /// Once, when the loop has run its last step or stopped.
   virtual void endRun(ExplicitLoop&) {}
   /// The run stops on an error (`why`); called before the loop throws it.
   virtual void failed(ExplicitLoop&, const std::string& /*why*/) {}
 };
 
+/// The explicit loop (see the file's opening comment): steps the bodies' central differences, the contact's
+/// correction and the energy accumulators, and calls its observers at the hooks of LoopObserver.
 class ExplicitLoop {
 public:
   /// `contact` may be null (no contact); it works on the system coordinates of all bodies (the
@@ -92,19 +105,28 @@ public:
   bool advance();
 
   // ---- state, for observers and drivers ------------------------------------------------------
+  /// The time step h (s).
   double timeStep() const { return h_; }
+  /// The number of steps of the run (t_end = numSteps h).
   long long numSteps() const { return numSteps_; }
+  /// The first step run: 0, or the restart's (setFirstStep()).
   long long firstStep() const { return firstStep_; }
   /// The step running (n, t_n = n h); after the rotation (endStep) stepsDone() = n + 1.
   long long step() const { return n_; }
+  /// t_n = n h (s) of the step running.
   double time() const { return static_cast<double>(n_) * h_; }
+  /// The steps done, counted from step 0.
   long long stepsDone() const { return done_; }
+  /// True during the last step of the run.
   bool lastStep() const { return n_ == numSteps_ - 1; }
+  /// The bodies, in the order of the system coordinates.
   const std::vector<LoopBody>& bodies() const { return bodies_; }
   /// System coordinates: before the rotation q_{n-1}, q_n, q_{n+1}; after it (endStep) previous()
   /// is q_n and current() q_{n+1}. The views alias the loop's buffers: copy what must outlive the hook.
   const DenseVector& previous() const { return Q_[iPrev_]; }
+  /// q_n before the rotation, q_{n+1} after it (see previous()).
   const DenseVector& current() const { return Q_[iCur_]; }
+  /// q* after the predictor, q_{n+1} after the correction (before the rotation).
   const DenseVector& next() const { return Q_[iNext_]; }
   /// Body b's block of a system vector (an unmanaged view, no allocation).
   DenseVector part(const DenseVector& system, std::size_t b) const {
@@ -114,11 +136,17 @@ public:
   const DenseVector& velocity(std::size_t b);
   /// The sum of the contact forces of the step and the active nodes (0 without contact).
   double totalContactForce() const { return totalForce_; }
+  /// The number of active contact nodes of the step.
   int activeContacts() const { return active_; }
+  /// The contact corrector (null without contact).
   ContactCorrector* contact() const { return contact_; }
+  /// The cost split the phases' wall times go to.
   CostSplit& cost() { return cost_; }
+  /// The stream of progress and messages (rank 0's).
   std::ostream& out() { return out_; }
+  /// What the loop sums over the run.
   LoopAccumulators& accumulators() { return acc_; }
+  /// What the loop sums over the run.
   const LoopAccumulators& accumulators() const { return acc_; }
   /// Wall time of the loop so far (s).
   double seconds() const { return watch_.seconds(); }
@@ -129,7 +157,9 @@ public:
     if (!stop_) stopReason_ = reason;
     stop_ = true;
   }
+  /// True once an observer called requestStop().
   bool stopRequested() const { return stop_; }
+  /// The reason given to the first requestStop().
   const std::string& stopReason() const { return stopReason_; }
   /// Stops the run on an error: failed(why) on every observer, then throws Error(why).
   [[noreturn]] void fail(const std::string& why);

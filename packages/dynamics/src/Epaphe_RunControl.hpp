@@ -19,6 +19,7 @@ public:
   static void catchStopSignals();
   /// The signal that stopped the loop (0: none).
   int signal() const { return signal_; }
+  /// Requests the stop (with the reason and how to continue) when a signal arrived or the step count is reached.
   void endStep(ExplicitLoop& loop) override;
 
 private:
@@ -31,8 +32,11 @@ private:
 /// time (looked at every 256 steps), on the loop's stream.
 class ProgressReport : public LoopObserver {
 public:
+  /// A progress line every `interval` seconds of wall time (<= 0: never).
   explicit ProgressReport(double interval) : interval_(interval) {}
+  /// Starts the interval's clock.
   void beginRun(ExplicitLoop&) override { since_.restart(); }
+  /// Prints the progress line when the interval has passed (every 256 steps at most).
   void endStep(ExplicitLoop& loop) override;
 
 private:

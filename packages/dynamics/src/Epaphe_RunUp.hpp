@@ -41,7 +41,9 @@ struct RunUpModel {
   int contactBegin = 0;                        ///< its first node in the contact's order
   double xiStep = 1e-3;                        ///< dxi
 
+  /// The level l = round(xi(t) / dxi) of time `t` (s), xi = (speed(t) / maxSpeed)^2.
   long long level(double t) const;
+  /// xi_l = l dxi.
   double xiOf(long long level) const { return xiStep * static_cast<double>(level); }
   /// K_r(xi_l), n x n column-major.
   std::vector<double> stiffnessAt(long long level) const;
@@ -49,12 +51,15 @@ struct RunUpModel {
   std::vector<double> positionsAt(long long level) const;
 };
 
+/// The run-up of the driven bodies: refreshes each one's stiffness and contact nodes when its level
+/// changes (see the file's opening comment) and counts the drive's work.
 class RunUp : public LoopObserver {
 public:
+  /// A driven body.
   struct Driven {
-    std::size_t body = 0;  ///< its index among the loop's bodies
-    CentralDifference* integrator = nullptr;
-    const RunUpModel* model = nullptr;
+    std::size_t body = 0;                     ///< its index among the loop's bodies
+    CentralDifference* integrator = nullptr;  ///< its central difference (its stiffness is replaced)
+    const RunUpModel* model = nullptr;        ///< its polynomials (not owned)
   };
   /// Puts every driven body at its level of t = 0 (its stiffness and contact nodes): construct it
   /// before the energy monitor takes E_0. `contactX`: all contact nodes' reference positions.
@@ -65,6 +70,7 @@ public:
   void beginRun(ExplicitLoop& loop) override;
   /// A body whose level changed: K refreshed, the drive's work counted, the contact nodes moved.
   void beginStep(ExplicitLoop& loop) override;
+  /// The stiffness refreshes made so far.
   long long refreshes() const { return refreshes_; }
 
 private:

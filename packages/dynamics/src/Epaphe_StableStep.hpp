@@ -8,6 +8,7 @@
 
 namespace epaphe {
 
+/// A body's highest frequency and the central difference's critical step.
 struct StableStep {
   double omegaMax = 0;  ///< highest circular frequency of (K + added stiffness, M), rad/s
   double critical = 0;  ///< largest stable step of the central difference, s
@@ -22,12 +23,13 @@ struct StableStep {
 StableStep criticalTimeStep(const ReducedModel& model, const std::vector<int>& stiffenedDofs, double addedStiffness,
                             const DampingOptions& damping);
 
+/// The highest eigenvalue of a full model with lumped mass (see highestEigenvalue()).
 struct HighestEigenvalue {
-  double value = 0;       ///< the estimate used: Ritz value + residual bound, or the Gershgorin bound
-  double ritz = 0;        ///< largest Ritz value (a lower bound)
-  double residual = 0;    ///< its residual bound: an eigenvalue lies within it
-  double gershgorin = 0;  ///< max_i sum_j |K_ij| / m_i, an upper bound of every eigenvalue
-  int iterations = 0;
+  double value = 0;        ///< the estimate used: Ritz value + residual bound, or the Gershgorin bound
+  double ritz = 0;         ///< largest Ritz value (a lower bound)
+  double residual = 0;     ///< its residual bound: an eigenvalue lies within it
+  double gershgorin = 0;   ///< max_i sum_j |K_ij| / m_i, an upper bound of every eigenvalue
+  int iterations = 0;      ///< Lanczos iterations
   bool converged = false;  ///< false: `value` is the Gershgorin bound
 };
 

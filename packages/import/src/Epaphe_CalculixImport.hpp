@@ -20,6 +20,7 @@
 
 namespace epaphe {
 
+/// The files of a CalculiX model: the input deck and the matrices of its MATRIXSTORAGE run.
 struct CalculixFiles {
   std::string input;     ///< jobname.inp: mesh, node sets, *BOUNDARY
   std::string matrices;  ///< the job of the MATRIXSTORAGE run: path without extension of .sti, .mas, .dof

@@ -24,6 +24,7 @@
 
 namespace epaphe {
 
+/// The files of a code_aster model (see the file's opening comment for their formats).
 struct CodeAsterFiles {
   std::string stiffness;     ///< BStiff.mat
   std::string mass;          ///< BMass.mat

@@ -12,6 +12,7 @@
 
 namespace epaphe {
 
+/// The files of a Matrix Market model (see the file's opening comment).
 struct MatrixMarketFiles {
   std::string stiffness;  ///< K.mtx
   std::string mass;       ///< M.mtx

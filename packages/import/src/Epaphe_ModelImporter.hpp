@@ -25,10 +25,11 @@ namespace epaphe {
 
 /// A body of a deck, as an importer sees it.
 struct ImportRequest {
-  std::string body;
+  std::string body;                                    ///< the body's name in the deck
   const Teuchos::ParameterList* bodyParams = nullptr;  ///< the body's validated list (Mesh, Material, ...)
   std::string deckPath;                                ///< files are relative to its directory
 
+  /// The body's Mesh sublist.
   const Teuchos::ParameterList& mesh() const { return bodyParams->sublist("Mesh"); }
   /// "<deck>: body '<name>'", the start of every message.
   std::string context() const { return deckPath + ": body '" + body + "'"; }
@@ -38,6 +39,8 @@ struct ImportRequest {
   std::string file(const std::string& key, bool required, bool job = false) const;
 };
 
+/// An importer: turns a deck body's Mesh sublist into its full model, chosen by 'Mesh->Type' (see the
+/// file's opening comment).
 class ModelImporter {
 public:
   virtual ~ModelImporter() = default;
@@ -66,11 +69,13 @@ public:
 /// The importers by their deck names, in the order they were added (the built-in ones first).
 class ImporterRegistry {
 public:
+  /// Makes a new importer.
   using Factory = std::function<std::unique_ptr<ModelImporter>()>;
   /// Adds an importer under `name`, its deck name; an Error when the name is taken.
   static void add(const std::string& name, Factory factory);
   /// A new importer of that name; an Error names `context` and the valid names.
   static std::unique_ptr<ModelImporter> make(const std::string& name, const std::string& context);
+  /// The registered deck names, in the order they were added.
   static std::vector<std::string> names();
   /// Changes with every add(), so that a schema built from the registry knows when to rebuild.
   static int version();

@@ -13,13 +13,15 @@
 
 namespace epaphe {
 
+/// What lowestEigenpairs() computes and how far it iterates.
 struct EigenOptions {
   int count = 10;            ///< eigenpairs wanted
   double shift = 0.0;        ///< sigma
   double tolerance = 1e-10;  ///< Anasazi relative residual tolerance
-  int maxRestarts = 500;
+  int maxRestarts = 500;     ///< Anasazi's maximum number of restarts
 };
 
+/// Eigenpairs and the cost of computing them.
 struct EigenResult {
   std::vector<double> lambda;         ///< ascending eigenvalues (omega^2)
   Teuchos::RCP<MultiVector> vectors;  ///< M-orthonormal eigenvectors, same order

@@ -5,6 +5,7 @@
 
 namespace epaphe {
 
+/// A solver of K in the reductions: Amesos2 MUMPS, Amesos2 KLU2 or Belos CG.
 enum class LinearSolver { Mumps = 0, Klu2 = 1, BelosCg = 2 };
 
 /// "MUMPS", "KLU2" or "Belos CG".

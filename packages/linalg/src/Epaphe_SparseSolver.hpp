@@ -11,11 +11,13 @@
 
 namespace epaphe {
 
+/// A sparse symmetric matrix A factored once (or solved iteratively), solving A X = B for any B.
 class SparseSolver {
 public:
   virtual ~SparseSolver() = default;
   /// X = A^{-1} B.
   virtual void solve(const MultiVector& B, MultiVector& X) const = 0;
+  /// The solver's name ("MUMPS", "KLU2", "Belos CG"), for reports.
   virtual std::string name() const = 0;
   /// Iterations of all solves so far (0 for direct solvers).
   virtual long iterations() const { return 0; }

@@ -20,8 +20,8 @@ namespace epaphe {
 
 /// A rotation axis: a point of it and its direction (unit length; see spinAxis()).
 struct SpinAxis {
-  std::array<double, 3> point{{0, 0, 0}};
-  std::array<double, 3> direction{{0, 0, 1}};
+  std::array<double, 3> point{{0, 0, 0}};      ///< a point of the axis (m)
+  std::array<double, 3> direction{{0, 0, 1}};  ///< its unit direction
 };
 
 /// The axis through `point` along `direction`, normalised; an Error names `context` when the
@@ -32,9 +32,9 @@ SpinAxis spinAxis(const std::array<double, 3>& point, const std::array<double, 3
 /// Per unit speed: f_c (Omega^2 f_c is the load), M_perp (-Omega^2 M_perp is the spin softening) and
 /// G / 2 (Omega G is the Coriolis matrix), over the model's free DOFs.
 struct CentrifugalTerms {
-  Teuchos::RCP<MultiVector> load;  ///< one column
-  Teuchos::RCP<CrsMatrix> perpendicularMass;
-  Teuchos::RCP<CrsMatrix> coriolis;
+  Teuchos::RCP<MultiVector> load;             ///< one column
+  Teuchos::RCP<CrsMatrix> perpendicularMass;  ///< M_perp, per unit speed squared
+  Teuchos::RCP<CrsMatrix> coriolis;           ///< G / 2, per unit speed
 };
 
 /// Assembles the centrifugal terms of a model built from its elements (model.material set); an

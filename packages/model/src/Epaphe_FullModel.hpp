@@ -17,11 +17,12 @@
 
 namespace epaphe {
 
+/// A full finite-element model: its mesh, the DOF map and K and M over the free DOFs (distributed).
 struct FullModel {
-  std::string name;
-  Mesh mesh;
+  std::string name;     ///< the body's name
+  Mesh mesh;            ///< the mesh (nodes, hexahedra, node sets)
   std::vector<int> eq;  ///< 3 * node + direction -> free DOF index, or -1 when constrained
-  int numFree = 0;
+  int numFree = 0;      ///< the number of free DOFs (the size of K and M)
   ///@{
   Teuchos::RCP<CrsMatrix> K, M;  ///< over the free DOFs, row map contiguous and uniform
   ///@}
@@ -30,6 +31,7 @@ struct FullModel {
   /// imported model, whose elements Epaphe does not know.
   std::optional<Material> material;
 
+  /// The number of nodes of the mesh.
   int numNodes() const { return mesh.numNodes(); }
 };
 

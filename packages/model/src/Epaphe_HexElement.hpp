@@ -5,6 +5,7 @@
 
 namespace epaphe {
 
+/// An isotropic linear elastic material.
 struct Material {
   double density = 0;  ///< kg/m^3
   double young = 0;    ///< Pa

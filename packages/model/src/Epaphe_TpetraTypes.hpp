@@ -7,11 +7,18 @@
 #include <Tpetra_Operator.hpp>
 
 namespace epaphe {
+/// Matrix and vector entries.
 using Scalar = double;
+/// Local ordinals.
 using LO = int;
+/// Global ordinals.
 using GO = int;
+/// A Tpetra map of the DOFs over the ranks.
 using Map = Tpetra::Map<LO, GO>;
+/// A distributed sparse matrix.
 using CrsMatrix = Tpetra::CrsMatrix<Scalar, LO, GO>;
+/// A distributed block of vectors.
 using MultiVector = Tpetra::MultiVector<Scalar, LO, GO>;
+/// An operator on MultiVector (Anasazi, Belos).
 using Operator = Tpetra::Operator<Scalar, LO, GO>;
 }  // namespace epaphe

@@ -18,11 +18,12 @@
 
 namespace epaphe {
 
+/// The options of a Craig-Bampton, Guyan or massless-boundary reduction.
 struct CraigBamptonOptions {
   int modes = 0;                              ///< fixed-interface modes kept
   LinearSolver solver = LinearSolver::Mumps;  ///< K_CC: Amesos2 MUMPS or KLU2 (one factor), or Belos CG (iterative)
   double iterativeTolerance = 1e-12;          ///< Belos CG: relative residual of each solve
-  double eigenTolerance = 1e-10;
+  double eigenTolerance = 1e-10;              ///< Anasazi's relative residual tolerance of the fixed-interface modes
   /// Craig-Bampton and Guyan: the full model's lowest `checkFrequencies` frequencies, computed
   /// through the reduction's K_CC factor (no second factorization) into ReducedModel::fullFrequencies
   /// (left empty when the body has a free rigid motion; fullModelFrequencies then serves). 0: none.
@@ -38,17 +39,25 @@ struct CraigBamptonOptions {
   /// Massless boundary: every eigenpair at once by LAPACK on the dense matrices (small models)
   /// instead of Anasazi's lowest ones.
   bool denseEigen = false;
-  std::array<double, 3> loadDirection{0.0, 0.0, 0.0};
+  std::array<double, 3> loadDirection{
+      0.0, 0.0, 0.0};  ///< Massless boundary: the direction of the load that selects the modes (candidates > 0)
   /// Craig-Bampton: the basis only (recovery, modeFrequencies); K and M are not projected (left
   /// empty), for callers that project on a basis of their own (Epaphe_SpeedParametricModel.hpp).
   bool basisOnly = false;
 };
 
+/// What a reduction did and what it cost (wall times in s).
 struct ReductionReport {
   double seconds = 0;  ///< wall time of the whole reduction
+  /// wall times of the phases: factorization of K_CC, constraint modes, eigenmodes, projection
+  ///@{
   double factorSeconds = 0, constraintSeconds = 0, eigenSeconds = 0, projectSeconds = 0;
+  ///@}
   double checkSeconds = 0;  ///< the frequency check (checkFrequencies), not part of `seconds`
+  /// retained DOFs (kept physical) and condensed DOFs (the interior)
+  ///@{
   int retainedDofs = 0, condensedDofs = 0;
+  ///@}
   int eigenIterations = 0;       ///< Anasazi iterations
   long eigenSolves = 0;          ///< vectors through the shift-invert operator
   double eigenSolveSeconds = 0;  ///< of eigenSeconds, the time in the operator (M products and solves)

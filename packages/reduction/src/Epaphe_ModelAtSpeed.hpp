@@ -23,37 +23,40 @@ namespace epaphe {
 /// `staticTolerance` of the linear one, else the linear one.
 enum class StaticState { Linear = 0, StressStiffened = 1, Automatic = 2 };
 
+/// The rotation of a body: its speed and axis and how its model at speed is made (see modelAtSpeed()).
 struct RotationOptions {
-  double speed = 0;  ///< Omega (rad/s); the sign gives the sense about the axis
-  SpinAxis axis;
+  double speed = 0;              ///< Omega (rad/s); the sign gives the sense about the axis
+  SpinAxis axis;                 ///< the rotation axis
   bool stressStiffening = true;  ///< K_sigma
   bool spinSoftening = true;     ///< -Omega^2 M_perp, in the static state and in K(Omega)
   bool coriolis = false;         ///< keep the Coriolis terms Omega G in the dynamics ('Rotation->Coriolis')
-  StaticState staticState = StaticState::Automatic;
-  double staticTolerance = 0.01;
-  LinearSolver solver = LinearSolver::Mumps;
+  StaticState staticState = StaticState::Automatic;  ///< which static state (see StaticState)
+  double staticTolerance = 0.01;  ///< Automatic: the relative change of the largest displacement above which the
+                                  ///< stress-stiffened state is kept
+  LinearSolver solver = LinearSolver::Mumps;  ///< the solver of the static states
   /// A starting guess of the stress-stiffened state (3 per node), used with StaticState::StressStiffened
   /// only: the fixed point starts there instead of at the linear state, which is then not computed
   /// (SpeedReport::linearLargest and stiffenedChange are 0). Empty: start at the linear state.
   std::vector<double> initialState;
 };
 
+/// What making the model at speed found: the static state and what it cost.
 struct SpeedReport {
-  double speed = 0;
+  double speed = 0;                        ///< Omega (rad/s)
   std::vector<double> staticDisplacement;  ///< u_s, 3 per node (mesh order)
   double largestDisplacement = 0;          ///< max over nodes of |u_s| (m)
-  int largestNode = -1;
-  double linearLargest = 0;    ///< the linear static state's largest |u_s| (m)
-  double stiffenedChange = 0;  ///< |largest stress-stiffened / largest linear - 1|, when computed
-  bool stiffened = false;      ///< u_s is the stress-stiffened state
-  int passes = 0;              ///< its fixed-point passes
+  int largestNode = -1;                    ///< the node of the largest displacement (-1: none moved)
+  double linearLargest = 0;                ///< the linear static state's largest |u_s| (m)
+  double stiffenedChange = 0;              ///< |largest stress-stiffened / largest linear - 1|, when computed
+  bool stiffened = false;                  ///< u_s is the stress-stiffened state
+  int passes = 0;                          ///< its fixed-point passes
   /// Omega ||G|| / sqrt(||K(Omega)|| ||M||) in the Frobenius norm (both kg/s): the size of the Coriolis
   /// terms against the stiffness and inertia they act beside (a ratio, not an error estimate).
   double coriolisRatio = 0;
   /// G / 2 = int rho N^T [a]_x N per unit speed over the free DOFs (CentrifugalTerms::coriolis), on the
   /// mesh at rest.
   Teuchos::RCP<const CrsMatrix> coriolis;
-  double seconds = 0;
+  double seconds = 0;  ///< wall time (s)
 };
 
 /// The model at speed (see above); `rest` must come from built-in elements (rest.material). The

@@ -30,21 +30,30 @@ namespace epaphe {
 /// `count` frequencies (Hz), at the cost of what the reduction has not computed yet. A lumped model's
 /// own frequencies (it has no dense matrices to give them) come in `lumped`.
 struct FrequencyCheck {
+  /// the full model's lowest frequencies (Hz); a lumped model's own
+  ///@{
   std::vector<double> full, lumped;
+  ///@}
   bool reused = false;            ///< the reduction's own modes are the full model's (massless boundary)
   bool throughReduction = false;  ///< computed by the reduction through its factor (Craig-Bampton, Guyan)
-  double seconds = 0;
+  double seconds = 0;             ///< wall time (s)
 };
 
 /// What the checks made before any model is built know of a body with a built-in mesh.
 struct ReductionMeshFacts {
   std::string context;                      ///< "<deck>: body '<name>'"
   const Teuchos::ParameterList* reduction;  ///< the body's Reduction sublist
+  /// free DOFs of the full model, DOFs of the retained nodes
+  ///@{
   int freeDofs = 0, retainedDofs = 0;
-  std::string clampedSet;  ///< 'Clamped node set' ("" for a free body)
-  std::array<double, 3> gravity{0, 0, 0};
+  ///@}
+  std::string clampedSet;                  ///< 'Clamped node set' ("" for a free body)
+  std::array<double, 3> gravity{0, 0, 0};  ///< the body's gravity (m/s^2)
 };
 
+/// A reduction method: what turns a body's full model into the model the loop steps, chosen by
+/// 'Reduction->Method' (see the file's opening comment). Each owns its Reduction keys and answers the
+/// checks, the cache and the frequency check.
 class ReductionMethod {
 public:
   virtual ~ReductionMethod() = default;
@@ -106,11 +115,13 @@ public:
 /// The methods by their deck names, in the order they were added (the built-in ones first).
 class ReductionRegistry {
 public:
+  /// Makes a new method.
   using Factory = std::function<std::unique_ptr<ReductionMethod>()>;
   /// Adds a method under `name`, its deck name; an Error when the name is taken.
   static void add(const std::string& name, Factory factory);
   /// A new method of that name, without parameters; an Error names `context` and the valid names.
   static std::unique_ptr<ReductionMethod> make(const std::string& name, const std::string& context);
+  /// The registered deck names, in the order they were added.
   static std::vector<std::string> names();
   /// Changes with every add(), so that a schema built from the registry knows when to rebuild.
   static int version();
@@ -127,11 +138,13 @@ CraigBamptonOptions craigBamptonOptions(const Teuchos::ParameterList& reductionP
 /// which epaphe-modes varies (the mode count) to show the convergence.
 class ModalReduction : public ReductionMethod {
 public:
+  /// The options, which the deck's keys set (setParameters) and epaphe-modes varies.
   CraigBamptonOptions& options() { return options_; }
+  /// The options.
   const CraigBamptonOptions& options() const { return options_; }
 
 protected:
-  CraigBamptonOptions options_;
+  CraigBamptonOptions options_;  ///< set by setParameters()
 };
 
 }  // namespace epaphe

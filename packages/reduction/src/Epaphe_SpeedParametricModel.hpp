@@ -34,6 +34,7 @@
 
 namespace epaphe {
 
+/// One reduced model of a rotating body over a speed range (see the file's opening comment).
 struct SpeedParametricModel {
   /// The model on the common basis T: K = C_0 (the stiffness at rest), M = T^T M T, recovery = T,
   /// coords at rest; its size N, numModes = N - retained DOFs; its kind says the method. A massless
@@ -47,7 +48,9 @@ struct SpeedParametricModel {
   /// The static state of every sample (an Automatic choice resolved at the highest speed).
   StaticState staticState = StaticState::Linear;
 
+  /// The slowest sample speed (rad/s).
   double minSpeed() const { return speeds.front(); }
+  /// The fastest sample speed, Omega_max (rad/s).
   double maxSpeed() const { return speeds.back(); }
   /// T^T K(Omega) T.
   std::vector<double> stiffnessAt(double speed) const;
@@ -64,9 +67,10 @@ struct SpeedParametricModel {
   /// basis S, K_r(xi) = sum_k xi^k R_k with R_k = S^T C_k S (R_0 from C_0, the stiffness at rest): the
   /// same polynomial in xi as the common-basis model, of the run's size, evaluated without a reduction.
   struct FixedBasis {
-    ReducedModel model;
+    ReducedModel model;                          ///< the model at the speed, as at()
     std::vector<std::vector<double>> stiffness;  ///< R_0 .. R_(S-1), n x n column-major each
   };
+  /// The model at `speed` with `modes` modes and its stiffness over the range on that basis (see FixedBasis).
   FixedBasis onFixedBasis(double speed, int modes, const std::string& context) const;
   /// xi = (speed / maxSpeed)^2, the variable of the polynomials.
   double xiOf(double speed) const { return (speed / maxSpeed()) * (speed / maxSpeed()); }
@@ -94,6 +98,7 @@ SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std
 SpeedParametricModel parametricMasslessBoundary(const FullModel& rest, const std::vector<int>& retained,
                                                 const CraigBamptonOptions& options, const RotationOptions& rotation,
                                                 std::vector<double> speeds, ReductionReport* report = nullptr);
+/// The same from the models of `source` at `speeds`.
 SpeedParametricModel parametricMasslessBoundary(SpeedSampleSource& source, const std::vector<int>& retained,
                                                 const CraigBamptonOptions& options, std::vector<double> speeds,
                                                 ReductionReport* report = nullptr);

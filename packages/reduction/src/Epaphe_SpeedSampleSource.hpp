@@ -12,6 +12,7 @@
 
 namespace epaphe {
 
+/// The full model of a rotating body at one speed.
 struct SpeedSample {
   FullModel model;                         ///< K(Omega) and M over the reference's DOF numbering
   std::vector<double> staticDisplacement;  ///< u_s(Omega), 3 per node (mesh order)
@@ -19,6 +20,7 @@ struct SpeedSample {
   SpeedReport report;                      ///< Epaphe's elements: the static state's report (speed 0 otherwise)
 };
 
+/// Where the full models of a rotating body at the sample speeds come from (see the file's opening comment).
 class SpeedSampleSource {
 public:
   virtual ~SpeedSampleSource() = default;
@@ -41,6 +43,7 @@ public:
 /// stress-stiffened fixed point starts at the previous sample's state scaled by (Omega / Omega_prev)^2.
 class BuiltInSpeedSource : public SpeedSampleSource {
 public:
+  /// Samples of `rest` (built-in elements) about `rotation`'s axis with its options (its speed is ignored).
   BuiltInSpeedSource(const FullModel& rest, const RotationOptions& rotation) : rest_(rest), common_(rotation) {}
   const FullModel& reference() const override { return rest_; }
   SpeedSample sample(double speed) override;
