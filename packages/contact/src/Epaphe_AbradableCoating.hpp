@@ -49,7 +49,10 @@ struct CoatingMaterial {
 
 /// One element's law (its surface's t, E, sigma_Y, H and its face area A), copied by value in kernels.
 struct ElementLaw {
+  /// t (m), E (Pa), sigma_Y (Pa), H (Pa), A_e (m^2)
+  ///@{
   double t = 0, E = 0, sY = 0, H = 0, A = 0;
+  ///@}
 
   /// The current yield stress sigma_y(u_p) = sigma_Y + H u_p / t is not reached at penetration p
   /// beyond the worn front (compression u_p + p): the elastic branch.
@@ -85,11 +88,11 @@ struct ElementLaw {
 /// Every coated surface's elements, concatenated; copied by value into kernels. Per surface s:
 /// law(s) = {t, E, sigma_Y, H}, grid(s) = {n_u, n_v, first element} (n_u = 0: no coating).
 struct CoatingViews {
-  Kokkos::View<double* [4]> law;
-  Kokkos::View<int* [3]> grid;
-  Kokkos::View<double*> wear;  ///< [e] plastic shortening u_p (m)
-  Kokkos::View<double*> area;  ///< [e] face area A_e (m^2)
-  Kokkos::View<int*> surface;  ///< [e] its surface
+  Kokkos::View<double* [4]> law;  ///< [s] t, E, sigma_Y, H of surface s's coating
+  Kokkos::View<int* [3]> grid;    ///< [s] n_u, n_v, first element of surface s's coating (n_u = 0: none)
+  Kokkos::View<double*> wear;     ///< [e] plastic shortening u_p (m)
+  Kokkos::View<double*> area;     ///< [e] face area A_e (m^2)
+  Kokkos::View<int*> surface;     ///< [e] its surface
 
   /// Element of surface s under the foot point (u, v) (s's own parameters), -1 without a coating.
   /// `previous`: the element the node had on s at its last projection (-1: none): it is kept while
@@ -117,7 +120,9 @@ struct CoatingViews {
   }
   /// How far surface s's profile lies in front of the surface at element e: t - u_p (0 without one).
   KOKKOS_INLINE_FUNCTION double offset(int s, int e) const { return e < 0 ? 0.0 : law(s, 0) - wear(e); }
+  /// The number of elements of all coatings.
   int numElements() const { return static_cast<int>(wear.extent(0)); }
+  /// True when some surface has a coating.
   bool any() const { return wear.extent(0) > 0; }
 };
 

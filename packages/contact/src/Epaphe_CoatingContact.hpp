@@ -32,12 +32,15 @@
 
 namespace epaphe {
 
+/// The enforcement of contact with an abradable coating (see the file's opening comment): states each
+/// node's row on its branch of the element law and lets the deck's law solve the rows.
 class CoatingContact final : public ContactEnforcement {
 public:
   /// `inner`: the law of the deck (Lagrange or penalty, with friction when mu > 0), which solves
   /// the rows this law states; kp: the penalty stiffness beyond a crushed coating (penalty only).
   CoatingContact(std::unique_ptr<ContactEnforcement> inner, bool penalty, double kp, const CoatingViews& coat,
                  int numNodes);
+  /// "Abradable coating".
   const char* name() const override { return "Abradable coating"; }
   void enforce(const ContactStepViews& v, std::vector<int>& active, const DenseVector& q,
                const DenseVector* qn) override;
@@ -53,13 +56,17 @@ public:
   /// Plastic dissipation summed over the run (J), and the elastic energy the loaded elements hold
   /// after the last step (J).
   double plasticDissipation() const { return energy_(0); }
+  /// The elastic energy the loaded elements hold after the last step (J).
   double elasticEnergy() const { return energy_(1); }
   /// Restores the dissipation (checkpoints; the elastic energy follows at the next step).
   void setPlasticDissipation(double d) { energy_(0) = d; }
   /// Branch passes of the last Lagrange step.
   int lastBranchPasses() const { return lastBranchPasses_; }
 
+  /// A node's branch of the law: crushed (the rigid surface behind), elastic, plastic
+  ///@{
   static constexpr int kRigid = 0, kElastic = 1, kPlastic = 2;
+  ///@}
 
 private:
   void setRows(const ContactStepViews& v, const Kokkos::View<int*>& active, int nA);

@@ -61,11 +61,12 @@ double radialTurnRate(const BSplineSurface& surface, const std::array<double, 3>
 /// of the input layout (node (i, j) at i * inputNv + j) its 3 DOF indices in q (-1: a clamped DOF)
 /// and its reference position.
 struct ContactSurface {
-  const BSplineSurface* surface = nullptr;
-  BSplineSurface* moving = nullptr;
-  int block = -1;
-  std::vector<int> gridDofs;
-  std::vector<double> gridX;
+  const BSplineSurface* surface =
+      nullptr;                       ///< the surface as built (rigid), or at its reference configuration (carried)
+  BSplineSurface* moving = nullptr;  ///< a carried surface, rebuilt at each step; null when rigid
+  int block = -1;                    ///< the body carrying it (-1: rigid)
+  std::vector<int> gridDofs;         ///< per grid node, its 3 DOF indices in q (-1: clamped)
+  std::vector<double> gridX;         ///< per grid node, its reference position, 3 per node (m)
   /// A surface (rigid or carried) may turn about `axis` (unit) through `center` at `omega` rad/s in
   /// the contact nodes' frame (thesis section 3.3: the contact zone of a rotating blade turns, the
   /// blade stays): at time t (setTime) it is its surface rotated by omega t + phase. Nodes are
@@ -75,15 +76,19 @@ struct ContactSurface {
   double phase = 0.0;  ///< angle (rad) at t = 0: the surface is turned by omega t + phase
   /// A run-up (law.ramp): the surface is turned by law.angle(t) + phase instead (Epaphe_SpeedLaw.hpp).
   SpeedLaw law{};
+  /// the turning axis (unit) and a point of it (m)
+  ///@{
   std::array<double, 3> axis{0.0, 0.0, 1.0}, center{0.0, 0.0, 0.0};
+  ///@}
   /// An abradable coating in front of a rigid surface (Epaphe_AbradableCoating.hpp; elements {0, 0}:
   /// none): the node's gap is measured to the coating's current profile.
   CoatingMaterial coating{};
 };
 
+/// The closest-point Newton iterations and the detection's options (the deck's Contact keys).
 struct DetectionOptions {
-  double nrTolerance = 1e-8;  ///< crit_NR: Newton stop on the parameter step
-  int nrMaxIterations = 50;
+  double nrTolerance = 1e-8;    ///< crit_NR: Newton stop on the parameter step
+  int nrMaxIterations = 50;     ///< Newton's iteration limit
   double edgeTolerance = 1e-3;  ///< a node beyond an open edge by less (in patches) still touches
   bool skipDistant = true;      ///< skip the projection of nodes certified out of contact
 };
@@ -91,10 +96,13 @@ struct DetectionOptions {
 /// What a detection cannot see, guarded (Epaphe_ContactGuards.hpp): a node moving farther than a
 /// patch per step, and nodes inside a surface at t = 0.
 enum class InitialPenetration { Refuse = 0, ResolveGently = 1 };
+/// What the run guards allow (the deck's Contact keys).
 struct GuardOptions {
-  bool allowLargeMotion = false;
-  InitialPenetration initialPenetration = InitialPenetration::Refuse;
-  double rampTime = 0.0;  ///< T (s); 0: 100 time steps
+  bool allowLargeMotion =
+      false;  ///< a node moving farther than the smallest patch in a step is a warning, not an error
+  InitialPenetration initialPenetration =
+      InitialPenetration::Refuse;  ///< refuse nodes inside a surface at t = 0, or push them out over a ramp
+  double rampTime = 0.0;           ///< T (s); 0: 100 time steps
 };
 /// The guards' keys of a validated Contact list (see ContactDetection::getValidParameters).
 GuardOptions guardOptions(const Teuchos::ParameterList& contact);
@@ -104,9 +112,15 @@ DetectionOptions detectionOptions(const Teuchos::ParameterList& contact);
 /// The skipping of nodes certified out of contact, per node k unless said: position, time and
 /// smallest gap of the last projection; eligible: it may be skipped.
 struct SkipViews {
-  Kokkos::View<double* [3]> xLast;
+  Kokkos::View<double* [3]> xLast;  ///< [k] position at the last projection
+  /// [k] time and smallest gap of the last projection
+  ///@{
   Kokkos::View<double*> tLast, gLast;
+  ///@}
+  /// [k] may be skipped; skipped this step; to project in refine()
+  ///@{
   Kokkos::View<int*> eligible, skipped, refine;
+  ///@}
   Kokkos::View<double*> bound;        ///< a lower bound of a skipped node's gap
   Kokkos::View<double*> travel;       ///< [s] T_s: the carried surface's summed largest control-point motion
   Kokkos::View<double**> travelLast;  ///< [k][s] T_s at the node's last projection
@@ -115,6 +129,7 @@ struct SkipViews {
 /// Everything the detection kernel reads and writes, allocated once at setup; copied by value into
 /// the kernel (views only). Per node k unless said; per surface s for the surface data.
 struct DetectionViews {
+  /// A view of 3-vectors, [k][3].
   using Vec3 = Kokkos::View<double* [3]>;
   Kokkos::View<int* [3]> dof;         ///< q index of each contact node DOF
   Vec3 X;                             ///< reference positions
@@ -134,18 +149,20 @@ struct DetectionViews {
   /// initial penetrations resolved gently (setPenetrationOffsets): the depth d_k >= 0 added to the
   /// gap on surface offsetSurf(k) (-1: none), ramped down to 0 at the ramp's end
   Kokkos::View<double*> offset;
-  Kokkos::View<int*> offsetSurf;
+  Kokkos::View<int*> offsetSurf;  ///< [k] the surface the offset applies to (-1: none)
   /// abradable coatings: the gap on a coated surface is to its profile, the surface moved towards
   /// the node by t - u_p of the element under the foot point (element(k), -1: none); skipping bounds
   /// use the unworn profile (t), which no node can have passed unprojected
   CoatingViews coat;
-  Kokkos::View<int*> element;
+  Kokkos::View<int*> element;  ///< [k] the coating element under the foot point (-1: none)
 
   /// The same views, unmanaged (Epaphe_Parallel.hpp: unmanaged): what the step copies into its
   /// kernels, counting no references; this object keeps the memory.
   DetectionViews untracked() const;
 };
 
+/// Contact detection (see the file's opening comment): closest points and gaps of the contact nodes on
+/// every surface, with the skipping of distant nodes, warm starts and initial-penetration offsets.
 class ContactDetection {
 public:
   /// `dofs` and `X`: 3 per node. Surfaces outlive this object.
@@ -171,16 +188,22 @@ public:
   /// carried surface's last control points): restored by setSkipState, a restart skips exactly as
   /// the uninterrupted run.
   std::vector<double> skipState() const;
+  /// Restores the state skipState() returned.
   void setSkipState(const std::vector<double>& state);
 
+  /// The views the kernels read and write (gaps, normals, foot points, skipping).
   const DetectionViews& views() const { return v_; }
+  /// The number of contact nodes.
   int numNodes() const { return static_cast<int>(v_.gap.extent(0)); }
+  /// The number of surfaces.
   int numSurfaces() const { return static_cast<int>(surfaces_.size()); }
+  /// The surfaces, in the contact's order.
   const std::vector<ContactSurface>& surfaces() const { return surfaces_; }
   /// The smallest distance between neighbouring grid nodes of any surface (its patch size, at the
   /// reference configuration), and that surface's index: the scale of the run guards
   /// (Epaphe_ContactGuards.hpp).
   double smallestPatch() const { return smallestPatch_; }
+  /// The index of the surface of smallestPatch().
   int smallestPatchSurface() const { return smallestPatchSurface_; }
   /// Initial penetrations resolved gently: node k's gap on the surface selected by the last
   /// detect() is raised by depth[k] (0: none) times (1 - t / rampEnd) while t < rampEnd, so the
@@ -191,9 +214,11 @@ public:
   double penetrationRampEnd() const { return rampEnd_; }
   /// Nodes projected by the last detect() (with refine()), and their Newton iterations (max).
   int lastProjected() const { return lastProjected_; }
+  /// The largest Newton iteration count of the last detect().
   int lastIterations() const { return lastIterations_; }
   /// Warm starts, surface s and node k at 2 (s numNodes() + k) (see SurfaceContact::warmStarts).
   std::vector<double> warmStarts() const;
+  /// Restores warm starts from warmStarts().
   void setWarmStarts(const std::vector<double>& uv);
 
 private:

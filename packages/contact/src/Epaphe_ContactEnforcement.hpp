@@ -34,7 +34,8 @@ class CoatingContact;
 /// law, Epaphe_ContactLaw.hpp; then the law's own keys, friction's and the detection's; a key not
 /// given takes its default) and the time step.
 struct ContactOptions {
-  Teuchos::ParameterList contact{"Contact"};
+  Teuchos::ParameterList contact{
+      "Contact"};         ///< the Contact list: 'Method', the law's keys, friction's and the detection's
   double timeStep = 0.0;  ///< h: the rotation of turning surfaces over a step (friction)
   /// Sets a key of the Contact list ("Method", "Penalty stiffness", "Friction coefficient", ...).
   template <class T>
@@ -42,6 +43,7 @@ struct ContactOptions {
     contact.set(key, value);
     return *this;
   }
+  /// Same, for a string value given as a C string.
   ContactOptions& set(const std::string& key, const char* value) { return set(key, std::string(value)); }
   /// The Contact list with every key (defaults for those not set).
   Teuchos::ParameterList complete() const;
@@ -52,6 +54,7 @@ struct ContactOptions {
 /// What a strategy reads and writes at a step, per contact node k unless said. Views only: copy
 /// members into kernels by value.
 struct ContactStepViews {
+  /// A view of 3-vectors, [k][3].
   using Vec3 = Kokkos::View<double* [3]>;
   Kokkos::View<double*> gap;  ///< g*_k (detection)
   Kokkos::View<int*> surf;    ///< selected surface (-1: none)
@@ -71,7 +74,7 @@ struct ContactStepViews {
   /// when `rows` is set: row(k) = {alpha, beta, gamma}; {1, 0, -g*_k} is the rigid Lagrange row
   /// (eq. 2.33) and {0, 1, F} a known force F (penalty). Lagrange and friction solve these rows.
   Kokkos::View<double* [3]> row;
-  bool rows = false;
+  bool rows = false;           ///< true when the law states its rows in `row` (a coating), false for the rigid rows
   Kokkos::View<int*> element;  ///< coating element under node k (-1: none; detection)
   CoatingViews coat;           ///< the coatings (detection)
   /// Copies the host list into `active` (no allocation) and returns the view of its entries.
@@ -90,9 +93,12 @@ struct SelfLocking {
   int sliding = 0;          ///< sliding nodes checked
 };
 
+/// A contact law's enforcement at a step (see the file's opening comment): forces and directions of the
+/// active nodes, the nodes it releases, and what it carries from step to step.
 class ContactEnforcement {
 public:
   virtual ~ContactEnforcement() = default;
+  /// The law's name ("Lagrange", "Penalty", "Coulomb friction", ...), for messages.
   virtual const char* name() const = 0;
   /// Forces and directions of the nodes in `active` (C of their pairs is up to date). q: predicted
   /// coordinates q*; qn: q_n (nullptr: no motion over the step, no friction direction). Nodes the

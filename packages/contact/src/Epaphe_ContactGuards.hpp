@@ -46,11 +46,13 @@ struct PenetrationReport {
   int node = -1;                                  ///< contact index of the deepest node
   int surface = -1;                               ///< the surface it penetrates
   std::array<double, 3> position{0.0, 0.0, 0.0};  ///< its position at t = 0
-  double tolerance = 0.0;
+  double tolerance = 0.0;     ///< the depth below which a gap counts as a penetration (m, 1e-6 of the smallest patch)
   int facing = 0;             ///< nodes over a surface at t = 0 (their projection inside it)
   std::vector<double> depth;  ///< per node, 0 when not penetrating
 };
 
+/// The run guards (see the file's opening comment): the motion of the contact nodes per step against
+/// the smallest patch, and the initial penetrations.
 class ContactGuards {
 public:
   /// `bodyNames[b]`: the name of block b, for messages; `origin` names the deck.
@@ -79,6 +81,7 @@ public:
   std::string checkStep(const SurfaceContact& contact, const DenseVector& qNew, const DenseVector& qOld, double t,
                         double h) const;
 
+  /// The options it was made with.
   const GuardOptions& options() const { return opt_; }
 
 private:

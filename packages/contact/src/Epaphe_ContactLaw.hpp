@@ -30,6 +30,8 @@ struct ContactLawSetup {
   double timeStep = 0.0;  ///< h (friction: the turning surfaces' motion over a step)
 };
 
+/// A contact law as the deck names it (see the file's opening comment): its keys, the enforcement it
+/// makes and its answers to the checks made before a run.
 class ContactLaw {
 public:
   virtual ~ContactLaw() = default;

@@ -18,6 +18,8 @@
 
 namespace epaphe {
 
+/// Coulomb friction with a normal law (see the file's opening comment): a joint normal-tangential solve
+/// over the active set with stick/slip classification, and the self-locking check.
 class CoulombFriction final : public ContactEnforcement {
 public:
   /// mu > 0; normal law: penalty (stiffness kp) or Lagrange; h: the time step (turning surfaces'
@@ -29,6 +31,7 @@ public:
                   std::unique_ptr<ContactEnforcement> frictionless, bool warm = true);
   /// Its deck keys in the Contact list: Friction coefficient.
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
+  /// "Coulomb friction".
   const char* name() const override { return "Coulomb friction"; }
   void enforce(const ContactStepViews& v, std::vector<int>& active, const DenseVector& q,
                const DenseVector* qn) override;

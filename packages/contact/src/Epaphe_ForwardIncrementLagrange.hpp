@@ -8,11 +8,14 @@
 
 namespace epaphe {
 
+/// Forward-increment Lagrange multipliers, frictionless (see the file's opening comment).
 class ForwardIncrementLagrange final : public ContactEnforcement {
 public:
+  /// `lumped`: lump MC (MC_aa = sum_b MC_ab); `numNodes`: the contact nodes (work arrays sized once).
   ForwardIncrementLagrange(bool lumped, int numNodes);
   /// Its deck keys in the Contact list: Lump contact matrix.
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
+  /// "Lagrange".
   const char* name() const override { return "Lagrange"; }
   void enforce(const ContactStepViews& v, std::vector<int>& active, const DenseVector& q,
                const DenseVector* qn) override;
@@ -28,9 +31,11 @@ private:
 /// Penalty (thesis eq. 2.34), frictionless: lambda_a = k_p (-g*_a), c_a = n_a.
 class PenaltyContact final : public ContactEnforcement {
 public:
+  /// The penalty stiffness k_p (N/m).
   explicit PenaltyContact(double stiffness);
   /// Its deck keys in the Contact list: Penalty stiffness.
   static Teuchos::RCP<const Teuchos::ParameterList> getValidParameters();
+  /// "Penalty".
   const char* name() const override { return "Penalty"; }
   void enforce(const ContactStepViews& v, std::vector<int>& active, const DenseVector& q,
                const DenseVector* qn) override;

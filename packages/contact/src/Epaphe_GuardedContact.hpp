@@ -9,6 +9,7 @@
 
 namespace epaphe {
 
+/// SurfaceContact and its run guards as the explicit loop's ContactCorrector (see the file's opening comment).
 class GuardedContact final : public ContactCorrector {
 public:
   /// Both outlive this object.
@@ -30,7 +31,9 @@ public:
   Kokkos::View<double*>::HostMirror forces() const override { return contact_.force(); }
   void setReferencePositions(const std::vector<double>& X) override { contact_.setReferencePositions(X); }
 
+  /// The contact operator.
   SurfaceContact& contact() const { return contact_; }
+  /// The run guards.
   const ContactGuards& guards() const { return guards_; }
 
 private:

@@ -28,7 +28,10 @@ namespace epaphe {
 
 /// One body's block of the system coordinates: q[offset, offset + size).
 struct ContactBlock {
+  /// q[offset, offset + size)
+  ///@{
   int offset = 0, size = 0;
+  ///@}
 };
 
 /// The contact nodes: per node its 3 DOF indices in the system q, its reference position, the block
@@ -38,6 +41,7 @@ struct ContactNodes {
   std::vector<double> X;    ///< 3 per node
   std::vector<int> block;   ///< 1 per node
   std::vector<int> labels;  ///< 1 per node
+  /// Appends a node: its label, its block, its 3 DOF indices in q and its reference position (m).
   void add(int label, int blk, const int dof[3], const double x[3]) {
     labels.push_back(label);
     block.push_back(blk);
@@ -52,12 +56,12 @@ struct ContactNodes {
 /// from gridOff(s), operators B_u, B_v (row-major) from opOff(s, 0..1); info(s) = {block (-1:
 /// rigid), nu, nv, input nv, periodic u, periodic v}. Made once.
 struct CarriedSurfaceViews {
-  Kokkos::View<int* [3]> gridDof;
-  Kokkos::View<int*> gridOff;
-  Kokkos::View<int* [2]> opOff;
-  Kokkos::View<double*> ops;
-  Kokkos::View<int* [6]> info;
-  int maxGrid[2] = {0, 0};  ///< largest nu, nv of a carried surface
+  Kokkos::View<int* [3]> gridDof;  ///< [grid node] its 3 DOF indices in q (-1: clamped)
+  Kokkos::View<int*> gridOff;      ///< [s] the first grid node of surface s in gridDof
+  Kokkos::View<int* [2]> opOff;    ///< [s] where B_u and B_v of surface s start in `ops`
+  Kokkos::View<double*> ops;       ///< the operators B_u, B_v of every carried surface, row-major
+  Kokkos::View<int* [6]> info;     ///< [s] block, nu, nv, input nv, periodic u, periodic v
+  int maxGrid[2] = {0, 0};         ///< largest nu, nv of a carried surface
 };
 
 /// F times the carried surfaces' interpolation and its offsets, made once (offsets -1: none).
@@ -65,21 +69,23 @@ struct ControlColumns {
   /// per carried surface on a dense block: F (B_u x B_v) on the block's rows, column (e2, a, b) of the
   /// extended control grid (nuE x nvE) at off(s) + ((e2 nuE + a) nvE + b) n
   Kokkos::View<double*> G;
-  Kokkos::View<long*> off;
-  Kokkos::View<int* [2]> dim;
+  Kokkos::View<long*> off;     ///< [s] where surface s's columns start in G (-1: none)
+  Kokkos::View<int* [2]> dim;  ///< [s] nuE, nvE of surface s's extended control grid
   /// per such surface, T's rows: tOff(s) + 3 nv A + 3 q + e2 (tRows in all)
   Kokkos::View<long*> tOff;
-  long tRows = 0;
+  long tRows = 0;  ///< rows of T in all
   /// ...the columns of s on the grid of a carried surface s2 of the same block, contracted with B_u as
   /// T is: P(s2, s) at pOff(s2, s), column (e2, a, b) of s, row 3 nv2 A + 3 q + e2'
   Kokkos::View<double*> P;
-  Kokkos::View<long**> pOff;
+  Kokkos::View<long**> pOff;  ///< [s2][s] where P(s2, s) starts (-1: none)
   /// per such surface: the active nodes' coefficients on its control columns at coefOff(s) +
   /// (e2 nuE + a) nvE + b (summed over the nodes, then applied by the correction)
   Kokkos::View<double*> coef;
-  Kokkos::View<long*> coefOff;
+  Kokkos::View<long*> coefOff;  ///< [s] where surface s's coefficients start in coef (-1: none)
 };
 
+/// The relative flexibility of the contact nodes and the correction (see the file's opening comment):
+/// D_k's entries, C_ab of the active pairs and dq = F G lambda.
 class RelativeFlexibility {
 public:
   /// Checks the blocks against the flexibility, each node's DOFs against its body's block, and the
@@ -110,6 +116,9 @@ public:
   RelativeMotion motion() const {
     return RelativeMotion{unmanaged(D_.dof), unmanaged(D_.w), unmanaged(D_.count), unmanaged(D_.rot)};
   }
+  /** \fn const Flexibility::Packed& RelativeFlexibility::flexibility() const
+      The system flexibility F, packed as the kernels read it. */
+  /// C_ab of the active pairs, unmanaged (see motion()).
   Kokkos::View<double** [3][3]> C() const { return unmanaged(C_); } const Flexibility::Packed& flexibility() const {
     return F_;
   }

@@ -12,10 +12,10 @@ namespace epaphe {
 /// the carrying body's frame and turned into the node's by rot(k) (R of a turning surface, else the
 /// identity). Copy into kernels by value.
 struct RelativeMotion {
-  Kokkos::View<int** [3]> dof;
-  Kokkos::View<double**> w;
-  Kokkos::View<int*> count;
-  Kokkos::View<double* [3][3]> rot;
+  Kokkos::View<int** [3]> dof;       ///< [k][m] the DOF triple of entry m (-1: clamped)
+  Kokkos::View<double**> w;          ///< [k][m] the weight of entry m
+  Kokkos::View<int*> count;          ///< [k] the number of entries
+  Kokkos::View<double* [3][3]> rot;  ///< [k] R_k turning the grid's motion into the node's frame
 
   /// r = D_k v for any accessor v(i) of the system coordinates:
   ///   r_d = v(node DOF d) + sum_e R_k(d, e) sum_(m >= 1) w_m v(grid DOF (m, e)).
@@ -45,10 +45,14 @@ struct RelativeMotion {
 /// of F, F_ii times the weights of node k's entries at DOF i (the only rows where D_k^T is not zero).
 /// Made per item inside kernels: it refers to the kernel's own copies, copies no view.
 struct FlexibleColumn {
-  const Flexibility::Packed& F;
-  const RelativeMotion& D;
-  const Kokkos::View<int*>& nodeBlock;
+  const Flexibility::Packed& F;         ///< the flexibility, packed
+  const RelativeMotion& D;              ///< the entries of D
+  const Kokkos::View<int*>& nodeBlock;  ///< [k] the block of node k
+  /// node k and direction e of the column
+  ///@{
   int k, e;
+  ///@}
+  /// F D^T (i, 3 k + e).
   KOKKOS_INLINE_FUNCTION double operator()(int i) const {
     if (F.denseRow(i) >= 0) {
       const int own = nodeBlock(k), b0 = F.blocks(own, 0), n = F.blocks(own, 1);
@@ -67,7 +71,11 @@ struct FlexibleColumn {
 /// a(i) - b(i) as an accessor.
 template <class V>
 struct Difference {
+  /// the two vectors
+  ///@{
   V a, b;
+  ///@}
+  /// a(i) - b(i).
   KOKKOS_INLINE_FUNCTION double operator()(int i) const { return a(i) - b(i); }
 };
 

@@ -116,9 +116,11 @@ public:
   void resetWarmStarts() { enforcement_->reset(); }
   /// The detection's skipping state (ContactDetection::skipState), for checkpoints.
   std::vector<double> detectionState() const { return detection_->skipState(); }
+  /// Restores the state detectionState() returned.
   void setDetectionState(const std::vector<double>& state) { detection_->setSkipState(state); }
   /// The contact nodes' reference positions (3 per node, in the order of ContactNodes).
   void setReferencePositions(const std::vector<double>& X) { detection_->setReferencePositions(X); }
+  /// The detection.
   const ContactDetection& detection() const { return *detection_; }
   /// See ContactDetection::setPenetrationOffsets (initial penetrations resolved gently).
   void setPenetrationOffsets(const std::vector<double>& depth, double rampEnd) {
@@ -127,6 +129,7 @@ public:
   /// Projections of a node on a surface done and skipped by the detections of correct() since
   /// construction.
   long long projections() const { return projections_; }
+  /// Projections skipped because the node was certified out of contact.
   long long projectionsSkipped() const { return projectionsSkipped_; }
 
   /// Work of the contact forces of the last correction over [t_{n-1}, t_{n+1}] / 2:
@@ -137,22 +140,30 @@ public:
   /// (lambda_a mu_a t_a), in that order; for diagnoses (a run that stops), not called by the loop.
   std::array<double, 2> workIncrementSplit(const DenseVector& qNext, const DenseVector& qPrev) const;
 
+  /// The number of contact nodes.
   int numNodes() const { return static_cast<int>(nodes_.size()); }
+  /// The number of active nodes after the last correct().
   int numActive() const { return numActive_; }
   /// Node labels (node numbers in their bodies) and the block of each node, in contact order.
   const std::vector<int>& nodes() const { return nodes_; }
+  /// The block (body) of each node, in contact order.
   const std::vector<int>& nodeBlocks() const { return nodeBlock_; }
   /// Per node, after correct(): gap before correction (g*) -- or after measureGaps(), the gap at
   /// that q --, force lambda (N, >= 0), surface index (-1: beyond every surface), Newton
   /// iterations, and the total normal force.
   Kokkos::View<double*>::HostMirror gap() const { return host_.gap; }
+  /// Per node, the force lambda (N, >= 0) of the last correction.
   Kokkos::View<double*>::HostMirror force() const { return host_.force; }
+  /// Per node, the surface selected (-1: beyond every surface).
   Kokkos::View<int*>::HostMirror surfaceIndex() const { return host_.surf; }
   /// Per node, after correct(): the friction coefficient mu_a actually applied, c_a = n_a + mu_a t_a
   /// (mu while sliding, 0 <= mu_a <= mu when stuck, 0 without contact or tangential force), and the
   /// unit direction t_a of the friction force (zero when there is none); both stay zero when
   /// 'Friction coefficient' = 0.
   Kokkos::View<double*>::HostMirror appliedFriction() const { return host_.mu; }
+  /** \fn int SurfaceContact::lastIterations() const
+      The largest Newton iteration count of the last detection. */
+  /// Per node, the unit direction t_a of the friction force (zero when there is none).
   Kokkos::View<double* [3]>::HostMirror tangent() const { return host_.tangent; } int lastIterations() const {
     return lastIterations_;
   }
@@ -160,6 +171,7 @@ public:
   int addPasses() const { return lastAddPasses_; }
   /// Stick/slide classification passes of the last friction solve (0 without friction).
   int lastFrictionPasses() const { return lastFrictionPasses_; }
+  /// The sum of the nodes' normal forces of the last correction (N).
   double totalForce() const;
   /// The state carried from one step to the next, for checkpoints: the warm-start foot point
   /// (u, v) of every node on every surface (surface s, node k at 2 (s numNodes() + k); NaN: cold
@@ -171,14 +183,18 @@ public:
   /// Diagonal stiffness the method adds at each contact DOF (k_p for penalty, 0 for Lagrange),
   /// for the stable-step estimate.
   double addedStiffness() const { return enforcement_->addedStiffness(); }
+  /// The law's enforcement.
   const ContactEnforcement& enforcement() const { return *enforcement_; }
   /// See ContactEnforcement::setStaticCompliance (the quasi-static self-locking check).
   void setStaticCompliance(const std::vector<double>& blocks) { enforcement_->setStaticCompliance(blocks); }
   /// The abradable coating's law when a surface has a coating (null otherwise), its views (wear,
   /// elements), and its state for checkpoints: every element's wear, then the plastic dissipation.
   const CoatingContact* coating() const { return coating_; }
+  /// The coatings' views: every element's law, grid and wear.
   const CoatingViews& coatingViews() const { return detection_->views().coat; }
+  /// The coating's state, for checkpoints: every element's wear (m), then the plastic dissipation (J).
   std::vector<double> coatingState() const;
+  /// Restores the state coatingState() returned.
   void setCoatingState(const std::vector<double>& state);
 
 private:
