@@ -23,11 +23,13 @@
 
 namespace epaphe {
 
+/// When checkpoints are written (by step count, by wall time, or both).
 struct CheckpointOptions {
   int every = 0;        ///< Output->Checkpoint every (steps; 0: none on this count)
   double interval = 0;  ///< Output->Checkpoint interval (s of wall time; 0: none on time)
 };
 
+/// Checkpoints of a run and the restart from them, as a loop observer (see the file's opening comment).
 class Checkpoints : public LoopObserver {
 public:
   /// `contact` (its warm starts, skipping and coating state) and `fields` may be null (no contact,
@@ -41,7 +43,9 @@ public:
   /// series to its records; `what` names the file for errors. Returns the step it restarts at.
   long long restore(ExplicitLoop& loop, const std::string& what);
 
+  /// The checkpoints written so far.
   long long count() const { return count_; }
+  /// Their total wall time (s).
   double seconds() const { return seconds_; }
 
   void beginRun(ExplicitLoop&) override { since_.restart(); }

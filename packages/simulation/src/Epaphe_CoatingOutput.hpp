@@ -27,16 +27,19 @@
 
 namespace epaphe {
 
+/// The abradable coatings' output, as a loop observer (layout in the file's opening comment).
 class CoatingOutput : public LoopObserver {
 public:
   /// `contact` has coatings (SurfaceContact::coating()); `wearEvery` > 0 (steps).
   CoatingOutput(io::Hdf5File& file, SurfaceContact& contact, const EnergyMonitor& monitor, long long wearEvery,
                 bool fresh);
   ~CoatingOutput() override;
+  /// Its series (dissipation, elastic energy, and per coated surface time and wear), for checkpoints.
   std::vector<io::Series*> series();
   void afterCorrect(ExplicitLoop& loop) override;
   /// Lobes of the final wear, as attributes and summary lines.
   void endRun(ExplicitLoop& loop) override;
+  /// The summary lines of the coatings (wear, dissipation, lobes), after a complete run.
   const std::vector<std::string>& summary() const { return summary_; }
 
   /// The coated surfaces' names (for the XDMF file, FieldOutput::setCoatings).

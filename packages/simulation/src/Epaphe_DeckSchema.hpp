@@ -10,6 +10,7 @@
 
 namespace epaphe {
 
+/// The kind of a deck surface (`Surfaces-><s>->Type`).
 enum class SurfaceType { Plane = 0, CylinderArc = 1, BodyFace = 2, Casing = 3 };
 
 /// The whole deck: lists Run, Bodies (one sublist per body), Surfaces (one per surface),
@@ -18,11 +19,13 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters();
 
 /// Reads, validates and completes a deck with defaults. Errors name the file, line and key.
 struct Deck {
-  Teuchos::RCP<Teuchos::ParameterList> params;
-  std::string text;    ///< the file as read, stored in the output
-  std::string origin;  ///< its path
+  Teuchos::RCP<Teuchos::ParameterList> params;  ///< the validated deck with its defaults
+  std::string text;                             ///< the file as read, stored in the output
+  std::string origin;                           ///< its path
 };
+/// Reads the deck file `path` (Errors name the file, the line and the key).
 Deck readDeck(const std::string& path);
+/// Reads a deck from its text; `origin` names it in messages.
 Deck readDeckFromString(const std::string& xml, const std::string& origin);
 
 /// The deck run at another rotation speed (a point of a speed sweep): every surface that turns
@@ -34,7 +37,7 @@ Deck deckAtSpeed(const Deck& deck, double omega, double revolutions, const std::
 /// 'Output->File' without its extension, the stem of the cache, XDMF and other files of a run.
 std::string stem(const std::string& path);
 
-/// The reduced-model cache file of a body: 'Reduction->Cache file', else <output stem>.<body>.rom.h5.
+/// The reduced-model cache file of a body: 'Reduction->Cache file', else `<output stem>.<body>.rom.h5`.
 std::string cacheFileOf(const Teuchos::ParameterList& reductionParams, const std::string& outputPath,
                         const std::string& body);
 

@@ -14,6 +14,7 @@
 
 namespace epaphe {
 
+/// Frames of the whole bodies for ParaView, as a loop observer (see the file's opening comment).
 class FieldOutput : public LoopObserver {
 public:
   /// `drawn[s]`: surface s is drawn on its own (rigid); carried surfaces move with their body.
@@ -21,6 +22,7 @@ public:
               const std::vector<const BSplineSurface*>& drawn, int every, bool fresh);
   ~FieldOutput() override;
 
+  /// Its series (per body position and displacement, then the frames' times), for checkpoints.
   std::vector<io::Series*> series();
   /// Frames written (and buffered).
   long long frames() const { return static_cast<long long>(time_.size()); }

@@ -18,8 +18,11 @@
 
 namespace epaphe {
 
+/// The run's history in its HDF5 file, as a loop observer (see the file's opening comment).
 class HistoryOutput : public LoopObserver {
 public:
+  /// Records the `bodies` and the `contact` (null: none) at the steps `monitor` measures; `fresh`: a new
+  /// file (a restart appends to the series it holds).
   HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_ptr<SceneBody>>& bodies, SurfaceContact* contact,
                 const EnergyMonitor& monitor, bool fresh);
   ~HistoryOutput() override;
@@ -34,7 +37,7 @@ public:
   /// has records() records. Checkpoints call it before they count the series.
   void completeRecords();
   void endRun(ExplicitLoop&) override { completeRecords(); }
-  /// Completes the records, marks the file "stopped: <why>" and flushes it.
+  /// Completes the records, marks the file `stopped: <why>` and flushes it.
   void failed(ExplicitLoop& loop, const std::string& why) override;
 
 private:

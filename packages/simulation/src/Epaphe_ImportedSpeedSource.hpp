@@ -17,10 +17,12 @@
 
 namespace epaphe {
 
+/// A body's imported CalculiX runs at speed ('Rotation->Imported speeds', 'Imported jobs').
 struct ImportedSpeeds {
   std::vector<double> speeds;     ///< rad/s, increasing
   std::vector<std::string> jobs;  ///< resolved paths without extension, one per speed
   std::string input;              ///< the CalculiX input deck (mesh, sets, *BOUNDARY)
+  /// True when the body has none.
   bool empty() const { return speeds.empty(); }
 };
 

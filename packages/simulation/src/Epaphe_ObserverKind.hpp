@@ -14,6 +14,8 @@ namespace epaphe {
 class RunObserver;
 struct ObserverContext;
 
+/// A kind of observer the deck can ask for (see the file's opening comment): its name, documentation and
+/// keys, and the observer it makes.
 class ObserverKind {
 public:
   virtual ~ObserverKind() = default;

@@ -27,6 +27,8 @@ namespace epaphe {
 class Scene;
 class EnergyMonitor;
 
+/// An observer of a run beyond the built-in ones (see the file's opening comment): a LoopObserver that
+/// may hand its series to the checkpoints and lines to the summary.
 class RunObserver : public LoopObserver {
 public:
   /// The HDF5 series it appends to (a restart cuts them to the checkpoint's records).

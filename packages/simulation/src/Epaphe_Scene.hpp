@@ -23,12 +23,17 @@ namespace epaphe {
 
 /// What the setup found, for the summary.
 struct SetupReport {
+  /// the time step, the critical step of the stiffest body (s) and the setup's wall time (s)
+  ///@{
   double timeStep = 0, criticalStep = 0, setupSeconds = 0;
-  int initialPenetrations = 0;  ///< resolved gently (count, deepest in m)
-  double initialPenetrationDepth = 0;
-  std::vector<std::string> warnings;
+  ///@}
+  int initialPenetrations = 0;         ///< resolved gently (count, deepest in m)
+  double initialPenetrationDepth = 0;  ///< the deepest of them (m)
+  std::vector<std::string> warnings;   ///< warnings of the setup (allowed large motions, ...)
 };
 
+/// A scene built from a deck (see the file's opening comment): the bodies, the surfaces, the contact and
+/// its run guards.
 class Scene {
 public:
   /// `output`: the run's output file (cache files are named beside it); `restarting`: a restart
@@ -42,18 +47,23 @@ public:
   /// checks the start and the stable steps; Error on what would run to nonsense.
   void build();
 
+  /// The bodies, in the deck's order.
   const std::vector<std::unique_ptr<SceneBody>>& bodies() const { return bodies_; }
+  /// The surfaces, in the deck's order.
   const std::vector<std::unique_ptr<BSplineSurface>>& surfaces() const { return surfaces_; }
   /// Per surface: carried by a body (else rigid).
   const std::vector<bool>& surfaceCarried() const { return surfaceCarried_; }
+  /// The size of the system coordinates (all bodies' coordinates, stacked).
   int systemSize() const { return systemSize_; }
   /// Null without contact nodes or surfaces.
   SurfaceContact* contact() const { return contact_.get(); }
   /// The contact nodes' reference positions at the start (3 per node, the contact's order).
   const std::vector<double>& contactPositions() const { return contactX_; }
+  /// The run guards (null without contact).
   const ContactGuards* guards() const { return guards_.get(); }
   /// The contact and its guards as the explicit loop's ContactCorrector (null without contact).
   ContactCorrector* corrector() const { return corrector_.get(); }
+  /// What the setup found.
   const SetupReport& report() const { return report_; }
 
 private:

@@ -19,8 +19,11 @@ namespace epaphe {
 class NodeRecovery {
 public:
   NodeRecovery() = default;
+  /// The recovery of `nodes` of `rom`; `label` names it (views, messages).
   NodeRecovery(const ReducedModel& rom, const std::vector<int>& nodes, const std::string& label);
+  /// 3 per node.
   std::size_t rows() const { return R_.extent(0) > 0 ? R_.extent(0) : index_.size(); }
+  /// u = R q (`u`: rows() values).
   void apply(const DenseVector& q, const DenseVector& u) const;
   /// Y = R X for `cols` columns at once (X: size() x cols, Y: rows() x cols, column-major, on the
   /// host): one dgemm reads R once for all of them, where a record at a time reads R per record.
@@ -32,23 +35,27 @@ private:
   int size_ = 0;  // the reduced model's size
 };
 
+/// A body of a scene as the setup leaves it (see the file's opening comment).
 struct SceneBody {
-  std::string name;
-  std::string method;  ///< its reduction method's name for its model (ReductionMethod::modelName)
-  ReducedModel rom;
-  bool fromCache = false;
-  ReductionReport report;
+  std::string name;        ///< the body's name in the deck
+  std::string method;      ///< its reduction method's name for its model (ReductionMethod::modelName)
+  ReducedModel rom;        ///< its reduced (or full, lumped) model
+  bool fromCache = false;  ///< true when the model was read from the reduced-model cache
+  ReductionReport report;  ///< what its reduction did
+  /// the full model's and the reduced model's lowest frequencies (Hz)
+  ///@{
   std::vector<double> fullFrequencies, reducedFrequencies;
-  std::vector<int> contactNodes;
-  std::string contactSet;
-  std::vector<double> v0;
-  double speed = 0;        ///< |initial velocity| (m/s), for the run guards
+  ///@}
+  std::vector<int> contactNodes;  ///< its contact nodes ('Contact node set')
+  std::string contactSet;         ///< the name of its contact node set ("" for none)
+  std::vector<double> v0;         ///< initial velocity in its reduced coordinates
+  double speed = 0;               ///< |initial velocity| (m/s), for the run guards
   std::vector<double> a0;  ///< initial acceleration M^{-1} f of the constant force (gravity), reduced coordinates
-  std::vector<std::pair<std::string, std::vector<int>>> watched;
-  NodeRecovery recoveryWatched;  ///< the watched nodes, in order
-  StableStep stable;
-  std::unique_ptr<CentralDifference> integrator;
-  int offset = 0;  ///< its block of the system coordinates
+  std::vector<std::pair<std::string, std::vector<int>>> watched;  ///< the watched node sets: name and nodes
+  NodeRecovery recoveryWatched;                                   ///< the watched nodes, in order
+  StableStep stable;                                              ///< its highest frequency and critical step
+  std::unique_ptr<CentralDifference> integrator;                  ///< its central difference
+  int offset = 0;                                                 ///< its block of the system coordinates
   ///@{
   int contactBegin = 0, contactEnd = 0;  ///< its nodes in the contact order
   ///@}

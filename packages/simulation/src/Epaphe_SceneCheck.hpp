@@ -40,10 +40,14 @@ DampingOptions dampingOptions(const Teuchos::ParameterList& timeParams, const st
 /// (i along u, j along v), a Casing's first row repeated (closed). `towardsAxis`: a Casing's normal
 /// points inwards (flip its orientation).
 struct RigidGrid {
+  /// grid nodes along u and along v
+  ///@{
   int nu = 0, nv = 0;
-  std::vector<double> points;
-  bool towardsAxis = false;
+  ///@}
+  std::vector<double> points;  ///< nu x nv points, 3 each, (i, j) at 3 (i nv + j) (m)
+  bool towardsAxis = false;    ///< a Casing: its normal points towards the axis
 };
+/// The point grid of a rigid surface's deck list (see RigidGrid); `origin` names the deck.
 RigidGrid rigidSurfaceGrid(const Teuchos::ParameterList& surface, const std::string& origin);
 
 }  // namespace epaphe

@@ -25,21 +25,26 @@ std::vector<double> staticContactCompliance(const ReducedModel& rom, const std::
 
 /// One margin over the run: least value, its contact node (-1: never checked) and time (t_{n+1}).
 struct LockRecord {
-  double margin = 1.0;
-  int node = -1;
-  double time = -1.0;
+  double margin = 1.0;  ///< the least margin (1: none checked)
+  int node = -1;        ///< its contact node (-1: never checked)
+  double time = -1.0;   ///< its time t_{n+1} (s; -1: never checked)
 };
 
+/// The self-locking check over a run, as a loop observer (see the file's opening comment).
 class SelfLockingMonitor : public LoopObserver {
 public:
   /// `contact`: the loop's contact (null: none); `h`: the time step (a correction at step n sets the
   /// forces at t_{n+1}).
   SelfLockingMonitor(const SurfaceContact* contact, double h) : contact_(contact), h_(h) {}
+  /// Keeps the step's least margins and first locks (from the friction law's check).
   void afterCorrect(ExplicitLoop& loop) override;
   /// Quasi-static (eq. (50)) and correction (eq. (48)) margins: least over the run, and first lock.
   const LockRecord& least() const { return least_; }
+  /// The least margin of the correction's Delassus block over the run (eq. (48)).
   const LockRecord& leastStep() const { return leastStep_; }
+  /// The first lock of the quasi-static margin (margin <= 0; node -1: none).
   const LockRecord& firstLock() const { return first_; }
+  /// The first lock of the correction's margin (node -1: none).
   const LockRecord& firstStepLock() const { return firstStep_; }
   long long checks() const { return checks_; }  ///< sliding nodes checked (node-steps)
 

@@ -50,14 +50,19 @@ namespace epaphe {
 
 class KernelCounter;
 
+/// What a run did: its status, its steps and speed, the setup's report, the loop's totals and the
+/// observers' summaries.
 struct RunSummary {
-  std::string status = "not run";
-  long long steps = 0;
+  std::string status = "not run";  ///< `complete`, `stopped: <why>`, `idle` on ranks other than 0, or `not run`
+  long long steps = 0;             ///< the steps run
+  /// the loop's wall time (s) and its steps per second
+  ///@{
   double loopSeconds = 0, stepsPerSecond = 0;
-  SetupReport setup;        ///< time step, critical step, setup time, initial penetrations, warnings
-  LoopAccumulators totals;  ///< contact times, impulse, peak force, worst balance error (relative),
-                            ///< steps whose contact-node motion exceeded the smallest patch
-  CostSplit cost;
+  ///@}
+  SetupReport setup;                   ///< time step, critical step, setup time, initial penetrations, warnings
+  LoopAccumulators totals;             ///< contact times, impulse, peak force, worst balance error (relative),
+                                       ///< steps whose contact-node motion exceeded the smallest patch
+  CostSplit cost;                      ///< the phases' wall times
   long long firstStep = 0;             ///< > 0 when restarted from a checkpoint
   long long checkpoints = 0;           ///< written by this run
   double checkpointSeconds = 0;        ///< their total wall time
@@ -72,9 +77,10 @@ struct RunSummary {
   ///@{
   LockRecord lockLeast, lockLeastStep, lockFirst, lockFirstStep;
   ///@}
-  std::string selfLocking;
+  std::string selfLocking;  ///< the self-locking summary line (empty without friction)
 };
 
+/// A run described by a deck (see the file's opening comment): setup(), then run(), then the summary.
 class Simulation {
 public:
   /// `outputOverride` replaces Output->File when not empty.
@@ -87,6 +93,7 @@ public:
   /// The explicit loop on rank 0; writes the history. Returns its summary (also on other ranks,
   /// with status "idle").
   const RunSummary& run();
+  /// Prints the run's summary (setup, steps, speed, totals, cost split, observers) on `os`.
   void printSummary(std::ostream& os) const;
 
   /// Continue the run stored in `file` (an output of the same deck) from its last checkpoint:
@@ -104,6 +111,7 @@ public:
   /// step, writes a checkpoint, sets the status "stopped: interrupted by SIGINT at t = ..." and
   /// closes the file (RunSummary::stopSignal tells which signal).
   static void catchSignals();
+  /// The output file (the deck's 'Output->File', the override or the restart's file).
   const std::string& outputFile() const { return output_; }
 
 private:
