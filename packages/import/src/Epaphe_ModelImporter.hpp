@@ -31,7 +31,7 @@ struct ImportRequest {
 
   /// The body's Mesh sublist.
   const Teuchos::ParameterList& mesh() const { return bodyParams->sublist("Mesh"); }
-  /// `<deck>: body '<name>'`, the start of every message.
+  /// The start of every message: the deck's path, then ": body" and the body's name in single quotes.
   std::string context() const { return deckPath + ": body '" + body + "'"; }
   /// The file of Mesh key `key` resolved against the deck's directory ("" when optional and empty);
   /// with `job`, the path without extension of a CalculiX job whose .sti, .mas and .dof must exist. An

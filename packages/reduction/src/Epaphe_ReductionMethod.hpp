@@ -41,7 +41,7 @@ struct FrequencyCheck {
 
 /// What the checks made before any model is built know of a body with a built-in mesh.
 struct ReductionMeshFacts {
-  std::string context;                      ///< `<deck>: body '<name>'`
+  std::string context;  ///< the start of messages: the deck's path, ": body" and the body's name in single quotes
   const Teuchos::ParameterList* reduction;  ///< the body's Reduction sublist
   /// free DOFs of the full model, DOFs of the retained nodes
   ///@{
