@@ -61,8 +61,8 @@ double radialTurnRate(const BSplineSurface& surface, const std::array<double, 3>
 /// of the input layout (node (i, j) at i * inputNv + j) its 3 DOF indices in q (-1: a clamped DOF)
 /// and its reference position.
 struct ContactSurface {
-  const BSplineSurface* surface =
-      nullptr;                       ///< the surface as built (rigid), or at its reference configuration (carried)
+  /// The surface as built (rigid), or at its reference configuration (carried).
+  const BSplineSurface* surface = nullptr;
   BSplineSurface* moving = nullptr;  ///< a carried surface, rebuilt at each step; null when rigid
   int block = -1;                    ///< the body carrying it (-1: rigid)
   std::vector<int> gridDofs;         ///< per grid node, its 3 DOF indices in q (-1: clamped)
@@ -98,11 +98,11 @@ struct DetectionOptions {
 enum class InitialPenetration { Refuse = 0, ResolveGently = 1 };
 /// What the run guards allow (the deck's Contact keys).
 struct GuardOptions {
-  bool allowLargeMotion =
-      false;  ///< a node moving farther than the smallest patch in a step is a warning, not an error
-  InitialPenetration initialPenetration =
-      InitialPenetration::Refuse;  ///< refuse nodes inside a surface at t = 0, or push them out over a ramp
-  double rampTime = 0.0;           ///< T (s); 0: 100 time steps
+  /// A node moving farther than the smallest patch in a step is a warning, not an error.
+  bool allowLargeMotion = false;
+  /// Refuse nodes inside a surface at t = 0, or push them out over a ramp.
+  InitialPenetration initialPenetration = InitialPenetration::Refuse;
+  double rampTime = 0.0;  ///< T (s); 0: 100 time steps
 };
 /// The guards' keys of a validated Contact list (see ContactDetection::getValidParameters).
 GuardOptions guardOptions(const Teuchos::ParameterList& contact);

@@ -34,8 +34,8 @@ class CoatingContact;
 /// law, Epaphe_ContactLaw.hpp; then the law's own keys, friction's and the detection's; a key not
 /// given takes its default) and the time step.
 struct ContactOptions {
-  Teuchos::ParameterList contact{
-      "Contact"};         ///< the Contact list: 'Method', the law's keys, friction's and the detection's
+  /// The Contact list: 'Method', the law's keys, friction's and the detection's.
+  Teuchos::ParameterList contact{"Contact"};
   double timeStep = 0.0;  ///< h: the rotation of turning surfaces over a step (friction)
   /// Sets a key of the Contact list ("Method", "Penalty stiffness", "Friction coefficient", ...).
   template <class T>

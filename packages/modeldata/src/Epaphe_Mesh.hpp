@@ -125,8 +125,8 @@ struct CasingGeometry {
   double radius = 0.3;         ///< m, of the cone at axialPosition
   double axialPosition = 0.0;  ///< m
   double coneAngle = 0.0;      ///< degrees
-  std::array<double, 2> axialRange{
-      -0.03, 0.03};  ///< z range of the casing (m); Harmonics: where amplitudesFirst and amplitudesLast apply
+  /// z range of the casing (m); Harmonics: where amplitudesFirst and amplitudesLast apply.
+  std::array<double, 2> axialRange{-0.03, 0.03};
   ClearanceLaw law = ClearanceLaw::None;  ///< how the clearance varies around the circumference
   double clearance = 0.0;                 ///< m
   std::vector<int> orders;                ///< Harmonics: n_k

@@ -39,8 +39,8 @@ struct CraigBamptonOptions {
   /// Massless boundary: every eigenpair at once by LAPACK on the dense matrices (small models)
   /// instead of Anasazi's lowest ones.
   bool denseEigen = false;
-  std::array<double, 3> loadDirection{
-      0.0, 0.0, 0.0};  ///< Massless boundary: the direction of the load that selects the modes (candidates > 0)
+  /// Massless boundary: the direction of the load that selects the modes (candidates > 0).
+  std::array<double, 3> loadDirection{0.0, 0.0, 0.0};
   /// Craig-Bampton: the basis only (recovery, modeFrequencies); K and M are not projected (left
   /// empty), for callers that project on a basis of their own (Epaphe_SpeedParametricModel.hpp).
   bool basisOnly = false;
