@@ -34,7 +34,7 @@ public:
 
   /// Initializes Kokkos with `threads` OpenMP threads (0: OMP_NUM_THREADS or all cores).
   void initializeKokkos(int threads);
-  /// The OpenMP threads Kokkos runs on.
+  /// The OpenMP threads Kokkos runs on (0 before initializeKokkos()).
   int threads() const;
 
   /// Rank and size in the communicator the runs use: MPI_COMM_WORLD, or this process alone

@@ -75,7 +75,8 @@ public:
   Flexibility flexibility() const;
   /// The time step h (s).
   double step() const { return h_; }
-  /// True when the body has a damping matrix or Coriolis terms (B is applied).
+  /// True when the step applies B and counts a damping term: a damping matrix, Coriolis terms or a
+  /// massless boundary (whose exchange with its residual counts as damping).
   bool damped() const { return damped_; }
   /// Bytes of the operators one predict() reads (A, and B when damped): the memory traffic floor of
   /// a step's integration.
