@@ -5,7 +5,7 @@ On inputs/blade-casing-at-speed.xml (the V7 blade at 1000 rad/s from its paramet
 contact with a two- and six-lobe casing, modal damping), one revolution with 'Rotation->Coriolis' true
 and one without, asserted with tolerances stated before measuring:
   - the run with the Coriolis terms closes its energy balance to 1e-6 of the largest energy, as the run
-    without them: the gyroscopic force does no work (docs/theory/integration.md, eq. 60), and the
+    without them: the gyroscopic force does no work (docs/theory/integration.md, eq. 54), and the
     contact correction with the non-symmetric flexibility P = [M/h^2 + (D + Omega G_r)/2h]^-1 does work
     only through the contact force, which the balance counts;
   - the blade touches the casing (contact work above 1e-3 of the largest energy), so the correction runs;
