@@ -1,16 +1,23 @@
-// Extends an installed Epaphe from outside, as docs/developer/extending.md says: its own contact law
-// (a Hertz law, lambda = k (-g*)^(3/2), registered under 'Contact->Method' = "Hertz" with its own key
-// 'Hertz stiffness') and its own observer (the peak total contact force, enabled from the deck's
-// 'Observers->Peak force' and writing its result to the HDF5 output), plus an observer it hands to the
-// run itself (Simulation::addObserver). It runs the deck given (custom-law.xml: the bar of V1 hitting a
-// wall) and checks that the law made the forces of the run and that both observers were called at
-// every step.
+// Extends an installed Epaphe from outside, as docs/developer/extending.md says, at its four extension
+// points: its own contact law (a Hertz law, lambda = k (-g*)^(3/2), registered under 'Contact->Method' =
+// "Hertz" with its own key 'Hertz stiffness'), its own reduction method ("Consumer reduction":
+// Craig-Bampton with its own key 'Consumer modes'), its own importer ("Consumer bar": a bar of Epaphe's
+// hexahedra from its own keys 'Consumer length' and 'Consumer elements') and its own observer (the peak
+// total contact force, enabled from the deck's 'Observers->Peak force' and writing its result to the HDF5
+// output), plus an observer it hands to the run itself (Simulation::addObserver). It runs the deck given
+// (custom-law.xml: the bar of V1 hitting a wall, made by those) and checks that the law made the forces of
+// the run, that the importer and the reduction method built the model, and that both observers were called
+// at every step.
 #include "Epaphe_ContactEnforcement.hpp"
 #include "Epaphe_ContactLaw.hpp"
+#include "Epaphe_CraigBampton.hpp"
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_ForwardIncrementLagrange.hpp"
 #include "Epaphe_Hdf5File.hpp"
+#include "Epaphe_Mesh.hpp"
+#include "Epaphe_ModelImporter.hpp"
+#include "Epaphe_ReductionMethod.hpp"
 #include "Epaphe_RunObserver.hpp"
 #include "Epaphe_Runtime.hpp"
 #include "Epaphe_Simulation.hpp"
@@ -64,6 +71,61 @@ public:
     return std::make_unique<HertzEnforcement>(contact.get<double>("Hertz stiffness"));
   }
   bool closesGaps() const override { return false; }
+};
+
+// What the reduction method and the importer did: models reduced, models built.
+int reductions = 0, imports = 0;
+
+/// Craig-Bampton under a name of its own, its mode count from its own key 'Consumer modes'.
+class ConsumerReduction final : public epaphe::ModalReduction {
+public:
+  std::string name() const override { return "Consumer reduction"; }
+  std::string documentation() const override { return "Craig-Bampton with 'Consumer modes' modes"; }
+  Teuchos::RCP<const Teuchos::ParameterList> getValidParameters() const override {
+    auto pl = Teuchos::rcp(new Teuchos::ParameterList("Reduction"));
+    epaphe::deck::addInt(*pl, "Consumer modes", 20, "Consumer reduction: fixed-interface modes kept", 0, 100000);
+    return pl;
+  }
+  void setParameters(const Teuchos::ParameterList& rp) override {
+    options_ = epaphe::craigBamptonOptions(rp, false);  // the shared solver keys, as Craig-Bampton reads them
+    options_.modes = rp.get<int>("Consumer modes");
+  }
+  std::string cacheKeyText() const override { return "\nconsumer modes=" + std::to_string(options_.modes); }
+  bool cacheable() const override { return false; }
+  epaphe::ReducedModel reduce(const epaphe::FullModel& full, const std::vector<int>& retained,
+                              epaphe::ReductionReport* report) const override {
+    ++reductions;
+    return epaphe::craigBampton(full, retained, options_, report);
+  }
+  std::string modelName(const epaphe::ReducedModel&) const override { return name(); }
+};
+
+/// A bar along x of Epaphe's hexahedra (the Box mesh's node sets: x+, x-, ...).
+class ConsumerBar final : public epaphe::ModelImporter {
+public:
+  std::string name() const override { return "Consumer bar"; }
+  std::string documentation() const override { return "a bar along x, 20 x 20 mm"; }
+  Teuchos::RCP<const Teuchos::ParameterList> getValidParameters() const override {
+    auto pl = Teuchos::rcp(new Teuchos::ParameterList("Mesh"));
+    epaphe::deck::addDouble(*pl, "Consumer length", 0.2, "Consumer bar: length along x (m)", 1e-300);
+    epaphe::deck::addInt(*pl, "Consumer elements", 10, "Consumer bar: hexahedra along x", 1, 100000);
+    return pl;
+  }
+  bool builtInMesh() const override { return true; }
+  epaphe::Mesh mesh(const epaphe::ImportRequest& r) const override {
+    return epaphe::makeBoxMesh({0, 0, 0}, {r.mesh().get<double>("Consumer length"), 0.02, 0.02},
+                               {r.mesh().get<int>("Consumer elements"), 1, 1});
+  }
+  epaphe::FullModel build(const epaphe::ImportRequest& r,
+                          const Teuchos::RCP<const Teuchos::Comm<int>>& comm) const override {
+    ++imports;
+    const Teuchos::ParameterList& mp = r.bodyParams->sublist("Material");
+    epaphe::Material mat;
+    mat.density = mp.get<double>("Density");
+    mat.young = mp.get<double>("Young's modulus");
+    mat.poisson = mp.get<double>("Poisson's ratio");
+    return epaphe::assembleHexModel(r.body, mesh(r), mat, {}, comm);
+  }
 };
 
 /// The peak of the total contact force over the run, written to <Group> as attributes at the end.
@@ -123,6 +185,8 @@ int main(int argc, char** argv) {
   }
   epaphe::registerContactLaw(std::make_shared<HertzLaw>());
   epaphe::registerObserver(std::make_shared<PeakForceKind>());
+  epaphe::ReductionRegistry::add("Consumer reduction", [] { return std::make_unique<ConsumerReduction>(); });
+  epaphe::ImporterRegistry::add("Consumer bar", [] { return std::make_unique<ConsumerBar>(); });
   bool ok = true;
   try {
     const epaphe::Deck deck = epaphe::readDeck(argv[1]);  // validated against the schema with "Hertz"
@@ -141,7 +205,9 @@ int main(int argc, char** argv) {
     const long long observedSteps = out.intAttribute("/peak_force", "steps");
     std::cout << "Hertz law: " << lawCalls << " steps with contact, peak total force " << lawPeak
               << " N; peak force observer: " << observedSteps << " steps, " << observed
-              << " N; step counter: " << counter.steps << " of " << summary.steps << " steps\n";
+              << " N; step counter: " << counter.steps << " of " << summary.steps << " steps; " << imports
+              << " model(s) imported, " << reductions << " reduced by the consumer's method; the history's "
+              << "reduction attribute: " << out.stringAttribute("/bodies/Bar", "reduction") << "\n";
     // the run completed, with the law's forces: contact over many steps, its peak the run's peak
     ok = ok && summary.status == "complete";
     ok = ok && lawCalls > 100 && lawPeak > 0.0 && std::abs(observed - lawPeak) <= 1e-12 * lawPeak;
@@ -150,6 +216,9 @@ int main(int argc, char** argv) {
     // the Hertz spring is softer than the bar's end and rings)
     ok = ok && std::abs(summary.totals.impulse - 128.0) < 0.02 * 128.0;
     ok = ok && std::abs(lawPeak - 1.6e6) < 0.5 * 1.6e6;
+    // the consumer's importer built the bar and its method reduced it, under its name
+    ok = ok && imports == 1 && reductions == 1 &&
+         out.stringAttribute("/bodies/Bar", "reduction") == "Consumer reduction";
     // both observers saw every step
     ok = ok && observedSteps == summary.steps && counter.steps == summary.steps && summary.steps > 0;
   } catch (const std::exception& e) {
