@@ -88,7 +88,8 @@ def vec(x):
     return "{" + ", ".join(f"{c:.17g}" for c in x) + "}"
 
 
-def write_deck(path, mu, end, out, h):
+def write_deck(path, mu, end, out, h, speed=None):
+    speed = SPEED if speed is None else speed
     n, centre, origin, U, V = geometry()
     text = f"""<ParameterList name="Epaphe">
   <ParameterList name="Run"><Parameter name="Name" type="string" value="sprag-slip strut mu {mu:.6g}"/></ParameterList>
@@ -118,7 +119,7 @@ def write_deck(path, mu, end, out, h):
       <Parameter name="Origin" type="Array(double)" value="{vec(origin)}"/>
       <Parameter name="U" type="Array(double)" value="{vec(U)}"/>
       <Parameter name="V" type="Array(double)" value="{vec(V)}"/>
-      <Parameter name="Rotation speed" type="double" value="{SPEED / RADIUS:.17g}"/>
+      <Parameter name="Rotation speed" type="double" value="{speed / RADIUS:.17g}"/>
       <Parameter name="Rotation axis" type="Array(double)" value="{vec(n)}"/>
       <Parameter name="Rotation center" type="Array(double)" value="{vec(centre)}"/>
     </ParameterList>
@@ -142,9 +143,9 @@ def write_deck(path, mu, end, out, h):
     open(path, "w").write(text)
 
 
-def run(exe, workdir, name, mu, end, h=H):
+def run(exe, workdir, name, mu, end, h=H, speed=None):
     deck = os.path.join(workdir, name + ".xml")
-    write_deck(deck, mu, end, name + ".h5", h)
+    write_deck(deck, mu, end, name + ".h5", h, speed)
     p = subprocess.run([exe, deck], capture_output=True, text=True, cwd=workdir)
     sys.stdout.write(p.stdout + p.stderr)
     h5 = os.path.join(workdir, name + ".h5")

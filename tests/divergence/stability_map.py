@@ -8,8 +8,9 @@ diagnosis, "grows without bound"), or when it completes with the bodies' energy 
 its end more than GROWTH times the largest over the first half of the run after the interference's
 ramp; else it is *bounded*. Per
 speed the bracket [mu_lo, mu_hi] (bounded, diverging) is halved until (mu_hi - mu_lo) <= TOL mu_hi;
-the boundary is reported as both ends. The runs are serial, one epaphe-run on one thread each (spreading
-the cases over jobs and MPI ranks is not done yet).
+the boundary is reported as both ends. Each run is one epaphe-run on one thread; --jobs J runs up to J
+at once: the speeds' brackets are independent, so each round runs the mid-points of every speed still
+open together (the result does not depend on J: each speed sees the same sequence of runs).
 
 Written: <workdir>/stability-map.h5 (/speed, /mu_bounded, /mu_diverging, and /runs/{speed, mu,
 diverging, growth} of every run) and <workdir>/stability-map.png (mu against speed, the bounded and
@@ -20,7 +21,7 @@ jam reaches the section's other corners within the window and the criterion no l
 With --rotor37 INPUTS: inputs/rotor37-massless.xml over its casing speed (rad/s), --revolutions each
 (10), a run that stops, whatever stops it, being diverging (docs/user/divergence.md).
 
-    stability_map.py --run EPAPHE_RUN --workdir DIR [--speeds 0.5,1,2] [--bracket 0.25,0.5]
+    stability_map.py --run EPAPHE_RUN --workdir DIR [--speeds 0.5,1,2] [--bracket 0.25,0.5] [--jobs J]
                      [--rotor37 INPUTS --revolutions 10]"""
 import argparse
 import importlib.util
@@ -48,8 +49,7 @@ _spec.loader.exec_module(strut)
 def outcome(exe, workdir, speed, mu):
     """(diverging, growth) of the strut at plane speed `speed` (m/s) and coefficient mu."""
     name = f"map-v{speed:g}-mu{mu:.6f}"
-    strut.SPEED = speed  # read by write_deck (one thread at a time writes a deck: see below)
-    code, text, attrs, t, energy = strut.run(exe, workdir, name, mu, strut.RAMP + TRAVEL / speed)
+    code, text, attrs, t, energy = strut.run(exe, workdir, name, mu, strut.RAMP + TRAVEL / speed, speed=speed)
     first = (t >= strut.RAMP) & (t <= strut.RAMP + 0.5 * TRAVEL / speed)
     growth = float(energy[-1] / max(energy[first].max(), 1e-300))
     return (code != 0 and "grows without bound" in text) or growth > GROWTH, growth
@@ -105,36 +105,39 @@ def main():
     a.add_argument("--bracket", default="0.25,0.5")
     a.add_argument("--rotor37", metavar="INPUTS", help="map inputs/rotor37-massless.xml instead (speeds in rad/s)")
     a.add_argument("--revolutions", type=float, default=10.0)
+    a.add_argument("--jobs", type=int, default=1, help="runs at once (each on one thread)")
     o = a.parse_args()
     os.makedirs(o.workdir, exist_ok=True)
     speeds = [float(s) for s in o.speeds.split(",")]
     lo0, hi0 = (float(x) for x in o.bracket.split(","))
     runs = []
 
-    # the deck writer reads the strut module's globals (SPEED): one case at a time
     def case(speed, mu):
         if o.rotor37:
-            d, g = rotor_outcome(o.run, o.workdir, o.rotor37, speed, mu, o.revolutions)
-        else:
-            d, g = outcome(o.run, o.workdir, speed, mu)
-        runs.append((speed, mu, d, g))
-        return d
+            return rotor_outcome(o.run, o.workdir, o.rotor37, speed, mu, o.revolutions)
+        return outcome(o.run, o.workdir, speed, mu)
+
+    def batch(pool, cases):
+        """The outcomes of (speed, mu) cases run together, recorded in `runs` in the cases' order."""
+        results = list(pool.map(lambda c: case(*c), cases))
+        for (v, mu), (d, g) in zip(cases, results):
+            runs.append((v, mu, d, g))
+        return [d for d, _ in results]
 
     bracket = {v: [lo0, hi0] for v in speeds}
-    with ThreadPoolExecutor(max_workers=1) as pool:
-        ends = {v: (pool.submit(case, v, lo0).result(), pool.submit(case, v, hi0).result()) for v in speeds}
-        for v, (dlo, dhi) in ends.items():
+    with ThreadPoolExecutor(max_workers=max(1, o.jobs)) as pool:
+        ends = batch(pool, [(v, mu) for v in speeds for mu in (lo0, hi0)])
+        for i, v in enumerate(speeds):
+            dlo, dhi = ends[2 * i], ends[2 * i + 1]
             if dlo or not dhi:
                 sys.exit(f"speed {v}: the bracket {lo0}, {hi0} is not (bounded, diverging): {dlo}, {dhi}")
-        while any(hi - lo > TOL * hi for lo, hi in bracket.values()):
-            for v, (lo, hi) in bracket.items():
-                if hi - lo <= TOL * hi:
-                    continue
-                mid = 0.5 * (lo + hi)
-                if pool.submit(case, v, mid).result():
-                    bracket[v][1] = mid
-                else:
-                    bracket[v][0] = mid
+        while True:
+            open_ = [v for v, (lo, hi) in bracket.items() if hi - lo > TOL * hi]
+            if not open_:
+                break
+            mids = [0.5 * (bracket[v][0] + bracket[v][1]) for v in open_]
+            for v, mid, d in zip(open_, mids, batch(pool, list(zip(open_, mids)))):
+                bracket[v][1 if d else 0] = mid
     lo = np.array([bracket[v][0] for v in speeds])
     hi = np.array([bracket[v][1] for v in speeds])
     with h5py.File(os.path.join(o.workdir, "stability-map.h5"), "w") as f:
