@@ -21,11 +21,15 @@ jam reaches the section's other corners within the window and the criterion no l
 With --rotor37 INPUTS: inputs/rotor37-massless.xml over its casing speed (rad/s), --revolutions each
 (10), a run that stops, whatever stops it, being diverging (docs/user/divergence.md).
 
+With --blade DECK: a blade deck of inputs/ (blade-casing.xml, blade-casing-at-speed.xml) over its
+casing speed (rad/s), at the deck's own time step, --revolutions each, judged as rotor 37's runs.
+
     stability_map.py --run EPAPHE_RUN --workdir DIR [--speeds 0.5,1,2] [--bracket 0.25,0.5] [--jobs J]
-                     [--rotor37 INPUTS --revolutions 10]"""
+                     [--rotor37 INPUTS | --blade DECK] [--revolutions 10]"""
 import argparse
 import importlib.util
 import os
+import re
 import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
@@ -97,6 +101,51 @@ def rotor_outcome(exe, workdir, inputs, speed, mu, revolutions):
     return p.returncode != 0 or growth > GROWTH, growth
 
 
+def blade_outcome(exe, workdir, deck, speed, mu, revolutions):
+    """(diverging, growth) of a blade deck (a casing turning at the deck's 'Rotation speed', Lagrange
+    contact) with the casing at `speed` (rad/s, the deck's sense), 'Friction coefficient' mu and
+    `revolutions` revolutions at the deck's time step; a run that stops, whatever stops it, is diverging."""
+    text = open(deck).read()
+    stem = os.path.splitext(os.path.basename(deck))[0]
+    name = f"map-{stem}-w{speed:g}-mu{mu:.6f}"
+    sense = -1.0 if re.search(r'name="Rotation speed" type="double" value="-', text) else 1.0
+    text, n = re.subn(
+        r'name="Rotation speed" type="double" value="[^"]*"',
+        f'name="Rotation speed" type="double" value="{sense * speed!r}"',
+        text,
+    )
+    assert n == 1, f"{deck}: one surface 'Rotation speed' expected, {n} found"
+    text, n = re.subn(
+        r'name="End revolutions" type="double" value="[^"]*"',
+        f'name="End revolutions" type="double" value="{revolutions!r}"',
+        text,
+    )
+    assert n == 1, f"{deck}: 'Time->End revolutions' expected"
+    text, n = re.subn(r'(<Parameter name="File" type="string" value=")[^"]*(")', rf"\g<1>{name}.h5\2", text)
+    assert n == 1, f"{deck}: 'Output->File' expected"
+    text = re.sub(r'\s*<Parameter name="Friction coefficient"[^>]*/>', "", text)
+    text, n = re.subn(
+        r'(<ParameterList name="Contact">)',
+        rf'\1<Parameter name="Friction coefficient" type="double" value="{mu!r}"/>',
+        text,
+    )
+    assert n == 1, f"{deck}: a Contact list expected"
+    text = text.replace(
+        '<ParameterList name="Run">',
+        '<ParameterList name="Run"><Parameter name="Divergence step check" type="bool" value="false"/>',
+        1,
+    )
+    path = os.path.join(workdir, name + ".xml")
+    open(path, "w").write(text)
+    p = subprocess.run([exe, path, "--threads", "1"], capture_output=True, text=True, cwd=workdir)
+    with h5py.File(os.path.join(workdir, name + ".h5"), "r") as f:
+        t = f["time"][()]
+        energy = f["energy/kinetic"][()] + f["energy/strain"][()]
+    first = t <= 0.5 * t[-1]
+    growth = float(energy[-1] / max(energy[first].max(), 1e-300))
+    return p.returncode != 0 or growth > GROWTH, growth
+
+
 def main():
     a = argparse.ArgumentParser()
     a.add_argument("--run", required=True)
@@ -104,6 +153,7 @@ def main():
     a.add_argument("--speeds", default="0.5,1,2")  # m/s
     a.add_argument("--bracket", default="0.25,0.5")
     a.add_argument("--rotor37", metavar="INPUTS", help="map inputs/rotor37-massless.xml instead (speeds in rad/s)")
+    a.add_argument("--blade", metavar="DECK", help="map a blade deck instead (speeds in rad/s)")
     a.add_argument("--revolutions", type=float, default=10.0)
     a.add_argument("--jobs", type=int, default=1, help="runs at once (each on one thread)")
     o = a.parse_args()
@@ -115,6 +165,8 @@ def main():
     def case(speed, mu):
         if o.rotor37:
             return rotor_outcome(o.run, o.workdir, o.rotor37, speed, mu, o.revolutions)
+        if o.blade:
+            return blade_outcome(o.run, o.workdir, o.blade, speed, mu, o.revolutions)
         return outcome(o.run, o.workdir, speed, mu)
 
     def batch(pool, cases):
@@ -160,14 +212,15 @@ def main():
     ax.plot(r[r[:, 2] == 1, 0], r[r[:, 2] == 1, 1], "x", color="tab:red", label="diverging")
     ax.fill_between(speeds, 0.5 * (lo + hi), max(hi0, hi.max()), color="tab:red", alpha=0.1)
     ax.plot(speeds, 0.5 * (lo + hi), "k-", label="boundary")
-    ax.set_xlabel("casing speed (rad/s)" if o.rotor37 else "plane speed (m/s)")
+    ax.set_xlabel("casing speed (rad/s)" if o.rotor37 or o.blade else "plane speed (m/s)")
     ax.set_ylabel("friction coefficient")
     ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(o.workdir, "stability-map.png"), dpi=120)
-    if o.rotor37:
+    if o.rotor37 or o.blade:
+        what = "rotor 37" if o.rotor37 else os.path.basename(o.blade)
         for v, l, h in zip(speeds, lo, hi):
-            print(f"rotor 37 at {v:g} rad/s: bounded at mu {l:.4f}, diverging at {h:.4f}")
+            print(f"{what} at {v:g} rad/s: bounded at mu {l:.4f}, diverging at {h:.4f}")
         return 0
     mu_beam, failures = strut.beam_mu_c(), []
     for v, l, h in zip(speeds, lo, hi):
