@@ -59,6 +59,21 @@ def outcome(exe, workdir, speed, mu):
     return (code != 0 and "grows without bound" in text) or growth > GROWTH, growth
 
 
+def run_deck(exe, workdir, name, text):
+    """(diverging, growth) of the deck `text` run as <workdir>/<name>.xml on one thread: diverging when
+    the run stops, whatever stops it, or when the bodies' final energy exceeds GROWTH times the largest
+    of the run's first half."""
+    path = os.path.join(workdir, name + ".xml")
+    open(path, "w").write(text)
+    p = subprocess.run([exe, path, "--threads", "1"], capture_output=True, text=True, cwd=workdir)
+    with h5py.File(os.path.join(workdir, name + ".h5"), "r") as f:
+        t = f["time"][()]
+        energy = f["energy/kinetic"][()] + f["energy/strain"][()]
+    first = t <= 0.5 * t[-1]
+    growth = float(energy[-1] / max(energy[first].max(), 1e-300))
+    return p.returncode != 0 or growth > GROWTH, growth
+
+
 def rotor_outcome(exe, workdir, inputs, speed, mu, revolutions):
     """(diverging, growth) of inputs/rotor37-massless.xml with the casing at `speed` (rad/s, the deck's
     sense), 'Friction coefficient' mu, `revolutions` revolutions (the step keeps 1000 per revolution):
@@ -90,15 +105,7 @@ def rotor_outcome(exe, workdir, inputs, speed, mu, revolutions):
     ]:
         assert old in text, old
         text = text.replace(old, new)
-    deck = os.path.join(workdir, name + ".xml")
-    open(deck, "w").write(text)
-    p = subprocess.run([exe, deck], capture_output=True, text=True, cwd=workdir)
-    with h5py.File(os.path.join(workdir, name + ".h5"), "r") as f:
-        t = f["time"][()]
-        energy = f["energy/kinetic"][()] + f["energy/strain"][()]
-    first = t <= 0.5 * t[-1]
-    growth = float(energy[-1] / max(energy[first].max(), 1e-300))
-    return p.returncode != 0 or growth > GROWTH, growth
+    return run_deck(exe, workdir, name, text)
 
 
 def blade_outcome(exe, workdir, deck, speed, mu, revolutions):
@@ -135,15 +142,7 @@ def blade_outcome(exe, workdir, deck, speed, mu, revolutions):
         '<ParameterList name="Run"><Parameter name="Divergence step check" type="bool" value="false"/>',
         1,
     )
-    path = os.path.join(workdir, name + ".xml")
-    open(path, "w").write(text)
-    p = subprocess.run([exe, path, "--threads", "1"], capture_output=True, text=True, cwd=workdir)
-    with h5py.File(os.path.join(workdir, name + ".h5"), "r") as f:
-        t = f["time"][()]
-        energy = f["energy/kinetic"][()] + f["energy/strain"][()]
-    first = t <= 0.5 * t[-1]
-    growth = float(energy[-1] / max(energy[first].max(), 1e-300))
-    return p.returncode != 0 or growth > GROWTH, growth
+    return run_deck(exe, workdir, name, text)
 
 
 def main():
