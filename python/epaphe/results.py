@@ -97,8 +97,9 @@ class Run:
 
     @property
     def complete(self) -> bool:
-        """True when the status is 'complete'."""
-        return self.status == "complete"
+        """True when the run reached its end: the status is 'complete', or 'complete: ...' when a
+        criterion ended it early (the deck's 'Steady state')."""
+        return self.status == "complete" or self.status.startswith("complete: ")
 
     @property
     def name(self) -> str:
@@ -335,10 +336,27 @@ class Contact:
 
 class Energy:
     """Energies of the whole system per record; balance_error = (total + damping - contact work -
-    external work - initial) / largest energy."""
+    external work - initial) / largest energy. In a run with a thermal model the balance has its heat term
+    (docs/theory/heat.md, eq. 63): (total + damping + friction_heat - normal_work - counterface_work -
+    external work - initial) / largest energy, and `heat` gives the friction heat's partition."""
 
     def __init__(self, run: Run) -> None:
         self._run, self.prefix = run, "energy"
+
+    @property
+    def has_heat(self) -> bool:
+        """True when the record has the heat term (a run with a thermal model)."""
+        return "energy/friction_heat" in self._run.file
+
+    @cached_property
+    def heat(self) -> dict[str, np.ndarray]:
+        """{body: (records,) J} the share of the friction heat (and of a coating's plastic dissipation) each
+        body with a thermal model received, and "counterface": the rest (the surfaces rubbed, and bodies
+        without a thermal model); they sum to friction_heat (plus plastic_dissipation with a coating).
+        Empty without a thermal model."""
+        if not self.has_heat:
+            return {}
+        return {name: self._run.records_of(f"energy/heat/{name}") for name in self._run.file["energy/heat"]}
 
     kinetic = Records("kinetic", "(records,) kinetic energy, J.")
     strain = Records("strain", "(records,) strain energy, J.")
@@ -347,6 +365,14 @@ class Energy:
     external_work = Records("external_work", "(records,) work of the external loads, J.")
     damping = Records("damping", "(records,) energy dissipated by damping, J.")
     balance_error = Records("balance_error", "(records,) relative energy balance error, -.")
+    friction_heat = Records(
+        "friction_heat", "(records,) heat friction made at every contact node so far, J (with a thermal model)."
+    )
+    normal_work = Records("normal_work", "(records,) work of the normal contact forces, J (with a thermal model).")
+    counterface_work = Records(
+        "counterface_work",
+        "(records,) work the counterface's motion (a turning surface) did through friction, J (with a thermal model).",
+    )
 
 
 def open(path: str) -> Run:  # noqa: A001 (epaphe.open, as h5py.File / io.open)

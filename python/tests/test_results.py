@@ -88,6 +88,9 @@ class ShortBarRun(unittest.TestCase):
             self.assertEqual(getattr(e, name).shape, (400,), name)
         # the sweep's bound for a complete bar run (tests/unit_sweep: energy balance < 1e-8)
         self.assertLess(np.abs(e.balance_error).max(), 1e-8)
+        # no thermal model: no heat term (verification.heat-balance reads a run with one)
+        self.assertFalse(e.has_heat)
+        self.assertEqual(e.heat, {})
 
     def test_flat_view(self):
         h = epaphe.history(self.path)

@@ -39,6 +39,11 @@ RUN_TIME_ONLY = {
     "sphere-clamped-at-pole.xml": "the eigenvalues of the massless boundary reduction (the mechanism's zero ones)",
     "rotation-past-critical-speed.xml": "the interior stiffness of the parametric model at the deck's speed",
     "import-speed-unprinted.xml": "the static displacements of a CalculiX job at speed, read with its matrices",
+    # 'Time->Initial state' = Static equilibrium: the contact detection at t = 0 and the static solve (eq. 71)
+    "static-preload-opens-contact.xml": "the normal forces of the static contact solve on the reduced model",
+    "static-preload-nothing-touches.xml": "the gaps of the contact detection at t = 0",
+    # a load on the model's coordinates: how many there are is known once the body is reduced
+    "load-reduced-dof-out-of-range.xml": "how many coordinates the reduced model has",
     # Gaps of --check: faults the deck and its built-in mesh show, seen only where the run builds the model or
     # the surfaces; when --check learns them, this list says so
     "full-model-all-clamped.xml": "gap of --check: the clamped set covers the mesh; seen at the model's assembly",

@@ -29,6 +29,8 @@ the test when
   - a scene's loop / reference is above `loop_factor` (1.5) times the figure the file records for
     this machine class (vendor, family, model, CPU count; without a record for the class this check
     is skipped, and says so).
+A scene that fails either check is measured once more (the same runs) and judged on its faster
+round: another process taking the machine for a minute fails one round, a slower step both.
 The file says how its figures were measured and why each ceiling is where it is. --record
 REFERENCE.json adds this run's figures to the machine class's recordings there (ceilings are kept);
 the record is each scene's median over the last 3: record three times after an intended change of
@@ -50,7 +52,11 @@ Scenes (the online-step issue's):
                              reduced model: its import and reduction are setup, benchmark.reduction-blade)
   cube-rings                 133 contact nodes, two rigid rings
   cube-flexible-rings        E = 2.1 GPa for all bodies, h = 1e-6 s, 20 ms (the thesis' effective stiffness)
-  bar-on-wall                launch overhead
+  stage-flexible-casing      8 instances of a massless blade (128 contact nodes) in a thin massless
+                             casing: the relative flexibility couples every active node through the
+                             casing (reported, not guarded: see 'reported_only' in the reference file)
+  bar-on-wall                launch overhead: the deck run to 2 ms (20,000 steps; the deck's 2,000
+                             loop in about 13 ms, too short to time)
 """
 import argparse
 import json
@@ -87,7 +93,8 @@ SCENES = {
             "Time->End time": ("20e-3", "double"),
         },
     ),
-    "bar-on-wall": ("bar-on-wall.xml", {}),
+    "bar-on-wall": ("bar-on-wall.xml", {"Time->End time": ("2e-3", "double")}),
+    "stage-flexible-casing": ("stage-flexible-casing.xml", {}),
 }
 # The longest scene (cube-flexible-rings, 20,000 steps) loops in 3-7 s here; a run 100x longer hangs.
 RUN_TIMEOUT = 600
@@ -187,18 +194,19 @@ def run_once(exe, deck, workdir, tag, threads, count):
     }
 
 
-def guard(results, ref, machine, where):
+def guard(results, ref, machine, where, quiet=False):
     """The failures of --assert: measured/bound above its ceiling, loop / reference above loop_factor
-    times this machine class's record. Prints each scene's figures against its limits."""
+    times this machine class's record. Prints each scene's figures against its limits (unless quiet)."""
     failures = []
+    say = (lambda *_: None) if quiet else print
     ceilings, factor = ref["measured_over_bound_ceiling"], float(ref["loop_factor"])
     record = ref.get("machines", {}).get(machine)
-    print(
+    say(
         f"guard ({where}): measured/bound against its ceiling; loop / reference kernel against "
         f"{factor:g}x the record of machine class '{machine}'"
     )
     if record is None:
-        print(
+        say(
             f"  no loop figures recorded for this machine class in {where} (classes recorded: "
             f"{', '.join(ref.get('machines', {})) or 'none'}): the loop-time check is skipped; record them with "
             f"three runs with --record {where}, alone on the machine"
@@ -206,6 +214,9 @@ def guard(results, ref, machine, where):
     for name, s in results["scenes"].items():
         ratio, ceiling = s["measured_over_bound"], ceilings.get(name)
         line = f"  {name}: measured/bound {ratio:.2f}"
+        if name in ref.get("reported_only", {}):
+            say(f"{line}; reported, not guarded: {ref['reported_only'][name]}")
+            continue
         if ceiling is None:
             failures.append(
                 f"{name}: {where} states no measured/bound ceiling for it; add one to "
@@ -240,7 +251,7 @@ def guard(results, ref, machine, where):
                     line += "; faster than recorded by more than the limit: record again to keep the guard tight"
         elif record:
             line += " (no record for this scene)"
-        print(line)
+        say(line)
     return failures
 
 
@@ -285,6 +296,75 @@ def record_figures(path, results, machine, repeat):
     print(f"recorded the figures of '{machine}' in {path}")
 
 
+def measure_scene(a, name, builds, bw, proj_ns):
+    """One scene's runs (every build, 1 and 2 threads, a counted run) and its figures; prints its line."""
+    base, over = SCENES[name]
+    over = dict(over)
+    young = over.pop("Young's modulus", None)
+    deck = variant(
+        os.path.join(a.inputs, base),
+        os.path.join(a.workdir, name + ".xml"),
+        dict(over, **{"Run->Progress interval": ("0", "double")}),
+    )
+    if young:  # (a quote in the key: not a variant() path)
+        tree = ET.parse(deck)
+        for p in tree.getroot().iter("Parameter"):
+            if p.get("name") == "Young's modulus":
+                p.set("value", young)
+        tree.write(deck)
+    res, refs = {}, []
+    for which, exe in builds:
+        for threads in (1, 2):
+            timed_ref = a.reference_kernel and (which, threads) == ("now", 1)
+            if timed_ref:
+                refs.append(reference_ms(a.reference_kernel))
+            res[f"{which}-{threads}"] = run_scene(
+                exe, deck, a.workdir, f"{name}-{which}-{threads}", threads, count=False, repeat=a.repeat
+            )
+            if timed_ref:
+                refs.append(reference_ms(a.reference_kernel))
+    # the parallel regions and allocations from a run of their own: the Kokkos Tools callbacks
+    # that count them cost time in every region (cube-rings on 2 threads: 0.40 -> 0.57 s)
+    counted = run_once(a.run, deck, a.workdir, f"{name}-counted", 2, True)
+    now1, now2 = res["now-1"], dict(
+        res["now-2"], launches_per_step=counted["launches_per_step"], allocations=counted["allocations"]
+    )
+    per_step = now1["loop"] / now1["steps"]
+    bound = (now1["matrix_bytes"] or 0) / (bw * 1e9) + (now1["projections_per_step"] or 0) * proj_ns * 1e-9
+    # measured/bound and loop/reference of the loop at a full core (run_once): the probe and the
+    # reference kernel are the machine at its best too
+    full = now1["loop_full_core"]
+    over_bound = full / now1["steps"] / bound if bound > 0 else float("nan")
+    split = ", ".join(f"{k} {v:.2f}" for k, v in now1["split_us"].items())
+    line = (
+        f"{name}: 1 thread {now1['loop']:.3f} s ({now1['steps_per_second']:.0f} steps/s, {1e6 * per_step:.2f} us/step; "
+        f"{split} us), 2 threads {now2['loop']:.3f} s ({now2['steps_per_second'] / now1['steps_per_second']:.2f}x); "
+        f"{now2['launches_per_step']:.2f} parallel regions/step on 2 threads, {now2['allocations']} allocations in the loop; "
+        f"projections/step {now1['projections_per_step'] or 0:.1f}; bound {1e6 * bound:.2f} us/step, "
+        f"measured/bound {over_bound:.2f}"
+    )
+    if min(now1["shares"]) < 0.97:
+        line += (
+            f" (of the loop at a full core, {full:.3f} s: the 1-thread runs had "
+            f"{', '.join(f'{100 * x:.0f}' for x in now1['shares'])} % of one)"
+        )
+    scene = dict(res, bound_s=bound, measured_over_bound=over_bound)
+    if refs:
+        scene.update(reference_ms=min(refs), reference_ms_runs=refs, loop_over_reference=full / (1e-3 * min(refs)))
+        line += (
+            f"; reference kernel {min(refs):.2f} ms (before/after {refs[0]:.2f}/{refs[1]:.2f}), "
+            f"loop/reference {full / (1e-3 * min(refs)):.2f}"
+        )
+    if a.baseline_run:
+        b1, b2 = res["baseline-1"], res["baseline-2"]
+        line += (
+            f"; baseline 1 thread {b1['loop']:.3f} s, 2 threads {b2['loop']:.3f} s: speedup "
+            f"{b1['loop'] / now1['loop']:.2f}x (1 thread), {b2['loop'] / now2['loop']:.2f}x (2 threads)"
+        )
+    print(line, flush=True)
+    return scene
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--run", required=True)
@@ -323,72 +403,18 @@ def main():
     results = {"machine": machine, "bandwidth_GBps": bw, "projection_ns": proj_ns, "scenes": {}}
     builds = [("now", a.run)] + ([("baseline", a.baseline_run)] if a.baseline_run else [])
     for name in a.scenes:
-        base, over = SCENES[name]
-        over = dict(over)
-        young = over.pop("Young's modulus", None)
-        deck = variant(
-            os.path.join(a.inputs, base),
-            os.path.join(a.workdir, name + ".xml"),
-            dict(over, **{"Run->Progress interval": ("0", "double")}),
-        )
-        if young:  # (a quote in the key: not a variant() path)
-            tree = ET.parse(deck)
-            for p in tree.getroot().iter("Parameter"):
-                if p.get("name") == "Young's modulus":
-                    p.set("value", young)
-            tree.write(deck)
-        res, refs = {}, []
-        for which, exe in builds:
-            for threads in (1, 2):
-                timed_ref = a.reference_kernel and (which, threads) == ("now", 1)
-                if timed_ref:
-                    refs.append(reference_ms(a.reference_kernel))
-                res[f"{which}-{threads}"] = run_scene(
-                    exe, deck, a.workdir, f"{name}-{which}-{threads}", threads, count=False, repeat=a.repeat
-                )
-                if timed_ref:
-                    refs.append(reference_ms(a.reference_kernel))
-        # the parallel regions and allocations from a run of their own: the Kokkos Tools callbacks
-        # that count them cost time in every region (cube-rings on 2 threads: 0.40 -> 0.57 s)
-        counted = run_once(a.run, deck, a.workdir, f"{name}-counted", 2, True)
-        now1, now2 = res["now-1"], dict(
-            res["now-2"], launches_per_step=counted["launches_per_step"], allocations=counted["allocations"]
-        )
-        per_step = now1["loop"] / now1["steps"]
-        bound = (now1["matrix_bytes"] or 0) / (bw * 1e9) + (now1["projections_per_step"] or 0) * proj_ns * 1e-9
-        # measured/bound and loop/reference of the loop at a full core (run_once): the probe and the
-        # reference kernel are the machine at its best too
-        full = now1["loop_full_core"]
-        over_bound = full / now1["steps"] / bound if bound > 0 else float("nan")
-        split = ", ".join(f"{k} {v:.2f}" for k, v in now1["split_us"].items())
-        line = (
-            f"{name}: 1 thread {now1['loop']:.3f} s ({now1['steps_per_second']:.0f} steps/s, {1e6 * per_step:.2f} us/step; "
-            f"{split} us), 2 threads {now2['loop']:.3f} s ({now2['steps_per_second'] / now1['steps_per_second']:.2f}x); "
-            f"{now2['launches_per_step']:.2f} parallel regions/step on 2 threads, {now2['allocations']} allocations in the loop; "
-            f"projections/step {now1['projections_per_step'] or 0:.1f}; bound {1e6 * bound:.2f} us/step, "
-            f"measured/bound {over_bound:.2f}"
-        )
-        if min(now1["shares"]) < 0.97:
-            line += (
-                f" (of the loop at a full core, {full:.3f} s: the 1-thread runs had "
-                f"{', '.join(f'{100 * x:.0f}' for x in now1['shares'])} % of one)"
+        results["scenes"][name] = measure_scene(a, name, builds, bw, proj_ns)
+    if ref is not None:
+        # A scene the guard fails is measured once more and judged on its faster round: another
+        # process taking the machine for a minute fails one round, a slower step fails both.
+        again = [n for n in a.scenes if guard({"scenes": {n: results["scenes"][n]}}, ref, machine, a.check, quiet=True)]
+        for name in again:
+            print(f"{name}: above its limits; measured again", flush=True)
+            second = measure_scene(a, name, builds, bw, proj_ns)
+            first = results["scenes"][name]
+            results["scenes"][name] = min(
+                first, second, key=lambda s: s["now-1"]["loop_full_core"] / s.get("reference_ms", 1.0)
             )
-        results["scenes"][name] = dict(res, bound_s=bound, measured_over_bound=over_bound)
-        if refs:
-            results["scenes"][name].update(
-                reference_ms=min(refs), reference_ms_runs=refs, loop_over_reference=full / (1e-3 * min(refs))
-            )
-            line += (
-                f"; reference kernel {min(refs):.2f} ms (before/after {refs[0]:.2f}/{refs[1]:.2f}), "
-                f"loop/reference {full / (1e-3 * min(refs)):.2f}"
-            )
-        if a.baseline_run:
-            b1, b2 = res["baseline-1"], res["baseline-2"]
-            line += (
-                f"; baseline 1 thread {b1['loop']:.3f} s, 2 threads {b2['loop']:.3f} s: speedup "
-                f"{b1['loop'] / now1['loop']:.2f}x (1 thread), {b2['loop'] / now2['loop']:.2f}x (2 threads)"
-            )
-        print(line, flush=True)
     with open(os.path.join(a.workdir, "bench_step.json"), "w") as f:
         json.dump(results, f, indent=1)
     if a.record:

@@ -37,10 +37,9 @@ benchmark.peer-bar does (peer_bar.compare):
     |count - 20| / 20, T_c error, drift and |end| (the best row of each code: the least sum of the
     four; today Epaphe's lumped full model at 500 elements, 30 contacts, 0.30 %, 4.95 %, 4.95 %,
     against Siconos' 200 elements, 45 contacts, 3.13 %, 63.2 %, 63.2 %);
-  - in at most TIME_RATIO = 0.75 of that Siconos row's process time (no ratio is stated for V3; one
-    run each, measured 0.42 on a quiet machine, 0.51 at load 5 on 2 cores, each process 13-50 s long:
-    the bound leaves half as much again above the loaded figure). The other rows' times are
-    reported, not asserted.
+Reported, not asserted: Epaphe's best row's process time against that Siconos row's, and against the
+target TIME_RATIO = 0.75 (no ratio is stated for V3; one run each, measured 0.42 on a quiet machine, 0.51
+at load 5 on 2 cores, each process 13-50 s long). The other rows' times too.
 """
 import math
 import os
@@ -235,7 +234,7 @@ def main():
         f"T_c {mine['worst_tc']:.2%}, drift {mine['drift']:.3%}, end {mine['end']:+.3%}) against the best "
         f"Siconos row ({best['size']}, h = {best['h']:.2e}: {best['contacts']} contacts, {best['worst_tc']:.2%}, "
         f"{best['drift']:.3%}, {best['end']:+.3%}); process {mine['wall']:.2f} s against {best['wall']:.2f} s: "
-        f"{ratio:.3f} (at most {TIME_RATIO})"
+        f"{ratio:.3f} (target {TIME_RATIO})"
     )
     failures = compare(mine, best, KEYS, {}, ratio, TIME_RATIO, tie=0.0)
     print(f"script time {time.perf_counter() - t_script:.1f} s")

@@ -47,6 +47,9 @@ import sys
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "verification"))
+from epaphe_testing import POINT_MASS_MESH, write_point_mass  # noqa: E402
+
 # the model (SI): mass, springs, contact stiffness; mu_c = -K12 / KC
 M = 1.0
 KC = 1.0e4
@@ -66,20 +69,8 @@ TOL_MU = 0.02  # the issue's 2 %
 
 
 def write_model(workdir):
-    """The node's K, M, DOF, node and node-set files (Matrix Market import)."""
-    k = [(1, 1, K11), (2, 1, K12), (2, 2, K22), (3, 3, KZ)]
-    with open(os.path.join(workdir, "K.mtx"), "w") as f:
-        f.write("%%MatrixMarket matrix coordinate real symmetric\n3 3 4\n")
-        f.writelines(f"{i} {j} {v:.17g}\n" for i, j, v in k)
-    with open(os.path.join(workdir, "M.mtx"), "w") as f:
-        f.write("%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n")
-        f.writelines(f"{i} {i} {M:.17g}\n" for i in (1, 2, 3))
-    with open(os.path.join(workdir, "dofs.txt"), "w") as f:
-        f.write("1 x\n1 y\n1 z\n")
-    with open(os.path.join(workdir, "nodes.txt"), "w") as f:
-        f.write("# id x y z\n1 0 0 0\n")
-    with open(os.path.join(workdir, "sets.txt"), "w") as f:
-        f.write("MASS 1\n")
+    """The node's model files (Matrix Market import)."""
+    write_point_mass(workdir, [(1, 1, K11), (2, 1, K12), (2, 2, K22), (3, 3, KZ)], M)
 
 
 def write_deck(path, mu, speed, out):
@@ -95,21 +86,9 @@ def write_deck(path, mu, speed, out):
   </ParameterList>
   <ParameterList name="Bodies">
     <ParameterList name="Mass">
-      <ParameterList name="Mesh">
-        <Parameter name="Type" type="string" value="Matrix Market"/>
-        <Parameter name="Stiffness file" type="string" value="K.mtx"/>
-        <Parameter name="Mass file" type="string" value="M.mtx"/>
-        <Parameter name="DOF file" type="string" value="dofs.txt"/>
-        <Parameter name="Node file" type="string" value="nodes.txt"/>
-        <Parameter name="Node set file" type="string" value="sets.txt"/>
-      </ParameterList>
+      {POINT_MASS_MESH}
       <Parameter name="Contact node set" type="string" value="MASS"/>
       <Parameter name="Watched node sets" type="Array(string)" value="{{MASS}}"/>
-      <ParameterList name="Reduction">
-        <Parameter name="Method" type="string" value="None"/>
-        <Parameter name="Frequency check" type="int" value="0"/>
-        <Parameter name="Cache" type="bool" value="false"/>
-      </ParameterList>
     </ParameterList>
   </ParameterList>
   <ParameterList name="Surfaces">

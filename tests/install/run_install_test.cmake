@@ -40,7 +40,7 @@ s = epaphe.Schema(os.path.join(sys.argv[2], "bin", "epaphe-run"))
 assert s.param("Time->Time step").type == "double", s.param("Time->Time step")
 print("import epaphe:", epaphe.__file__, "-", len(s.params), "deck parameters")
 ]=] "${_site}" "${WORK}/prefix")
-foreach(_driver epaphe-plot epaphe-sweep epaphe-rotor)
+foreach(_driver epaphe-plot epaphe-sweep epaphe-rotor epaphe-frf)
   step(${CMAKE_COMMAND} -E env --unset=PYTHONPATH "${WORK}/prefix/bin/${_driver}" --help)
 endforeach()
 # The installed epaphe-run on the installed bar-on-wall.xml (V1, 2,000 steps), its result read with

@@ -21,6 +21,11 @@ reduces the history it writes to at most MAX_RECORDS records per dataset and com
   still seen), and the three nodes with the largest peak force in the gold run, sampled;
   /bodies/<b>/contact/total_force: sampled, its largest value and its sum per window;
 - /bodies/<b>/frequencies/*: all of them (a modes-only deck such as ring-modes.xml is checked there);
+- /thermal/<b> (decks with a thermal model): time, max_temperature, friction_heat, heat, coating_heat
+  sampled; temperature (records x contact nodes) per window its largest value over the nodes and the
+  records of the window, and the three contact nodes hottest in the gold run, sampled; growth (records x
+  3 contact nodes) the norm over the nodes, sampled, and the same three nodes' growth; rates (the
+  reduced thermal model's decay rates) all of them;
 - the run summary's contact line (first and last contact, max force, impulse: over every step).
 
 A value x passes against its gold value g when |x - g| <= ATOL * scale + RTOL * |g|, scale being
@@ -90,6 +95,12 @@ TOLERANCES = {
     "force": (1e-6, 1e-6),  # N; jumps with the active set; measured 1.3e-8 (blade-casing, one node)
     "frequency": (1e-8, 1e-8),  # Hz; measured 5.9e-11 (two-bars), rigid-body modes set to 0 (below)
     "summary": (1e-6, 1e-6),  # printed with 7 digits (5e-7 of rounding); measured 0
+    # /thermal (blade-casing-heat): the heat follows the contact forces, the temperature and the growth the
+    # heat; the same bounds as the energies and displacements (measured in the comments)
+    "temperature": (3e-8, 3e-8),  # K; measured 4.8e-11 (blade-casing-heat, the hottest tip nodes)
+    "heat": (3e-8, 3e-8),  # J; measured 1.1e-10 (blade-casing-heat)
+    "growth": (3e-8, 3e-8),  # m; measured 3.2e-10 (blade-casing-heat)
+    "rate": (1e-8, 1e-8),  # 1/s, the thermal model's decay rates; measured 0 (a dense LAPACK solve)
 }
 # the smallest scale of a dataset: a dataset whose values all stay below it is compared in absolute
 # terms, atol x floor. Gap: nodes in contact throughout (two-bars) have gaps of the Lagrange solve's
@@ -106,14 +117,23 @@ FLOORS = {
     "force": 1e-6,
     "frequency": 1e-6,
     "summary": 1e-12,
+    "temperature": 1e-6,
+    "heat": 1e-12,
+    "growth": 1e-12,
+    "rate": 1e-12,
 }
 
 # ---- horizons: each deck cut to what holds its first contacts, so that the whole test takes about
-# a minute on 1 thread. A deck not listed keeps its own end, capped at DEFAULT_MAX_STEPS steps; a
-# deck with surfaces must then still see a contact, or the test asks for a horizon here.
+# a minute on 1 thread. A deck not listed keeps its own End time, capped at DEFAULT_MAX_STEPS steps
+# (a deck that ends in revolutions must be listed); a deck with surfaces must then still see a
+# contact, or the test asks for a horizon here.
 HORIZON = {
     # V1: contact from 2e-5 to 1e-4 s and the rebound: the whole deck (2000 steps)
     "bar-on-wall": {},
+    # the friction-damped cantilever: in contact from t = 0 (a static start), 1 drive period at 50 Hz
+    "beam-friction": {"Time->End time": ("0.02", "double")},
+    # the oblique contact: stuck, sliding from 1.24 ms, lifted off at 10 ms: the whole deck
+    "oblique-contact": {},
     # V2: contact from t = 0 for 2L/c = 4e-4 s, then the bars part
     "two-bars": {"Time->End time": ("6e-4", "double")},
     # cube at 50 m/s: first contact at 6e-5 s, through both rings' contacts
@@ -130,6 +150,14 @@ HORIZON = {
     # rotor 37: the blade starts between the lobes, meets the first after a quarter revolution
     "rotor37-casing": {"Time->End revolutions": ("0.5", "double")},
     "rotor37-massless": {"Time->End revolutions": ("3", "double")},
+    # the 8-blade stage: its first revolution, before the modal interaction grows (10x a revolution)
+    "stage-flexible-casing": {"Time->End revolutions": ("1", "double")},
+    # at 1000 rad/s: one revolution holds the pattern every later one repeats (seven contacts, from
+    # 0.086 rev); the deck's 20 revolutions (1.26e6 steps) let round-off grow past the 2-rank bound
+    "blade-casing-at-speed": {"Time->End revolutions": ("1", "double")},
+    # heat from rubbing: first contact at 1.4 ms; two revolutions (126k steps, 1256 thermal steps) heat
+    # the tip and grow it towards the casing (the energy record's heat term is compared with the energies)
+    "blade-casing-heat": {"Time->End revolutions": ("2", "double")},
     # run-up: the ramp (720 to 800 rad/s) cut to 1.8 ms, its stiffness refreshed about every 400 steps
     "blade-casing-run-up": {
         "Time->End time": ("2e-3", "double"),
@@ -153,6 +181,15 @@ def kind_of(path):
     leaf = path.rsplit("/", 1)[-1]
     if path == "time":
         return "time"
+    if path.startswith("thermal/"):
+        leaf = leaf.split(":")[0]  # thermal/<b>/temperature:nodes and the like: the dataset's kind
+        if leaf == "time":
+            return "time"
+        if leaf in ("temperature", "max_temperature"):
+            return "temperature"
+        if leaf in ("friction_heat", "coating_heat", "heat"):
+            return "heat"
+        return {"growth": "growth", "rates": "rate"}.get(leaf)  # nodes: the contact nodes' numbers, not a result
     if path.startswith("energy/"):
         return "balance" if leaf == "balance_error" else "energy"
     if path.startswith("summary/"):
@@ -184,6 +221,10 @@ def columns(name, shape):
         return 1 + NODES_KEPT
     if name.endswith("total_force"):
         return 3
+    if name.startswith("thermal/") and name.endswith(("/temperature", "/growth")):
+        return 1 + NODES_KEPT * (3 if name.endswith("growth") else 1)
+    if name.endswith("/rates"):
+        return 0
     return int(np.prod(shape[1:]))
 
 
@@ -201,13 +242,25 @@ def reduce_history(h5path, stdout, selection=None, records=None):
             per_record = sum(columns(k, a.shape) for k, a in raw.items())
             records = max(50, min(MAX_RECORDS, BUDGET // max(per_record, 1)))
         idx, wins = windows(n, records)
+        # a thermal body's records (thermal/<b>/time) start after the first step: windows of their own
+        own = {}
+        for name, a in raw.items():
+            if name.startswith("thermal/") and name.endswith("/time"):
+                own[name[: -len("time")]] = windows(a.shape[0], records)
         for name, a in sorted(raw.items()):
-            if "/frequencies/" in name:
+            group = name[: name.rfind("/") + 1] if name.startswith("thermal/") else None
+            n_rec, (idx_g, wins_g) = (raw[group + "time"].shape[0], own[group]) if group in own else (n, (idx, wins))
+            if name.startswith("thermal/") and name.endswith("/rates"):
+                out[name] = a  # not a history: every rate
+            elif "/frequencies/" in name:
                 # rigid-body modes (below 1e-4 of the largest, the driver's own criterion) are zero up to
                 # round-off, sqrt(eps) f_max = 1.5e-8 f_max (1.2e-8 f_max measured between 1 and 2 threads)
                 out[name] = np.where(a < 1e-4 * (a.max() if a.size else 0.0), 0.0, a)
-            elif a.ndim >= 1 and a.shape[0] != n:
-                raise RuntimeError(f"{h5path}: {name} has {a.shape[0]} records, /time {n}")
+            elif a.ndim >= 1 and a.shape[0] != n_rec:
+                raise RuntimeError(
+                    f"{h5path}: {name} has {a.shape[0]} records, "
+                    + (f"{group}time {n_rec}" if group in own else f"/time {n}")
+                )
             elif "/nodesets/" in name:  # records x nodes x 3
                 cols = selection.get(name) if selection else None
                 if cols is None:
@@ -215,6 +268,12 @@ def reduce_history(h5path, stdout, selection=None, records=None):
                 chosen[name] = np.asarray(cols)
                 out[name + ":nodes"] = a[idx][:, chosen[name], :]
                 out[name + ":norm"] = np.sqrt(np.sum(a[idx] ** 2, axis=(1, 2)))
+            elif name.startswith("thermal/") and name.endswith("/growth"):  # records x 3 contact nodes
+                out[name + ":norm"] = np.sqrt(np.sum(a[idx_g] ** 2, axis=1))
+            elif name.startswith("thermal/") and name.endswith("/temperature"):  # records x contact nodes
+                out[name + ":window_max"] = np.array([a[w].max() for w in wins_g])
+            elif name.startswith("thermal/"):  # records
+                out[name] = a[idx_g]
             elif name.endswith("/contact/gap") or name.endswith("/contact/force"):  # records x nodes
                 out[name + (":window_min" if name.endswith("gap") else ":window_max")] = np.array(
                     [a[w].min() if name.endswith("gap") else a[w].max() for w in wins]
@@ -234,6 +293,18 @@ def reduce_history(h5path, stdout, selection=None, records=None):
             chosen[key + "nodes"] = np.asarray(cols)
             out[key + "force:nodes"] = raw[name][idx][:, chosen[key + "nodes"]]
             out[key + "gap:nodes"] = raw[key + "gap"][idx][:, chosen[key + "nodes"]]
+        # the thermal bodies' contact nodes compared one by one: the hottest in the gold run
+        for name in [k for k in raw if k.startswith("thermal/") and k.endswith("/temperature")]:
+            key = name[: -len("temperature")]
+            cols = selection.get(key + "nodes") if selection else None
+            if cols is None:
+                cols = sorted(np.argsort(-raw[name].max(axis=0), kind="stable")[:NODES_KEPT].tolist())
+            chosen[key + "nodes"] = np.asarray(cols)
+            idx_g = own[key][0]
+            out[name + ":nodes"] = raw[name][idx_g][:, chosen[key + "nodes"]]
+            if key + "growth" in raw:
+                g = raw[key + "growth"].reshape(raw[key + "growth"].shape[0], -1, 3)
+                out[key + "growth:nodes"] = g[idx_g][:, chosen[key + "nodes"], :]
     m = SUMMARY.findall(stdout)
     for i, (first, last, fmax, impulse) in enumerate(m):
         for k, v in (("first_contact", first), ("last_contact", last), ("max_force", fmax), ("impulse", impulse)):
@@ -279,6 +350,12 @@ def overrides_for(name, deck):
         h = float(get.get("Time step", "1e-7"))
         if "End time" in get and float(get["End time"]) > DEFAULT_MAX_STEPS * h:
             over["Time->End time"] = (f"{DEFAULT_MAX_STEPS * h:.6g}", "double")
+        if "End revolutions" in get:
+            raise SystemExit(
+                f"FAILED: {name}: its deck ends after 'End revolutions' = {get['End revolutions']}, which "
+                f"DEFAULT_MAX_STEPS cannot cap without the speed: give it a horizon in HORIZON "
+                f"({os.path.abspath(__file__)})"
+            )
     for b in body_names(deck):
         over[f"Bodies->{b}->Reduction->Cache"] = ("false", "bool")
     return over

@@ -66,3 +66,38 @@ def verdict(failures):
     """Prints PASSED, or FAILED with one line per failure; returns the exit code (0 or 1)."""
     print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
     return 1 if failures else 0
+
+
+def write_point_mass(workdir, stiffness, mass):
+    """A one-node model for the Matrix Market importer, written to workdir: K.mtx from `stiffness`
+    (the lower triangle as (row, column, value), 1-based over the DOFs x, y, z), M.mtx = mass I, the
+    DOF, node (at the origin) and node-set files (the set MASS holds the node). POINT_MASS_MESH is
+    the body's Mesh list that reads them."""
+    files = {
+        "K.mtx": "%%MatrixMarket matrix coordinate real symmetric\n"
+        + f"3 3 {len(stiffness)}\n"
+        + "".join(f"{i} {j} {v:.17g}\n" for i, j, v in stiffness),
+        "M.mtx": "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n"
+        + "".join(f"{i} {i} {mass:.17g}\n" for i in (1, 2, 3)),
+        "dofs.txt": "1 x\n1 y\n1 z\n",
+        "nodes.txt": "# id x y z\n1 0 0 0\n",
+        "sets.txt": "MASS 1\n",
+    }
+    for name, text in files.items():
+        with open(os.path.join(workdir, name), "w") as f:
+            f.write(text)
+
+
+POINT_MASS_MESH = """<ParameterList name="Mesh">
+        <Parameter name="Type" type="string" value="Matrix Market"/>
+        <Parameter name="Stiffness file" type="string" value="K.mtx"/>
+        <Parameter name="Mass file" type="string" value="M.mtx"/>
+        <Parameter name="DOF file" type="string" value="dofs.txt"/>
+        <Parameter name="Node file" type="string" value="nodes.txt"/>
+        <Parameter name="Node set file" type="string" value="sets.txt"/>
+      </ParameterList>
+      <ParameterList name="Reduction">
+        <Parameter name="Method" type="string" value="None"/>
+        <Parameter name="Frequency check" type="int" value="0"/>
+        <Parameter name="Cache" type="bool" value="false"/>
+      </ParameterList>"""

@@ -18,7 +18,8 @@ CoatingContact::CoatingContact(std::unique_ptr<ContactEnforcement> inner, bool p
       p_("epaphe::coating::penetration", numNodes),
       upNext_("epaphe::coating::up_next", numNodes),
       sigma_("epaphe::coating::stress", numNodes),
-      energy_("epaphe::coating::energy") {
+      energy_("epaphe::coating::energy"),
+      nodeDissipation_("epaphe::coating::node_dissipation", numNodes) {
   EPAPHE_REQUIRE(inner_ != nullptr, "coating: no inner contact law");
   for (int s = 0; s < static_cast<int>(coat_.law.extent(0)); ++s) {
     if (coat_.grid(s, 0) == 0) continue;
@@ -178,8 +179,11 @@ void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& a
   const int nA = static_cast<int>(active.size());
   if (nA == 0) {
     energy_(1) = 0.0;
+    if (nodeDissipationSet_) Kokkos::deep_copy(nodeDissipation_, 0.0);  // no node made any this step
+    nodeDissipationSet_ = false;
     return;
   }
+  nodeDissipationSet_ = true;
   const auto act = v.upload(active);
   if (penalty_) {  // the element's compression is the predicted one (the force was computed there)
     const auto p = unmanaged(p_);
@@ -196,6 +200,7 @@ void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& a
   const auto upNext = unmanaged(upNext_);
   const auto sigma = unmanaged(sigma_);
   const auto energy = unmanaged(energy_);
+  const auto nodeDissipation = unmanaged(nodeDissipation_);
   const CoatingViews c = coat_;
   // per node: the return mapping at its final compression (Epaphe_AbradableCoating.hpp)
   forEach(
@@ -214,12 +219,15 @@ void CoatingContact::commit(const ContactStepViews& v, const std::vector<int>& a
   forEach(
       "epaphe::coating::commit", 1, 0, KOKKOS_LAMBDA(const int) {
         double elastic = 0.0;
+        for (std::size_t k = 0; k < nodeDissipation.extent(0); ++k) nodeDissipation(k) = 0.0;
         for (int a = 0; a < nA; ++a) {
           if (upNext(a) < 0.0) continue;
           const int e = element(act(a));
           const ElementLaw L = c.elementLaw(e);
           const double up0 = c.wear(e), up1 = upNext(a) > up0 ? upNext(a) : up0;
-          energy(0) += L.dissipation(up0, up1);
+          const double d = L.dissipation(up0, up1);
+          energy(0) += d;
+          nodeDissipation(act(a)) += d;  // the node that shortened the element made it
           c.wear(e) = up1;
           elastic += L.A * L.t * sigma(a) * sigma(a) / (2.0 * L.E);
         }

@@ -60,6 +60,10 @@ public:
   double elasticEnergy() const { return energy_(1); }
   /// Restores the dissipation (checkpoints; the elastic energy follows at the next step).
   void setPlasticDissipation(double d) { energy_(0) = d; }
+  /// Per contact node, the plastic dissipation of the elements it shortened at the last step (J): where the coating's
+  /// dissipation is made, for heat from rubbing (docs/theory/heat.md, eq. 64). Per step, not summed over the run, so
+  /// that a restart continues it bit for bit.
+  Kokkos::View<const double*> dissipationByNode() const { return nodeDissipation_; }
   /// Branch passes of the last Lagrange step.
   int lastBranchPasses() const { return lastBranchPasses_; }
 
@@ -78,9 +82,11 @@ private:
   double kp_;
   CoatingViews coat_;
   Kokkos::View<int*> branch_, changed_;
-  Kokkos::View<double*> p_;               // corrected penetration into the profile (penalty: predicted)
-  Kokkos::View<double*> upNext_, sigma_;  // per active position: shortening and stress at commit
-  Kokkos::View<double[2]> energy_;        // plastic dissipation (run), elastic energy (last step)
+  Kokkos::View<double*> p_;                // corrected penetration into the profile (penalty: predicted)
+  Kokkos::View<double*> upNext_, sigma_;   // per active position: shortening and stress at commit
+  Kokkos::View<double[2]> energy_;         // plastic dissipation (run), elastic energy (last step)
+  Kokkos::View<double*> nodeDissipation_;  // per contact node, the plastic dissipation it made at the last step (J)
+  bool nodeDissipationSet_ = false;        // nodeDissipation_ may hold non-zero values
   int lastBranchPasses_ = 0;
   static constexpr int kMaxPasses = 20;
 };

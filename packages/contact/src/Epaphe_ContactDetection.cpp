@@ -90,7 +90,8 @@ static_assert(parallel_detail::kHostAccessible,
               "contact detection fills its per-surface data on the host: it needs a host-accessible memory space");
 
 ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vector<double>& X,
-                                   std::vector<ContactSurface> surfaces, const DetectionOptions& options)
+                                   std::vector<ContactSurface> surfaces, const DetectionOptions& options,
+                                   const std::vector<int>& blocks)
     : opt_(options), surfaces_(std::move(surfaces)) {
   const int nc = static_cast<int>(dofs.size() / 3);
   const int ns = static_cast<int>(surfaces_.size());
@@ -113,6 +114,12 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.surf = Kokkos::View<SurfaceView*>("epaphe::contact::surfaces", ns);
   v.rot = Kokkos::View<double* [3][3]>("epaphe::contact::rotation", ns);
   v.turn = Kokkos::View<double* [9]>("epaphe::contact::turning", ns);
+  EPAPHE_REQUIRE(blocks.empty() || blocks.size() == std::size_t(nc),
+                 "contact: " << blocks.size() << " node blocks for " << nc << " nodes; give 1 per node");
+  v.block = Kokkos::View<int*>("epaphe::contact::block", nc);
+  for (int k = 0; k < nc; ++k) v.block(k) = blocks.empty() ? 0 : blocks[k];
+  v.onlyBlock = Kokkos::View<int*>("epaphe::contact::only_block", ns);
+  for (int s = 0; s < ns; ++s) v.onlyBlock(s) = surfaces_[s].onlyBlock;
   for (int s = 0; s < ns; ++s) {
     ContactSurface& cs = surfaces_[s];
     if (cs.moving) cs.surface = cs.moving;
@@ -372,6 +379,15 @@ void ContactDetection::rebuildCarried(const DenseVector& q) {
   // Surfaces carried by a body: rebuilt from their moved grid nodes (operators reused, eq. 2.26).
   for (std::size_t s = 0; s < surfaces_.size(); ++s) {
     if (!surfaces_[s].moving) continue;
+    // a copy of a surface already rebuilt (the instances of a stage share one carried surface)
+    std::size_t first = 0;
+    while (surfaces_[first].moving != surfaces_[s].moving) ++first;
+    if (first < s) {
+      v_.surf(s) = v_.surf(first);
+      v_.skip.travel(s) = v_.skip.travel(first);
+      v_.turn(s, 7) = v_.turn(first, 7);
+      continue;
+    }
     const auto gX = gridX_[s];
     const auto gx = gridPos_[s];
     const auto gdof = gridDof_[s];
@@ -453,6 +469,8 @@ DetectionViews DetectionViews::untracked() const {
   u.surf = unmanaged(surf);
   u.rot = unmanaged(rot);
   u.turn = unmanaged(turn);
+  u.onlyBlock = unmanaged(onlyBlock);
+  u.block = unmanaged(block);
   u.uv = unmanaged(uv);
   u.uvRate = unmanaged(uvRate);
   u.gap = unmanaged(gap);
@@ -497,8 +515,9 @@ void ContactDetection::project(bool all, bool refineOnly) {
           for (int d = 0; d < 3; ++d) dx += (x[d] - v.skip.xLast(k, d)) * (x[d] - v.skip.xLast(k, d));
           double move = ::sqrt(dx);
           for (int s = 0; s < ns; ++s)
-            move += ::fabs(v.turn(s, 0)) * (t - v.skip.tLast(k)) * v.turn(s, 7) +
-                    (v.skip.travel(s) - v.skip.travelLast(k, s));
+            if (v.onlyBlock(s) < 0 || v.onlyBlock(s) == v.block(k))
+              move += ::fabs(v.turn(s, 0)) * (t - v.skip.tLast(k)) * v.turn(s, 7) +
+                      (v.skip.travel(s) - v.skip.travelLast(k, s));
           // The distance to a surface is 1-Lipschitz in the node's position and moves by at most the
           // surface's own motion: the gap now is at least the last one less `move`, and the node cannot
           // have crossed the surface (a crossing needs a segment at least gLast long). A lower bound of
@@ -517,6 +536,7 @@ void ContactDetection::project(bool all, bool refineOnly) {
         double g = 1e300, gmin = 1e300;
         bool eligible = true;
         for (int s = 0; s < ns; ++s) {
+          if (v.onlyBlock(s) >= 0 && v.onlyBlock(s) != v.block(k)) continue;  // another instance's copy
           const SurfaceView& S = v.surf(s);  // a reference: a copy would copy its 4 views per node and surface
           double xs[3] = {x[0], x[1], x[2]};
           if (v.turn(s, 8) != 0.0) {

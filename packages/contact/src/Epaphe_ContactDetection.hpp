@@ -83,6 +83,9 @@ struct ContactSurface {
   /// An abradable coating in front of a rigid surface (Epaphe_AbradableCoating.hpp; elements {0, 0}:
   /// none): the node's gap is measured to the coating's current profile.
   CoatingMaterial coating{};
+  /// The surface is seen by the nodes of this block only (-1: by every node). An instance of a
+  /// stage ('Instances') sees its own copy of each surface, turned back by the instance's pose.
+  int onlyBlock = -1;
 };
 
 /// The closest-point Newton iterations and the detection's options (the deck's Contact keys).
@@ -137,6 +140,8 @@ struct DetectionViews {
   Kokkos::View<SurfaceView*> surf;    ///< [s] the surfaces (a carried one re-copied after its update)
   Kokkos::View<double* [3][3]> rot;   ///< [s] R(omega t + phase)
   Kokkos::View<double* [9]> turn;     ///< [s] omega, axis (3), center (3), r_s, turning (1) or not (0)
+  Kokkos::View<int*> onlyBlock;       ///< [s] ContactSurface::onlyBlock
+  Kokkos::View<int*> block;           ///< [k] the node's block (body)
   Kokkos::View<double** [2]> uv;      ///< [k][s] warm start (NaN: cold start from the nearest grid node)
   Kokkos::View<double** [2]> uvRate;  ///< [k][s] d(u, v)/dt of the foot point between its last two projections
   Kokkos::View<double*> gap;          ///< selected gap (1e300: beyond every surface)
@@ -165,9 +170,10 @@ struct DetectionViews {
 /// every surface, with the skipping of distant nodes, warm starts and initial-penetration offsets.
 class ContactDetection {
 public:
-  /// `dofs` and `X`: 3 per node. Surfaces outlive this object.
+  /// `dofs` and `X`: 3 per node; `blocks`: 1 per node, the block (body) of each, which a surface's
+  /// onlyBlock selects (empty: every node in block 0). Surfaces outlive this object.
   ContactDetection(const std::vector<int>& dofs, const std::vector<double>& X, std::vector<ContactSurface> surfaces,
-                   const DetectionOptions& options);
+                   const DetectionOptions& options, const std::vector<int>& blocks = {});
   /// Its deck keys in the Contact list: Newton tolerance, Newton max iterations, Edge tolerance,
   /// Skip distant nodes, and the guards' Allow large motion per step, Initial penetration,
   /// Penetration ramp time.

@@ -484,22 +484,60 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
               w2 += Tab[6 + j] * f[j];
             }
           }
-          // radial return: the tangential force that would stop the node, the others' forces
-          // fixed, s_trial = mu lambda t - K^{-1} w_t, K_ij = e_i^T F_aa e_j (2 x 2); inside the
-          // cone it sticks, outside it slides along s_trial (stable when w is small)
+          // The return (docs/theory/contact.md, eq. (74)): the others' forces fixed, the node's
+          // tangential motion is w = w_0 + K s, K_ij = e_i^T F_aa e_j its 2 x 2 tangential
+          // flexibility and w_0 its motion without its own friction force s. The force that would
+          // stop it is s_trial = s - K^{-1} w = -K^{-1} w_0: inside the cone |s_trial| <= mu lambda it
+          // sticks. Outside it slides, and Coulomb's law puts its force against its slip, s = mu lambda t
+          // with w = -alpha t, alpha >= 0: then (alpha I + mu lambda K) t = K s_trial, so
+          //   t = (alpha I + mu lambda K)^{-1} K s_trial,  |t| = 1,
+          // alpha the root of |t(alpha)| = 1 (|t(0)| = |s_trial| / (mu lambda) > 1, |t| -> 0 as alpha
+          // grows). An isotropic K gives t along s_trial (the radial return); along s_trial when K is
+          // not isotropic, the force would leave the slip at an angle and dissipate less than mu lambda |w|.
           const double K[2][2] = {{T(ka, ka, 1, 1), T(ka, ka, 1, 2)}, {T(ka, ka, 2, 1), T(ka, ka, 2, 2)}};
           const double det = K[0][0] * K[1][1] - K[0][1] * K[1][0];
           const double d1 = -(K[1][1] * w1 - K[0][1] * w2) / det, d2 = -(-K[1][0] * w1 + K[0][0] * w2) / det;
-          double st[3], ss = 0.0;
+          double sT[2] = {d1, d2};  // s_trial in (e1, e2): mu lambda t + d
           for (int e = 0; e < 3; ++e) {
-            st[e] = mu * lambda * t[e] + d1 * basis(ka, 1, e) + d2 * basis(ka, 2, e);
-            ss += st[e] * st[e];
+            sT[0] += mu * lambda * t[e] * basis(ka, 1, e);
+            sT[1] += mu * lambda * t[e] * basis(ka, 2, e);
           }
-          ss = ::sqrt(ss);
-          if (!(ss > mu * lambda) && returns(ka) < kMaxReturns) {
+          const double ss = ::sqrt(sT[0] * sT[0] + sT[1] * sT[1]), ml = mu * lambda;
+          if (!(ss > ml) && returns(ka) < kMaxReturns) {
             next = kStick;
           } else if (ss > 0.0) {
-            for (int e = 0; e < 3; ++e) t[e] = st[e] / ss;
+            double u[2] = {sT[0] / ss, sT[1] / ss};  // the radial return (mu lambda = 0, or no root)
+            const double Ks[2] = {K[0][0] * sT[0] + K[0][1] * sT[1], K[1][0] * sT[0] + K[1][1] * sT[1]};
+            if (ml > 0.0) {
+              // t(alpha) = A^{-1} K s_trial, A = alpha I + ml K; f(alpha) = 1 / |t| - 1 rises from
+              // f(0) < 0 and is about linear in alpha (exactly so for an isotropic K = k I, whose root
+              // k (|s_trial| - ml) starts Newton here with k the mean of K's diagonal): Newton on f,
+              // f' = t.A^{-1}t / |t|^3, kept at alpha >= 0; two to four steps to |f| <= 1e-13 (the
+              // direction then within 1e-13), at most 10
+              double alpha = 0.5 * (K[0][0] + K[1][1]) * (ss - ml), tv[2] = {u[0], u[1]};
+              if (!(alpha > 0.0)) alpha = 0.0;
+              for (int it = 0; it < 10; ++it) {
+                const double a00 = alpha + ml * K[0][0], a01 = ml * K[0][1], a10 = ml * K[1][0],
+                             a11 = alpha + ml * K[1][1];
+                const double r = 1.0 / (a00 * a11 - a01 * a10);
+                tv[0] = (a11 * Ks[0] - a01 * Ks[1]) * r;
+                tv[1] = (-a10 * Ks[0] + a00 * Ks[1]) * r;
+                const double y0 = (a11 * tv[0] - a01 * tv[1]) * r, y1 = (-a10 * tv[0] + a00 * tv[1]) * r;
+                const double in = 1.0 / ::sqrt(tv[0] * tv[0] + tv[1] * tv[1]), f = in - 1.0;
+                const double fp = (tv[0] * y0 + tv[1] * y1) * in * in * in;
+                if (!(fp > 0.0) || ::fabs(f) <= 1e-13) break;
+                const double next = alpha - f / fp;
+                const double stepped = next > 0.0 ? next : 0.5 * alpha;
+                if (::fabs(stepped - alpha) <= 1e-13 * alpha) break;
+                alpha = stepped;
+              }
+              const double n = ::sqrt(tv[0] * tv[0] + tv[1] * tv[1]);
+              if (n > 0.0 && n == n) {
+                u[0] = tv[0] / n;
+                u[1] = tv[1] / n;
+              }
+            }
+            for (int e = 0; e < 3; ++e) t[e] = u[0] * basis(ka, 1, e) + u[1] * basis(ka, 2, e);
           }
         }
         double dt = 0.0;

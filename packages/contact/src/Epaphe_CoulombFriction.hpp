@@ -2,7 +2,8 @@
 // Coulomb friction in the contact correction (thesis eqs. 2.29 and 2.31), with either normal law:
 // a joint solve over the active set, 3 unknowns per active node a (lambda_a and the tangential force
 // s_a in the tangent plane of n_a); see the top of Epaphe_SurfaceContact.hpp for the rows, the
-// stick/slip classification (radial return) and its anti-cycling rules. Without the motion over the
+// stick/slip classification (the return of eq. (74): a sliding node's force against its slip) and its
+// anti-cycling rules. Without the motion over the
 // step (q_n not given) there is no friction direction and the normal law alone applies.
 //
 // Self-locking (docs/theory/divergence.md, eqs. (48)-(50)): at each sliding node a, with friction

@@ -163,10 +163,21 @@ void RelativeFlexibility::controlColumns(const std::vector<ContactSurface>& surf
   const int ns = static_cast<int>(surfaces.size());
   ctrl_.off = Kokkos::View<long*>("epaphe::contact::control_offset", ns);
   ctrl_.dim = Kokkos::View<int* [2]>("epaphe::contact::control_dims", ns);
+  ctrl_.canon = Kokkos::View<int*>("epaphe::contact::canonical_surface", ns);
   std::vector<double> G;
   for (int s = 0; s < ns; ++s) {
     ctrl_.off(s) = -1;
     const ContactSurface& cs = surfaces[s];
+    int first = 0;  // a copy of a carried surface (a stage's instances) shares the first one's columns
+    while (first < s && !(cs.moving && surfaces[first].moving == cs.moving && surfaces[first].block == cs.block))
+      ++first;
+    ctrl_.canon(s) = first;
+    if (first < s) {
+      ctrl_.off(s) = ctrl_.off(first);
+      ctrl_.dim(s, 0) = ctrl_.dim(first, 0);
+      ctrl_.dim(s, 1) = ctrl_.dim(first, 1);
+      continue;
+    }
     if (!cs.moving) continue;
     const int blk = cs.block, b0 = F_.blocks(blk, 0), n = F_.blocks(blk, 1);
     if (F_.denseRow(b0) < 0) continue;  // a diagonal block: the entries' path
@@ -224,6 +235,10 @@ void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surface
   for (int s = 0; s < ns; ++s) {
     ctrl_.tOff(s) = -1;
     if (ctrl_.off(s) < 0) continue;
+    if (ctrl_.canon(s) != s) {  // a copy: the first one's rows
+      ctrl_.tOff(s) = ctrl_.tOff(ctrl_.canon(s));
+      continue;
+    }
     const ContactSurface& cs = surfaces[s];
     const BSplineSurface& S = *cs.surface;
     const int nu = S.nu(), nv = S.nv(), inNv = S.inputNv(), nuE = ctrl_.dim(s, 0);
@@ -253,12 +268,20 @@ void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surface
   for (int s2 = 0; s2 < ns; ++s2) {
     ctrl_.coefOff(s2) = -1;
     if (ctrl_.off(s2) >= 0) {
-      ctrl_.coefOff(s2) = coefs;
-      coefs += 3L * ctrl_.dim(s2, 0) * ctrl_.dim(s2, 1);
+      if (ctrl_.canon(s2) != s2) {
+        ctrl_.coefOff(s2) = ctrl_.coefOff(ctrl_.canon(s2));
+      } else {
+        ctrl_.coefOff(s2) = coefs;
+        coefs += 3L * ctrl_.dim(s2, 0) * ctrl_.dim(s2, 1);
+      }
     }
     for (int s = 0; s < ns; ++s) {
       ctrl_.pOff(s2, s) = -1;
       if (ctrl_.tOff(s2) < 0 || ctrl_.off(s) < 0 || surfaces[s].block != surfaces[s2].block) continue;
+      if (ctrl_.canon(s2) != s2 || ctrl_.canon(s) != s) {  // copies: the first ones' P (made before)
+        ctrl_.pOff(s2, s) = ctrl_.pOff(ctrl_.canon(s2), ctrl_.canon(s));
+        continue;
+      }
       const int blk = surfaces[s].block, n = F_.blocks(blk, 1), r0 = F_.denseRow(F_.blocks(blk, 0));
       const int nu2 = surfaces[s2].surface->nu(), nv2 = surfaces[s2].surface->nv(), nuE2 = ctrl_.dim(s2, 0);
       const long rowsP = 3L * nv2 * nuE2, cols = 3L * ctrl_.dim(s, 0) * ctrl_.dim(s, 1);
@@ -368,6 +391,7 @@ void RelativeFlexibility::relativeColumns(const std::vector<int>& activeH, const
   const auto need = unmanaged(needRange_);
   const auto Pm = unmanaged(ctrl_.P);
   const auto pOff = unmanaged(ctrl_.pOff);
+  const auto canon = unmanaged(ctrl_.canon);
   const int ns = static_cast<int>(carried_.info.extent(0));
   if (ctrl_.tRows > 0) {
     // per patch node, its patch: the first control point (i, j) and the cubic basis of the foot
@@ -392,8 +416,9 @@ void RelativeFlexibility::relativeColumns(const std::vector<int>& activeH, const
         pbasis_(k, r) = bu[r];
         pbasis_(k, 4 + r) = bv[r];
       }
-      needRangeH_(s, 0) = std::min(needRangeH_(s, 0), i);
-      needRangeH_(s, 1) = std::max(needRangeH_(s, 1), i + 3);
+      const int c = ctrl_.canon(s);  // the rows of T a copy's nodes read are its first one's
+      needRangeH_(c, 0) = std::min(needRangeH_(c, 0), i);
+      needRangeH_(c, 1) = std::max(needRangeH_(c, 1), i + 3);
     }
     copy(needRange_, needRangeH_);
     const long work = 600L * carried_.maxGrid[1] + 10;
@@ -411,7 +436,7 @@ void RelativeFlexibility::relativeColumns(const std::vector<int>& activeH, const
           // that carries a surface, so k's own block carries none.)
           for (int s2 = 0; s2 < ns; ++s2) {
             const int blk2 = info(s2, 0), lo = need(s2, 0), hi = need(s2, 1);
-            if (tOff(s2) < 0 || hi < lo || !(s >= 0 && info(s, 0) == blk2)) continue;
+            if (tOff(s2) < 0 || canon(s2) != s2 || hi < lo || !(s >= 0 && info(s, 0) == blk2)) continue;
             const int nv = info(s2, 2), nuE = ctrlDim(s2, 0);
             const int m = 3 * nv;  // T's rows A = lo..hi: one run of (hi - lo + 1) m
             double* t = &T(tOff(s2) + static_cast<long>(lo) * m, c);
@@ -562,6 +587,7 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
   const auto ctrlDim = unmanaged(ctrl_.dim);
   const auto coef = unmanaged(ctrl_.coef);
   const auto ctrl = unmanaged(ctrl_.G);
+  const auto canon = unmanaged(ctrl_.canon);
   const auto info = unmanaged(carried_.info);
   const int ns = static_cast<int>(carried_.info.extent(0));
   const bool patches = ctrl_.coef.extent(0) > 0;
@@ -608,7 +634,7 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
         }
         if (!patches) return;
         for (int s = 0; s < ns; ++s) {
-          if (coefOff(s) < 0) continue;
+          if (coefOff(s) < 0 || canon(s) != s) continue;  // a copy's coefficients are summed into the first's
           const int blk = info(s, 0), b0 = blocks(blk, 0), n = blocks(blk, 1);
           const int lo = i0 > b0 ? i0 : b0, hi = i1 < b0 + n ? i1 : b0 + n;
           const long nc = 3L * ctrlDim(s, 0) * ctrlDim(s, 1);

@@ -82,6 +82,10 @@ struct ControlColumns {
   /// (e2 nuE + a) nvE + b (summed over the nodes, then applied by the correction)
   Kokkos::View<double*> coef;
   Kokkos::View<long*> coefOff;  ///< [s] where surface s's coefficients start in coef (-1: none)
+  /// [s] the first surface carried by the same moving surface (s itself but for the copies a stage
+  /// makes, one per instance, ContactSurface::onlyBlock): a copy shares its G, T rows, P and
+  /// coefficients, which are made and applied once
+  Kokkos::View<int*> canon;
 };
 
 /// The relative flexibility of the contact nodes and the correction (see the file's opening comment):

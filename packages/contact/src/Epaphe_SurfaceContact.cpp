@@ -86,7 +86,7 @@ void SurfaceContact::setCoatingState(const std::vector<double>& state) {
 
 void SurfaceContact::initDetection(const ContactNodes& nodes) {
   const DetectionOptions dopt = detectionOptions(opt_.complete());
-  detection_ = std::make_unique<ContactDetection>(nodes.dofs, nodes.X, surfaces_, dopt);
+  detection_ = std::make_unique<ContactDetection>(nodes.dofs, nodes.X, surfaces_, dopt, nodes.block);
   surfaces_ = detection_->surfaces();  // axes made unit
 }
 
@@ -330,6 +330,60 @@ std::array<double, 2> SurfaceContact::workIncrementSplit(const DenseVector& qNex
       },
       Kokkos::Sum<double>(friction));
   return {workIncrement(qNext, qPrev) - friction, friction};
+}
+
+void SurfaceContact::frictionHeatByNode(const DenseVector& qNext, const DenseVector& qPrev, double h, double* out,
+                                        double* normalWork, double* counterfaceWork) const {
+  using HostView = Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryUnmanaged>;
+  const std::size_t n = static_cast<std::size_t>(numNodes());
+  const HostView heat(out, n);
+  const bool split = normalWork != nullptr && counterfaceWork != nullptr;
+  const HostView normal(split ? normalWork : out, n), supplied(split ? counterfaceWork : out, n);
+  if (numActive_ == 0) {
+    Kokkos::deep_copy(heat, 0.0);
+    if (split) {
+      Kokkos::deep_copy(normal, 0.0);
+      Kokkos::deep_copy(supplied, 0.0);
+    }
+    return;
+  }
+  const auto mu = unmanaged(v_.mu);
+  const auto tangent = unmanaged(v_.tangent);
+  const auto force = unmanaged(v_.force);
+  const auto dir = unmanaged(v_.dir);
+  const DetectionViews views = detection_->views().untracked();
+  const auto turn = views.turn;
+  const auto selected = views.selected;
+  const auto foot = views.footX;
+  const RelativeMotion D = flex_->motion();
+  const Difference<DenseVector> dq{unmanaged(qNext), unmanaged(qPrev)};
+  forEach(
+      "epaphe::contact::friction_heat", numNodes(), 20, KOKKOS_LAMBDA(const int k) {
+        double q = 0.0, wn = 0.0, ws = 0.0;
+        const double l = force(k) * mu(k);
+        if (force(k) != 0.0) {
+          double r[3], slip[3] = {0.0, 0.0, 0.0};
+          D.apply(k, dq, r);
+          if (const int s = selected(k); l != 0.0 && s >= 0 && turn(s, 8) != 0.0) {
+            const double w = turn(s, 0), a[3] = {turn(s, 1), turn(s, 2), turn(s, 3)};
+            const double p[3] = {foot(k, 0) - turn(s, 4), foot(k, 1) - turn(s, 5), foot(k, 2) - turn(s, 6)};
+            slip[0] = h * w * (a[1] * p[2] - a[2] * p[1]);
+            slip[1] = h * w * (a[2] * p[0] - a[0] * p[2]);
+            slip[2] = h * w * (a[0] * p[1] - a[1] * p[0]);
+          }
+          for (int d = 0; d < 3; ++d) {
+            q += l * tangent(k, d) * (slip[d] - 0.5 * r[d]);                    // f_a . (h V_s - D_a dq / 2)
+            wn += 0.5 * force(k) * (dir(k, d) - mu(k) * tangent(k, d)) * r[d];  // lambda_a n_a . D_a dq / 2
+            ws += l * tangent(k, d) * slip[d];                                  // f_a . h V_s
+          }
+        }
+        heat(k) = q;
+        if (split) {
+          normal(k) = wn;
+          supplied(k) = ws;
+        }
+      });
+  fence();
 }
 
 double SurfaceContact::totalForce() const {

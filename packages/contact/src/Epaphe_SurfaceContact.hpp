@@ -51,10 +51,12 @@
 // nodes) for Lagrange, by Gaussian elimination with partial pivoting (LAPACK's GESV above 64).
 // Classification, repeated while any node's state or sliding direction changes (at most 20 passes, then the pass with
 // the fewest changes is solved again and kept): stuck -> sliding when |s_a| > mu lambda_a, with t_a = s_a / |s_a|;
-// sliding -> stuck when the radial-return trial force s_trial = mu lambda_a t_a - K_a^{-1} w_a
+// sliding -> stuck when the trial force s_trial = mu lambda_a t_a - K_a^{-1} w_a
 // (w_a: tangential part of the corrected motion, K_a = [e_i^T F_aa e_j] the node's 2 x 2 tangential
 // flexibility: the force that would stop it, the others' forces held) lies in the cone
-// |s_trial| <= mu lambda_a, else t_a = s_trial / |s_trial| (for one node, t_a = -w_a / |w_a|). A node
+// |s_trial| <= mu lambda_a, else t_a = (alpha I + mu lambda_a K_a)^{-1} K_a s_trial with |t_a| = 1, the
+// direction against the node's slip (docs/theory/contact.md, eq. (74); s_trial / |s_trial| when K_a is
+// isotropic). A node
 // switching sliding -> stuck more than twice in one solve keeps sliding (anti-cycling). The solve
 // starts with the nodes that move tangentially (|d_t| > 1e-14 of their scale) sliding against
 // that motion, the others stuck (so a node with no predicted motion still gets friction). After
@@ -139,6 +141,18 @@ public:
   /// workIncrement() split into the normal forces' part (lambda_a n_a) and the friction forces'
   /// (lambda_a mu_a t_a), in that order; for diagnoses (a run that stops), not called by the loop.
   std::array<double, 2> workIncrementSplit(const DenseVector& qNext, const DenseVector& qPrev) const;
+  /// The heat friction makes at each node over the last step (J, into out[k], numNodes() values, on
+  /// the host): the friction force f_a = lambda_a mu_a t_a times the slip, the surface's motion under
+  /// the node h V_s (a turning surface: V_s = omega axis x (foot point - center)) less the node's
+  /// relative motion D_a (qNext - qPrev) / 2, f_a . (h V_s - D_a (qNext - qPrev) / 2) >= 0 while it
+  /// slides (docs/theory/divergence.md, eq. 42). On still surfaces their sum is minus
+  /// workIncrementSplit()[1], up to the order of the sum.
+  /// With `normalWork` and `counterfaceWork` (numNodes() values each, or null), the same kernel also gives
+  /// each node's share of the energy record's supplied work (docs/theory/heat.md, eq. 63): the normal force's
+  /// work on the bodies lambda_a (c_a - mu_a t_a) . D_a (qNext - qPrev) / 2 and the counterface's work through
+  /// friction f_a . h V_s, so that heat = counterface work - friction work node by node.
+  void frictionHeatByNode(const DenseVector& qNext, const DenseVector& qPrev, double h, double* out,
+                          double* normalWork = nullptr, double* counterfaceWork = nullptr) const;
 
   /// The number of contact nodes.
   int numNodes() const { return static_cast<int>(nodes_.size()); }

@@ -198,6 +198,42 @@ TEST(ContactEnforcement, CoulombFrictionSticksInsideTheConeAndSlidesOnItsEdge) {
   }
 }
 
+TEST(ContactEnforcement, CoulombFrictionOpposesTheSlipWhereTheFlexibilityIsNotIsotropic) {
+  // One node pressed into the floor, ten times as supple along y as along x (F = diag(kF, 10 kF, kF)),
+  // moving obliquely over the step: it slides, and Coulomb's force opposes its slip w (the corrected
+  // motion), s = -mu lambda w / |w| (eq. (74)). The radial return, s along K^{-1} w_0, would leave
+  // it 23.7 degrees off the slip here.
+  Masses m(1);
+  const double mu = 0.3;
+  ContactNodes nodes;
+  const int dof[3] = {0, 1, 2};
+  const double x[3] = {-1.0, 0.1, 0.0};
+  nodes.add(0, 0, dof, x);
+  DenseVector d("F", 3);
+  d(0) = kF;
+  d(1) = 10 * kF;
+  d(2) = kF;
+  SurfaceContact c(nodes, {ContactSurface{&m.floor, nullptr, -1, {}, {}}}, {ContactBlock{0, 3}},
+                   options("Lagrange", mu), Flexibility::diagonal(d));
+  DenseVector q("q", 3), qn("qn", 3);
+  q(0) = 2e-3;
+  q(1) = 1e-3;
+  q(2) = -1e-3;
+  CostSplit cost;
+  c.correct(q, qn, cost);
+  const double lambda = 1e-3 / kF;
+  ASSERT_NEAR(c.force()(0), lambda, 1e-9 * lambda);
+  EXPECT_NEAR(c.appliedFriction()(0), mu, 1e-12);  // sliding
+  const double w[2] = {q(0), q(1)}, t[2] = {c.tangent()(0, 0), c.tangent()(0, 1)};
+  const double nw = std::hypot(w[0], w[1]);
+  ASSERT_GT(nw, 1e-6);
+  EXPECT_NEAR(std::hypot(t[0], t[1]), 1.0, 1e-12);
+  EXPECT_NEAR((w[0] * t[0] + w[1] * t[1]) / nw, -1.0, 1e-12);  // against the slip: full dissipation
+  // the slip is the predicted motion less F s: w = (2e-3, 1e-3) + mu lambda diag(kF, 10 kF) t
+  EXPECT_NEAR(w[0], 2e-3 + mu * lambda * kF * t[0], 1e-15);
+  EXPECT_NEAR(w[1], 1e-3 + mu * lambda * 10 * kF * t[1], 1e-15);
+}
+
 TEST(SmallDense, EliminationWithPivotingSolvesAsLapackDoes) {
   for (const int n : {1, 3, 12, 48, 100}) {  // 100: the LAPACK path
     std::vector<double> A(static_cast<std::size_t>(n) * n), x(n), b(n, 0.0);

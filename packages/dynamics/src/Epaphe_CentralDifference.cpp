@@ -205,6 +205,79 @@ void CentralDifference::setConstantForce(const std::vector<double>& f) {
   }
 }
 
+void CentralDifference::addLoad(const std::vector<double>& f0, const LoadTimeFunction& g) {
+  const std::size_t n = f_.extent(0);
+  EPAPHE_REQUIRE(f0.size() == n, "a load has " << f0.size() << " reduced entries, the model " << n);
+  Load load{g, std::vector<double>(n, 0.0), std::vector<double>(n, 0.0), {}, {}};
+  // eq. 67: a massless boundary's boundary part acts at t_{n+1} through P (as the contact force), its modal
+  // part at t_n through 2 P on the modes (as the constant force); any other model takes f0 at t_n through P
+  const std::size_t nb = massless_.on ? static_cast<std::size_t>(massless_.boundary) : 0;
+  for (std::size_t i = 0; i < n; ++i)
+    (i < nb ? load.next : load.now)[i] = (massless_.on && i >= nb ? 2.0 : 1.0) * f0[i];
+  auto times = [&](const std::vector<double>& x) {
+    DenseVector in("epaphe::dynamics::load", n), out("epaphe::dynamics::Pload", n);
+    auto h = Kokkos::create_mirror_view(in);
+    for (std::size_t i = 0; i < n; ++i) h(i) = x[i];
+    Kokkos::deep_copy(in, h);
+    P_.apply(1.0, in, 0.0, out);
+    fence();
+    auto o = Kokkos::create_mirror_view(out);
+    Kokkos::deep_copy(o, out);
+    std::vector<double> r(n);
+    for (std::size_t i = 0; i < n; ++i) r[i] = o(i);
+    return r;
+  };
+  load.Pnow = times(load.now);
+  load.Pnext = times(load.next);
+  // the work counts the force itself: the modal part's factor 2 belongs to P only
+  if (massless_.on)
+    for (std::size_t i = nb; i < n; ++i) load.now[i] = f0[i];
+  loads_.push_back(std::move(load));
+  fLoad_.assign(n, 0.0);
+  PfLoad_.assign(n, 0.0);
+}
+
+std::vector<double> CentralDifference::forceAt(double t) const {
+  auto fh = Kokkos::create_mirror_view(f_);
+  Kokkos::deep_copy(fh, f_);
+  std::vector<double> f(f_.extent(0));
+  for (std::size_t i = 0; i < f.size(); ++i) f[i] = fh(i);
+  for (const Load& load : loads_) {
+    const double g = load.g(t);
+    for (std::size_t i = 0; i < f.size(); ++i) f[i] += g * (load.now[i] + load.next[i]);
+  }
+  return f;
+}
+
+double CentralDifference::loadEnergyScale() const {
+  double scale = 0;
+  for (const Load& load : loads_) {
+    double fPf = 0;  // f^T P f, the modal part's factor 2 of a massless boundary kept (a scale)
+    for (std::size_t i = 0; i < load.now.size(); ++i) fPf += load.now[i] * load.Pnow[i] + load.next[i] * load.Pnext[i];
+    scale += load.g.largest() * load.g.largest() * std::abs(fPf) / 4;
+  }
+  return scale;
+}
+
+void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, const DenseVector& qstar,
+                                double t) const {
+  predict(qn, qnm1, qstar);
+  if (loads_.empty()) return;
+  // f_n = sum_k g_k(t_n) f_k (eqs. 65-67; a massless boundary's boundary part at t_{n+1}), q* += P f_n
+  std::fill(fLoad_.begin(), fLoad_.end(), 0.0);
+  std::fill(PfLoad_.begin(), PfLoad_.end(), 0.0);
+  const std::size_t n = fLoad_.size();
+  for (const Load& load : loads_) {
+    const double gNow = load.g(t), gNext = massless_.on ? load.g(t + h_) : 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      fLoad_[i] += gNow * load.now[i] + gNext * load.next[i];
+      PfLoad_[i] += gNow * load.Pnow[i] + gNext * load.Pnext[i];
+    }
+  }
+  double* qs = qstar.data();
+  for (std::size_t i = 0; i < n; ++i) qs[i] += PfLoad_[i];
+}
+
 void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, const DenseVector& qstar) const {
   const int n = static_cast<int>(qn.extent(0));
   double* qs = qstar.data();
@@ -320,10 +393,18 @@ double CentralDifference::dampingIncrement(const DenseVector& qnp1, const DenseV
 }
 
 double CentralDifference::externalWorkIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const {
-  if (!forced_) return 0.0;
+  if (!forced_ && loads_.empty()) return 0.0;
   copy(tmp2_, qnp1);
   epaphe::axpby(-1.0, qnm1, 1.0, tmp2_);
-  return 0.5 * epaphe::dot(f_, tmp2_);
+  double work = forced_ ? 0.5 * epaphe::dot(f_, tmp2_) : 0.0;
+  if (!loads_.empty()) {  // f_n . (q_{n+1} - q_{n-1}) / 2 with the loads' f_n of the step's predict
+    fence();
+    const double* dq = tmp2_.data();
+    double s = 0.0;
+    for (std::size_t i = 0; i < fLoad_.size(); ++i) s += fLoad_[i] * dq[i];
+    work += 0.5 * s;
+  }
+  return work;
 }
 
 double CentralDifference::strain(const DenseVector& q) const {

@@ -38,9 +38,18 @@
 // A massless boundary (ReducedModel::massless(), q = [u_b, eta]) steps its modes this way and sets
 // u_b = Phi_b eta + G f; its A, B and F, and the residual's energy and dissipation, are derived in
 // the constructor.
+//
+// Loads of the time (docs/theory/forced-response.md, eqs. 65-67): f(t) = sum_k g_k(t) f_k, f_k = R^T F_k
+// the reduced force of nodal forces F_k (virtual work, eq. 66). The scheme takes f_n = f(t_n) in P f_n,
+// and the identity above holds step by step for any f_n, so the run's external work sums
+// f_n . (q_{n+1} - q_{n-1}) / 2 with the same f_n. A massless boundary takes the modal part of f_k at t_n
+// (2 P on the modes, as the constant force) and the boundary part at t_{n+1}, as the contact force it
+// adds to (eq. 67): the residual then holds G f_b(t_{n+1}) and the modes see the boundary force averaged
+// over t_{n-1} and t_{n+1}.
 #include "Epaphe_BodyOperator.hpp"
 #include "Epaphe_Damping.hpp"
 #include "Epaphe_Flexibility.hpp"
+#include "Epaphe_LoadTimeFunction.hpp"
 #include "Epaphe_ReducedModel.hpp"
 #include "Epaphe_StableStep.hpp"
 
@@ -64,12 +73,27 @@ public:
   /// q_n (same buffer, not written in between, as in the explicit loop's step) reads it instead of a
   /// second sparse product.
   void predict(const DenseVector& qn, const DenseVector& qnm1, const DenseVector& qstar) const;
+  /// predict() at step n, t = t_n (s): with loads of the time (addLoad) it adds P f(t_n) (eq. 67) and
+  /// keeps f(t_n) for externalWorkIncrement(); without, the same as predict().
+  void predict(const DenseVector& qn, const DenseVector& qnm1, const DenseVector& qstar, double t) const;
   /// A rotating body whose speed changes (a run-up, Epaphe_RunUp.hpp): K replaced by `K` (n x n,
   /// column-major) and A = -P K formed again in place. M, D and P, hence the contact flexibility,
   /// are kept. Dense reduced models (not a massless boundary, not a full model) only.
   void setStiffness(const std::vector<double>& K);
   /// A constant external force in reduced coordinates (gravity, a static load).
   void setConstantForce(const std::vector<double>& f);
+  /// A load of the time g(t) f0 (eqs. 65-67), `f0` in reduced coordinates (R^T of the nodal forces, N):
+  /// added to the force of every predict(..., t) from then on.
+  void addLoad(const std::vector<double>& f0, const LoadTimeFunction& g);
+  /// The whole external force at time t (N, reduced coordinates): the constant force and every load's
+  /// g_k(t) f_k (eqs. 65-66) at the same t, whatever part a massless boundary takes a step later.
+  std::vector<double> forceAt(double t) const;
+  /// True when loads of the time were added.
+  bool loaded() const { return !loads_.empty(); }
+  /// The loads' energy scale (J): sum_k max|g_k|^2 f_k^T P f_k / 4, the work of each at its largest over one
+  /// step at the stable limit (h omega_max = 2), a lower bound of its static energy f^T K^{-1} f / 2 that needs
+  /// no K^{-1}; 0 without loads. The energy monitor's reference for a body that starts at rest.
+  double loadEnergyScale() const;
 
   /// P = [M/h^2 + D/2h]^{-1}: dense, or diagonal for a full model with lumped mass.
   Flexibility flexibility() const;
@@ -90,7 +114,8 @@ public:
   double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;  ///< E_{n+1/2}
   /// (q_{n+1} - q_{n-1})^T D (q_{n+1} - q_{n-1}) / 4h (J): the energy damping takes over the step.
   double dampingIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
-  /// f . (q_{n+1} - q_{n-1}) / 2 (J): the work of the constant force over the step (0 without one).
+  /// f . (q_{n+1} - q_{n-1}) / 2 (J): the work of the constant force and of the loads of the time (their
+  /// f_n of the step's predict(..., t)) over the step (0 without any).
   double externalWorkIncrement(const DenseVector& qnp1, const DenseVector& qnm1) const;
   /// Kinetic energy 1/2 v^T M v and strain energy 1/2 q^T K q.
   double kinetic(const DenseVector& v) const;
@@ -143,6 +168,16 @@ private:
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_;
   std::vector<double> pDense_, aDense_;  // a dense model's P (column-major) and setStiffness()'s -P K
   DenseVector f_, Pf_;
+  /// A load of the time: g, and its reduced force taken at t_n (`now`) and at t_{n+1} (`next`: a massless
+  /// boundary's boundary part), with P times each.
+  struct Load {
+    LoadTimeFunction g;
+    ///@{
+    std::vector<double> now, next, Pnow, Pnext;
+    ///@}
+  };
+  std::vector<Load> loads_;
+  mutable std::vector<double> fLoad_, PfLoad_;  // f(t_n) of the loads and P f(t_n), of the last predict(..., t)
   mutable DenseVector tmp_, tmp2_;
   mutable DenseVector kqn_;                // lumped mass: K q_n of the last predict()
   mutable const double* kqnOf_ = nullptr;  // and the q_n buffer it was made from

@@ -7,12 +7,17 @@
 namespace epaphe {
 
 EnergyMonitor::EnergyMonitor(const ExplicitLoop& loop, const EnergyMonitorOptions& options) : opt_(options) {
+  double loadScale = 0;
   for (std::size_t b = 0; b < loop.bodies().size(); ++b) {
     e0_.push_back(
         loop.bodies()[b].integrator->halfStepEnergy(loop.part(loop.previous(), b), loop.part(loop.current(), b)));
     energyRef_ += std::abs(e0_.back());
+    loadScale += loop.bodies()[b].integrator->loadEnergyScale();
   }
-  energyRef_ = std::max(energyRef_, 1e-300);
+  // A body that starts at rest under loads that start from zero has no energy yet: the loads' own
+  // scale (eq. 67) keeps the round-off of the first steps' work (a preloaded contact's) from reading as
+  // a relative error of 1. 0 without loads: the reference is then the initial energy alone.
+  energyRef_ = std::max(std::max(energyRef_, loadScale), 1e-300);
 }
 
 void EnergyMonitor::afterCorrect(ExplicitLoop& loop) {
@@ -39,8 +44,20 @@ void EnergyMonitor::afterCorrect(ExplicitLoop& loop) {
     s.initial += e0_[b];
   }
   for (double w : acc.driveWork) s.driveWork += w;
-  s.balance = (s.total + s.damping - s.contactWork - s.externalWork - s.driveWork - s.initial) /
-              std::max(energyRef_, std::abs(s.total));
+  s.heatTerm = acc.heatTerm();
+  if (s.heatTerm) {
+    // eq. 63 (docs/theory/heat.md): E + D + Q - W_n - W_s - W_ext - W_drive = E_0, the friction's share of the
+    // contact work W_c = W_n + W_s - Q taken out as the heat Q it made
+    s.frictionHeat = acc.frictionHeat;
+    s.normalWork = acc.normalWork;
+    s.counterfaceWork = acc.counterfaceWork;
+    s.balance = (s.total + s.damping + s.frictionHeat - s.normalWork - s.counterfaceWork - s.externalWork -
+                 s.driveWork - s.initial) /
+                std::max(energyRef_, std::abs(s.total));
+  } else {
+    s.balance = (s.total + s.damping - s.contactWork - s.externalWork - s.driveWork - s.initial) /
+                std::max(energyRef_, std::abs(s.total));
+  }
   last_ = s;
   recent_.push_back(s);
   if (recent_.size() > 32) recent_.pop_front();
@@ -76,7 +93,11 @@ void EnergyMonitor::endStep(ExplicitLoop& loop) {
     std::ostringstream os;
     os << "energy balance error " << s.balance << " at t = " << s.time
        << " s exceeds 'Output->Energy balance tolerance' = " << opt_.tolerance << " (total " << s.total
-       << " J, contact work " << s.contactWork << " J, damping " << s.damping << " J, initial " << s.initial << " J)";
+       << " J, contact work " << s.contactWork << " J, damping " << s.damping << " J, initial " << s.initial << " J";
+    if (s.heatTerm)
+      os << ", friction heat " << s.frictionHeat << " J, normal work " << s.normalWork << " J, counterface work "
+         << s.counterfaceWork << " J";
+    os << ")";
     loop.fail(os.str());
   }
 }

@@ -3,6 +3,10 @@
 // kinetic, strain and half-step total energies of the bodies, and the balance
 //   (E_total + damping - contact work - external work - drive work - E_0) / max(E_ref, |E_total|),
 // E_ref the sum of the bodies' initial |E_{1/2}|, the drive work that of a run-up (Epaphe_RunUp.hpp).
+// With a heat term (LoopAccumulators::heatTerm(): a run with a thermal model), the contact work is split
+// into what the contact supplies and the heat friction makes of it (docs/theory/heat.md, eq. 63):
+//   (E_total + damping + friction heat - normal work - counterface work - external work - drive work - E_0) / ...
+// the normal forces' work on the bodies and the counterface's work through friction (a turning casing's).
 // The run stops (ExplicitLoop::fail) when the solution is no longer finite, when the balance error
 // exceeds its tolerance, or, with penalty contact on still surfaces, when the bodies hold more energy
 // than they were given.
@@ -24,7 +28,13 @@ struct EnergySnapshot {
   double contactWork = 0, externalWork = 0, damping = 0, initial = 0;  ///< J
   ///@}
   double driveWork = 0;  ///< J, a run-up's
-  double balance = 0;    ///< relative
+  ///@{
+  /// J, with a heat term (eq. 63 of docs/theory/heat.md; else 0): the heat friction made, the normal forces'
+  /// work, the counterface's work through friction; contact work = normal + counterface work - friction heat
+  double frictionHeat = 0, normalWork = 0, counterfaceWork = 0;
+  ///@}
+  bool heatTerm = false;  ///< the balance is eq. 63's
+  double balance = 0;     ///< relative
 };
 
 /// How the bodies' energy E = kinetic + strain grew over the last records (EnergyMonitor::growth).

@@ -14,10 +14,14 @@ std::vector<double> LoopAccumulators::values(double time) const {
     v.push_back(externalWork[b]);
   }
   v.insert(v.end(), driveWork.begin(), driveWork.end());
+  if (heatTerm()) {
+    v.insert(v.end(), {frictionHeat, normalWork, counterfaceWork, coatingHeat});
+    v.insert(v.end(), heatReceived.begin(), heatReceived.end());
+  }
   return v;
 }
 
-std::vector<std::string> LoopAccumulators::names(const std::vector<LoopBody>& bodies) {
+std::vector<std::string> LoopAccumulators::names(const std::vector<LoopBody>& bodies, bool heat) {
   std::vector<std::string> v = {"time",    "contact_work", "first_contact",    "last_contact",
                                 "impulse", "max_force",    "max_balance_error"};
   for (const auto& b : bodies) {
@@ -26,11 +30,16 @@ std::vector<std::string> LoopAccumulators::names(const std::vector<LoopBody>& bo
   }
   if (std::any_of(bodies.begin(), bodies.end(), [](const LoopBody& b) { return b.driven; }))
     for (const auto& b : bodies) v.push_back(b.name + "/drive_work");
+  if (heat) {
+    v.insert(v.end(), {"friction_heat", "normal_work", "counterface_work", "coating_heat"});
+    for (const auto& b : bodies) v.push_back(b.name + "/heat");
+  }
   return v;
 }
 
 void LoopAccumulators::restore(const std::vector<double>& v, const std::string& what) {
-  const std::size_t expected = 7 + 2 * damping.size() + driveWork.size();
+  const std::size_t heatValues = heatTerm() ? 4 + heatReceived.size() : 0;
+  const std::size_t expected = 7 + 2 * damping.size() + driveWork.size() + heatValues;
   EPAPHE_REQUIRE(v.size() == expected, what << " has " << v.size() << " values, " << expected << " expected");
   contactWork = v[1];
   firstContact = v[2];
@@ -43,6 +52,14 @@ void LoopAccumulators::restore(const std::vector<double>& v, const std::string& 
     externalWork[b] = v[8 + 2 * b];
   }
   for (std::size_t b = 0; b < driveWork.size(); ++b) driveWork[b] = v[7 + 2 * damping.size() + b];
+  if (heatTerm()) {
+    const std::size_t h = 7 + 2 * damping.size() + driveWork.size();
+    frictionHeat = v[h];
+    normalWork = v[h + 1];
+    counterfaceWork = v[h + 2];
+    coatingHeat = v[h + 3];
+    for (std::size_t b = 0; b < heatReceived.size(); ++b) heatReceived[b] = v[h + 4 + b];
+  }
 }
 
 ExplicitLoop::ExplicitLoop(std::vector<LoopBody> bodies, double h, long long numSteps, ContactCorrector* contact,
@@ -110,7 +127,8 @@ bool ExplicitLoop::advance() {
   {
     ScopedPhase phase(cost_, "integration");
     for (std::size_t b = 0; b < bodies_.size(); ++b)
-      bodies_[b].integrator->predict(part(Q_[iCur_], b), part(Q_[iPrev_], b), part(Q_[iNext_], b));  // eq. 2.2
+      bodies_[b].integrator->predict(part(Q_[iCur_], b), part(Q_[iPrev_], b), part(Q_[iNext_], b),
+                                     t);  // eq. 2.2, the loads at t_n (eq. 67)
   }
   notify(&LoopObserver::afterPredict);
   totalForce_ = 0;

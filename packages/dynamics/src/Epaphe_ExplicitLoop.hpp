@@ -51,12 +51,28 @@ struct LoopAccumulators {
   ///@}
   std::vector<double> driveWork;   ///< J, per body when a body is driven, else empty
   long long largeMotionSteps = 0;  ///< steps the guards let through (allowed by the deck)
+  /// The heat term of the energy balance (docs/theory/heat.md, eq. 63), kept by an observer that runs before the
+  /// energy monitor (a run with a thermal model: HeatOutput); empty otherwise. Per body, the share of the friction
+  /// heat it received (J; 0 for a body without a thermal model): its share of the friction heat and of the
+  /// coating's plastic dissipation made at its nodes (eq. 64).
+  std::vector<double> heatReceived;
+  ///@{
+  /// J, with the heat term: the heat friction made at every contact node, the normal contact forces' work on the
+  /// bodies, and the counterface's work through friction (a turning surface's; 0 on still ones)
+  double frictionHeat = 0, normalWork = 0, counterfaceWork = 0;
+  ///@}
+  /// J, with the heat term: the coating's plastic dissipation that became heat (eq. 64; part of the normal work)
+  double coatingHeat = 0;
+  /// True when the energy balance has its heat term (heatReceived is then sized to the bodies).
+  bool heatTerm() const { return !heatReceived.empty(); }
 
   /// The values a checkpoint stores, in the order of names() (time first).
   std::vector<double> values(double time) const;
   /// The names of values(), for `bodies`: time, contact work, contact times, impulse, peak force, balance
-  /// error, then per body its damping and external work (and drive work when a body is driven).
-  static std::vector<std::string> names(const std::vector<LoopBody>& bodies);
+  /// error, then per body its damping and external work (and drive work when a body is driven), then with
+  /// `heat` (the heat term) the friction heat, normal and counterface work, the coating's heat and each body's
+  /// received heat.
+  static std::vector<std::string> names(const std::vector<LoopBody>& bodies, bool heat = false);
   /// Restores from values(); `what` names the source for errors.
   void restore(const std::vector<double>& values, const std::string& what);
 };

@@ -313,12 +313,15 @@ TEST(Friction, EnergyBalanceIsExactAndFrictionDissipates) {
     const std::string which = method == "Lagrange" ? "Lagrange" : "penalty";
     Slider run(withFriction(kMu, method, 1e6));
     const double e0 = run.cd.halfStepEnergy(run.qm, run.q);
-    double work = 0, contactWork = 0;
+    double work = 0, contactWork = 0, frictionWork = 0, heat = 0, nodeHeat = 0;
     for (int n = 0; n < 1000; ++n) {
       run.cd.predict(run.q, run.qm, run.qp);
       run.c.correct(run.qp, run.q, run.cost);
       const double wc = run.c.workIncrement(run.qp, run.qm);
       contactWork += wc;
+      frictionWork += run.c.workIncrementSplit(run.qp, run.qm)[1];
+      run.c.frictionHeatByNode(run.qp, run.qm, kH, &nodeHeat);
+      heat += nodeHeat;
       work += wc + run.cd.externalWorkIncrement(run.qp, run.qm);
       std::swap(run.qm, run.q);
       std::swap(run.q, run.qp);
@@ -326,9 +329,12 @@ TEST(Friction, EnergyBalanceIsExactAndFrictionDissipates) {
     const double e = run.cd.halfStepEnergy(run.qm, run.q);
     EXPECT_NEAR(e - e0, work, 1e-10 * e0) << which;  // every joule accounted for
     EXPECT_LT(contactWork, -0.9 * e0) << which;      // friction took the kinetic energy
+    // the heat friction makes on a still surface is the friction forces' negative work
+    EXPECT_NEAR(heat, -frictionWork, 1e-10 * e0) << which;
     if (method == "Lagrange") {
       EXPECT_NEAR(contactWork, -e0, 1e-6 * e0);  // ... all of it: the node is at rest on the floor
       EXPECT_NEAR(e, 0.0, 1e-6 * e0);
+      EXPECT_NEAR(heat, e0, 1e-6 * e0);  // and it became heat
     }
   }
   // the coupled pair: non-symmetric MC, springs, nodes sliding, sticking and bouncing
@@ -341,19 +347,24 @@ TEST(Friction, EnergyBalanceIsExactAndFrictionDissipates) {
   DenseVector qm("qm", 6), q("q", 6), qp("qp", 6);
   set(qm, {-h * 1.0, h * 0.5, 0.0, h * 0.7, -h * 0.3, 0.0});
   const double e0 = cd.halfStepEnergy(qm, q);
-  double work = 0, contactWork = 0;
+  double work = 0, contactWork = 0, frictionWork = 0, heat = 0, nodeHeat[2];
   CostSplit cost;
   for (int n = 0; n < 3000; ++n) {
     cd.predict(q, qm, qp);
     c.correct(qp, q, cost);
     const double wc = c.workIncrement(qp, qm);
     contactWork += wc;
+    frictionWork += c.workIncrementSplit(qp, qm)[1];
+    c.frictionHeatByNode(qp, qm, h, nodeHeat);
+    heat += nodeHeat[0] + nodeHeat[1];
     work += wc + cd.externalWorkIncrement(qp, qm);
     std::swap(qm, q);
     std::swap(q, qp);
   }
   EXPECT_NEAR(cd.halfStepEnergy(qm, q) - e0, work, 1e-10 * e0);
   EXPECT_LT(contactWork, 0.0);
+  EXPECT_GT(heat, 0.0);
+  EXPECT_NEAR(heat, -frictionWork, 1e-10 * e0);
 }
 
 TEST(Friction, PenaltyDecelerationIsMuKpPenetrationOverM) {

@@ -247,7 +247,7 @@ TEST(TurningRigidDrum, FrictionDragsAFreeBodyTowardsTheSurfaceSpeed) {
     Kokkos::deep_copy(Q[0], qmH);
     int prev = 0, cur = 1, next = 2;
     const double e0 = cd.halfStepEnergy(Q[prev], Q[cur]);
-    double work = 0, surfaceWork = 0, worst = 0, vLast = v0;
+    double work = 0, surfaceWork = 0, worst = 0, vLast = v0, heat = 0, nodeHeat = 0;
     CostSplit cost;
     const int steps = static_cast<int>(1.5 * tStick / h);
     for (int n = 0; n < steps; ++n) {
@@ -256,6 +256,8 @@ TEST(TurningRigidDrum, FrictionDragsAFreeBodyTowardsTheSurfaceSpeed) {
       contact.correct(Q[next], Q[cur], cost);
       ASSERT_EQ(contact.numActive(), 1) << "v0 = " << v0 << ", step " << n;
       work += contact.workIncrement(Q[next], Q[prev]);
+      contact.frictionHeatByNode(Q[next], Q[prev], h, &nodeHeat);
+      heat += nodeHeat;
       const auto a = get(Q[prev]), b = get(Q[next]);
       // the surface's work: the force on the node, lambda (n + mu_a t), on the drum's motion at it,
       // h omega e_z x (X + q_{n+1})
@@ -285,6 +287,8 @@ TEST(TurningRigidDrum, FrictionDragsAFreeBodyTowardsTheSurfaceSpeed) {
     EXPECT_NEAR(surfaceWork, W, 2e-3 * std::fabs(W)) << "v0 = " << v0;  // the surface's work
     EXPECT_NEAR(surfaceWork - work, D, 5e-3 * D) << "v0 = " << v0;      // dissipated by friction
     EXPECT_NEAR(W, dK + D, 1e-12 * std::fabs(W));
+    EXPECT_NEAR(heat, D, 5e-3 * D) << "v0 = " << v0;  // the heat friction made at the node (eq. 42)
+    std::printf("drum: v0 = %g m/s: frictional heat %.6g J, closed form %g J\n", v0, heat, D);
     std::printf(
         "drum: v0 = %g m/s, V = %g m/s: velocity within %.2g of v0/(1 - s mu v0 t/R); surface work %.6g J "
         "(closed form %g), kinetic energy change %.6g J (%g), dissipated %.6g J (%g)\n",

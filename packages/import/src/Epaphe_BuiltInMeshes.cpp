@@ -98,6 +98,8 @@ public:
     mat.density = mp.get<double>("Density");
     mat.young = mp.get<double>("Young's modulus");
     mat.poisson = mp.get<double>("Poisson's ratio");
+    if (mp.isParameter("Element formulation") && mp.get<std::string>("Element formulation") == "Incompatible modes")
+      mat.formulation = HexFormulation::IncompatibleModes;
     std::vector<int> clamped;
     if (const std::string cs = r.bodyParams->get<std::string>("Clamped node set"); !cs.empty())
       clamped = m.nodeSet(cs, r.context() + ", 'Clamped node set'");

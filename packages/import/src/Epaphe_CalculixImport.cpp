@@ -86,6 +86,8 @@ struct InputParser {
   std::map<std::string, std::vector<SetMember>> sets;  // upper-case name -> node numbers
   std::map<std::string, std::string> setNames;         // upper-case name -> name as first written
   std::vector<Boundary> boundaries;
+  CalculixMaterial material;
+  int materials = 0;  // *MATERIAL cards seen
 
   std::vector<SetMember>& set(const std::string& name) {
     setNames.emplace(upper(name), name);
@@ -95,7 +97,8 @@ struct InputParser {
   void parse(const std::string& path, int depth) {
     EPAPHE_REQUIRE(depth < 20, path << ": *INCLUDE nested more than 20 deep (an include cycle?)");
     TextLines in(path, "CalculiX input");
-    enum class Mode { Skip, Node, Element, Nset, Boundary } mode = Mode::Skip;
+    enum class Mode { Skip, Node, Element, Nset, Boundary, Density, Elastic, Expansion } mode = Mode::Skip;
+    int dataLines = 0;  // under the current material card
     const ElementType* type = nullptr;
     Element pending{nullptr, 0, {}, ""};
     std::vector<SetMember>* nset = nullptr;
@@ -147,6 +150,22 @@ struct InputParser {
           mode = Mode::Nset;
         } else if (k.name == "BOUNDARY") {
           mode = Mode::Boundary;
+        } else if (k.name == "MATERIAL") {
+          if (++materials == 2 && material.problem.empty())
+            material.problem = in.where() +
+                               ": a second *MATERIAL; the thermal growth of an imported model takes "
+                               "one material: give the model one";
+        } else if (k.name == "DENSITY" || k.name == "ELASTIC" || k.name == "EXPANSION") {
+          mode = k.name == "DENSITY" ? Mode::Density : k.name == "ELASTIC" ? Mode::Elastic : Mode::Expansion;
+          dataLines = 0;
+          auto type = k.param.find("TYPE");
+          if (type != k.param.end() && upper(type->second) != "ISO" && material.problem.empty())
+            material.problem = in.where() + ": *" + k.name + ", TYPE=" + type->second +
+                               "; the thermal growth takes an isotropic material (TYPE=ISO)";
+          if (k.name == "EXPANSION" && k.param.count("ZERO") && material.problem.empty())
+            material.problem = in.where() + ": *EXPANSION, ZERO=" + k.param.at("ZERO") +
+                               "; Epaphe's thermal strain is alpha (T - T_ref) from 'Thermal->Reference "
+                               "temperature': remove ZERO=";
         }
         continue;
       }
@@ -155,6 +174,36 @@ struct InputParser {
       switch (mode) {
         case Mode::Skip:
           break;
+        case Mode::Density:
+        case Mode::Elastic:
+        case Mode::Expansion: {
+          double a = 0, b = 0;
+          const bool elastic = mode == Mode::Elastic;
+          const bool ok = parseDouble(f[0], a) && std::isfinite(a) &&
+                          (!elastic || (f.size() >= 2 && parseDouble(f[1], b) && std::isfinite(b)));
+          const char* card = mode == Mode::Density ? "*DENSITY" : elastic ? "*ELASTIC" : "*EXPANSION";
+          if (!ok || ++dataLines > 1) {
+            if (material.problem.empty())
+              material.problem = in.where() + ": " + card +
+                                 (ok ? " has more than one line (a table in temperature); the thermal growth takes "
+                                       "constant values: give one line"
+                                     : " reads '" + t + "'; expected " + (elastic ? "'E, nu'" : "a number"));
+            break;
+          }
+          if (materials > 1) break;  // the problem says so
+          if (mode == Mode::Density) {
+            material.density = a;
+            material.densityWhere = in.where();
+          } else if (elastic) {
+            material.young = a;
+            material.poisson = b;
+            material.elasticWhere = in.where();
+          } else {
+            material.expansion = a;
+            material.expansionWhere = in.where();
+          }
+          break;
+        }
         case Mode::Node: {
           long long id = 0;
           double x[3] = {0, 0, 0};
@@ -257,12 +306,14 @@ CalculixInput readCalculixInput(const std::string& path) {
     return it->second;
   };
   out.used.assign(p.ids.size(), 0);
+  out.material = p.material;
   for (const auto& e : p.elements) {
     std::vector<int> n(e.nodes.size());
     for (std::size_t a = 0; a < n.size(); ++a) {
       n[a] = nodeOf(e.nodes[a], e.where, ("element " + std::to_string(e.id)).c_str());
       out.used[n[a]] = 1;
     }
+    mesh.solids.push_back(n);
     // Corners as a hexahedron: wedges collapse the faces' last corner, tetrahedra the top face.
     if (e.type->corners == 8)
       mesh.hexes.push_back({n[0], n[1], n[2], n[3], n[4], n[5], n[6], n[7]});

@@ -9,11 +9,15 @@
 // fixed by *BOUNDARY out of the matrices; they become the model's constrained DOFs.
 //
 // Elements: C3D8 (R, I), C3D20 (R), C3D15, C3D6, C3D10, C3D4. Their corner nodes are kept as
-// (degenerate) hexahedra for output; mid-side nodes are nodes of the model like the others.
+// (degenerate) hexahedra for output, and every element's nodes as Mesh::solids (the thermal model
+// and its growth); mid-side nodes are nodes of the model like the others. The material's *DENSITY,
+// *ELASTIC and *EXPANSION are read for the thermal model and its growth (CalculixMaterial).
 #include "Epaphe_FullModel.hpp"
 
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_RCP.hpp>
+
+#include <limits>
 
 #include <string>
 #include <vector>
@@ -26,11 +30,28 @@ struct CalculixFiles {
   std::string matrices;  ///< the job of the MATRIXSTORAGE run: path without extension of .sti, .mas, .dof
 };
 
+/// What a CalculiX input says of its material: the thermal model's density and the thermal growth's
+/// E, nu and alpha (docs/user/heat.md). NaN where the input gives nothing; each `...Where` names the
+/// file and line it was read at. `problem` says why the input's material cannot serve a thermal growth
+/// (several *MATERIALs, an anisotropic or temperature-dependent table, *EXPANSION with ZERO=); empty
+/// when it can. Other imports never read it, so none of this is refused when reading.
+struct CalculixMaterial {
+  double density = std::numeric_limits<double>::quiet_NaN();    ///< *DENSITY (the input's units)
+  double young = std::numeric_limits<double>::quiet_NaN();      ///< E of *ELASTIC
+  double poisson = std::numeric_limits<double>::quiet_NaN();    ///< nu of *ELASTIC
+  double expansion = std::numeric_limits<double>::quiet_NaN();  ///< alpha of *EXPANSION (1/K)
+  std::string densityWhere;                                     ///< file:line of *DENSITY's value
+  std::string elasticWhere;                                     ///< file:line of *ELASTIC's values
+  std::string expansionWhere;                                   ///< file:line of *EXPANSION's value
+  std::string problem;  ///< why the material cannot serve a thermal growth (with where); empty when it can
+};
+
 /// The parts of a CalculiX/Abaqus input deck Epaphe reads.
 struct CalculixInput {
-  Mesh mesh;                ///< nodeIds: CalculiX node numbers; node sets named as in the deck, plus "all"
-  std::vector<char> fixed;  ///< 3 * numNodes: DOFs fixed by *BOUNDARY
-  std::vector<char> used;   ///< numNodes: node belongs to an element
+  Mesh mesh;                  ///< nodeIds: CalculiX node numbers; node sets named as in the deck, plus "all"
+  std::vector<char> fixed;    ///< 3 * numNodes: DOFs fixed by *BOUNDARY
+  std::vector<char> used;     ///< numNodes: node belongs to an element
+  CalculixMaterial material;  ///< *DENSITY, *ELASTIC, *EXPANSION
 };
 
 /// Reads `path` and the files it *INCLUDEs (relative to the including file).

@@ -257,11 +257,15 @@ void broadcastString(const Teuchos::Comm<int>& comm, std::string& s) {
 
 void broadcastMesh(const Teuchos::Comm<int>& comm, Mesh& mesh) {
   std::vector<double> x;
-  std::vector<int> hex, setSizes, setNodes;
+  std::vector<int> hex, setSizes, setNodes, solidSizes, solidNodes;
   std::string names;
   if (comm.getRank() == 0) {
     for (const auto& c : mesh.coords) x.insert(x.end(), c.begin(), c.end());
     for (const auto& h : mesh.hexes) hex.insert(hex.end(), h.begin(), h.end());
+    for (const auto& e : mesh.solids) {
+      solidSizes.push_back(static_cast<int>(e.size()));
+      solidNodes.insert(solidNodes.end(), e.begin(), e.end());
+    }
     for (const auto& [name, nodes] : mesh.nodeSets) {
       names += name + '\n';
       setSizes.push_back(static_cast<int>(nodes.size()));
@@ -274,7 +278,13 @@ void broadcastMesh(const Teuchos::Comm<int>& comm, Mesh& mesh) {
   broadcastVector(comm, setSizes);
   broadcastVector(comm, setNodes);
   broadcastString(comm, names);
+  broadcastVector(comm, solidSizes);
+  broadcastVector(comm, solidNodes);
   if (comm.getRank() == 0) return;
+  mesh.solids.clear();
+  for (std::size_t e = 0, at = 0; e < solidSizes.size(); at += static_cast<std::size_t>(solidSizes[e++]))
+    mesh.solids.emplace_back(solidNodes.begin() + static_cast<long>(at),
+                             solidNodes.begin() + static_cast<long>(at) + solidSizes[e]);
   mesh.coords.resize(x.size() / 3);
   for (std::size_t i = 0; i < mesh.coords.size(); ++i) mesh.coords[i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
   mesh.hexes.resize(hex.size() / 8);

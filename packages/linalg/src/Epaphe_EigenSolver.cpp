@@ -85,6 +85,13 @@ EigenResult lowestEigenpairs(const Teuchos::RCP<const CrsMatrix>& K, const Teuch
   for (int attempt = 0;; ++attempt) {
     auto x0 = Teuchos::rcp(new MV(K->getDomainMap(), blockSize));
     x0->randomize();
+    if (attempt == 0 && !opt.start.is_null() && opt.start->getLocalLength() == x0->getLocalLength()) {
+      auto a = x0->getLocalViewHost(Tpetra::Access::ReadWrite);
+      auto b = opt.start->getLocalViewHost(Tpetra::Access::ReadOnly);
+      const int k = std::min<int>(blockSize, static_cast<int>(opt.start->getNumVectors()));
+      for (int j = 0; j < k; ++j)
+        for (std::size_t i = 0; i < x0->getLocalLength(); ++i) a(i, j) = b(i, j);
+    }
     problem = Teuchos::rcp(new Anasazi::BasicEigenproblem<double, MV, OP>(op, M, x0));
     problem->setHermitian(true);
     problem->setNEV(opt.count);

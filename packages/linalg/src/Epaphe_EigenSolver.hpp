@@ -19,6 +19,8 @@ struct EigenOptions {
   double shift = 0.0;        ///< sigma
   double tolerance = 1e-10;  ///< Anasazi relative residual tolerance
   int maxRestarts = 500;     ///< Anasazi's maximum number of restarts
+  /// Starting vectors (on K's row layout), e.g. the eigenvectors of a nearby problem; null: random.
+  Teuchos::RCP<const MultiVector> start;
 };
 
 /// Eigenpairs and the cost of computing them.

@@ -1,11 +1,13 @@
 #include "Epaphe_Centrifugal.hpp"
 
 #include "Epaphe_Error.hpp"
+#include "Epaphe_SameGraph.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Map.hpp>
 #include <Tpetra_MultiVector.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
 
 #include <cmath>
 
@@ -37,8 +39,11 @@ void requireElements(const FullModel& model, const char* what) {
 
 }  // namespace
 
-CentrifugalTerms assembleCentrifugal(const FullModel& model, const SpinAxis& axis) {
-  requireElements(model, "the centrifugal load");
+namespace {
+
+/// assembleCentrifugal, its matrices on model.K's graph (`onK`; false returned when that graph lacks an
+/// entry) or on graphs of their own.
+bool assembleCentrifugal(const FullModel& model, const SpinAxis& axis, bool onK, CentrifugalTerms& t) {
   const auto rows = model.K->getRowMap();
   const auto& a = axis.direction;
   double P[3][3], A[3][3];  // P = I - a a^T, A v = a x v
@@ -54,14 +59,16 @@ CentrifugalTerms assembleCentrifugal(const FullModel& model, const SpinAxis& axi
   A[2][1] = a[0];
   A[2][2] = 0;
 
-  CentrifugalTerms t;
-  t.perpendicularMass = Teuchos::rcp(new CrsMatrix(rows, 81));
-  t.coriolis = Teuchos::rcp(new CrsMatrix(rows, 81));
+  t.perpendicularMass =
+      onK ? Teuchos::rcp(new CrsMatrix(model.K->getCrsGraph())) : Teuchos::rcp(new CrsMatrix(rows, 81));
+  t.coriolis = onK ? Teuchos::rcp(new CrsMatrix(model.K->getCrsGraph())) : Teuchos::rcp(new CrsMatrix(rows, 81));
+  bool complete = true;
   t.load = Teuchos::rcp(new MultiVector(rows, 1));
   auto load = t.load->getDataNonConst(0);
   double Ke[24 * 24], Me[24 * 24], Mp[24 * 24], Gc[24 * 24];
   for (int i = 0; i < 24 * 24; ++i) Mp[i] = Gc[i] = 0;
   forEachOwnedHex(model, *rows, [&](const std::array<int, 8>& hex, const double(&x)[8][3]) {
+    if (!complete) return;
     hex8StiffnessMass(x, *model.material, Ke, Me);
     // The consistent mass is m_ab I_3 per node pair: M_perp,ab = m_ab P, G_ab / 2 = m_ab [a]_x.
     for (int p = 0; p < 8; ++p)
@@ -73,8 +80,13 @@ CentrifugalTerms assembleCentrifugal(const FullModel& model, const SpinAxis& axi
             Gc[(3 * p + i) * 24 + 3 * q + j] = m * A[i][j];
           }
       }
-    insertElementMatrix(model, hex, Mp, *t.perpendicularMass);
-    insertElementMatrix(model, hex, Gc, *t.coriolis);
+    if (onK) {
+      complete = sumIntoElementMatrix(model, hex, Mp, *t.perpendicularMass) &&
+                 sumIntoElementMatrix(model, hex, Gc, *t.coriolis);
+    } else {
+      insertElementMatrix(model, hex, Mp, *t.perpendicularMass);
+      insertElementMatrix(model, hex, Gc, *t.coriolis);
+    }
     // f_c,a = sum_b M_perp,ab (x_b - x_0), the clamped nodes' x_b included
     for (int r = 0; r < 24; ++r) {
       const int row = model.eq[3 * hex[r / 3] + r % 3];
@@ -85,8 +97,22 @@ CentrifugalTerms assembleCentrifugal(const FullModel& model, const SpinAxis& axi
       load[rows->getLocalElement(row)] += f;
     }
   });
-  t.perpendicularMass->fillComplete();
-  t.coriolis->fillComplete();
+  if (!complete) return false;
+  t.perpendicularMass->fillComplete(model.K->getDomainMap(), model.K->getRangeMap());
+  t.coriolis->fillComplete(model.K->getDomainMap(), model.K->getRangeMap());
+  return true;
+}
+
+}  // namespace
+
+CentrifugalTerms assembleCentrifugal(const FullModel& model, const SpinAxis& axis) {
+  requireElements(model, "the centrifugal load");
+  // on K's graph, so that K - Omega^2 M_perp is a loop over values (sumOnGraph); on their own if it lacks an entry
+  CentrifugalTerms t;
+  if (!assembleCentrifugal(model, axis, true, t)) {
+    t = CentrifugalTerms();
+    assembleCentrifugal(model, axis, false, t);
+  }
   return t;
 }
 
@@ -106,6 +132,45 @@ Teuchos::RCP<CrsMatrix> assembleGeometricStiffness(const FullModel& model, const
   });
   Ks->fillComplete();
   return Ks;
+}
+
+Teuchos::RCP<CrsMatrix> assembleGeometricStiffness(const FullModel& model, const std::vector<double>& u,
+                                                   const CrsMatrix& pattern) {
+  requireElements(model, "the geometric stiffness");
+  EPAPHE_REQUIRE(u.size() == 3 * static_cast<std::size_t>(model.numNodes()),
+                 "body '" << model.name << "': " << u.size() << " nodal displacements for " << model.numNodes()
+                          << " nodes (3 per node expected)");
+  const auto rows = pattern.getRowMap();
+  auto Ks = Teuchos::rcp(new CrsMatrix(pattern.getCrsGraph()));
+  double ue[24], Kg[24 * 24];
+  bool complete = true;
+  forEachOwnedHex(model, *rows, [&](const std::array<int, 8>& hex, const double(&x)[8][3]) {
+    if (!complete) return;
+    for (int p = 0; p < 8; ++p)
+      for (int d = 0; d < 3; ++d) ue[3 * p + d] = u[3 * static_cast<std::size_t>(hex[p]) + d];
+    hex8GeometricStiffness(x, *model.material, ue, Kg);
+    complete = sumIntoElementMatrix(model, hex, Kg, *Ks);
+  });
+  if (!complete) return assembleGeometricStiffness(model, u);
+  Ks->fillComplete(pattern.getDomainMap(), pattern.getRangeMap());
+  return Ks;
+}
+
+Teuchos::RCP<CrsMatrix> sumOnGraph(double a, const CrsMatrix& A, double b, const CrsMatrix& B) {
+  if (A.getCrsGraph().get() != B.getCrsGraph().get()) return Tpetra::MatrixMatrix::add(a, false, A, b, false, B);
+  auto C = Teuchos::rcp(new CrsMatrix(A.getCrsGraph()));
+  typename CrsMatrix::local_inds_host_view_type ia, ib;
+  typename CrsMatrix::values_host_view_type va, vb;
+  std::vector<double> vc;
+  for (LO r = 0; r < static_cast<LO>(A.getNodeNumRows()); ++r) {
+    A.getLocalRowView(r, ia, va);
+    B.getLocalRowView(r, ib, vb);  // the same graph: the same columns in the same order
+    vc.resize(ia.extent(0));
+    for (std::size_t k = 0; k < vc.size(); ++k) vc[k] = a * va(k) + b * vb(k);
+    C->replaceLocalValues(r, static_cast<LO>(vc.size()), vc.data(), ia.data());
+  }
+  C->fillComplete(A.getDomainMap(), A.getRangeMap());
+  return C;
 }
 
 std::vector<double> nodalValues(const FullModel& model, const MultiVector& x) {

@@ -1,4 +1,5 @@
 #include "Epaphe_FullModel.hpp"
+#include "Epaphe_SameGraph.hpp"
 
 #include "Epaphe_Error.hpp"
 
@@ -33,7 +34,12 @@ void forEachOwnedHex(const FullModel& m, const Map& rows,
   }
 }
 
-void insertElementMatrix(const FullModel& m, const std::array<int, 8>& hex, const double* Ae, CrsMatrix& A) {
+namespace {
+
+/// The rows of a hexahedron's element matrix Ae (24 x 24, row-major) this rank owns, given to
+/// put(row, columns, values, count) with their free DOFs' columns; false when put returns false.
+template <class Put>
+bool forElementRows(const FullModel& m, const std::array<int, 8>& hex, const double* Ae, const CrsMatrix& A, Put put) {
   const auto& rows = *A.getRowMap();
   GO cols[24];
   double values[24];
@@ -47,8 +53,25 @@ void insertElementMatrix(const FullModel& m, const std::array<int, 8>& hex, cons
       cols[n] = col;
       values[n++] = Ae[a * 24 + b];
     }
-    A.insertGlobalValues(row, Teuchos::ArrayView<const GO>(cols, n), Teuchos::ArrayView<const double>(values, n));
+    if (!put(row, Teuchos::ArrayView<const GO>(cols, n), Teuchos::ArrayView<const double>(values, n))) return false;
   }
+  return true;
+}
+
+}  // namespace
+
+void insertElementMatrix(const FullModel& m, const std::array<int, 8>& hex, const double* Ae, CrsMatrix& A) {
+  forElementRows(m, hex, Ae, A, [&](GO row, Teuchos::ArrayView<const GO> cols, Teuchos::ArrayView<const double> v) {
+    A.insertGlobalValues(row, cols, v);
+    return true;
+  });
+}
+
+bool sumIntoElementMatrix(const FullModel& m, const std::array<int, 8>& hex, const double* Ae, CrsMatrix& A) {
+  return forElementRows(m, hex, Ae, A,
+                        [&](GO row, Teuchos::ArrayView<const GO> cols, Teuchos::ArrayView<const double> v) {
+                          return A.sumIntoGlobalValues(row, cols, v) == static_cast<int>(cols.size());
+                        });
 }
 
 FullModel assembleHexModel(const std::string& name, Mesh mesh, const Material& mat, const std::vector<int>& clamped,

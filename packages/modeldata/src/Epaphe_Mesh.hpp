@@ -26,6 +26,11 @@ struct Mesh {
   std::vector<int> nodeIds;                          ///< imported: node index -> the FE code's number; else empty
   std::map<std::string, std::vector<int>> nodeSets;  ///< sorted node indices
   std::map<std::string, NodeGrid> nodeGrids;         ///< ordered faces, for surfaces built on a body
+  /// Imported (CalculiX) meshes: every element's nodes in CalculiX/Abaqus order, one per hexahedron
+  /// of `hexes` and in its order; the node count tells the type: 4 (C3D4), 6 (C3D6), 8 (C3D8),
+  /// 10 (C3D10), 15 (C3D15), 20 (C3D20), the corners first. Empty for built-in meshes (their
+  /// elements are the hexahedra) and for imports that give no elements.
+  std::vector<std::vector<int>> solids;
 
   /// The number of nodes.
   int numNodes() const { return static_cast<int>(coords.size()); }

@@ -278,6 +278,21 @@ ReducedModel craigBampton(const FullModel& full, const std::vector<int>& retaine
     eo.count = opt.modes;
     eo.shift = 0.0;
     eo.tolerance = opt.eigenTolerance;
+    if (opt.startModes && opt.startModes->numModes >= 1 && opt.startModes->size - opt.startModes->numModes == nR &&
+        opt.startModes->recovery.size() == full.eq.size() * static_cast<std::size_t>(opt.startModes->size)) {
+      const ReducedModel& p = *opt.startModes;
+      auto x0 = Teuchos::rcp(new MultiVector(cMap, static_cast<std::size_t>(std::min(p.numModes, opt.modes))));
+      auto v = x0->getLocalViewHost(Tpetra::Access::OverwriteAll);
+      for (std::size_t i = 0; i < full.eq.size(); ++i) {
+        const int g = full.eq[i];
+        if (g < 0 || rIndex[g] >= 0) continue;
+        const LO lc = cMap->getLocalElement(cIndex[g]);
+        if (lc == Teuchos::OrdinalTraits<LO>::invalid()) continue;
+        for (std::size_t j = 0; j < x0->getNumVectors(); ++j)
+          v(lc, j) = p.recovery[i * static_cast<std::size_t>(p.size) + nR + j];
+      }
+      eo.start = x0;
+    }
     EigenResult er = lowestEigenpairs(Kb.CC, Mb.CC, *factor, eo);
     Phi = er.vectors;
     rep.eigenIterations = er.restarts;

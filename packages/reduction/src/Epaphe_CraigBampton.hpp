@@ -44,6 +44,9 @@ struct CraigBamptonOptions {
   /// Craig-Bampton: the basis only (recovery, modeFrequencies); K and M are not projected (left
   /// empty), for callers that project on a basis of their own (Epaphe_SpeedParametricModel.hpp).
   bool basisOnly = false;
+  /// Craig-Bampton: a reduction of a nearby model of the same body and retained nodes (another speed)
+  /// whose fixed-interface modes start Anasazi's search; null: a random start.
+  const ReducedModel* startModes = nullptr;
 };
 
 /// What a reduction did and what it cost (wall times in s).
@@ -54,6 +57,9 @@ struct ReductionReport {
   double factorSeconds = 0, constraintSeconds = 0, eigenSeconds = 0, projectSeconds = 0;
   ///@}
   double checkSeconds = 0;  ///< the frequency check (checkFrequencies), not part of `seconds`
+  /// a parametric model over a speed range: the static states at its samples (part of `seconds`;
+  /// projectSeconds is then the common basis and the projections)
+  double staticSeconds = 0;
   /// retained DOFs (kept physical) and condensed DOFs (the interior)
   ///@{
   int retainedDofs = 0, condensedDofs = 0;

@@ -1,7 +1,9 @@
 #include "Epaphe_ModelAtSpeed.hpp"
 
 #include "Epaphe_Error.hpp"
+#include "Epaphe_ReductionShared.hpp"
 #include "Epaphe_Runtime.hpp"
+#include "Epaphe_SameGraph.hpp"
 #include "Epaphe_SparseSolver.hpp"
 
 #include <Tpetra_CrsMatrix.hpp>
@@ -25,18 +27,33 @@ double largestLength(const std::vector<double>& u) {
   return m;
 }
 
+/// x (over the free DOFs, this rank's rows) from nodal values u (3 per node): the inverse of nodalValues
+void freeValues(const FullModel& model, const std::vector<double>& u, MultiVector& x) {
+  const auto map = x.getMap();
+  auto v = x.getLocalViewHost(Tpetra::Access::OverwriteAll);
+  for (std::size_t i = 0; i < model.eq.size(); ++i) {
+    const int g = model.eq[i];
+    if (g >= 0 && map->isNodeGlobalElement(g)) v(map->getLocalElement(g), 0) = u[i];
+  }
+}
+
 }  // namespace
 
 FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& o, SpeedReport* report) {
+  return modelAtSpeed(rest, assembleCentrifugal(rest, o.axis), o, report);
+}
+
+FullModel modelAtSpeed(const FullModel& rest, const CentrifugalTerms& c, const RotationOptions& o,
+                       SpeedReport* report) {
   Stopwatch watch;
   EPAPHE_REQUIRE(std::isfinite(o.speed),
                  "body '" << rest.name << "': rotation speed " << o.speed << " rad/s is not a finite number");
   const double w2 = o.speed * o.speed;
-  const CentrifugalTerms c = assembleCentrifugal(rest, o.axis);
 
   // (K_e - Omega^2 M_perp) u_s = Omega^2 f_c
-  auto statics =
-      o.spinSoftening ? Tpetra::MatrixMatrix::add(1.0, false, *rest.K, -w2, false, *c.perpendicularMass) : rest.K;
+  // Every matrix at speed on rest.K's graph (assembleCentrifugal, assembleGeometricStiffness with a
+  // pattern): their sums are loops over values, not new graphs (sumOnGraph)
+  auto statics = o.spinSoftening ? sumOnGraph(1.0, *rest.K, -w2, *c.perpendicularMass) : rest.K;
   MultiVector f(*c.load, Teuchos::Copy), us(c.load->getMap(), 1);
   f.scale(w2);
   const std::string what = " of body '" + rest.name + "' at " + std::to_string(o.speed) +
@@ -45,32 +62,43 @@ FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& o, SpeedRep
   const bool guessed =
       o.staticState == StaticState::StressStiffened && o.stressStiffening && o.initialState.size() == rest.eq.size();
   std::vector<double> u;
-  if (guessed)
+  if (guessed) {
     u = o.initialState;
-  else {
+    freeValues(rest, u, us);
+  } else {
     makeSolver(statics, o.solver, "K_e - Omega^2 M_perp" + what)->solve(f, us);
     u = nodalValues(rest, us);
   }
   const double linear = guessed ? 0.0 : largestLength(u);
 
-  // The stress-stiffened state: (K_e - Omega^2 M_perp + K_sigma(u_s)) u_s = Omega^2 f_c by fixed point,
-  // each pass with K_sigma of the last u_s, until u_s moves by less than 1e-8 of its size.
+  // The stress-stiffened state, (K_e - Omega^2 M_perp + K_sigma(u_s)) u_s = Omega^2 f_c (docs/user/
+  // rotating-bodies.md), by chord passes on one factor: A_0 =
+  // K_e - Omega^2 M_perp + K_sigma(u_0) at the starting state is factored, and each pass adds
+  // A_0^{-1} r, r = Omega^2 f_c - (K_e - Omega^2 M_perp + K_sigma(u)) u, until the correction is below
+  // 1e-10 of u's size. The solution is the fixed point's (r = 0); a pass costs K_sigma's assembly, two
+  // products and a solve instead of a factorization. A_0 is factored again at the current state when
+  // a pass contracts the correction by less than 4x (a far start).
   int passes = 0;
   bool stiffened = false;
   if (o.stressStiffening && o.staticState != StaticState::Linear) {
     std::vector<double> last = u;
-    MultiVector v(c.load->getMap(), 1);
+    MultiVector x(us, Teuchos::Copy), r(c.load->getMap(), 1), Ax(c.load->getMap(), 1), dx(c.load->getMap(), 1);
+    std::unique_ptr<SparseSolver> chord;
+    double previous = 0;
     for (passes = 1; passes <= 50; ++passes) {
-      auto A = Tpetra::MatrixMatrix::add(1.0, false, *statics, 1.0, false, *assembleGeometricStiffness(rest, last));
-      makeSolver(A, o.solver, "K_e - Omega^2 M_perp + K_sigma" + what)->solve(f, v);
-      std::vector<double> next = nodalValues(rest, v);
-      double change = 0, size = 0;
-      for (std::size_t k = 0; k < next.size(); ++k) {
-        change = std::max(change, std::abs(next[k] - last[k]));
-        size = std::max(size, std::abs(next[k]));
-      }
-      last.swap(next);
-      if (change <= 1e-8 * size) break;
+      const auto Ks = assembleGeometricStiffness(rest, last, *rest.K);
+      if (!chord)
+        chord = makeSolver(sumOnGraph(1.0, *statics, 1.0, *Ks), o.solver, "K_e - Omega^2 M_perp + K_sigma" + what);
+      statics->apply(x, r);
+      Ks->apply(x, Ax);
+      r.update(1.0, f, -1.0, Ax, -1.0);  // r = f - statics x - K_sigma x
+      chord->solve(r, dx);
+      x.update(1.0, dx, 1.0);
+      const double change = dx.getVector(0)->normInf(), size = x.getVector(0)->normInf();
+      last = nodalValues(rest, x);
+      if (change <= 1e-10 * size) break;
+      if (previous > 0 && change > 0.25 * previous) chord.reset();
+      previous = change;
     }
     EPAPHE_REQUIRE(passes <= 50, "body '"
                                      << rest.name << "' at " << o.speed << " rad/s: the stress-stiffened static "
@@ -83,8 +111,7 @@ FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& o, SpeedRep
 
   FullModel at = rest;
   at.K = statics;
-  if (o.stressStiffening)
-    at.K = Tpetra::MatrixMatrix::add(1.0, false, *statics, 1.0, false, *assembleGeometricStiffness(rest, u));
+  if (o.stressStiffening) at.K = sumOnGraph(1.0, *statics, 1.0, *assembleGeometricStiffness(rest, u, *rest.K));
   for (int n = 0; n < at.numNodes(); ++n)
     for (int d = 0; d < 3; ++d) at.mesh.coords[n][d] += u[3 * static_cast<std::size_t>(n) + d];
 
@@ -120,16 +147,8 @@ std::vector<double> reducedCoriolis(const CrsMatrix& halfG, const FullModel& ful
                  "body '" << full.name << "': a recovery of " << recovery.size() << " entries for " << full.eq.size()
                           << " DOFs and " << n << " reduced coordinates");
   // V over the free DOFs (the recovery's rows at clamped DOFs are zero), then G V and V^T (G V)
-  MultiVector V(map, static_cast<std::size_t>(n)), GV(map, static_cast<std::size_t>(n));
-  {
-    auto v = V.getLocalViewHost(Tpetra::Access::OverwriteAll);
-    for (std::size_t i = 0; i < full.eq.size(); ++i) {
-      const int g = full.eq[i];
-      if (g < 0 || !map->isNodeGlobalElement(g)) continue;
-      const LO l = map->getLocalElement(g);
-      for (int j = 0; j < n; ++j) v(l, j) = recovery[i * n + j];
-    }
-  }
+  const MultiVector V = basisOnFreeDofs(full, recovery, n, map);
+  MultiVector GV(map, static_cast<std::size_t>(n));
   halfG.apply(V, GV);
   std::vector<double> local(static_cast<std::size_t>(n) * n, 0.0), G(local.size());
   {

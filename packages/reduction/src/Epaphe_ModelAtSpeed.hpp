@@ -63,6 +63,11 @@ struct SpeedReport {
 /// report, when given, gets the static state.
 FullModel modelAtSpeed(const FullModel& rest, const RotationOptions& options, SpeedReport* report);
 
+/// The same with the centrifugal terms of `rest` about `options.axis` given (assembleCentrifugal): the
+/// samples of a speed range share them.
+FullModel modelAtSpeed(const FullModel& rest, const CentrifugalTerms& terms, const RotationOptions& options,
+                       SpeedReport* report);
+
 /// G_r = V^T G V (n x n, column-major, skew), G = 2 `halfG` (CentrifugalTerms::coriolis, over the free
 /// DOFs of `full`), V the basis whose rows over every node's DOFs are `recovery` ((3 numNodes) x n,
 /// row-major, a reduced model's u = R q): the reduced model's Coriolis matrix per unit speed. Its skew

@@ -25,6 +25,19 @@ std::vector<double> transposeProduct(const MultiVector& A, const MultiVector& B)
   return out;
 }
 
+MultiVector basisOnFreeDofs(const FullModel& full, const std::vector<double>& recovery, int n,
+                            const Teuchos::RCP<const Map>& map) {
+  MultiVector V(map, static_cast<std::size_t>(n));
+  auto v = V.getLocalViewHost(Tpetra::Access::OverwriteAll);
+  for (std::size_t i = 0; i < full.eq.size(); ++i) {
+    const int g = full.eq[i];
+    if (g < 0 || !map->isNodeGlobalElement(g)) continue;
+    const LO l = map->getLocalElement(g);
+    for (int j = 0; j < n; ++j) v(l, j) = recovery[i * n + j];
+  }
+  return V;
+}
+
 /// A dense nR x k array (column-major, replicated) as a multivector on a locally replicated map.
 MultiVector replicated(const std::vector<double>& a, int rows, int cols,
                        const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {

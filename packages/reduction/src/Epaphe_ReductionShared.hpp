@@ -13,6 +13,11 @@ namespace epaphe {
 /// A^T B as a dense column-major (colsA x colsB) array on every rank.
 std::vector<double> transposeProduct(const MultiVector& A, const MultiVector& B);
 
+/// A basis given by its rows over every node's DOFs (`recovery`, (3 numNodes) x n, row-major, a reduced
+/// model's u = R q) as a multivector over the free DOFs of `full` on `map` (rows at clamped DOFs dropped).
+MultiVector basisOnFreeDofs(const FullModel& full, const std::vector<double>& recovery, int n,
+                            const Teuchos::RCP<const Map>& map);
+
 /// A dense nR x k array (column-major, replicated) as a multivector on a locally replicated map.
 MultiVector replicated(const std::vector<double>& a, int rows, int cols,
                        const Teuchos::RCP<const Teuchos::Comm<int>>& comm);

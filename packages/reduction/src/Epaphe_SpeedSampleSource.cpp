@@ -12,7 +12,7 @@ SpeedSample BuiltInSpeedSource::sample(double speed) {
   }
   SpeedReport sr;
   SpeedSample s;
-  s.model = speed == 0 ? rest_ : modelAtSpeed(rest_, o, &sr);
+  s.model = speed == 0 ? rest_ : modelAtSpeed(rest_, terms(), o, &sr);
   s.staticDisplacement = speed == 0 ? std::vector<double>(rest_.eq.size(), 0.0) : sr.staticDisplacement;
   s.seconds = sr.seconds;
   if (first_ && common_.staticState == StaticState::Automatic)

@@ -51,12 +51,19 @@ public:
     return common_.staticState == StaticState::Automatic ? StaticState::Linear : common_.staticState;
   }
   Teuchos::RCP<const CrsMatrix> coriolis() const override {
-    return common_.coriolis ? assembleCentrifugal(rest_, common_.axis).coriolis : Teuchos::null;
+    return common_.coriolis ? terms().coriolis : Teuchos::null;
   }
 
 private:
+  /// The centrifugal terms, assembled once for every sample.
+  const CentrifugalTerms& terms() const {
+    if (terms_.load.is_null()) terms_ = assembleCentrifugal(rest_, common_.axis);
+    return terms_;
+  }
+
   const FullModel& rest_;
   RotationOptions common_;
+  mutable CentrifugalTerms terms_;
   double previousSpeed_ = 0;
   std::vector<double> previousState_;
   bool first_ = true;

@@ -117,6 +117,21 @@ Mesh buildBodyMesh(const std::string& body, const ParameterList& bp, const std::
   return importer->mesh(r);
 }
 
+bool hasCalculixMesh(const ParameterList& bp) {
+  return modelImporter(bp.sublist("Mesh"))->name() == "CalculiX";
+}
+
+Mesh buildThermalMesh(const std::string& body, const ParameterList& bp, const std::string& deckPath) {
+  if (!hasCalculixMesh(bp)) return buildBodyMesh(body, bp, deckPath);
+  return readCalculixInput(requestOf(body, bp, deckPath).file("Input file", true)).mesh;
+}
+
+CalculixMaterial importedMaterial(const std::string& body, const ParameterList& bp, const std::string& deckPath) {
+  const ImportRequest r = requestOf(body, bp, deckPath);
+  EPAPHE_REQUIRE(hasCalculixMesh(bp), r.context() << ": importedMaterial called on a model not imported from CalculiX");
+  return readCalculixInput(r.file("Input file", true)).material;
+}
+
 FullModel buildBodyModel(const std::string& body, const ParameterList& bp, const std::string& deckPath,
                          const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {
   const ImportRequest r = requestOf(body, bp, deckPath);

@@ -7,6 +7,7 @@
 // models the size and content hash of every file read (the CalculiX *INCLUDEs too), so that a
 // changed file recomputes the reduction.
 #include "Epaphe_BuiltInMeshes.hpp"
+#include "Epaphe_CalculixImport.hpp"
 #include "Epaphe_FullModel.hpp"
 #include "Epaphe_Mesh.hpp"
 #include "Epaphe_ModelImporter.hpp"
@@ -42,6 +43,18 @@ bool hasBuiltInMesh(const Teuchos::ParameterList& bodyParams);
 
 /// The built-in mesh of a body (not its matrices): cheap, for the checks made before any work.
 Mesh buildBodyMesh(const std::string& body, const Teuchos::ParameterList& bodyParams, const std::string& deckPath);
+
+/// True when the body's model is imported from CalculiX ('Mesh->Type' = CalculiX): its input deck
+/// gives the mesh's elements and material (a thermal model can be assembled on them).
+bool hasCalculixMesh(const Teuchos::ParameterList& bodyParams);
+
+/// The mesh of a built-in body, or of a CalculiX import read from its input deck alone (nodes,
+/// elements as Mesh::solids, node sets; no matrices): what a thermal model is assembled on.
+Mesh buildThermalMesh(const std::string& body, const Teuchos::ParameterList& bodyParams, const std::string& deckPath);
+
+/// What a CalculiX import's input deck says of its material (*DENSITY, *ELASTIC, *EXPANSION).
+CalculixMaterial importedMaterial(const std::string& body, const Teuchos::ParameterList& bodyParams,
+                                  const std::string& deckPath);
 
 /// Builds (built-in) or imports the body's full model on every rank of `comm`.
 FullModel buildBodyModel(const std::string& body, const Teuchos::ParameterList& bodyParams, const std::string& deckPath,

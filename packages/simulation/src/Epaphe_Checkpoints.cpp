@@ -25,7 +25,7 @@ Checkpoints::Checkpoints(io::Hdf5File& file, const ExplicitLoop& loop, SurfaceCo
       fields_(fields),
       opt_(options),
       series_(history.series()),
-      accumulatorNames_(LoopAccumulators::names(loop.bodies())) {
+      accumulatorNames_(LoopAccumulators::names(loop.bodies(), loop.accumulators().heatTerm())) {
   if (fields_)
     for (io::Series* s : fields_->series()) series_.push_back(s);
   series_.insert(series_.end(), more.begin(), more.end());
@@ -61,6 +61,7 @@ void Checkpoints::write(const ExplicitLoop& loop, long long nextStep) {
     if (contact->coating()) file_.writeDoubles(c + "/coating_state", contact->coatingState());
     contact->resetWarmStarts();  // as a restart from here will: friction starts anew
   }
+  if (heat_) file_.writeDoubles(c + "/thermal_state", heat_->state());
   std::vector<long long> lengths;
   for (const io::Series* s : series_) lengths.push_back(static_cast<long long>(s->size()));
   file_.writeInts(c + "/series_lengths", lengths);
@@ -114,6 +115,10 @@ long long Checkpoints::restore(ExplicitLoop& loop, const std::string& what) {
                      what << ": " << c << " has no coating state; run the deck anew");
       contact->setCoatingState(file_.readDoubles(c + "/coating_state"));
     }
+  }
+  if (heat_) {
+    EPAPHE_REQUIRE(file_.exists(c + "/thermal_state"), what << ": " << c << " has no thermal state; run the deck anew");
+    heat_->setState(file_.readDoubles(c + "/thermal_state"), what + ": " + c + "/thermal_state");
   }
   file_.flush();
   return counters[0];

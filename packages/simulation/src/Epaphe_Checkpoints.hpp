@@ -4,7 +4,8 @@
 // A checkpoint holds everything the next steps depend on (fixed shapes): the step to run next,
 // q_{n-1} and q_n of the system, the loop's accumulators (contact work, per body damping and
 // external work, contact times, impulse, peak force, worst balance error), the contact's warm
-// starts and skipping state, a coating's wear and dissipation, and the records of every series. Between checkpoints
+// starts and skipping state, a coating's wear and dissipation, the thermal models' state, and the records of every
+// series. Between checkpoints
 // nothing is written to the file: the series buffers (1024 records, 16 field frames) never fill, a checkpoint being
 // taken when they are one record short. A checkpoint first writes and flushes (H5Fflush) the buffered records, then
 // overwrites the older of two slots, /checkpoint/0 and /checkpoint/1, flushes, and only then points
@@ -12,6 +13,7 @@
 // complete checkpoint in the slot /checkpoint/current names; with uncompressed series
 // (Output->Compression false, the default) the records it counts are intact too, since an
 // uncompressed chunk is rewritten in place with the same bytes for the records it already held.
+#include "Epaphe_BodyHeat.hpp"
 #include "Epaphe_ExplicitLoop.hpp"
 #include "Epaphe_FieldOutput.hpp"
 #include "Epaphe_Hdf5File.hpp"
@@ -43,6 +45,10 @@ public:
   /// series to its records; `what` names the file for errors. Returns the step it restarts at.
   long long restore(ExplicitLoop& loop, const std::string& what);
 
+  /// The bodies' thermal models (heat from rubbing), whose state the checkpoints hold too; call before the first
+  /// write or restore.
+  void setHeat(HeatOutput* heat) { heat_ = heat; }
+
   /// The checkpoints written so far.
   long long count() const { return count_; }
   /// Their total wall time (s).
@@ -57,6 +63,7 @@ private:
   SurfaceContact* contact_;
   HistoryOutput& history_;
   FieldOutput* fields_;
+  HeatOutput* heat_ = nullptr;
   CheckpointOptions opt_;
   std::vector<io::Series*> series_;
   std::string seriesPaths_;

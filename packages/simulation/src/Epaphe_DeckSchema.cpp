@@ -1,5 +1,7 @@
 #include "Epaphe_DeckSchema.hpp"
 
+#include "Epaphe_ThermalParameters.hpp"
+
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_Error.hpp"
 #include "Epaphe_ModelImporter.hpp"
@@ -8,6 +10,7 @@
 #include "Epaphe_ObserverKind.hpp"
 #include "Epaphe_SurfaceContact.hpp"
 #include "Epaphe_CentralDifference.hpp"
+#include "Epaphe_LoadTimeFunction.hpp"
 
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
@@ -92,6 +95,10 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
   addDouble(mat, "Density", 7800, "Mass density (kg/m^3)", 1e-300);
   addDouble(mat, "Young's modulus", 2.1e11, "Young's modulus (Pa)", 1e-300);
   addDouble(mat, "Poisson's ratio", 0.3, "Poisson's ratio", -0.999999, 0.499999);
+  addEnum(mat, "Element formulation", "Full integration", {"Full integration", "Incompatible modes"}, {0, 1},
+          "The hexahedra's stiffness: Full integration (trilinear, 2x2x2 Gauss points; stiff in bending "
+          "with few elements through a thickness) or Incompatible modes (nine condensed bubble modes per "
+          "element: bending without parasitic shear, for thin rings, casings and blades)");
   addString(body, "Clamped node set", "",
             "Node set fixed in all directions (empty: none); built-in meshes only (an "
             "imported model carries its own boundary conditions)");
@@ -105,6 +112,47 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
                  "refused otherwise. Its work is the run's external work in the energy balance");
   addString(body, "Contact node set", "", "Nodes checked against every surface (empty: no contact)");
   addStringArray(body, "Watched node sets", {}, "Node sets whose displacement and velocity are written");
+  auto& inst = body.sublist("Instances", false,
+                            "Copies of the body around the engine axis (a bladed stage on a rigid disk): one "
+                            "reduction, N bodies named <body>[k] that share its reduced model (docs/user/stage.md)");
+  addInt(inst, "Count", 1,
+         "N: instance k stands at 2 pi k / N about each surface's 'Rotation axis' (its copy of every surface "
+         "is turned back by that angle); 1: the body alone",
+         1, 100000);
+  addDoubleArray(inst, "Stiffness factors", {},
+                 "Mistuning: instance k's stiffness is factor_k K (its frequencies sqrt(factor_k) times the "
+                 "tuned ones), N values > 0 (empty: tuned, or the random pattern below)");
+  addDouble(inst, "Mistuning standard deviation", 0.0,
+            "A random mistuning pattern: factor_k = 1 + delta_k, delta_k normal with this standard deviation "
+            "(Box-Muller on a 64-bit Mersenne Twister seeded by 'Seed': the same pattern on every machine)",
+            0.0, 0.3);
+  addInt(inst, "Seed", 1, "Seed of the random mistuning pattern", 0, 2147483647);
+  addThermalParameters(body);
+  auto& load =
+      body.sublist("Loads", false, "External forces on the body's nodes, one sublist per load, named by the user")
+          .sublist("*", false,
+                   "A force F g(t) on every node of a node set, projected onto the model as R^T F "
+                   "(docs/theory/forced-response.md, eqs. 65-67); its work is the run's external work");
+  addString(load, "Node set", "",
+            "The nodes the force acts on (a named node set or a union \"a, b\"; required without 'Reduced DOFs')");
+  addDoubleArray(load, "Force", {0, 0, 0}, "F: the force on each node of the set (N), times the time function g(t)");
+  addIntArray(
+      load, "Reduced DOFs", {},
+      "Instead of a node set: the coordinates q_j of the body's model the load acts on, numbered from 0 in "
+      "the model's order (Craig-Bampton and massless boundary: the retained DOFs first, x, y, z of each retained "
+      "node in the order of 'retainedNodes' in its reduced-model cache, then the modes; a full model: its "
+      "free DOFs)");
+  addDoubleArray(load, "Reduced forces", {},
+                 "With 'Reduced DOFs': the force f_j on each of them (N on a physical DOF, the modal force on a "
+                 "mode), times the time function g(t)");
+  addEnum(load, "Time function", "Constant", loadTimeKindNames(), {0, 1, 2, 3},
+          "g(t): Constant, g = 1; Harmonic, g = cos(2 pi Frequency t + Phase); Table, g linear between the "
+          "points (Times, Values), held at the first and last values outside them; Ramp, g = min(t / Ramp time, 1)");
+  addDouble(load, "Frequency", 0.0, "Harmonic: the frequency (Hz), > 0", 0.0);
+  addDouble(load, "Phase", 0.0, "Harmonic: the phase at t = 0 (rad)");
+  addDoubleArray(load, "Times", {}, "Table: the times (s), increasing");
+  addDoubleArray(load, "Values", {}, "Table: g at each of 'Times'");
+  addDouble(load, "Ramp time", 0.0, "Ramp: the time T (s) g takes to rise from 0 to 1, > 0", 0.0);
   auto& rot = body.sublist("Rotation", false,
                            "The body turns at a steady speed and is modelled in its own frame, "
                            "where the centrifugal load is static (the casing turns around it)");
@@ -240,6 +288,11 @@ void addTimeParameters(Teuchos::ParameterList& pl) {
             "When > 0, the duration in revolutions of the fastest turning surface "
             "(replaces End time)",
             0.0);
+  addEnum(time, "Initial state", "At rest", {"At rest", "Static equilibrium"}, {0, 1},
+          "At rest: q_0 = 0 (the bodies undeformed, moving at their 'Initial velocity'); Static equilibrium: the "
+          "static equilibrium under the loads at t = 0 with the contact nodes that touch a surface held by it, "
+          "sticking where the friction cone allows (docs/theory/forced-response.md, eqs. 71-72; Lagrange contact, "
+          "rigid surfaces at rest)");
   addBool(time, "Allow unstable time step", false,
           "Run even when h exceeds the estimated critical step "
           "(a warning instead of an error)");
@@ -296,6 +349,28 @@ void addOutputParameters(Teuchos::ParameterList& pl) {
             "The run stops when |energy balance error| / largest energy exceeds it", 0.0);
 }
 
+/// Steady state: the detection of a driven run's steady state (Epaphe_SteadyState.hpp, eq. (70)).
+void addSteadyStateParameters(Teuchos::ParameterList& pl) {
+  auto& ss = pl.sublist("Steady state", false,
+                        "Detect the steady state of a driven run (docs/theory/forced-response.md, eq. 70): the "
+                        "harmonics of a watched motion over each drive period, steady when the first repeats "
+                        "after a few periods; written to /steady_state");
+  addBool(ss, "Enabled", false, "Watch for the steady state");
+  addString(ss, "Body", "", "The watched body (empty: the deck's only body)");
+  addString(ss, "Node set", "", "x is the mean displacement of this node set's nodes along 'Direction' (required)");
+  addDoubleArray(ss, "Direction", {1, 0, 0}, "The direction d of the watched motion x = d . u (need not be unit)");
+  addDouble(ss, "Frequency", 0.0,
+            "The drive's frequency nu (Hz; 0: the first Harmonic load's); a period must be a whole number of steps",
+            0.0);
+  addDouble(ss, "Tolerance", 1e-6,
+            "eps: steady when the first harmonic repeats to eps of itself after p periods, over p + Window periods",
+            0.0);
+  addInt(ss, "Longest pattern", 10, "P: the longest pattern p looked for (periods)", 1, 1000);
+  addInt(ss, "Window", 4, "W: the pattern must hold over the last p + W periods", 1, 1000);
+  addInt(ss, "Harmonics", 3, "H: the harmonics a_1 .. a_H written (with the mean a_0)", 1, 100);
+  addBool(ss, "Stop", true, "End the run once steady (its status 'complete: steady state ...')");
+}
+
 }  // namespace
 
 Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
@@ -315,6 +390,7 @@ Teuchos::RCP<const Teuchos::ParameterList> validDeckParameters() {
     addContactParameters(*pl);
     addTimeParameters(*pl);
     addOutputParameters(*pl);
+    addSteadyStateParameters(*pl);
     addObserverParameters(*pl);
     valid = pl;
     revision = now;

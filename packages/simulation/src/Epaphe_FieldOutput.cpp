@@ -1,6 +1,7 @@
 #include "Epaphe_FieldOutput.hpp"
 
 #include "Epaphe_Error.hpp"
+#include "Epaphe_ReducedThermal.hpp"
 
 #include <fstream>
 #include <iomanip>
@@ -13,25 +14,28 @@ struct FieldOutput::BodyFields {
   DenseVector uAll;
   std::vector<double> frame;
   std::unique_ptr<io::Series> position, displacement;
+  const ThermalIntegrator* thermal = nullptr;  // with a thermal model: its temperature field
+  std::unique_ptr<io::Series> temperature;
+  std::vector<double> T;
 };
 
 FieldOutput::FieldOutput(io::Hdf5File& file, const std::vector<std::unique_ptr<SceneBody>>& bodies,
                          const std::vector<const BSplineSurface*>& drawn, int every, bool fresh)
-    : bodies_(bodies), drawn_(drawn), every_(every), time_(file, "/fields/time", {}) {
+    : file_(file), bodies_(bodies), drawn_(drawn), every_(every), time_(file, "/fields/time", {}) {
   for (const auto& bp : bodies_) {
     const SceneBody& b = *bp;
     auto r = std::make_unique<BodyFields>();
     const std::string g = "/bodies/" + b.name;
-    const std::uint64_t nn = static_cast<std::uint64_t>(b.rom.numNodes());
+    const std::uint64_t nn = static_cast<std::uint64_t>(b.rom->numNodes());
     std::vector<long long> hex;
-    for (const auto& e : b.rom.hexes) hex.insert(hex.end(), e.begin(), e.end());
+    for (const auto& e : b.rom->hexes) hex.insert(hex.end(), e.begin(), e.end());
     if (fresh) {
-      file.writeInts(g + "/mesh/hexahedra", {static_cast<std::uint64_t>(b.rom.hexes.size()), 8}, hex.data());
-      file.writeDoubles(g + "/mesh/coordinates", {nn, 3}, b.rom.coords.empty() ? nullptr : b.rom.coords[0].data());
+      file.writeInts(g + "/mesh/hexahedra", {static_cast<std::uint64_t>(b.rom->hexes.size()), 8}, hex.data());
+      file.writeDoubles(g + "/mesh/coordinates", {nn, 3}, b.rom->coords.empty() ? nullptr : b.rom->coords[0].data());
     }
     std::vector<int> all(nn);
     for (std::uint64_t k = 0; k < nn; ++k) all[k] = static_cast<int>(k);
-    r->R = NodeRecovery(b.rom, all, "epaphe::fields::R");
+    r->R = NodeRecovery(*b.rom, all, "epaphe::fields::R");
     r->uAll = DenseVector("epaphe::fields::u", 3 * nn);
     r->frame.resize(3 * nn);
     r->position = std::make_unique<io::Series>(file, g + "/fields/position", std::vector<std::uint64_t>{nn, 3}, 16);
@@ -54,11 +58,25 @@ FieldOutput::FieldOutput(io::Hdf5File& file, const std::vector<std::unique_ptr<S
 
 FieldOutput::~FieldOutput() = default;
 
+void FieldOutput::setTemperature(int body, const ThermalIntegrator* integrator) {
+  BodyFields& r = *perBody_.at(static_cast<std::size_t>(body));
+  const SceneBody& b = *bodies_[static_cast<std::size_t>(body)];
+  const std::uint64_t nn = static_cast<std::uint64_t>(b.rom->numNodes());
+  EPAPHE_REQUIRE(integrator != nullptr && static_cast<std::uint64_t>(integrator->numNodes()) == nn,
+                 "body '" << b.name << "': its thermal model's mesh is not its mechanical model's (" << nn
+                          << " nodes); no temperature field can be drawn on it");
+  r.thermal = integrator;
+  r.T.resize(nn);
+  r.temperature = std::make_unique<io::Series>(file_, "/bodies/" + b.name + "/fields/temperature",
+                                               std::vector<std::uint64_t>{nn}, 16);
+}
+
 std::vector<io::Series*> FieldOutput::series() {
   std::vector<io::Series*> s;
   for (const auto& r : perBody_) {
     s.push_back(r->position.get());
     s.push_back(r->displacement.get());
+    if (r->temperature) s.push_back(r->temperature.get());
   }
   s.push_back(&time_);
   return s;
@@ -74,10 +92,14 @@ void FieldOutput::afterCorrect(ExplicitLoop& loop) {
     r.R.apply(loop.part(loop.current(), ib), r.uAll);  // u = R q (eq. 2.5)
     auto uh = Kokkos::create_mirror_view(r.uAll);
     Kokkos::deep_copy(uh, r.uAll);
-    const auto& X = bodies_[ib]->rom.coords;
+    const auto& X = bodies_[ib]->rom->coords;
     r.displacement->append(uh.data());
     for (std::size_t k = 0; k < r.frame.size(); ++k) r.frame[k] = X[k / 3][k % 3] + uh(k);
     r.position->append(r.frame.data());
+    if (r.thermal) {
+      for (std::size_t n = 0; n < r.T.size(); ++n) r.T[n] = r.thermal->temperature(static_cast<int>(n));
+      r.temperature->append(r.T.data());
+    }
   }
 }
 
@@ -90,9 +112,11 @@ void FieldOutput::writeXdmf(const std::string& h5path, const std::string& xmfPat
   std::ostringstream x;
   x << std::setprecision(17);
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"2.0\">\n <Domain>\n";
-  for (const auto& b : bodies_) {
+  for (std::size_t ib = 0; ib < bodies_.size(); ++ib) {
+    const auto& b = bodies_[ib];
+    const bool hot = perBody_[ib]->thermal != nullptr;
     const std::string g = "/bodies/" + b->name;
-    const long long nn = b->rom.numNodes(), ne = static_cast<long long>(b->rom.hexes.size());
+    const long long nn = b->rom->numNodes(), ne = static_cast<long long>(b->rom->hexes.size());
     auto slab = [&](long long k, const std::string& dataset) {
       std::ostringstream s;
       s << "<DataItem ItemType=\"HyperSlab\" Dimensions=\"" << nn << " 3\" Type=\"HyperSlab\">"
@@ -109,7 +133,14 @@ void FieldOutput::writeXdmf(const std::string& h5path, const std::string& xmfPat
         << "/mesh/hexahedra</DataItem></Topology>\n"
         << "    <Geometry GeometryType=\"XYZ\">" << slab(k, "position") << "</Geometry>\n"
         << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">" << slab(k, "displacement")
-        << "</Attribute>\n   </Grid>\n";
+        << "</Attribute>\n";
+      if (hot)
+        x << "    <Attribute Name=\"temperature\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
+          << "ItemType=\"HyperSlab\" Dimensions=\"" << nn << "\" Type=\"HyperSlab\"><DataItem Dimensions=\"3 2\" "
+          << "Format=\"XML\">" << k << " 0 1 1 1 " << nn << "</DataItem><DataItem Dimensions=\"" << frames << " " << nn
+          << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5 << ":" << g
+          << "/fields/temperature</DataItem></DataItem></Attribute>\n";
+      x << "   </Grid>\n";
     }
     x << "  </Grid>\n";
   }

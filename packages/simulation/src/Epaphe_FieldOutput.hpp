@@ -1,7 +1,8 @@
 #pragma once
 // Frames of the whole bodies for ParaView as a loop observer (Output->Fields every > 0): every
 // `every` steps (and the last) /fields/time and each body's /bodies/<b>/fields/{position,
-// displacement} (u = R q, eq. 2.5); fresh runs also get the meshes and the rigid surfaces' grids.
+// displacement} (u = R q, eq. 2.5), and temperature for a body with a thermal model; fresh runs also
+// get the meshes and the rigid surfaces' grids.
 // writeXdmf() then describes the frames in an XDMF file beside the HDF5 one.
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ExplicitLoop.hpp"
@@ -13,6 +14,8 @@
 #include <vector>
 
 namespace epaphe {
+
+class ThermalIntegrator;
 
 /// Frames of the whole bodies for ParaView, as a loop observer (see the file's opening comment).
 class FieldOutput : public LoopObserver {
@@ -35,9 +38,14 @@ public:
   /// Coated surfaces (Epaphe_CoatingOutput.hpp): writeXdmf adds each coating's elements with the
   /// wear of every wear record (a temporal collection).
   void setCoatings(std::vector<std::string> surfaces) { coatings_ = std::move(surfaces); }
+  /// Body `body`'s temperature field from its thermal model (Epaphe_BodyHeat.hpp, heat from rubbing):
+  /// every frame then also holds `/bodies/<b>/fields/temperature`, T at each node (as of the last thermal
+  /// step), and writeXdmf adds it as the scalar 'temperature'. `integrator` outlives this observer.
+  void setTemperature(int body, const ThermalIntegrator* integrator);
 
 private:
   struct BodyFields;
+  io::Hdf5File& file_;
   const std::vector<std::unique_ptr<SceneBody>>& bodies_;
   std::vector<const BSplineSurface*> drawn_;
   std::vector<std::string> coatings_;

@@ -35,12 +35,12 @@ HistoryOutput::HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_p
   for (const auto& bp : bodies_) {
     const SceneBody& b = *bp;
     auto r = std::make_unique<BodySeries>();
-    const int n = b.rom.size;
+    const int n = b.rom->size;
     const std::string g = "/bodies/" + b.name;
     if (fresh) {
       file.writeDoubles(g + "/frequencies/reduced", b.reducedFrequencies);
       file.writeDoubles(g + "/frequencies/full", b.fullFrequencies);
-      file.writeDoubles(g + "/frequencies/fixed_interface", b.rom.modeFrequencies);
+      file.writeDoubles(g + "/frequencies/fixed_interface", b.rom->modeFrequencies);
       file.setAttribute(g, "reduction", b.method);
       file.setAttribute(g, "reduced_dofs", static_cast<long long>(n));
     }
@@ -50,8 +50,8 @@ HistoryOutput::HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_p
     }
     // Linear momentum p_d = t_d^T M v and rigid mass m = t_x^T M t_x (rebound velocity = p / m).
     for (int d = 0; d < 3; ++d) {
-      const auto t = b.rom.rigidTranslation(d);
-      const auto Mtd = b.rom.massTimes(t);
+      const auto t = b.rom->rigidTranslation(d);
+      const auto Mtd = b.rom->massTimes(t);
       DenseVector Mt("Mt", n);
       auto h2 = Kokkos::create_mirror_view(Mt);
       for (int i = 0; i < n; ++i) h2(i) = Mtd[i];
@@ -91,9 +91,19 @@ HistoryOutput::HistoryOutput(io::Hdf5File& file, const std::vector<std::unique_p
 
 HistoryOutput::~HistoryOutput() = default;
 
+void HistoryOutput::recordHeat(const std::vector<int>& heated) {
+  heated_ = heated;
+  std::vector<std::string> names = {"friction_heat", "normal_work", "counterface_work"};
+  for (int b : heated) names.push_back("heat/" + bodies_[static_cast<std::size_t>(b)]->name);
+  names.push_back("heat/counterface");
+  for (const std::string& n : names)
+    heat_.push_back(std::make_unique<io::Series>(file_, "/energy/" + n, std::vector<std::uint64_t>{}));
+}
+
 std::vector<io::Series*> HistoryOutput::series() {
   std::vector<io::Series*> s = {&time_, &kinetic_, &strain_, &total_, &work_, &external_, &damping_, &balance_};
   if (drive_) s.push_back(drive_.get());
+  for (const auto& h : heat_) s.push_back(h.get());
   for (const auto& r : perBody_) {
     s.push_back(r->momentum.get());
     for (std::size_t w = 0; w < r->disp.size(); ++w) {
@@ -154,13 +164,26 @@ void HistoryOutput::afterCorrect(ExplicitLoop& loop) {
   damping_.append(&e.damping);
   balance_.append(&e.balance);
   if (drive_) drive_->append(&e.driveWork);
+  if (!heat_.empty()) {  // eq. 63's terms, and the heat's partition: each heated body's share, the rest
+    const std::vector<double>& received = loop.accumulators().heatReceived;
+    heat_[0]->append(&e.frictionHeat);
+    heat_[1]->append(&e.normalWork);
+    heat_[2]->append(&e.counterfaceWork);
+    double rest = e.frictionHeat + loop.accumulators().coatingHeat;  // the heat made: friction's and the coating's
+    for (std::size_t i = 0; i < heated_.size(); ++i) {
+      const double q = received[static_cast<std::size_t>(heated_[i])];
+      heat_[3 + i]->append(&q);
+      rest -= q;
+    }
+    heat_.back()->append(&rest);
+  }
 }
 
 void HistoryOutput::recover(std::size_t ib) {
   BodySeries& r = *perBody_[ib];
   if (r.pendingRecords == 0) return;
   const NodeRecovery& R = bodies_[ib]->recoveryWatched;
-  const std::size_t n = static_cast<std::size_t>(bodies_[ib]->rom.size), m = R.rows();
+  const std::size_t n = static_cast<std::size_t>(bodies_[ib]->rom->size), m = R.rows();
   // a partial chunk (at a checkpoint or the end) is padded with zeros: the call's shape stays fixed
   std::fill(r.pending.begin() + 2 * n * static_cast<std::size_t>(r.pendingRecords), r.pending.end(), 0.0);
   R.applyColumns(r.pending.data(), 2 * kChunk, r.recovered.data());

@@ -27,6 +27,11 @@ public:
                 const EnergyMonitor& monitor, bool fresh);
   ~HistoryOutput() override;
 
+  /// Records the energy balance's heat term too (a run with a thermal model, docs/theory/heat.md eq. 63):
+  /// /energy/friction_heat, normal_work, counterface_work, and /energy/heat/(body) for each body with a thermal
+  /// model (`heated`, indices in `bodies`: its share of the heat) and /energy/heat/counterface (the rest). Call
+  /// before the checkpoints count the series.
+  void recordHeat(const std::vector<int>& heated);
   /// Every series, in a fixed order (checkpoints store their lengths).
   std::vector<io::Series*> series();
   /// Records written (and buffered): the length of every series of the history.
@@ -49,6 +54,9 @@ private:
   const EnergyMonitor& monitor_;
   io::Series time_, kinetic_, strain_, total_, work_, external_, damping_, balance_;
   std::unique_ptr<io::Series> drive_;  // /energy/drive_work, in a run-up only
+  // the heat term (recordHeat): friction heat, normal work, counterface work, per heated body, counterface
+  std::vector<std::unique_ptr<io::Series>> heat_;
+  std::vector<int> heated_;
   std::vector<std::unique_ptr<BodySeries>> perBody_;
   std::vector<double> gapAll_, forceAll_;
 };

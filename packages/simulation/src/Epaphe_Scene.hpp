@@ -65,6 +65,9 @@ public:
   ContactCorrector* corrector() const { return corrector_.get(); }
   /// What the setup found.
   const SetupReport& report() const { return report_; }
+  /// q_0 of 'Time->Initial state' = Static equilibrium (eqs. 71-72; system coordinates, all bodies
+  /// stacked); empty: the bodies start at q_0 = 0.
+  const std::vector<double>& initialState() const { return initialState_; }
 
 private:
   using Body = SceneBody;
@@ -82,6 +85,7 @@ private:
   /// carries (penalty springs act on them too, for the stable step).
   std::vector<std::vector<int>> setupSurfacesAndContact(const ContactOptions& options);
   void checkContactAtStart(const Teuchos::ParameterList& contactParams, double h);
+  void staticEquilibrium(const Teuchos::ParameterList& contactParams);
   void checkStableSteps(const std::vector<std::vector<int>>& carriedDofs, const ContactOptions& copt,
                         const DampingOptions& damping);
 
@@ -98,6 +102,7 @@ private:
   std::unique_ptr<ContactGuards> guards_;
   std::unique_ptr<GuardedContact> corrector_;
   SetupReport report_;
+  std::vector<double> initialState_;
 };
 
 }  // namespace epaphe

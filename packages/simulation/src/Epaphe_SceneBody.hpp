@@ -37,9 +37,18 @@ private:
 
 /// A body of a scene as the setup leaves it (see the file's opening comment).
 struct SceneBody {
-  std::string name;        ///< the body's name in the deck
-  std::string method;      ///< its reduction method's name for its model (ReductionMethod::modelName)
-  ReducedModel rom;        ///< its reduced (or full, lumped) model
+  std::string name;    ///< the body's name in the deck
+  std::string method;  ///< its reduction method's name for its model (ReductionMethod::modelName)
+  /// its reduced (or full, lumped) model; the tuned instances of one deck body share it
+  std::shared_ptr<ReducedModel> rom = std::make_shared<ReducedModel>();
+  /// An instance of a deck body ('Instances'): its deck body's name, its index (-1: the body is not
+  /// instanced), the angle (rad) it is placed at about the instancing axis, its stiffness factor
+  /// (mistuning; 1: tuned).
+  ///@{
+  std::string deckName;
+  int instance = -1;
+  double poseAngle = 0, stiffnessFactor = 1;
+  ///@}
   bool fromCache = false;  ///< true when the model was read from the reduced-model cache
   ReductionReport report;  ///< what its reduction did
   /// the full model's and the reduced model's lowest frequencies (Hz)

@@ -1,5 +1,6 @@
 #include "Epaphe_SceneCheck.hpp"
 
+#include "Epaphe_BodyHeat.hpp"
 #include "Epaphe_BodyModel.hpp"
 #include "Epaphe_ContactEnforcement.hpp"
 #include "Epaphe_ContactLaw.hpp"
@@ -9,10 +10,13 @@
 #include "Epaphe_ImportedSpeedSource.hpp"
 #include "Epaphe_Hdf5File.hpp"
 #include "Epaphe_Mesh.hpp"
+#include "Epaphe_SteadyState.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <random>
 #include <map>
 #include <set>
 
@@ -216,6 +220,8 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
   }
   for (const std::string& ws : deck::getStrings(bp, "Watched node sets"))
     mesh.nodeSet(ws, ctx + ", 'Watched node sets'");
+  for (const BodyLoad& load : bodyLoads(bp, origin))
+    if (!load.nodeSet.empty()) mesh.nodeSet(load.nodeSet, origin + ": '" + load.path + "->Node set'");
   if (!contactSet.empty())
     for (int n : mesh.nodeSet(contactSet, ctx + ", 'Contact node set'")) {
       EPAPHE_REQUIRE(!clamped.count(n), ctx << ": contact node " << mesh.nodeId(n) << " of '" << contactSet
@@ -273,6 +279,69 @@ void checkBodyMesh(const ParameterList& P, const std::string& body, const Mesh& 
 }
 
 }  // namespace
+
+std::vector<BodyLoad> bodyLoads(const ParameterList& bp, const std::string& origin) {
+  std::vector<BodyLoad> loads;
+  if (!bp.isSublist("Loads")) return loads;
+  const ParameterList& ll = bp.sublist("Loads");
+  for (auto it = ll.begin(); it != ll.end(); ++it) {
+    const ParameterList& lp = ll.sublist(ll.name(it));
+    BodyLoad load;
+    load.name = ll.name(it);
+    load.path = deck::pathOf(ll, load.name);
+    load.nodeSet = lp.get<std::string>("Node set");
+    load.reducedDofs = deck::getInts(lp, "Reduced DOFs");
+    load.reducedForces = deck::getDoubles(lp, "Reduced forces");
+    if (load.reducedDofs.empty()) {
+      EPAPHE_REQUIRE(load.reducedForces.empty(),
+                     origin << ": '" << deck::pathOf(lp, "Reduced forces") << "' has " << load.reducedForces.size()
+                            << " value(s) but 'Reduced DOFs' is empty; list the model's coordinates they act on");
+      EPAPHE_REQUIRE(!load.nodeSet.empty(),
+                     origin << ": '" << deck::pathOf(lp, "Node set")
+                            << "' is empty; name the node set the force acts on (or give 'Reduced DOFs')");
+      load.force = deck::getVec3(lp, "Force", origin);
+    } else {
+      EPAPHE_REQUIRE(load.nodeSet.empty(),
+                     origin << ": '" << load.path << "' has both 'Node set' = '" << load.nodeSet
+                            << "' and 'Reduced DOFs': a load acts on nodes or on the model's coordinates; split it "
+                               "into two loads");
+      EPAPHE_REQUIRE(load.reducedForces.size() == load.reducedDofs.size(),
+                     origin << ": '" << deck::pathOf(lp, "Reduced forces") << "' has " << load.reducedForces.size()
+                            << " value(s) for " << load.reducedDofs.size()
+                            << " 'Reduced DOFs'; give one force for each DOF");
+      for (int j : load.reducedDofs)
+        EPAPHE_REQUIRE(j >= 0, origin << ": '" << deck::pathOf(lp, "Reduced DOFs") << "' holds " << j
+                                      << "; the model's coordinates are numbered from 0");
+    }
+    const std::string at = origin + ": '" + load.path + "'";
+    switch (deck::getEnum<LoadTimeKind>(lp, "Time function")) {
+      case LoadTimeKind::Constant:
+        load.g = LoadTimeFunction::constant();
+        break;
+      case LoadTimeKind::Harmonic: {
+        const double nu = lp.get<double>("Frequency");
+        EPAPHE_REQUIRE(nu > 0, origin << ": '" << deck::pathOf(lp, "Frequency") << "' = " << nu
+                                      << " Hz: a Harmonic load needs the frequency of its drive, > 0; set it, or use "
+                                         "'Time function' = Constant for a static load");
+        load.g = LoadTimeFunction::harmonic(nu, lp.get<double>("Phase"));
+        break;
+      }
+      case LoadTimeKind::Table:
+        load.g = LoadTimeFunction::table(deck::getDoubles(lp, "Times"), deck::getDoubles(lp, "Values"),
+                                         at + ", 'Time function' = Table ('Times', 'Values')");
+        break;
+      case LoadTimeKind::Ramp: {
+        const double T = lp.get<double>("Ramp time");
+        EPAPHE_REQUIRE(T > 0, origin << ": '" << deck::pathOf(lp, "Ramp time") << "' = " << T
+                                     << " s: a Ramp load needs the time it takes to rise, > 0; set it");
+        load.g = LoadTimeFunction::ramp(T);
+        break;
+      }
+    }
+    loads.push_back(std::move(load));
+  }
+  return loads;
+}
 
 DampingOptions dampingOptions(const ParameterList& tp, const std::string& origin) {
   const ParameterList& dp = tp.sublist("Damping");
@@ -426,6 +495,110 @@ long long numberOfSteps(const ParameterList& P, const std::string& origin) {
   return std::max(1LL, static_cast<long long>(std::ceil(endTime / h - 1e-9)));
 }
 
+/// A body with a thermal model: a speed constant in time, and its 'Thermal' list.
+void checkThermalScene(const ParameterList& P, const std::string& body, const std::string& origin) {
+  const ParameterList& bp = P.sublist("Bodies").sublist(body);
+  const std::string ctx = origin + ": body '" + body + "'";
+  const ParameterList& bl = P.sublist("Bodies");
+  for (auto it = bl.begin(); it != bl.end(); ++it) {
+    const ParameterList& other = bl.sublist(bl.name(it));
+    if (!other.isSublist("Rotation") || !other.sublist("Rotation").isSublist("Speed law")) continue;
+    const ParameterList& law = other.sublist("Rotation").sublist("Speed law");
+    EPAPHE_REQUIRE(law.get<std::string>("Type") == "Constant",
+                   ctx << ": '" << deck::pathOf(bp, "Thermal") << "' with '" << deck::pathOf(law, "Type") << "' = '"
+                       << law.get<std::string>("Type")
+                       << "': the frictional heat is made with a constant speed only; remove one of them");
+  }
+  EPAPHE_REQUIRE(hasBuiltInMesh(bp) || hasCalculixMesh(bp),
+                 ctx << ": '" << deck::pathOf(bp, "Thermal") << "' needs the mesh's elements (the thermal model is "
+                     << "assembled on them), and 'Mesh->Type' = '" << bp.sublist("Mesh").get<std::string>("Type")
+                     << "' imports matrices and nodes only; use a built-in mesh or a CalculiX import, or remove it");
+  checkThermal(bp, buildThermalMesh(body, bp, origin), ctx, body, origin);
+}
+
+std::vector<double> instanceFactors(const ParameterList& bp, const std::string& ctx) {
+  const ParameterList& ip = bp.sublist("Instances");
+  const int count = ip.get<int>("Count");
+  std::vector<double> f = deck::getDoubles(ip, "Stiffness factors");
+  const double sigma = ip.get<double>("Mistuning standard deviation");
+  if (!f.empty()) {
+    EPAPHE_REQUIRE(sigma == 0, ctx << ": 'Instances' gives both 'Stiffness factors' and 'Mistuning standard "
+                                      "deviation' = "
+                                   << sigma << "; keep one");
+    EPAPHE_REQUIRE(static_cast<int>(f.size()) == count, ctx << ": 'Instances->Stiffness factors' has " << f.size()
+                                                            << " values for 'Count' = " << count
+                                                            << " instances; give one per instance");
+    for (std::size_t k = 0; k < f.size(); ++k)
+      EPAPHE_REQUIRE(f[k] > 0, ctx << ": 'Instances->Stiffness factors' value " << k << " is " << f[k]
+                                   << "; a stiffness factor must be > 0 (1: tuned)");
+    return f;
+  }
+  f.assign(static_cast<std::size_t>(count), 1.0);
+  if (sigma == 0) return f;
+  std::mt19937_64 gen(static_cast<std::uint64_t>(ip.get<int>("Seed")));
+  const double scale = 1.0 / 18446744073709551616.0;  // 2^-64: a uniform in [0, 1)
+  for (std::size_t k = 0; k < f.size(); k += 2) {
+    const double u1 = (static_cast<double>(gen()) + 0.5) * scale, u2 = static_cast<double>(gen()) * scale;
+    const double r = std::sqrt(-2 * std::log(u1));
+    f[k] = 1 + sigma * r * std::cos(2 * M_PI * u2);
+    if (k + 1 < f.size()) f[k + 1] = 1 + sigma * r * std::sin(2 * M_PI * u2);
+  }
+  // sigma <= 0.3 (the schema): a factor <= 0 is a draw beyond 3.3 sigma, which this refuses
+  for (double v : f)
+    EPAPHE_REQUIRE(v > 0, ctx << ": 'Instances->Mistuning standard deviation' = " << sigma
+                              << " drew a stiffness factor of " << v << " <= 0; give a smaller deviation or "
+                              << "another 'Seed'");
+  return f;
+}
+
+namespace {
+
+/// A stage ('Instances' with Count > 1): its factors, a steady speed, no mistuning at speed; no other
+/// body with contact nodes, no surface carried by it, no coating (each instance would wear its own copy).
+void checkInstances(const ParameterList& P, const std::string& origin) {
+  const ParameterList& bl = P.sublist("Bodies");
+  const ParameterList& surfs = P.sublist("Surfaces");
+  std::string staged;
+  for (auto it = bl.begin(); it != bl.end(); ++it) {
+    const ParameterList& bp = bl.sublist(bl.name(it));
+    if (bp.sublist("Instances").get<int>("Count") == 1) continue;
+    const std::string ctx = origin + ": body '" + bl.name(it) + "'";
+    const std::vector<double> f = instanceFactors(bp, ctx);
+    EPAPHE_REQUIRE(staged.empty(), ctx << " and body '" << staged
+                                       << "' both have 'Instances': a deck holds one stage; instance one body");
+    staged = bl.name(it);
+    const ParameterList& rot = bp.sublist("Rotation");
+    EPAPHE_REQUIRE(!speedLawOf(rot).ramp, ctx << ": 'Instances' with a run-up ('Rotation->Speed law' Type Ramp): a "
+                                                 "stage runs at a steady speed; remove the Speed law or the "
+                                                 "Instances list");
+    const bool tuned = std::all_of(f.begin(), f.end(), [](double v) { return v == 1; });
+    EPAPHE_REQUIRE(tuned || rot.get<double>("Speed") == 0,
+                   ctx << ": mistuning ('Instances') of a body at speed (" << rot.get<double>("Speed")
+                       << " rad/s) would scale its stress stiffening and spin softening with its elastic "
+                          "stiffness; mistune a body at rest, or remove the stiffness factors");
+    for (auto s = surfs.begin(); s != surfs.end(); ++s) {
+      const ParameterList& sp = surfs.sublist(surfs.name(s));
+      EPAPHE_REQUIRE(
+          deck::getEnum<SurfaceType>(sp, "Type") != SurfaceType::BodyFace || sp.get<std::string>("Body") != staged,
+          origin << ": surface '" << surfs.name(s) << "' is carried by body '" << staged
+                 << "', which has 'Instances'; a surface is carried by one body (the casing), not by "
+                    "the instances of a stage");
+      EPAPHE_REQUIRE(!sp.isSublist("Coating") || deck::getInts(sp.sublist("Coating"), "Elements")[0] == 0,
+                     origin << ": surface '" << surfs.name(s) << "' has a Coating and body '" << staged
+                            << "' has 'Instances': each instance would wear its own copy of the coating; remove "
+                               "the Coating or the Instances list");
+    }
+  }
+  if (staged.empty()) return;
+  for (auto it = bl.begin(); it != bl.end(); ++it)
+    EPAPHE_REQUIRE(bl.name(it) == staged || bl.sublist(bl.name(it)).get<std::string>("Contact node set").empty(),
+                   origin << ": body '" << bl.name(it) << "' has contact nodes beside the stage of body '" << staged
+                          << "' ('Instances'): each instance meets its own copy of the surfaces, which no "
+                             "other body sees; remove its 'Contact node set'");
+}
+
+}  // namespace
+
 void checkScene(const Deck& scene, const std::string& outputPath, bool restart) {
   const ParameterList& P = *scene.params;
   const std::string& origin = scene.origin;
@@ -441,7 +614,9 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
   for (auto it = bl.begin(); it != bl.end(); ++it) {
     const ParameterList& bp = bl.sublist(bl.name(it));
     bodyModelFiles(bl.name(it), bp, origin);  // the files an imported model reads exist
+    bodyLoads(bp, origin);                    // the loads' keys (their node sets with the mesh)
     if (hasBuiltInMesh(bp)) checkBodyMesh(P, bl.name(it), buildBodyMesh(bl.name(it), bp, origin), origin);
+    if (hasThermalModel(bp)) checkThermalScene(P, bl.name(it), origin);
     // a rotating body: a finite speed, an axis, and elements Epaphe knows (its built-in meshes)
     const std::string ctx = origin + ": body '" + bl.name(it) + "', Rotation";
     const RotationOptions rotation = rotationOptions(bp.sublist("Rotation"), ctx);
@@ -473,6 +648,46 @@ void checkScene(const Deck& scene, const std::string& outputPath, bool restart) 
     }
   }
   checkBodyFacesNotOwnContact(P, origin);
+  checkInstances(P, origin);
+  if (const SteadyStateOptions ss = steadyStateOptions(P, origin); ss.enabled) {
+    const ParameterList& bp = bl.sublist(ss.body);
+    if (hasBuiltInMesh(bp))
+      buildBodyMesh(ss.body, bp, origin).nodeSet(ss.nodeSet, origin + ": 'Steady state->Node set'");
+  }
+  if (tp.get<std::string>("Initial state") == "Static equilibrium") {
+    // eq. 71 holds the touching nodes where they are: exact with a law that closes gaps, on surfaces at rest
+    const ParameterList& cp = P.sublist("Contact");
+    EPAPHE_REQUIRE(cp.get<std::string>("Method") == "Lagrange",
+                   origin << ": 'Time->Initial state' = Static equilibrium holds the touching nodes exactly, as "
+                             "Lagrange contact does, but 'Contact->Method' = '"
+                          << cp.get<std::string>("Method") << "' (a penalty spring would first have to compress); use "
+                          << "Lagrange, or start 'At rest'");
+    bool contactNodes = false;
+    for (auto it = bl.begin(); it != bl.end(); ++it) {
+      const ParameterList& bp = bl.sublist(bl.name(it));
+      contactNodes = contactNodes || !bp.get<std::string>("Contact node set").empty();
+      // measured (verification.preload): a stuck massless boundary leaves its static start within a step
+      EPAPHE_REQUIRE(cp.get<double>("Friction coefficient") == 0.0 ||
+                         bp.sublist("Reduction").get<std::string>("Method") != "Massless boundary",
+                     origin << ": 'Time->Initial state' = Static equilibrium with friction ('Contact->Friction "
+                               "coefficient' = "
+                            << cp.get<double>("Friction coefficient") << ") on body '" << bl.name(it)
+                            << "', a Massless boundary: its stuck start does not yet stand still; reduce it by "
+                               "Craig-Bampton, or set the friction coefficient to 0, or start 'At rest'");
+    }
+    EPAPHE_REQUIRE(contactNodes, origin << ": 'Time->Initial state' = Static equilibrium needs contact nodes "
+                                           "('Contact node set') that touch a surface at t = 0");
+    const ParameterList& surfs = P.sublist("Surfaces");
+    for (auto it = surfs.begin(); it != surfs.end(); ++it) {
+      const ParameterList& s = surfs.sublist(surfs.name(it));
+      EPAPHE_REQUIRE(
+          deck::getEnum<SurfaceType>(s, "Type") != SurfaceType::BodyFace && s.get<double>("Rotation speed") == 0.0,
+          origin << ": 'Time->Initial state' = Static equilibrium holds the contact nodes against surfaces at "
+                    "rest, but surface '"
+                 << surfs.name(it)
+                 << "' is carried by a body or turns; start 'At rest' (or make the surface rigid and still)");
+    }
+  }
   checkRunUp(P, origin);
   checkCoriolis(P, origin);
   // The files the run creates: the history, and each reduced-model cache.

@@ -10,9 +10,11 @@
 #include "Epaphe_SpeedLaw.hpp"
 #include "Epaphe_CentralDifference.hpp"
 #include "Epaphe_DeckSchema.hpp"
+#include "Epaphe_LoadTimeFunction.hpp"
 
 #include <Teuchos_ParameterList.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -32,6 +34,27 @@ SpeedLaw runUpOf(const Teuchos::ParameterList& deck);
 /// The run's number of steps: 'Time->End time', or 'End revolutions' of the fastest turning surface
 /// (an Error when none turns).
 long long numberOfSteps(const Teuchos::ParameterList& deck, const std::string& origin);
+
+/// A load of a body's 'Loads' list (docs/theory/forced-response.md, eqs. 65-66): the force F on every
+/// node of a node set, or forces on chosen coordinates of the body's model (its reduced DOFs), times g(t).
+struct BodyLoad {
+  std::string name;                   ///< its name in the deck
+  std::string path;                   ///< its deck path, "Bodies->B->Loads->L", for messages
+  std::string nodeSet;                ///< the nodes it acts on (empty: a load on reduced DOFs)
+  std::array<double, 3> force{};      ///< F, per node (N)
+  std::vector<int> reducedDofs;       ///< 'Reduced DOFs': indices j of the model's coordinates q_j
+  std::vector<double> reducedForces;  ///< 'Reduced forces': f_j on each of them (the model's units)
+  LoadTimeFunction g;                 ///< its time function
+};
+/// The loads of body list `body` (its deck list), checked: a node set or reduced DOFs (not both; as many
+/// reduced forces as DOFs, indices >= 0), a harmonic's frequency > 0, a table's increasing times, a ramp's
+/// time > 0 (the node set's existence is checked against the mesh, the DOFs against the model's size).
+std::vector<BodyLoad> bodyLoads(const Teuchos::ParameterList& body, const std::string& origin);
+
+/// The stiffness factors of a body's instances ('Instances', Count of them): the given ones, the random
+/// pattern 1 + delta_k (delta_k normal: Box-Muller on mt19937_64, whose sequence the C++ standard fixes,
+/// so the pattern is the same on every machine), or all 1. `ctx` names the body in errors.
+std::vector<double> instanceFactors(const Teuchos::ParameterList& body, const std::string& ctx);
 
 /// The damping of the deck's 'Time->Damping' list (Rayleigh from two frequencies and ratios when given).
 DampingOptions dampingOptions(const Teuchos::ParameterList& timeParams, const std::string& origin);

@@ -1,5 +1,7 @@
 #include "Epaphe_Simulation.hpp"
+#include "Epaphe_SteadyState.hpp"
 
+#include "Epaphe_BodyHeat.hpp"
 #include "Epaphe_Checkpoints.hpp"
 #include "Epaphe_CoatingOutput.hpp"
 #include "Epaphe_Deck.hpp"
@@ -12,6 +14,8 @@
 #include "Epaphe_RunControl.hpp"
 #include "Epaphe_SceneCheck.hpp"
 #include "Epaphe_Version.hpp"
+
+#include <Teuchos_DefaultSerialComm.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -103,7 +107,7 @@ const RunSummary& Simulation::run() {
   std::vector<RunUp::Driven> driven;
   for (std::size_t ib = 0; ib < bodies.size(); ++ib) {
     const auto& b = bodies[ib];
-    loopBodies.push_back({b->name, b->integrator.get(), b->offset, b->rom.size, b->runUp != nullptr});
+    loopBodies.push_back({b->name, b->integrator.get(), b->offset, b->rom->size, b->runUp != nullptr});
     if (b->runUp) driven.push_back({ib, b->integrator.get(), b->runUp.get()});
   }
   ExplicitLoop loop(loopBodies, h, nSteps, scene_->corrector(), summary_.cost, rt_.out());
@@ -113,7 +117,17 @@ const RunSummary& Simulation::run() {
     const SceneBody& b = *bodies[ib];
     const DenseVector qPrev = loop.part(loop.previous(), ib);
     auto qp = Kokkos::create_mirror_view(qPrev);
-    for (int i = 0; i < b.rom.size; ++i) qp(i) = -h * b.v0[i] + 0.5 * h * h * b.a0[i];
+    for (int i = 0; i < b.rom->size; ++i) qp(i) = -h * b.v0[i] + 0.5 * h * h * b.a0[i];
+    if (const std::vector<double>& q0 = scene_->initialState(); !q0.empty()) {
+      // eq. 71: q_0 the static equilibrium, at rest under its loads: q_{-1} = q_0 - h v_0
+      const DenseVector qCur = loop.part(loop.current(), ib);
+      auto qc = Kokkos::create_mirror_view(qCur);
+      for (int i = 0; i < b.rom->size; ++i) {
+        qc(i) = q0[static_cast<std::size_t>(b.offset + i)];
+        qp(i) = qc(i) - h * b.v0[i];
+      }
+      Kokkos::deep_copy(qCur, qc);
+    }
     Kokkos::deep_copy(qPrev, qp);
   }
   // A law whose forces are stable springs (Penalty) only gives back what they hold, so the bodies'
@@ -134,26 +148,52 @@ const RunSummary& Simulation::run() {
       if (!scene_->surfaceCarried()[is]) drawn.push_back(scene_->surfaces()[is].get());
     fields = std::make_unique<FieldOutput>(file, bodies, drawn, fieldsEvery, fresh);
   }
+  // heat from rubbing: the bodies' thermal models (on this rank alone), fed by the friction
+  std::unique_ptr<HeatOutput> heat;
+  if (contact) {
+    auto heats = buildBodyHeats(P, deck_.origin, bodies, Teuchos::rcp(new Teuchos::SerialComm<int>()), rt_.out());
+    if (!heats.empty()) {
+      // the energy balance gains its heat term (eq. 63): the accumulators, and the history's series
+      std::vector<int> heated;
+      for (const auto& hb : heats) heated.push_back(hb->body);
+      loop.accumulators().heatReceived.assign(bodies.size(), 0.0);
+      history.recordHeat(heated);
+      heat = std::make_unique<HeatOutput>(file, std::move(heats), *contact, bodies, O.get<int>("Every"),
+                                          scene_->contactPositions());
+    }
+  }
   std::unique_ptr<CoatingOutput> coating;
   if (contact && contact->coating()) {
     const long long wearEvery = O.get<int>("Wear every") > 0 ? O.get<int>("Wear every") : 100LL * O.get<int>("Every");
     coating = std::make_unique<CoatingOutput>(file, *contact, monitor, wearEvery, fresh);
   }
   if (fields && coating) fields->setCoatings(coating->surfaces());
+  if (fields && heat)
+    for (const auto& h : heat->heats()) fields->setTemperature(h->body, h->integrator.get());
   // the observers the deck enables (registry) and those a program added, with their series
   const std::vector<std::unique_ptr<RunObserver>> made = makeDeckObservers(P, {file, *scene_, monitor, fresh});
   std::vector<RunObserver*> extra;
   for (const auto& o : made) extra.push_back(o.get());
   extra.insert(extra.end(), added_.begin(), added_.end());
   std::vector<io::Series*> series = coating ? coating->series() : std::vector<io::Series*>{};
+  if (heat)
+    for (io::Series* hs : heat->series()) series.push_back(hs);
   for (RunObserver* o : extra)
     for (io::Series* os : o->series()) series.push_back(os);
   Checkpoints checkpoints(file, loop, contact, history, fields.get(),
                           {O.get<int>("Checkpoint every"), O.get<double>("Checkpoint interval")}, series);
+  checkpoints.setHeat(heat.get());
   StopControl stop(stopAfterSteps_, "continue with epaphe-run " + deck_.origin + " --restart " + output_);
   ProgressReport progress(P.sublist("Run").get<double>("Progress interval"));
   SelfLockingMonitor locking(contact, h);
-  std::vector<LoopObserver*> observers{runUp.get(), &locking, &monitor, &history, coating.get(), fields.get()};
+  std::unique_ptr<SteadyStateMonitor> steady;  // eq. (70), 'Steady state'
+  if (const SteadyStateOptions so = steadyStateOptions(P, deck_.origin); so.enabled)
+    for (std::size_t ib = 0; ib < bodies.size(); ++ib)
+      if (bodies[ib]->name == so.body) steady = std::make_unique<SteadyStateMonitor>(so, *bodies[ib], ib, h);
+  // the heat's sources before the energy monitor (its record's heat term), the thermal update after the history
+  std::vector<LoopObserver*> observers{runUp.get(), &locking,     heat ? heat->sources() : nullptr,
+                                       &monitor,    &history,     coating.get(),
+                                       heat.get(),  fields.get(), steady.get()};
   observers.insert(observers.end(), extra.begin(), extra.end());
   observers.insert(observers.end(), {&stop, &checkpoints, &progress});
   for (LoopObserver* o : observers)
@@ -202,7 +242,14 @@ const RunSummary& Simulation::run() {
   file.setAttribute("/run", "checkpoints", summary_.checkpoints);
   file.setAttribute("/run", "checkpoint_time", summary_.checkpointSeconds);
   recordSelfLocking(file, locking);
-  if (!complete) {
+  if (steady) {
+    steady->write(file);
+    summary_.observers.push_back(steady->summary());
+  }
+  if (!complete && steady && steady->steady() && loop.stopReason().rfind("steady state", 0) == 0) {
+    summary_.status = "complete: " + loop.stopReason();  // stopped by the steady state, as asked
+    writeRunFigures(file, loop, kernels.get());
+  } else if (!complete) {
     summary_.status = "stopped: " + loop.stopReason();
     summary_.stopSignal = stop.signal();
     summary_.stoppedEarly = true;
@@ -297,16 +344,23 @@ void Simulation::printSummary(std::ostream& os) const {
   os << "\n==== Epaphe summary: " << deck_.params->sublist("Run").get<std::string>("Name") << " (" << deck_.origin
      << ") ====\n";
   for (const auto& b : scene_->bodies()) {
-    if (b->rom.sparse())
-      os << "body '" << b->name << "': " << b->method << ", " << b->rom.size << " DOFs (sparse K, "
-         << b->rom.sparseK.values.size() << " entries)\n";
+    // a stage: the model of instance 0 stands for every tuned instance; a mistuned one has its own
+    if (b->instance > 0 && b->stiffnessFactor == 1) continue;
+    if (b->instance >= 0)
+      os << "instance " << b->instance << " of body '" << b->deckName << "'"
+         << (b->stiffnessFactor == 1 ? " (its model shared by every tuned instance)"
+                                     : " (stiffness factor " + std::to_string(b->stiffnessFactor) + ")")
+         << ":\n";
+    if (b->rom->sparse())
+      os << "body '" << b->name << "': " << b->method << ", " << b->rom->size << " DOFs (sparse K, "
+         << b->rom->sparseK.values.size() << " entries)\n";
     else
-      os << "body '" << b->name << "': " << b->method << ", " << b->rom.size << " reduced DOFs (" << b->rom.numModes
+      os << "body '" << b->name << "': " << b->method << ", " << b->rom->size << " reduced DOFs (" << b->rom->numModes
          << " modes)" << (b->fromCache ? ", from cache" : "") << "\n";
     const std::size_t nf = std::min(b->fullFrequencies.size(), b->reducedFrequencies.size());
     if (nf > 0) {
-      os << (b->rom.sparse() ? "   mode   consistent (Hz) lumped (Hz)  rel. error\n"
-                             : "   mode   full (Hz)    reduced (Hz)   rel. error\n");
+      os << (b->rom->sparse() ? "   mode   consistent (Hz) lumped (Hz)  rel. error\n"
+                              : "   mode   full (Hz)    reduced (Hz)   rel. error\n");
       const double fmax = *std::max_element(b->fullFrequencies.begin(), b->fullFrequencies.begin() + nf);
       for (std::size_t i = 0; i < nf; ++i) {
         const double ff = b->fullFrequencies[i], fr = b->reducedFrequencies[i];

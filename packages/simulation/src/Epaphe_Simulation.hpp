@@ -14,6 +14,9 @@
 //                          (first lock; node -1: none), correction_locking_{margin, node, time}
 //   /time                  (records)
 //   /energy/{kinetic, strain, total, contact_work, external_work, damping, balance_error} (records)
+//   /energy/{friction_heat, normal_work, counterface_work}, /energy/heat/{<b>, counterface} (records), with a
+//                          thermal model: the balance's heat term and the heat's partition (Epaphe_BodyHeat.hpp)
+//   /thermal/<b>/...       a body's thermal model: temperatures, heat, growth (Epaphe_BodyHeat.hpp)
 //   /bodies/<b>/frequencies/{reduced, full, fixed_interface} (Hz); attributes reduction,
 //                          reduced_dofs, rigid_mass (kg) (a full model with lumped mass: reduced =
 //                          the lumped model's, full = the consistent mass's)

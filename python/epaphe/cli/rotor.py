@@ -48,6 +48,17 @@
       axial position up, wear as colour) over the profile with the lobes marked; --csv: the
       profile (angle_deg, wear_m: one row per column, in the file's order).
 
+  epaphe-rotor nodal-diameters RUN.h5 [--body B] [--set tip-le] [--component x] [--skip S]
+                   [--casing ROM.h5] [--png F]
+      A bladed stage (a body with 'Instances', docs/user/stage.md): the mean displacement of node
+      set --set on every instance B[k], after the first S seconds, split into nodal diameters (the
+      spatial DFT over the instances; the RMS of each printed) and into forward and backward
+      travelling waves over frequency (the largest printed). --casing: the reduced model of the
+      casing (its cache file): its modes' nodal diameters, and the speeds where the modal-interaction
+      condition of Legrand et al. (2009) holds, Omega_n = (omega_b + omega_c,n) / n with the blade's
+      frequencies of the run. --png: the travelling-wave spectrum (frequency across, nodal diameter up,
+      forward above the axis and backward below, amplitude as colour).
+
 The rotation speed is read from the deck stored in the file (the fastest turning surface); a file
 whose status is not "complete" is read with a warning (its last record is not the end of the run)."""
 import argparse
@@ -430,6 +441,84 @@ def campbell(deck, body, orders, points, count, out, exe=None):
     return rows
 
 
+def nodal_diameters(path, body, node_set, component, skip, casing=None, png=None):
+    """epaphe-rotor nodal-diameters (see the module's help); returns (content, waves, criterion rows)."""
+    import h5py
+
+    from .. import stage
+
+    names = stage.instances(path, body)
+    comp = "xyz".index(component)
+    u = stage.instance_histories(path, body, f"nodesets/{node_set}/displacement")  # [k, t, node, 3]
+    x = u[..., comp].mean(axis=2) if u.ndim == 4 else u[:, :, comp::3].mean(axis=2)
+    with h5py.File(path, "r") as f:
+        t = f["time"][()]
+        blade_hz = f[f"bodies/{names[0]}/frequencies/reduced"][()]
+    keep = t >= skip
+    if keep.sum() < 8:
+        raise EpapheError(
+            f"{path}: {keep.sum()} records after --skip {skip} s; skip less (the run ends at {t[-1]:g} s)"
+        )
+    x, t = x[:, keep], t[keep]
+    dt = float(np.mean(np.diff(t)))
+    content = stage.nodal_diameter_content(x)
+    print(
+        f"{len(names)} instances of '{body}', node set {node_set}, u_{component} after {skip:g} s: RMS per nodal diameter:"
+    )
+    for n, v in enumerate(content):
+        print(f"  ND {n:2d}: {v:.3e} m")
+    w = stage.travelling_waves(x, dt)
+    for kind in ("forward", "backward"):
+        a = w[kind][:, 1:]
+        n, j = np.unravel_index(np.argmax(a), a.shape)
+        print(f"largest {kind} wave: ND {n}, {w['frequency'][j + 1]:.1f} Hz, amplitude {a[n, j]:.3e} m")
+    rows = []
+    if casing:
+        fc, u, coords = stage.model_modes(casing, 20)
+        modes = []
+        for k in range(len(fc)):
+            n, share = stage.nodal_diameter_of(u[k], coords)
+            modes.append((float(fc[k]), n))
+            print(f"casing mode {k + 1}: {fc[k]:.1f} Hz, ND {n} ({100 * share:.0f} % of its radial motion)")
+        # every casing diameter n: N blades sample its wave at their N positions, where it is their
+        # wave of n mod N diameters (stage.interaction_speeds); a casing's pair of modes with one
+        # nodal diameter (its two orientations) gives one row
+        rows = sorted(set(stage.interaction_speeds([float(f) for f in blade_hz[:3]], modes)))
+        rows = [
+            r
+            for i, r in enumerate(rows)
+            if i == 0 or abs(r[0] - rows[i - 1][0]) > 1e-6 * r[0] or r[1] != rows[i - 1][1]
+        ]
+        print("modal interaction (Legrand et al. 2009), Omega_n = (omega_b + omega_c,n) / n:")
+        for W, n, fb, fcn in rows:
+            print(f"  ND {n:2d}: {W:9.1f} rad/s (blade {fb:.1f} Hz, casing {fcn:.1f} Hz)")
+    if png:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        N = len(names)
+        img = np.vstack([w["backward"][::-1], w["forward"][1:]])
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        f = w["frequency"]
+        m = ax.imshow(
+            np.log10(np.maximum(img, img.max() * 1e-6)),
+            aspect="auto",
+            origin="lower",
+            extent=[f[0], f[-1], -(N - 1) - 0.5, (N - 1) + 0.5],
+            cmap="viridis",
+        )
+        ax.set_xlabel("frequency (Hz)")
+        ax.set_ylabel("nodal diameter (-): forward > 0, backward < 0")
+        ax.set_title(f"{os.path.basename(path)}: travelling waves of {body}, u_{component} at {node_set}")
+        fig.colorbar(m, ax=ax, label="log10 amplitude (m)")
+        fig.savefig(png, dpi=110)
+        plt.close(fig)
+        print(f"written {png}")
+    return content, w, rows
+
+
 def main(argv=None):
     try:
         return run(sys.argv[1:] if argv is None else argv)
@@ -478,8 +567,18 @@ def run(argv):
     w.add_argument("--surface")
     w.add_argument("--png")
     w.add_argument("--csv")
+    nd = sub.add_parser("nodal-diameters")
+    nd.add_argument("file")
+    nd.add_argument("--body", default="Blade")
+    nd.add_argument("--set", default="tip-le")
+    nd.add_argument("--component", default="x", choices=["x", "y", "z"])
+    nd.add_argument("--skip", type=float, default=0.0)
+    nd.add_argument("--casing")
+    nd.add_argument("--png")
     a = ap.parse_args(argv)
-    if a.cmd == "campbell":
+    if a.cmd == "nodal-diameters":
+        nodal_diameters(a.file, a.body, a.set, a.component, a.skip, a.casing, a.png)
+    elif a.cmd == "campbell":
         campbell(a.deck, a.body, parse_orders(a.orders), a.speeds, a.count, a.out, a.campbell)
     elif a.cmd == "wear":
         wear(a.file, a.surface, a.png, a.csv)

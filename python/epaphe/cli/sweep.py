@@ -127,18 +127,25 @@ def build_watch(study, deck, schema):
     """The watched body, node set, node and component (Measures), and the plotted components."""
     where = study.measures
     bodies = deck.sublists("Bodies")
+
+    def instances(b):  # a stage's body ('Instances'): its instances are the run's bodies b[k]
+        return int(deck.get(f"Bodies->{b}->Instances->Count", schema) or 1)
+
+    names = [n for b in bodies for n in ([b] if instances(b) == 1 else [f"{b}[{k}]" for k in range(instances(b))])]
     body = where.get("Body")
     if body is None:
         with_contact = [b for b in bodies if deck.get(f"Bodies->{b}->Contact node set", schema)]
         body = (with_contact or bodies or [None])[0]
         if body is None:
             raise StudyError(f"{deck.path}: the deck has no body")
-    elif body not in bodies:
+        body = body if instances(body) == 1 else f"{body}[0]"
+    elif body not in names:
         raise StudyError(
             f"{where['Body@']}: 'Measures->Body' = '{body}': no such body in {deck.path} "
-            f"(bodies: {', '.join(bodies)})"
+            f"(bodies: {', '.join(names)})"
         )
-    watched = split_top((deck.get(f"Bodies->{body}->Watched node sets", schema) or "{}").strip()[1:-1])
+    deck_body = body.split("[")[0] if body not in bodies else body  # the deck's list of an instance
+    watched = split_top((deck.get(f"Bodies->{deck_body}->Watched node sets", schema) or "{}").strip()[1:-1])
     nodeset = where.get("Node set")
     if nodeset is None:
         if not watched:
@@ -156,7 +163,7 @@ def build_watch(study, deck, schema):
     if node < -1:
         raise StudyError(f"{where['Node@']}: 'Measures->Node' = {node}: -1 (the mean of the set) or an index >= 0")
 
-    v0 = numbers(deck.get(f"Bodies->{body}->Initial velocity", schema) or "{0,0,0}")
+    v0 = numbers(deck.get(f"Bodies->{deck_body}->Initial velocity", schema) or "{0,0,0}")
     comp = int(np.argmax(np.abs(v0))) if any(v0) else 0  # default: along the initial velocity
     if "Component" in where:
         if where["Component"] not in ("x", "y", "z"):
