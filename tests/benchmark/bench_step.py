@@ -4,6 +4,7 @@
 Usage: bench_step.py --run EPAPHE_RUN --probe BENCH_STEP_PROBE --inputs DIR --workdir DIR
                      [--baseline-run OTHER_EPAPHE_RUN] [--scenes NAME ...] [--repeat N]
                      [--reference-kernel BENCH_STEP_REFERENCE] [--assert REFERENCE.json] [--record REFERENCE.json]
+                     [--loaded NAME ...]
 
 Per scene, on 1 and 2 OpenMP threads: the loop's wall time, steps per second, the per-step split
 (/run/cost), Kokkos parallel regions per step (Kokkos Tools callbacks, EPAPHE_COUNT_KERNELS=1, on
@@ -18,7 +19,10 @@ repeated N times (--repeat, default 3) and the fastest loop kept: on this projec
 same build's loop varies by up to 30 % (1 thread) and 50 % (2 threads) from run to run, and the
 fastest of three is what the code costs when nothing else takes the core. With
 --baseline-run (another build's epaphe-run, e.g. the previous main), the same scenes run with it in
-the same invocation and the ratios are printed. Writes bench_step.json in the work directory.
+the same invocation and the ratios are printed. With --loaded, those scenes run again beside one
+busy process (a Python loop taking a core): 1 thread, 2 threads as a run chooses by default (Run->
+Adaptive threads: the team or the calling thread, whichever its probes find faster) and 2 threads
+always on the team; reported, not guarded. Writes bench_step.json in the work directory.
 
 With --reference-kernel, bench_step_reference (a fixed dense, sparse and scalar workload that shares
 no code with Epaphe, timed in its thread's CPU time) is run right before and right after each
@@ -191,7 +195,35 @@ def run_once(exe, deck, workdir, tag, threads, count):
         "allocations": int(r["kernel_allocations"]) if "kernel_allocations" in r else None,
         "projections_per_step": float(r["projections"]) / steps if "projections" in r else None,
         "matrix_bytes": int(r["step_matrix_bytes"]) if "step_matrix_bytes" in r else None,
+        "parallel_fraction": float(r["parallel_fraction"]) if "parallel_fraction" in r else None,
     }
+
+
+def measure_loaded(a, name):
+    """The scene beside one busy process (a Python loop on a core): 1 thread, 2 threads choosing
+    between the team and the calling thread (Run->Adaptive threads, the default), and 2 threads always
+    on the team. Reported, not guarded."""
+    deck = os.path.join(a.workdir, name + ".xml")  # measure_scene wrote it
+    team = variant(deck, os.path.join(a.workdir, name + "-team.xml"), {"Run->Adaptive threads": ("false", "bool")})
+    hog = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    try:
+        runs = {}
+        for tag, d, threads in (("1", deck, 1), ("2", deck, 2), ("team", team, 2)):
+            runs[tag] = min(
+                (run_once(a.run, d, a.workdir, f"{name}-loaded-{tag}", threads, False) for _ in range(2)),
+                key=lambda r: r["loop"],
+            )
+    finally:
+        hog.kill()
+        hog.wait()
+    one, two, tm = runs["1"]["loop"], runs["2"]["loop"], runs["team"]["loop"]
+    print(
+        f"{name} beside one busy process: 1 thread {one:.3f} s, 2 threads {two:.3f} s ({one / two:.2f}x; "
+        f"parallel loops on {100 * (runs['2']['parallel_fraction'] or 0):.0f} % of the steps), 2 threads always "
+        f"on the team {tm:.3f} s ({one / tm:.2f}x); each the faster of 2 runs",
+        flush=True,
+    )
+    return {"loop_1": one, "loop_2": two, "loop_team": tm, "parallel_fraction": runs["2"]["parallel_fraction"]}
 
 
 def guard(results, ref, machine, where, quiet=False):
@@ -382,6 +414,13 @@ def main():
         help="fail on measured/bound above its ceiling or a loop slower than the record (see above)",
     )
     ap.add_argument("--record", metavar="REFERENCE_JSON", help="write this machine class's loop figures there")
+    ap.add_argument(
+        "--loaded",
+        nargs="*",
+        default=[],
+        choices=list(SCENES),
+        help="scenes also measured beside one busy process (1 thread, 2 adaptive, 2 on the team; reported)",
+    )
     a = ap.parse_args()
     if (a.check or a.record) and not a.reference_kernel:
         ap.error("--assert and --record need --reference-kernel (the loop is compared in its units)")
@@ -415,6 +454,10 @@ def main():
             results["scenes"][name] = min(
                 first, second, key=lambda s: s["now-1"]["loop_full_core"] / s.get("reference_ms", 1.0)
             )
+    for name in a.loaded:
+        if name not in results["scenes"]:
+            measure_scene(a, name, builds, bw, proj_ns)  # writes its deck
+        results.setdefault("loaded", {})[name] = measure_loaded(a, name)
     with open(os.path.join(a.workdir, "bench_step.json"), "w") as f:
         json.dump(results, f, indent=1)
     if a.record:

@@ -45,8 +45,7 @@ are set above what 1 and 2 threads differ by (regression.gold-2threads runs ever
 difference comes from the reduction alone: its eigensolver's iterates sum in another order on 2
 threads and its modes agree to its tolerance (the recovery to 2e-10 of its largest entry on
 cube-rings), while the explicit step on 2 threads, from the same reduced model, gives the 1-thread
-history bit for bit but for the energies and momenta, sums that a 2-thread kernel adds in another
-order, to 1e-15 of their scale (faults.restart-2threads checks that).
+history bit for bit, energies and momenta included (faults.restart-2threads checks that).
 """
 import argparse
 import datetime

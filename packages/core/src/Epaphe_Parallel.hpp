@@ -6,11 +6,12 @@
 // benchmark.launch-overhead), while most loops of a contact step do well under a microsecond of
 // work (16 tip nodes of a blade, 100 DOFs of a bar). Run in parallel, they made 2 threads slower
 // than 1 (bar-on-wall: 0.44x). Every loop states its work per item in nanoseconds (measured on one
-// thread, rounded up); a loop whose total is below serialWorkNs() runs serially. The state does not
-// depend on the choice: the functors write per item, and the reductions of the step (max, integer
-// sums) are exact in any order. The floating-point sums of the outputs (epaphe::dot for energies and
-// momenta, SurfaceContact::workIncrement) are not: run in parallel they differ from the serial sum by
-// round-off (1e-15 relative between 1 and 2 threads, faults.restart-2threads), and never feed back.
+// thread, rounded up); a loop whose total is below serialWorkNs() runs serially. Nothing depends on
+// the choice, to the bit: the functors write per item, and reduce() adds in fixed chunks of items
+// joined in index order whichever thread ran a chunk, so the floating-point sums of the outputs
+// (epaphe::dot for energies and momenta, SurfaceContact::workIncrement) are the same on 1 and 2
+// threads, serial or parallel. A run can therefore switch between the two while it runs
+// (ParallelChooser, Epaphe_ParallelChooser.hpp) without changing a bit of its results.
 //
 // The serial path calls the functor on the host, so the views must be host-accessible: with a
 // device backend (CUDA) every loop goes to Kokkos.
@@ -21,6 +22,7 @@
 #include <type_traits>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace epaphe {
 
@@ -121,16 +123,54 @@ void forRowBlocks(const char* name, int n, long ns, int align, const F& f) {
   });
 }
 
-/// result = reduction over i of f(i, partial), with Kokkos' reducer R (Kokkos::Max<T>, Sum<T>...).
+namespace parallel_detail {
+/// Items per chunk of reduce(): each chunk is reduced in index order, the chunks joined in order.
+constexpr long kReduceChunk = 256;
+/// A buffer of a chunk's partial results per calling thread, grown as needed and kept (no
+/// allocation in the explicit step once it has the size).
+template <class V>
+V* partials(long chunks) {
+  thread_local std::vector<V> buffer;
+  if (static_cast<long>(buffer.size()) < chunks) buffer.resize(static_cast<std::size_t>(chunks));
+  return buffer.data();
+}
+}  // namespace parallel_detail
+
+/// result = reduction over i of f(i, partial), with Kokkos' reducer R (Kokkos::Max<T>, Sum<T>...):
+/// items in chunks of kReduceChunk, each chunk in index order, the chunks' results joined in order.
+/// The association is the same on any number of threads, serial or parallel (a floating-point sum
+/// has the same bits); in parallel (a kernel per chunk) when n * nsPerItem >= serialWorkNs(). A
+/// device backend (not host-accessible) uses Kokkos' parallel_reduce and its own order.
 template <class F, class R>
 void reduce(const char* name, long n, long nsPerItem, const F& f, const R& reducer) {
-  if (parallel_detail::serial(n, nsPerItem)) {
-    typename R::value_type v;
-    reducer.init(v);
-    for (long i = 0; i < n; ++i) f(static_cast<int>(i), v);
-    reducer.reference() = v;
-  } else {
+  using V = typename R::value_type;
+  constexpr long C = parallel_detail::kReduceChunk;
+  if constexpr (!parallel_detail::kHostAccessible) {
     Kokkos::parallel_reduce(name, Kokkos::RangePolicy<>(0, n), f, reducer);
+  } else {
+    V total;
+    reducer.init(total);
+    const long chunks = (std::max(n, 0L) + C - 1) / C;
+    if (chunks <= 1 || parallel_detail::serial(n, nsPerItem)) {
+      for (long c = 0; c < chunks; ++c) {
+        V v;
+        reducer.init(v);
+        for (long i = c * C, e = std::min(n, i + C); i < e; ++i) f(static_cast<int>(i), v);
+        reducer.join(total, v);
+      }
+    } else {
+      V* part = parallel_detail::partials<V>(chunks);
+      const R r = reducer;
+      Kokkos::parallel_for(name, Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, chunks), [=](const int c) {
+        V v;
+        r.init(v);
+        for (long i = c * C, e = std::min(n, c * C + C); i < e; ++i) f(static_cast<int>(i), v);
+        part[c] = v;
+      });
+      Kokkos::DefaultHostExecutionSpace().fence();
+      for (long c = 0; c < chunks; ++c) reducer.join(total, part[c]);
+    }
+    reducer.reference() = total;
   }
 }
 

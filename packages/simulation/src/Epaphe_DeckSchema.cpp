@@ -38,6 +38,11 @@ void addRunParameters(Teuchos::ParameterList& pl) {
          "slower than 1; they pay off where a step has much contact work (the cube between two "
          "flexible rings: 1.5x)",
          0, 1024);
+  addBool(run, "Adaptive threads", true,
+          "With more than one thread: time the step's loops on the thread team against the calling "
+          "thread alone while the run runs (alternating blocks of steps), run the faster, and time "
+          "them again now and then (the machine's load may change). The results are the same bits "
+          "either way (Epaphe_ParallelChooser.hpp)");
   addDouble(run, "Progress interval", 2.0, "Wall-clock seconds between progress lines (0: none)", 0.0);
   addBool(run, "Divergence step check", true,
           "When a run stops with its energy growing without bound, run the deck "

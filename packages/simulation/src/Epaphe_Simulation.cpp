@@ -11,6 +11,7 @@
 #include "Epaphe_Hdf5File.hpp"
 #include "Epaphe_HistoryOutput.hpp"
 #include "Epaphe_Parallel.hpp"
+#include "Epaphe_ParallelChooser.hpp"
 #include "Epaphe_RunControl.hpp"
 #include "Epaphe_SceneCheck.hpp"
 #include "Epaphe_Version.hpp"
@@ -191,9 +192,13 @@ const RunSummary& Simulation::run() {
     for (std::size_t ib = 0; ib < bodies.size(); ++ib)
       if (bodies[ib]->name == so.body) steady = std::make_unique<SteadyStateMonitor>(so, *bodies[ib], ib, h);
   // the heat's sources before the energy monitor (its record's heat term), the thermal update after the history
-  std::vector<LoopObserver*> observers{runUp.get(), &locking,     heat ? heat->sources() : nullptr,
-                                       &monitor,    &history,     coating.get(),
-                                       heat.get(),  fields.get(), steady.get()};
+  // with a thread team, the loops parallel or serial by timing both on this run (Epaphe_ParallelChooser.hpp)
+  std::unique_ptr<ParallelChooser> chooser;
+  if (P.sublist("Run").get<bool>("Adaptive threads") && Kokkos::DefaultHostExecutionSpace().concurrency() > 1)
+    chooser = std::make_unique<ParallelChooser>(serialWorkNs());
+  std::vector<LoopObserver*> observers{chooser.get(), runUp.get(), &locking,      heat ? heat->sources() : nullptr,
+                                       &monitor,      &history,    coating.get(), heat.get(),
+                                       fields.get(),  steady.get()};
   observers.insert(observers.end(), extra.begin(), extra.end());
   observers.insert(observers.end(), {&stop, &checkpoints, &progress});
   for (LoopObserver* o : observers)
@@ -232,6 +237,12 @@ const RunSummary& Simulation::run() {
   summary_.observers.clear();
   for (RunObserver* o : extra)
     for (const std::string& line : o->summary()) summary_.observers.push_back(line);
+  if (chooser) {
+    summary_.observers.push_back(chooser->summary());
+    const ParallelChoice& pc = chooser->choice();
+    file.setAttribute("/run", "parallel_fraction",
+                      pc.steps() > 0 ? static_cast<double>(pc.parallelSteps()) / static_cast<double>(pc.steps()) : 0.0);
+  }
   summary_.checkpoints = checkpoints.count();
   summary_.checkpointSeconds = checkpoints.seconds();
   summary_.steps = loop.stepsDone();

@@ -1,0 +1,94 @@
+#pragma once
+// Chooses, while a run runs, whether the explicit step's loops run on the thread team or all on the
+// calling thread, by timing both on the run itself.
+//
+// Why: whether a parallel region pays depends on the machine's load as much as on the work. On an
+// idle 2-core machine the stage scene's step is 1.7x faster on 2 threads; with one other busy
+// process three threads share two cores, a thread of the team is descheduled for a time slice
+// while its partner waits at the join, and the same step is slower on 2 threads than on 1. A fixed
+// choice is wrong in one of the two cases.
+//
+// How: a probe runs blocks of steps alternately with the loops parallel (the configured
+// serialWorkNs threshold) and serial (every loop on the calling thread), `pairs` of each, a block
+// being at least `blockSteps` steps and `blockSeconds` of wall time (4 steps of a stage, 2 ms; some
+// 200 steps of a blade); the pair's ratio of wall times per step compares the two modes on
+// neighbouring steps (the contact's work drifts slowly), and the median of the pairs' ratios
+// decides, so that one block slowed by a checkpoint or an interrupt does not. The faster mode then holds until the wall
+// time since the probe is `holdFactor` times the probe's own, and a new probe starts (the load may have changed). The
+// slower mode's share of a run is at most about 1 / (2 holdFactor) of its steps.
+//
+// Switching changes no result: the step's loops write per item and reduce() sums in fixed chunks in
+// index order (Epaphe_Parallel.hpp), so a run gives the same bits in either mode.
+#include "Epaphe_ExplicitLoop.hpp"
+
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace epaphe {
+
+/// The choice itself, apart from the loop and the clock (unit-tested with a clock of its own).
+class ParallelChoice {
+public:
+  struct Options {
+    int blockSteps = 4;          ///< a probe's block: at least this many steps...
+    double blockSeconds = 0.05;  ///< ...and this much wall time (s)
+    int pairs = 3;               ///< blocks of each mode in a probe
+    double holdFactor = 20;      ///< the chosen mode holds for this many times the probe's wall time
+  };
+  ParallelChoice() : ParallelChoice(Options{}) {}
+  explicit ParallelChoice(Options options);
+
+  /// A step starts at wall time `now` (s); returns true when it must run its loops in parallel.
+  bool stepStarts(double now);
+  /// The step that started last ends at wall time `now` (s).
+  void stepEnds(double now);
+
+  /// Steps run with parallel loops, and in all.
+  ///@{
+  long long parallelSteps() const { return parallelSteps_; }
+  long long steps() const { return steps_; }
+  ///@}
+  /// Probes completed, and how many of them chose the parallel loops.
+  ///@{
+  int probes() const { return probes_; }
+  int parallelChoices() const { return parallelChoices_; }
+  ///@}
+  /// The median parallel/serial wall-time ratio of the last probe (0 before the first).
+  double lastRatio() const { return lastRatio_; }
+
+private:
+  Options o_;
+  bool probing_ = true, parallel_ = true, chosen_ = true;
+  int block_ = 0, inBlock_ = 0;  // block of the probe (even: parallel), steps done in it
+  double blockStart_ = 0, probeStart_ = 0, holdUntil_ = 0;
+  std::vector<double> perStep_;  // the probe's blocks' wall times
+  long long parallelSteps_ = 0, steps_ = 0;
+  int probes_ = 0, parallelChoices_ = 0;
+  double lastRatio_ = 0;
+};
+
+/// The loop observer that applies ParallelChoice: sets serialWorkNs() before each step (the
+/// configured threshold, or every loop serial), restores the configured threshold at the end.
+class ParallelChooser : public LoopObserver {
+public:
+  /// `threshold`: the serialWorkNs() of parallel mode (the configured one).
+  explicit ParallelChooser(long threshold, ParallelChoice::Options options = {});
+  void beginStep(ExplicitLoop&) override;
+  void endStep(ExplicitLoop&) override;
+  void endRun(ExplicitLoop&) override;
+  void failed(ExplicitLoop&, const std::string&) override;
+
+  const ParallelChoice& choice() const { return choice_; }
+  /// One line for the run summary: the share of steps with parallel loops and the probes' verdicts.
+  std::string summary() const;
+
+private:
+  double now() const;
+  long threshold_;
+  ParallelChoice choice_;
+  std::chrono::steady_clock::time_point origin_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace epaphe

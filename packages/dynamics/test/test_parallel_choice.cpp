@@ -1,0 +1,144 @@
+// The parallel/serial choice of the explicit step's loops (Epaphe_ParallelChooser.hpp), on a clock of
+// the test's own: a step's cost in each mode is given, the choice must find the cheaper one, hold it,
+// and probe again; and the chunked sums of Epaphe_Parallel.hpp give the same bits serial and parallel.
+#include "Epaphe_Error.hpp"
+#include "Epaphe_Parallel.hpp"
+#include "Epaphe_ParallelChooser.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <functional>
+
+namespace epaphe {
+namespace {
+
+/// Runs `steps` steps on a clock where a step costs `parallel(n)` or `serial(n)` seconds (n: the
+/// step's index); returns the total time.
+double runSteps(ParallelChoice& c, long steps, const std::function<double(long)>& parallel,
+                const std::function<double(long)>& serial) {
+  double now = 0;
+  for (long n = 0; n < steps; ++n) {
+    now += c.stepStarts(now) ? parallel(n) : serial(n);
+    c.stepEnds(now);
+  }
+  return now;
+}
+
+/// Blocks of 32 steps whatever they last (the tests below count steps), 3 pairs, hold 20x the probe.
+ParallelChoice::Options bySteps() {
+  ParallelChoice::Options o;
+  o.blockSteps = 32;
+  o.blockSeconds = 0;
+  return o;
+}
+
+TEST(ParallelChoice, RunsTheFasterModeAndProbesAgain) {
+  const ParallelChoice::Options o = bySteps();
+  for (const bool parallelFaster : {true, false}) {
+    ParallelChoice c(o);
+    const double fast = 1e-5, slow = 1.7e-5;
+    const auto par = [&](long) { return parallelFaster ? fast : slow; };
+    const auto ser = [&](long) { return parallelFaster ? slow : fast; };
+    const double total = runSteps(c, 100000, par, ser);
+    EXPECT_GE(c.probes(), 2) << "a probe after each hold";
+    EXPECT_EQ(c.parallelChoices(), parallelFaster ? c.probes() : 0);
+    EXPECT_NEAR(c.lastRatio(), parallelFaster ? fast / slow : slow / fast, 1e-9);
+    // the slower mode runs in half of each probe: 96 steps of every 96 + 20 x (the probe's 192 steps)
+    const double slowShare =
+        parallelFaster ? 1.0 - double(c.parallelSteps()) / c.steps() : double(c.parallelSteps()) / c.steps();
+    EXPECT_LT(slowShare, 0.03) << "slow steps " << slowShare;
+    EXPECT_LT(total, 1.03 * 100000 * fast + 0.03 * 100000 * (slow - fast));
+  }
+}
+
+TEST(ParallelChoice, FollowsAChangeOfLoad) {
+  // the parallel loops pay for the first half of the run and cost twice the serial ones after it (another
+  // process takes a core): the probes after the change choose the calling thread
+  ParallelChoice c(bySteps());
+  const long steps = 200000;
+  const auto par = [&](long n) { return n < steps / 2 ? 1e-5 : 4e-5; };
+  const auto ser = [&](long) { return 2e-5; };
+  double now = runSteps(c, steps / 2, par, ser);  // the clock goes on from there
+  EXPECT_EQ(c.parallelChoices(), c.probes());
+  const int before = c.probes();
+  const long parallelBefore = c.parallelSteps();
+  for (long n = steps / 2; n < steps; ++n) {
+    now += c.stepStarts(now) ? par(n) : ser(n);
+    c.stepEnds(now);
+  }
+  EXPECT_GT(c.probes(), before);
+  EXPECT_NEAR(c.lastRatio(), 2.0, 1e-6);
+  EXPECT_LT(double(c.parallelSteps() - parallelBefore) / (steps / 2), 0.1);
+}
+
+/// The first probe's verdict when step `slowStep` costs 200 times its mode's cost.
+bool firstVerdict(double parallelCost, double serialCost, long slowStep) {
+  ParallelChoice c(bySteps());
+  double now = 0;
+  for (long n = 0; c.probes() == 0; ++n) {
+    now += (c.stepStarts(now) ? parallelCost : serialCost) * (n == slowStep ? 200 : 1);
+    c.stepEnds(now);
+  }
+  return c.parallelChoices() == 1;
+}
+
+TEST(ParallelChoice, OneSlowBlockDoesNotDecide) {
+  // a probe's blocks: steps 0-31 parallel, 32-63 serial, 64-95 parallel... One step slowed 200x (a
+  // checkpoint, an interrupt) makes its pair's ratio point the wrong way; the median of the three
+  // pairs' ratios does not follow it
+  EXPECT_TRUE(firstVerdict(1e-5, 2e-5, -1));
+  EXPECT_TRUE(firstVerdict(1e-5, 2e-5, 0));  // in the first parallel block
+  EXPECT_FALSE(firstVerdict(2e-5, 1e-5, -1));
+  EXPECT_FALSE(firstVerdict(2e-5, 1e-5, 40));  // in the first serial block
+}
+
+TEST(ParallelChoice, BlocksLastLongEnoughToTime) {
+  // the default blocks: at least 4 steps and 2 ms. Steps of 10 us (a blade): 200 steps a block; steps
+  // of 2 ms (a stage): 4 steps a block; the verdict compares the time per step either way
+  for (const double step : {1e-5, 2e-3}) {
+    ParallelChoice c;
+    double now = 0;
+    long n = 0;
+    for (; c.probes() == 0; ++n) {
+      now += c.stepStarts(now) ? step : 1.5 * step;
+      c.stepEnds(now);
+    }
+    EXPECT_EQ(c.parallelChoices(), 1);
+    EXPECT_NEAR(c.lastRatio(), 1 / 1.5, 1e-6);
+    const long perBlock = std::max(4L, static_cast<long>(std::ceil(2e-3 / step - 1e-9)));
+    EXPECT_GE(n, 6 * perBlock * 2 / 3) << "step " << step;  // serial blocks need fewer steps for 2 ms
+    EXPECT_LE(n, 6 * perBlock + 6) << "step " << step;
+  }
+}
+
+TEST(ParallelChoice, RefusesNonsense) {
+  ParallelChoice::Options o;
+  o.blockSteps = 0;
+  EXPECT_THROW(ParallelChoice{o}, Error);
+}
+
+TEST(ChunkedSums, SameBitsSerialAndParallel) {
+  // 10,007 terms of mixed magnitude: a running sum and a two-halves sum differ in their last bits; the
+  // chunked reduce gives one value whichever path runs
+  const long n = 10007;
+  Kokkos::View<double*> x("x", n), y("y", n);
+  for (long i = 0; i < n; ++i) {
+    x(i) = std::sin(0.37 * i) * std::pow(10.0, (i % 13) - 6);
+    y(i) = std::cos(1.3 * i);
+  }
+  setSerialWorkNs(LONG_MAX);
+  const double serial = dot(x, y);
+  setSerialWorkNs(0);
+  const double parallel = dot(x, y);
+  setSerialWorkNs(kDefaultSerialWorkNs);
+  EXPECT_EQ(serial, parallel);
+  double running = 0;
+  for (long i = 0; i < n; ++i) running += x(i) * y(i);
+  EXPECT_NEAR(serial, running, 1e-12 * std::abs(running) + 1e-18);
+}
+
+}  // namespace
+}  // namespace epaphe
