@@ -31,13 +31,16 @@ namespace epaphe {
 /// The choice itself, apart from the loop and the clock (unit-tested with a clock of its own).
 class ParallelChoice {
 public:
+  /// How a probe runs and how long its verdict holds.
   struct Options {
     int blockSteps = 4;          ///< a probe's block: at least this many steps...
     double blockSeconds = 0.05;  ///< ...and this much wall time (s)
     int pairs = 3;               ///< blocks of each mode in a probe
     double holdFactor = 20;      ///< the chosen mode holds for this many times the probe's wall time
   };
+  /// With the default options.
   ParallelChoice() : ParallelChoice(Options{}) {}
+  /// Throws epaphe::Error on options out of range (blocks of no step, no pair, no hold).
   explicit ParallelChoice(Options options);
 
   /// A step starts at wall time `now` (s); returns true when it must run its loops in parallel.
@@ -80,6 +83,7 @@ public:
   void endRun(ExplicitLoop&) override;
   void failed(ExplicitLoop&, const std::string&) override;
 
+  /// The choice and its counts so far.
   const ParallelChoice& choice() const { return choice_; }
   /// One line for the run summary: the share of steps with parallel loops and the probes' verdicts.
   std::string summary() const;

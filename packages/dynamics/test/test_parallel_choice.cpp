@@ -96,9 +96,10 @@ TEST(ParallelChoice, OneSlowBlockDoesNotDecide) {
 }
 
 TEST(ParallelChoice, BlocksLastLongEnoughToTime) {
-  // the default blocks: at least 4 steps and 2 ms. Steps of 10 us (a blade): 200 steps a block; steps
-  // of 2 ms (a stage): 4 steps a block; the verdict compares the time per step either way
-  for (const double step : {1e-5, 2e-3}) {
+  // the default blocks: at least 4 steps and 50 ms. Steps of 10 us (a blade): 5000 steps a block; steps
+  // of 20 ms: 4 steps a block; the verdict compares the time per step either way
+  const double seconds = ParallelChoice::Options{}.blockSeconds;
+  for (const double step : {1e-5, 2e-2}) {
     ParallelChoice c;
     double now = 0;
     long n = 0;
@@ -108,8 +109,8 @@ TEST(ParallelChoice, BlocksLastLongEnoughToTime) {
     }
     EXPECT_EQ(c.parallelChoices(), 1);
     EXPECT_NEAR(c.lastRatio(), 1 / 1.5, 1e-6);
-    const long perBlock = std::max(4L, static_cast<long>(std::ceil(2e-3 / step - 1e-9)));
-    EXPECT_GE(n, 6 * perBlock * 2 / 3) << "step " << step;  // serial blocks need fewer steps for 2 ms
+    const long perBlock = std::max(4L, static_cast<long>(std::ceil(seconds / step - 1e-9)));
+    EXPECT_GE(n, 6 * perBlock * 2 / 3) << "step " << step;  // serial blocks need fewer steps for their time
     EXPECT_LE(n, 6 * perBlock + 6) << "step " << step;
   }
 }
