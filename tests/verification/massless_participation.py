@@ -15,7 +15,8 @@ shearing modes whose face resultant along x is zero: they take no part in an end
 lowest 20 are at least 3 times further from the exact mean force and rebound than the chosen 20
 (measured: 7.2 and 5.6 % against 1.3 and 1.0 %); and the dense eigensolver gives Anasazi's run to 1e-7
 (contact force, momentum: the two eigensolvers' modes agree to Anasazi's tolerance, and the run's contact
-events carry the difference; measured 1.8e-8 of the contact force on an Intel Xeon, less on AMD EPYC). The errors and the reduction times are printed."""
+events carry the difference; measured 1.8e-8 of the contact force on an Intel Xeon with OpenBLAS's Prescott
+kernels, 2.1e-9 with its SkylakeX kernels). The errors and the reduction times are printed."""
 import os
 import sys
 

@@ -53,7 +53,8 @@ from v3_bouncing_bar import setting  # noqa: E402
 
 IDENTITY_TOL = 1e-9  # identity (1), relative to E_ref: the records' round-off over 8e4 steps
 # per step: the balance's round-off grows with the steps (8e4 at h, 1.6e5 at h/2), and with the CPU's BLAS
-# kernels: measured 0.8e-14 and 2.5e-14 a step at h and h/2 on an Intel Xeon (AVX-512), less on AMD EPYC
+# kernels: measured 0.7e-14 and 2.5e-14 a step at h and h/2 on an Intel Xeon (OpenBLAS's Prescott or
+# SkylakeX kernels alike), less on AMD EPYC
 BALANCE_TOL = 1e-13
 MODEL_TOL = 0.01  # the modes' own terms in (2), neglected in the derivation
 
