@@ -10,8 +10,9 @@
 //
 // How: a probe runs blocks of steps alternately with the loops parallel (the configured
 // serialWorkNs threshold) and serial (every loop on the calling thread), `pairs` of each, a block
-// being at least `blockSteps` steps and `blockSeconds` of wall time (4 steps of a stage, 2 ms; some
-// 200 steps of a blade); the pair's ratio of wall times per step compares the two modes on
+// being at least `blockSteps` steps and `blockSeconds` of wall time (about 20 steps of a stage, some
+// 5000 of a blade; a team step slowed tenfold by a busy core ends its block after 50 ms all the same);
+// the pair's ratio of wall times per step compares the two modes on
 // neighbouring steps (the contact's work drifts slowly), and the median of the pairs' ratios
 // decides, so that one block slowed by a checkpoint or an interrupt does not. The faster mode then holds until the wall
 // time since the probe is `holdFactor` times the probe's own, and a new probe starts (the load may have changed). The
@@ -33,7 +34,7 @@ class ParallelChoice {
 public:
   /// How a probe runs and how long its verdict holds.
   struct Options {
-    int blockSteps = 4;          ///< a probe's block: at least this many steps...
+    int blockSteps = 1;          ///< a probe's block: at least this many steps...
     double blockSeconds = 0.05;  ///< ...and this much wall time (s)
     int pairs = 3;               ///< blocks of each mode in a probe
     double holdFactor = 20;      ///< the chosen mode holds for this many times the probe's wall time

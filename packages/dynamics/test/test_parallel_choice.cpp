@@ -96,8 +96,8 @@ TEST(ParallelChoice, OneSlowBlockDoesNotDecide) {
 }
 
 TEST(ParallelChoice, BlocksLastLongEnoughToTime) {
-  // the default blocks: at least 4 steps and 50 ms. Steps of 10 us (a blade): 5000 steps a block; steps
-  // of 20 ms: 4 steps a block; the verdict compares the time per step either way
+  // the default blocks: at least 1 step and 50 ms. Steps of 10 us (a blade): 5000 steps a block; steps
+  // of 20 ms: 3 steps a block (2 of 30 ms); the verdict compares the time per step either way
   const double seconds = ParallelChoice::Options{}.blockSeconds;
   for (const double step : {1e-5, 2e-2}) {
     ParallelChoice c;
@@ -109,7 +109,7 @@ TEST(ParallelChoice, BlocksLastLongEnoughToTime) {
     }
     EXPECT_EQ(c.parallelChoices(), 1);
     EXPECT_NEAR(c.lastRatio(), 1 / 1.5, 1e-6);
-    const long perBlock = std::max(4L, static_cast<long>(std::ceil(seconds / step - 1e-9)));
+    const long perBlock = std::max(1L, static_cast<long>(std::ceil(seconds / step - 1e-9)));
     EXPECT_GE(n, 6 * perBlock * 2 / 3) << "step " << step;  // serial blocks need fewer steps for their time
     EXPECT_LE(n, 6 * perBlock + 6) << "step " << step;
   }
