@@ -37,7 +37,7 @@ RUN_TIME_ONLY = {
     "dense-eigensolver-too-large.xml": "the free DOFs of the assembled model, at the dense eigensolver",
     "gravity-clamped-unreduced.xml": "the Rayleigh quotient of a rigid translation on the assembled model",
     "sphere-clamped-at-pole.xml": "the eigenvalues of the massless boundary reduction (the mechanism's zero ones)",
-    "rotation-past-critical-speed.xml": "the interior stiffness of the parametric model at the deck's speed",
+    "rotation-past-critical-speed.xml": "the parametric model's stiffness over its speed range",
     "import-speed-unprinted.xml": "the static displacements of a CalculiX job at speed, read with its matrices",
     # 'Time->Initial state' = Static equilibrium: the contact detection at t = 0 and the static solve (eq. 71)
     "static-preload-opens-contact.xml": "the normal forces of the static contact solve on the reduced model",

@@ -13,7 +13,7 @@
 namespace epaphe {
 
 // Bump when the cache layout changes: older files then miss and are rebuilt.
-constexpr const char* cacheFormat = "4 (static state at speed)";
+constexpr const char* cacheFormat = "5 (Galerkin static state at speed)";
 
 std::string contentKey(const std::string& text) {
   std::uint64_t h = 1469598103934665603ull;
@@ -163,7 +163,8 @@ bool loadReducedModel(const std::string& path, const std::string& key, ReducedMo
 }
 
 // The parametric model: its common-basis model as a reduced model, and under /parametric the sample
-// speeds, the boundary size, the stiffness coefficients C_1.. and the static state's g_0...
+// speeds, the boundary size, the stiffness coefficients C_1.. and the static state's g_0.. (as many as its polynomial's
+// degree + 1)
 void saveParametricModel(const SpeedParametricModel& p, const std::string& path, const std::string& key) {
   writeAtomically(path, [&](io::Hdf5File& f) {
     writeReducedModel(f, p.base, key);
@@ -189,7 +190,7 @@ bool loadParametricModel(const std::string& path, const std::string& key, SpeedP
   p.growth.clear();
   for (std::size_t k = 1; k < p.speeds.size(); ++k)
     p.stiffness.push_back(f->readDoubles("/parametric/stiffness" + std::to_string(k)));
-  for (std::size_t k = 0; k < p.speeds.size(); ++k)
+  for (std::size_t k = 0; f->exists("/parametric/growth" + std::to_string(k)); ++k)
     p.growth.push_back(f->readDoubles("/parametric/growth" + std::to_string(k)));
   return true;
 }

@@ -3,15 +3,19 @@
 // Craig-Bampton reductions at sample speeds Omega_s (Epaphe_ModelAtSpeed.hpp for each):
 //
 //   T = [ I      0   ]   a common basis: the boundary columns are the constraint modes at the first
-//       [ Psi_1  V   ]   sample; V orthonormalises every sample's fixed-interface modes Phi_s and the
-//                        changes of its constraint modes Psi_s - Psi_1 (they vanish on the retained DOFs)
+//       [ Psi_1  V   ]   sample; V orthonormalises every sample's fixed-interface modes Phi_s, the
+//                        changes of its constraint modes Psi_s - Psi_1 and its static state's interior
+//                        part u_s - Psi_1 u_s,b (all vanish on the retained DOFs)
 //
 //   K_T(Omega) = sum_k xi^k C_k,   xi = (Omega / Omega_max)^2,   k = 0 .. S-1,   M_T = T^T M T,
 //
 // the C_k interpolating T^T K(Omega_s) T at the S samples exactly (a polynomial in Omega^2: K(Omega) is
 // K_e - Omega^2 M_perp + K_sigma(u_s(Omega)) with u_s a series in Omega^2; with S = 3 and a sample at
-// rest this is the classical K_0 + Omega^2 K_1 + Omega^4 K_2). The static state is interpolated the
-// same way, u_s(Omega) = sum_k xi^k g_k.
+// rest this is the classical K_0 + Omega^2 K_1 + Omega^4 K_2). The static state is the Galerkin
+// solution on T, u_s(Omega) = T K_T(Omega)^-1 b(Omega), with the reduced load b interpolated through
+// the samples' T^T K(Omega_s) u_s: u_s at a sample, and between samples it follows the stiffness, where
+// a polynomial through the samples' u_s misses its curvature in Omega^2. It is stored as a polynomial
+// in xi fitted to the Galerkin solutions, u_s(Omega) = sum_k xi^k g_k (degree 2 to 8).
 //
 // At a speed, at() reduces this model once more by Craig-Bampton on its own interior block, dense:
 // the model handed to a run has today's size (retained DOFs + the deck's modes). At a sample speed the
@@ -43,8 +47,9 @@ struct SpeedParametricModel {
   ReducedModel base;
   std::vector<double> speeds;                  ///< the samples, ascending (rad/s)
   std::vector<std::vector<double>> stiffness;  ///< C_1 .. C_(S-1), N x N column-major each
-  std::vector<std::vector<double>> growth;     ///< g_0 .. g_(S-1), 3 per node each
-  int boundarySize = 0;                        ///< retained DOFs, the first columns of T
+  std::vector<std::vector<double>> growth;     ///< g_0 .. g_P, 3 per node each: u_s(Omega) = sum_k xi^k g_k
+  double growthFitError = 0;  ///< the polynomial's largest difference from the Galerkin static state, relative
+  int boundarySize = 0;       ///< retained DOFs, the first columns of T
   /// The static state of every sample (an Automatic choice resolved at the highest speed).
   StaticState staticState = StaticState::Linear;
 

@@ -173,7 +173,7 @@ void addBodyParameters(Teuchos::ParameterList& pl) {
                  "speeds' and take the "
                  "model at 'Speed' from it (a speed sweep then reduces nothing per speed); "
                  "empty: reduce at 'Speed' directly");
-  addInt(rot, "Sample speeds", 3,
+  addInt(rot, "Sample speeds", 2,
          "Speeds of the range reduced directly (Chebyshev-Lobatto points in Omega^2, "
          "both ends included)",
          2, 12);

@@ -354,14 +354,15 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
   Teuchos::broadcast(*comm, 0, Teuchos::outArg(cached));
   if (cached) {
     broadcast(pm.base, *comm);
-    int sizes[3] = {static_cast<int>(pm.speeds.size()), pm.boundarySize, static_cast<int>(pm.staticState)};
-    Teuchos::broadcast(*comm, 0, 3, sizes);
+    int sizes[4] = {static_cast<int>(pm.speeds.size()), pm.boundarySize, static_cast<int>(pm.staticState),
+                    static_cast<int>(pm.growth.size())};
+    Teuchos::broadcast(*comm, 0, 4, sizes);
     pm.speeds.resize(static_cast<std::size_t>(sizes[0]));
     pm.boundarySize = sizes[1];
     pm.staticState = static_cast<StaticState>(sizes[2]);
     Teuchos::broadcast(*comm, 0, sizes[0], pm.speeds.data());
     pm.stiffness.resize(static_cast<std::size_t>(sizes[0] - 1));
-    pm.growth.resize(static_cast<std::size_t>(sizes[0]));
+    pm.growth.resize(static_cast<std::size_t>(sizes[3]));
     const std::size_t N = static_cast<std::size_t>(pm.base.size), rows = 3 * pm.base.coords.size();
     for (auto& c : pm.stiffness) {
       c.resize(N * N);
@@ -396,7 +397,9 @@ SpeedParametricModel Scene::parametricModel(Body* b, const ParameterList& bp, co
       << (imported.empty() ? (pm.staticState == StaticState::StressStiffened ? "stress-stiffened" : "linear")
                            : "CalculiX (imported)")
       << " static states, common basis of " << pm.base.size << " DOFs (" << pm.boundarySize << " retained), in "
-      << formatDuration(built.seconds()) << "\n";
+      << formatDuration(built.seconds()) << "; the static state between samples by Galerkin on the basis, fitted by "
+      << "a polynomial of degree " << pm.growth.size() - 1 << " in Omega^2 within " << pm.growthFitError
+      << " of its largest displacement\n";
   if (useCache && comm->getRank() == 0) saveParametricModel(pm, cacheFile, key);
   return pm;
 }
