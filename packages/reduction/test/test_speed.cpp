@@ -165,6 +165,26 @@ TEST(ModelAtSpeed, AnAxisOfZeroLengthIsAnError) {
   EXPECT_THROW(spinAxis({0, 0, 0}, {0, 0, 0}, "test"), Error);
 }
 
+namespace {
+
+/// The clamped steel beam of the parametric-model tests (hub 0.2 m, 0.3 x 0.03 x 0.006 m, 24 x 2 x 2
+/// elements), its tip node set, 6 fixed-interface modes, one stress-stiffened static state for the
+/// samples and the direct reductions, and Omega_max = 2 omega_0 (f1 more than doubles).
+struct RotatingBeam {
+  FullModel beam = box({0.2, -0.015, -0.003}, {0.3, 0.03, 0.006}, {24, 2, 2}, steel, true);
+  std::vector<int> tip = beam.mesh.nodeSet("x+", "test");
+  CraigBamptonOptions co;
+  RotationOptions rot;
+  double top = 0;
+  RotatingBeam() {
+    co.modes = 6;
+    rot.staticState = StaticState::StressStiffened;
+    top = 2.0 * std::sqrt(denseEigenpairs(gatherDense(*beam.K), gatherDense(*beam.M), beam.numFree)[0]);
+  }
+};
+
+}  // namespace
+
 // The parametric model over [0, Omega_max] from 3 samples: at a sample speed it is the direct
 // Craig-Bampton reduction at that speed (its common basis contains that speed's constraint and
 // fixed-interface modes to 1e-8 of their length: every frequency to 1e-8, the boundary-dominated ones
@@ -172,15 +192,8 @@ TEST(ModelAtSpeed, AnAxisOfZeroLengthIsAnError) {
 // between samples its frequencies and static state are within the bounds below of the direct
 // reduction's at that speed (the measured errors are printed).
 TEST(ModelAtSpeed, TheParametricModelIsExactAtItsSamplesAndCloseBetween) {
-  const double L = 0.3, b = 0.03, t = 0.006, hub = 0.2;
-  const FullModel beam = box({hub, -b / 2, -t / 2}, {L, b, t}, {24, 2, 2}, steel, true);
-  const auto tip = beam.mesh.nodeSet("x+", "test");
-  CraigBamptonOptions co;
-  co.modes = 6;
-  RotationOptions rot;
-  rot.staticState = StaticState::StressStiffened;  // one static state for the samples and the direct reductions
-  const double lambda0 = denseEigenpairs(gatherDense(*beam.K), gatherDense(*beam.M), beam.numFree)[0];
-  const double top = 2.0 * std::sqrt(lambda0);  // Omega_max = 2 omega_0: f1 more than doubles
+  const RotatingBeam rb;
+  const auto& [beam, tip, co, rot, top] = rb;
   const auto samples = sampleSpeeds(0, top, 3);
   ASSERT_EQ(samples.size(), 3u);
   EXPECT_EQ(samples[0], 0.0);
@@ -231,15 +244,8 @@ TEST(ModelAtSpeed, TheParametricModelIsExactAtItsSamplesAndCloseBetween) {
 // through the two samples' states (what a polynomial through 2 samples gives). Its polynomial fit
 // matches the Galerkin solution to 1e-6.
 TEST(ModelAtSpeed, TheGalerkinStaticStateFollowsTheStiffnessBetweenTwoSamples) {
-  const double L = 0.3, b = 0.03, t = 0.006, hub = 0.2;
-  const FullModel beam = box({hub, -b / 2, -t / 2}, {L, b, t}, {24, 2, 2}, steel, true);
-  const auto tip = beam.mesh.nodeSet("x+", "test");
-  CraigBamptonOptions co;
-  co.modes = 6;
-  RotationOptions rot;
-  rot.staticState = StaticState::StressStiffened;
-  const double lambda0 = denseEigenpairs(gatherDense(*beam.K), gatherDense(*beam.M), beam.numFree)[0];
-  const double top = 2.0 * std::sqrt(lambda0);
+  const RotatingBeam rb;
+  const auto& [beam, tip, co, rot, top] = rb;
   const SpeedParametricModel pm = parametricCraigBampton(beam, tip, co, rot, sampleSpeeds(0, top, 2));
   EXPECT_LE(pm.growthFitError, 1e-6);
   RotationOptions o = rot;
@@ -300,15 +306,8 @@ double largestRelative(const std::vector<double>& a, const std::vector<double>& 
 // on each; measured 7.5e-8 (frequencies), 5.5e-7 (flexibility), 9.0e-8 (static state), so asserted at
 // 1e-5, 1e-5 and 5e-5, a regression's scale.
 TEST(ModelAtSpeed, TheMasslessBoundaryParametricModelIsExactAtItsSamplesAndCloseBetween) {
-  const double L = 0.3, b = 0.03, t = 0.006, hub = 0.2;
-  const FullModel beam = box({hub, -b / 2, -t / 2}, {L, b, t}, {24, 2, 2}, steel, true);
-  const auto tip = beam.mesh.nodeSet("x+", "test");
-  CraigBamptonOptions co;
-  co.modes = 6;
-  RotationOptions rot;
-  rot.staticState = StaticState::StressStiffened;
-  const double lambda0 = denseEigenpairs(gatherDense(*beam.K), gatherDense(*beam.M), beam.numFree)[0];
-  const double top = 2.0 * std::sqrt(lambda0);
+  const RotatingBeam rb;
+  const auto& [beam, tip, co, rot, top] = rb;
   const auto samples = sampleSpeeds(0, top, 3);
   const SpeedParametricModel pm = parametricMasslessBoundary(beam, tip, co, rot, samples);
   ASSERT_TRUE(pm.base.massless());
