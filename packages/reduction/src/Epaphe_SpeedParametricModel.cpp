@@ -334,8 +334,8 @@ Dense coordinatesOnBasis(const SpeedParametricModel& p, const Dense& u) {
   return q;
 }
 
-/// The static state over the speed range by Galerkin on the common basis: the reduced load is
-/// interpolated in xi through the samples', b(xi_s) = T^T K(Omega_s) u_s = K_T(xi_s) q_s (q_s the
+/// The static state over the speed range by Galerkin on the common basis (eq. (79), docs/theory/reduction.md): the
+/// reduced load is interpolated in xi through the samples', b(xi_s) = T^T K(Omega_s) u_s = K_T(xi_s) q_s (q_s the
 /// coordinates of u_s, which T contains), and u_s(xi) = T K_T(xi)^-1 b(xi). At a sample this is u_s
 /// (the Galerkin solution is exact when the solution lies in the space); between samples it follows
 /// the stiffness K_T(xi), where a polynomial through the samples' u_s would miss the static state's
@@ -410,7 +410,7 @@ void galerkinStaticState(SpeedParametricModel& p, const std::vector<Dense>& Ks, 
   }
 }
 
-/// The model on the common basis T = p.base.recovery (rows x N, row-major): T^T M T, the coefficients
+/// The model on the common basis T = p.base.recovery (rows x N, row-major), eq. (78): T^T M T, the coefficients
 /// of T^T K(Omega) T as a polynomial in xi = (Omega / Omega_max)^2 through the samples, and the static
 /// state u_s(Omega) (galerkinStaticState).
 void interpolate(SpeedParametricModel& p, const FullModel& rest, const Samples& samples) {
