@@ -334,34 +334,17 @@ Dense coordinatesOnBasis(const SpeedParametricModel& p, const Dense& u) {
   return q;
 }
 
-/// The static state over the speed range by Galerkin on the common basis (eq. (79), docs/theory/reduction.md): the
-/// reduced load is interpolated in xi through the samples', b(xi_s) = T^T K(Omega_s) u_s = K_T(xi_s) q_s (q_s the
-/// coordinates of u_s, which T contains), and u_s(xi) = T K_T(xi)^-1 b(xi). At a sample this is u_s
+/// The static state over the speed range by Galerkin on the common basis (eq. (79), docs/theory/reduction.md),
+/// u_s(xi) = T K_T(xi)^-1 b(xi), from the reduced load's coefficients b(xi) = sum_k xi^k beta_k (interpolate()
+/// passes them through the samples' b(xi_s) = T^T K(Omega_s) u_s = K_T(xi_s) q_s). At a sample this is u_s
 /// (the Galerkin solution is exact when the solution lies in the space); between samples it follows
 /// the stiffness K_T(xi), where a polynomial through the samples' u_s would miss the static state's
 /// curvature in Omega^2 (a {40,20,3} blade with 2 samples: 18.5 % off the direct reduction's tip growth
 /// at mid-range). The field is then fitted by a polynomial in xi, p.growth, at Chebyshev-Lobatto points
 /// of degree 2, 4 or 8, the first whose fit matches the Galerkin solution at the next degree's new
-/// points to 1e-7 of the largest displacement (the fit's error is kept in p.growthFitError).
-void galerkinStaticState(SpeedParametricModel& p, const std::vector<Dense>& Ks, const std::vector<Dense>& grow,
-                         const Dense& X) {
-  const int N = p.base.size, S = static_cast<int>(p.speeds.size());
-  const std::size_t rows = grow[0].size();
-  std::vector<Dense> loads(static_cast<std::size_t>(S));
-  double largest = 0;
-  for (int s = 0; s < S; ++s) {
-    const Dense q = coordinatesOnBasis(p, grow[s]);
-    loads[s].assign(static_cast<std::size_t>(N), 0.0);
-    for (int j = 0; j < N; ++j)
-      for (int i = 0; i < N; ++i) loads[s][i] += Ks[s][static_cast<std::size_t>(j) * N + i] * q[j];
-    for (double v : grow[s]) largest = std::max(largest, std::abs(v));
-  }
-  std::vector<Dense> beta(static_cast<std::size_t>(S));  // b(xi) = sum_k xi^k beta_k
-  for (int k = 0; k < S; ++k) {
-    beta[k].assign(static_cast<std::size_t>(N), 0.0);
-    for (int s = 0; s < S; ++s)
-      for (int i = 0; i < N; ++i) beta[k][i] += X[static_cast<std::size_t>(s) * S + k] * loads[s][i];
-  }
+/// points to 1e-7 of `largest`, the largest displacement (the fit's error is kept in p.growthFitError).
+void galerkinStaticState(SpeedParametricModel& p, const std::vector<Dense>& beta, std::size_t rows, double largest) {
+  const int N = p.base.size;
   const double xiMin = p.xiOf(p.minSpeed());
   Teuchos::LAPACK<int, double> lapack;
   std::map<double, Dense> solved;  // u_s(xi) by xi
@@ -371,13 +354,9 @@ void galerkinStaticState(SpeedParametricModel& p, const std::vector<Dense>& Ks, 
     int info = 0;
     factorAtSpeed(K, N, p.maxSpeed() * std::sqrt(xi), "body '" + p.base.name + "'");
     lapack.POTRS('L', N, 1, K.data(), N, b.data(), N, &info);
-    Dense u(rows, 0.0);
-    for (std::size_t i = 0; i < rows; ++i) {
-      const double* t = &p.base.recovery[i * N];
-      double v = 0;
-      for (int c = 0; c < N; ++c) v += t[c] * b[c];
-      u[i] = v;
-    }
+    Dense u(rows);  // T q: the row-major rows x N recovery is T^T column-major
+    Teuchos::BLAS<int, double>().GEMV(Teuchos::TRANS, N, static_cast<int>(rows), 1.0, p.base.recovery.data(), N,
+                                      b.data(), 1, 0.0, u.data(), 1);
     return solved.emplace(xi, std::move(u)).first->second;
   };
   auto node = [&](int k, int P) { return xiMin + (1 - xiMin) * 0.5 * (1 - std::cos(M_PI * k / P)); };
@@ -436,7 +415,18 @@ void interpolate(SpeedParametricModel& p, const FullModel& rest, const Samples& 
   p.base.K = coefficient(Ks, 0);
   p.stiffness.clear();
   for (int k = 1; k < S; ++k) p.stiffness.push_back(coefficient(Ks, k));
-  galerkinStaticState(p, Ks, samples.grow, X);
+  // the reduced load at the samples, K_T(xi_s) q_s, and its coefficients in xi
+  std::vector<Dense> loads(static_cast<std::size_t>(S), Dense(static_cast<std::size_t>(N)));
+  double largest = 0;
+  for (int s = 0; s < S; ++s) {
+    const Dense q = coordinatesOnBasis(p, samples.grow[s]);
+    Teuchos::BLAS<int, double>().GEMV(Teuchos::NO_TRANS, N, N, 1.0, Ks[s].data(), N, q.data(), 1, 0.0, loads[s].data(),
+                                      1);
+    for (double v : samples.grow[s]) largest = std::max(largest, std::abs(v));
+  }
+  std::vector<Dense> beta;
+  for (int k = 0; k < S; ++k) beta.push_back(coefficient(loads, k));
+  galerkinStaticState(p, beta, samples.grow[0].size(), largest);
 }
 
 /// A parametric model's fields common to both methods, from the first sample's reduction.
