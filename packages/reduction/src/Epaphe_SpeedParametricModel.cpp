@@ -315,6 +315,41 @@ int orthonormalise(Dense& Y, int rows, int cols, const std::string& body) {
   return r;
 }
 
+/// u - Psi u_b (3 per node, mesh order): a displacement u less the constraint modes Psi (the first nb
+/// columns of the row-major recovery R, ld columns a row) times its values u_b at the retained DOFs
+/// (nodeDof's first nb): its interior part, zero on the retained rows. nb = 0: u itself.
+Dense interiorPart(const Dense& R, std::size_t ld, const std::vector<int>& nodeDof, int nb, const Dense& u) {
+  std::vector<double> ub(static_cast<std::size_t>(nb));
+  for (std::size_t i = 0; i < u.size() && nb > 0; ++i)
+    if (const int j = nodeDof[i]; j >= 0 && j < nb) ub[j] = u[i];
+  Dense r(u.size());
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    double v = u[i];
+    for (int j = 0; j < nb; ++j) v -= R[i * ld + j] * ub[j];
+    r[i] = v;
+  }
+  return r;
+}
+
+/// The vectors a common basis is made of (column-major, `rows` each, up to `capacity`), each added
+/// scaled: by its own length, or by `scale` when given (> 0); zero vectors are left out.
+struct BasisVectors {
+  BasisVectors(std::size_t n, int capacity) : rows(n), Y(n * static_cast<std::size_t>(capacity), 0.0) {}
+  template <class F>
+  void add(F value, double scale = 0.0) {
+    double norm = 0;
+    for (std::size_t i = 0; i < rows; ++i) norm += value(i) * value(i);
+    norm = std::sqrt(norm);
+    if (norm == 0) return;
+    if (scale > 0) norm = scale;
+    for (std::size_t i = 0; i < rows; ++i) Y[static_cast<std::size_t>(count) * rows + i] = value(i) / norm;
+    ++count;
+  }
+  std::size_t rows;
+  Dense Y;
+  int count = 0;
+};
+
 /// The coordinates q of a displacement u (3 per node, mesh order) in the span of the common basis T
 /// = p.base.recovery, T q = u: for a Craig-Bampton basis T = [I 0; Psi V], u's values at the retained
 /// DOFs and V^T (u - Psi u_b) (V orthonormal and zero on the retained rows); for a massless boundary's
@@ -325,12 +360,9 @@ Dense coordinatesOnBasis(const SpeedParametricModel& p, const Dense& u) {
   Dense q(static_cast<std::size_t>(N), 0.0);
   for (std::size_t i = 0; i < u.size() && nb > 0; ++i)
     if (const int j = p.base.nodeDof[i]; j >= 0 && j < nb) q[j] = u[i];
-  for (std::size_t i = 0; i < u.size(); ++i) {
-    const double* t = &T[i * N];
-    double r = u[i];  // (u - Psi u_b)_i, zero on the retained rows
-    for (int j = 0; j < nb; ++j) r -= t[j] * q[j];
-    for (int c = nb; c < N; ++c) q[c] += t[c] * r;
-  }
+  const Dense r = interiorPart(T, static_cast<std::size_t>(N), p.base.nodeDof, nb, u);
+  for (std::size_t i = 0; i < u.size(); ++i)
+    for (int c = nb; c < N; ++c) q[c] += T[i * N + c] * r[i];
   return q;
 }
 
@@ -485,9 +517,7 @@ SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std
   // constraint mode is in the span to 1e-8 of its length; the frequencies at the samples stay within
   // 2e-9 of the direct reduction's, test_speed.cpp). The drop keeps the basis, and the projections,
   // small: on a 10,000-DOF blade with 82 retained nodes and 4 samples it keeps 424 of 796 vectors.
-  const int m = S * modes + (S - 1) * nR + S;
-  Dense Y(rows * static_cast<std::size_t>(m), 0.0);  // column-major rows x m
-  int col = 0;
+  BasisVectors Y(rows, S * modes + (S - 1) * nR + S);
   std::vector<double> psiNorm(static_cast<std::size_t>(nR), 0.0);
   for (std::size_t i = 0; i < rows; ++i)
     for (int j = 0; j < nR; ++j) {
@@ -495,38 +525,21 @@ SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std
       psiNorm[j] += v * v;
     }
   for (double& v : psiNorm) v = std::sqrt(v);
-  auto addColumn = [&](auto value, double scale) {
-    double norm = 0;
-    for (std::size_t i = 0; i < rows; ++i) norm += value(i) * value(i);
-    norm = std::sqrt(norm);
-    if (norm == 0) return;
-    if (scale > 0) norm = scale;
-    for (std::size_t i = 0; i < rows; ++i) Y[static_cast<std::size_t>(col) * rows + i] = value(i) / norm;
-    ++col;
-  };
   for (int s = 0; s < S; ++s) {
     const std::size_t n = static_cast<std::size_t>(red[s].size);
-    for (int j = 0; j < modes; ++j) addColumn([&](std::size_t i) { return red[s].recovery[i * n + nR + j]; }, 0.0);
+    for (int j = 0; j < modes; ++j) Y.add([&](std::size_t i) { return red[s].recovery[i * n + nR + j]; });
     if (s > 0)
       for (int j = 0; j < nR; ++j)
-        addColumn([&](std::size_t i) { return red[s].recovery[i * n + j] - red[0].recovery[i * red[0].size + j]; },
-                  psiNorm[j]);
+        Y.add([&](std::size_t i) { return red[s].recovery[i * n + j] - red[0].recovery[i * red[0].size + j]; },
+              psiNorm[j]);
   }
   // the static states' interior parts u_s - Psi_1 u_s,b (for the Galerkin static state between samples)
-  std::vector<double> ub(static_cast<std::size_t>(nR));
   for (int s = 0; s < S; ++s) {
-    const Dense& u = samples.grow[s];
-    for (std::size_t i = 0; i < rows; ++i)
-      if (const int j = red[0].nodeDof[i]; j >= 0 && j < nR) ub[j] = u[i];
-    addColumn(
-        [&](std::size_t i) {
-          double v = u[i];
-          for (int j = 0; j < nR; ++j) v -= red[0].recovery[i * red[0].size + j] * ub[j];
-          return v;
-        },
-        0.0);
+    const Dense v =
+        interiorPart(red[0].recovery, static_cast<std::size_t>(red[0].size), red[0].nodeDof, nR, samples.grow[s]);
+    Y.add([&](std::size_t i) { return v[i]; });
   }
-  const int r = orthonormalise(Y, static_cast<int>(rows), col, rest.name);
+  const int r = orthonormalise(Y.Y, static_cast<int>(rows), Y.count, rest.name);
   const int N = nR + r;
 
   SpeedParametricModel p = shell(rest, samples, speeds, nR, N);
@@ -535,7 +548,7 @@ SpeedParametricModel parametricCraigBampton(SpeedSampleSource& source, const std
   for (std::size_t i = 0; i < rows; ++i)
     for (int j = 0; j < nR; ++j) T[i * N + j] = red[0].recovery[i * red[0].size + j];
   for (std::size_t i = 0; i < rows; ++i)
-    for (int c = 0; c < r; ++c) T[i * N + nR + c] = Y[static_cast<std::size_t>(c) * rows + i];
+    for (int c = 0; c < r; ++c) T[i * N + nR + c] = Y.Y[static_cast<std::size_t>(c) * rows + i];
   interpolate(p, rest, samples);
   if (const auto G = source.coriolis(); !G.is_null()) p.base.coriolis = reducedCoriolis(*G, rest, T, N);
   ReductionReport rep = samples.rep;
@@ -575,31 +588,16 @@ SpeedParametricModel parametricMasslessBoundary(SpeedSampleSource& source, const
   // to forces on the retained DOFs and the modes), each column scaled to unit length: at a sample the
   // massless reduction of the projected model then has that sample's modes (Rayleigh-Ritz) and its
   // static responses (Galerkin, exact when the solution is in the space), to the basis's 1e-8.
-  Dense Y(rows * static_cast<std::size_t>(S) * (red[0].size + 1), 0.0);
-  int col = 0;
+  BasisVectors Y(rows, S * (red[0].size + 1));
   for (int s = 0; s < S; ++s) {
     const std::size_t n = static_cast<std::size_t>(red[s].size);
-    for (std::size_t j = 0; j < n; ++j) {
-      double norm = 0;
-      for (std::size_t i = 0; i < rows; ++i) norm += red[s].recovery[i * n + j] * red[s].recovery[i * n + j];
-      if (norm == 0) continue;
-      norm = std::sqrt(norm);
-      for (std::size_t i = 0; i < rows; ++i)
-        Y[static_cast<std::size_t>(col) * rows + i] = red[s].recovery[i * n + j] / norm;
-      ++col;
-    }
-    // the static state (for the Galerkin static state between samples)
-    double norm = 0;
-    for (double v : samples.grow[s]) norm += v * v;
-    if (norm == 0) continue;
-    norm = std::sqrt(norm);
-    for (std::size_t i = 0; i < rows; ++i) Y[static_cast<std::size_t>(col) * rows + i] = samples.grow[s][i] / norm;
-    ++col;
+    for (std::size_t j = 0; j < n; ++j) Y.add([&](std::size_t i) { return red[s].recovery[i * n + j]; });
+    Y.add([&](std::size_t i) { return samples.grow[s][i]; });  // for the Galerkin static state between samples
   }
-  const int N = orthonormalise(Y, static_cast<int>(rows), col, rest.name);
+  const int N = orthonormalise(Y.Y, static_cast<int>(rows), Y.count, rest.name);
   SpeedParametricModel p = shell(rest, samples, speeds, nR, N);
   for (std::size_t i = 0; i < rows; ++i)
-    for (int c = 0; c < N; ++c) p.base.recovery[i * N + c] = Y[static_cast<std::size_t>(c) * rows + i];
+    for (int c = 0; c < N; ++c) p.base.recovery[i * N + c] = Y.Y[static_cast<std::size_t>(c) * rows + i];
   interpolate(p, rest, samples);
   // T^T M e_d: a rigid translation's load on the basis (the kept modes' Phi^T M e_d at a speed)
   const MultiVector Td = rigidTranslations(rest);
