@@ -10,6 +10,8 @@ namespace epaphe {
 
 namespace {
 
+constexpr int kRunChunk = 24;  // relativeColumns' entries of Y in registers
+
 /// True when system DOF `dof` lies in block b, [offset, offset + size) of the blocks' host copy bH.
 bool inBlock(const Kokkos::View<int* [2]>::HostMirror& bH, int dof, int b) {
   const int nb = static_cast<int>(bH.extent(0));
@@ -26,11 +28,26 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
   initCarriedSurfaces(nodes, surfaces);
   controlColumns(surfaces);
   const int nc = static_cast<int>(nodes.labels.size());
+  {  // U's map over the canonical surfaces with H; Y holds at most every control point or 16 per node
+    const int ns = static_cast<int>(surfaces.size());
+    uMapOff_ = Kokkos::View<long*>("epaphe::contact::U_map_offset", ns);
+    uRuns_ = Kokkos::View<int* [2]>("epaphe::contact::U_runs", ns);
+    long points = 0;
+    for (int s = 0; s < ns; ++s) {
+      uMapOff_(s) = -1;
+      if (ctrl_.hOff(s, s) < 0 || ctrl_.canon(s) != s) continue;
+      uMapOff_(s) = points;
+      points += static_cast<long>(ctrl_.dim(s, 0)) * ctrl_.dim(s, 1);
+    }
+    uMap_ = Kokkos::View<int*>("epaphe::contact::U_map", points);
+    uRun_ = Kokkos::View<int* [3]>("epaphe::contact::U_run", points);
+    fill(uMap_, -1);
+    Y_ = Kokkos::View<double**>("epaphe::contact::Y", points > 0 ? nc : 0, 9 * std::min(points, 16L * nc));
+  }
   wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, carried_.maxGrid[0]);
   wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, carried_.maxGrid[1]);
   pbasis_ = Kokkos::View<double* [8]>("epaphe::contact::patch_basis", nc);
   pcell_ = Kokkos::View<int* [2]>("epaphe::contact::patch_cell", nc);
-  T_ = Kokkos::View<double**, Kokkos::LayoutLeft>("epaphe::contact::BuFDt", ctrl_.tRows, 3 * nc);
   const int maxEntries = 1 + std::min(carried_.maxGrid[0], 46) * std::min(carried_.maxGrid[1], 46);
   D_.dof = Kokkos::View<int** [3]>("epaphe::contact::entry_dof", nc, maxEntries);
   D_.w = Kokkos::View<double**>("epaphe::contact::entry_weight", nc, maxEntries);
@@ -44,7 +61,8 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
 
 void RelativeFlexibility::update(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
                                  const Kokkos::View<int*>::HostMirror& surfH, const DetectionViews& dv) {
-  relativeColumns(activeH, active, surfH, dv);
+  patchBases(activeH, surfH, dv);
+  relativeColumns(active, static_cast<int>(activeH.size()), dv);
   relativePairs(activeH, active, dv);
 }
 
@@ -222,48 +240,15 @@ void RelativeFlexibility::controlColumns(const std::vector<ContactSurface>& surf
 
 void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surfaces, const std::vector<double>& G) {
   const int ns = static_cast<int>(surfaces.size());
-  // T (relativeColumns), per carried surface with control columns: rows ctrl_.tOff(s) + 3 nv A + 3 q + e2
-  // (a patch's rows A = i..i+3 are one contiguous run); for P below, the dense rows of its grid DOFs
-  // at gridRowOff[s] + (3 q + e2) nu + p (-1: clamped), and B_u transposed at buOff[s] + p nuE + A
-  ctrl_.tOff = Kokkos::View<long*>("epaphe::contact::T_offset", ns);
-  std::vector<long> gridRowOff(ns, -1), buOff(ns, -1);
-  needRange_ = Kokkos::View<int* [2]>("epaphe::contact::needed_rows", ns);
-  needRangeH_ = Kokkos::create_mirror_view(needRange_);
-  std::vector<int> rows;
-  std::vector<double> buT;
-  long tRows = 0;
-  for (int s = 0; s < ns; ++s) {
-    ctrl_.tOff(s) = -1;
-    if (ctrl_.off(s) < 0) continue;
-    if (ctrl_.canon(s) != s) {  // a copy: the first one's rows
-      ctrl_.tOff(s) = ctrl_.tOff(ctrl_.canon(s));
-      continue;
-    }
-    const ContactSurface& cs = surfaces[s];
-    const BSplineSurface& S = *cs.surface;
-    const int nu = S.nu(), nv = S.nv(), inNv = S.inputNv(), nuE = ctrl_.dim(s, 0);
-    ctrl_.tOff(s) = tRows;
-    tRows += 3L * nuE * nv;
-    gridRowOff[s] = static_cast<long>(rows.size());
-    for (int q = 0; q < nv; ++q)
-      for (int e2 = 0; e2 < 3; ++e2)
-        for (int p = 0; p < nu; ++p) {
-          const int j = cs.gridDofs[3 * (static_cast<std::size_t>(p) * inNv + q) + e2];
-          rows.push_back(j < 0 ? -1 : F_.denseRow(j));
-        }
-    buOff[s] = static_cast<long>(buT.size());
-    for (int p = 0; p < nu; ++p)
-      for (int a = 0; a < nuE; ++a) buT.push_back(S.operatorU()[static_cast<std::size_t>(a) * nu + p]);
-  }
-  ctrl_.tRows = tRows;
   ctrl_.G = Kokkos::View<double*>("epaphe::contact::control_columns", G.size());
   for (std::size_t i = 0; i < G.size(); ++i) ctrl_.G(i) = G[i];
-  // P(s2, s) for two surfaces with control columns on one block: s's control columns G on s2's grid
-  // rows, contracted with s2's B_u as T is, P(:, c) = sum_p B_u(A, p) G(grid row (p, q, e2'), c). It
-  // is about G's size (s2's grid rows are most of the block's).
-  ctrl_.pOff = Kokkos::View<long**>("epaphe::contact::P_offset", ns, ns);
+  // H(s2, s) for two surfaces with control columns on one block: s's control columns G on s2's grid
+  // rows, interpolated as s2's control points are (eq. 2.26): H(:, c) = sum_pq B_u(A, p) B_v(B, q)
+  // G(grid row (p, q, e2'), c), B_u first (into one column Y(A, q, e2') at a time), then B_v. It is
+  // about G's size (s2's grid rows are most of the block's).
+  ctrl_.hOff = Kokkos::View<long**>("epaphe::contact::H_offset", ns, ns);
   ctrl_.coefOff = Kokkos::View<long*>("epaphe::contact::coefficient_offset", ns);
-  std::vector<double> P;
+  std::vector<double> H, Y;
   long coefs = 0;
   for (int s2 = 0; s2 < ns; ++s2) {
     ctrl_.coefOff(s2) = -1;
@@ -276,33 +261,48 @@ void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surface
       }
     }
     for (int s = 0; s < ns; ++s) {
-      ctrl_.pOff(s2, s) = -1;
-      if (ctrl_.tOff(s2) < 0 || ctrl_.off(s) < 0 || surfaces[s].block != surfaces[s2].block) continue;
-      if (ctrl_.canon(s2) != s2 || ctrl_.canon(s) != s) {  // copies: the first ones' P (made before)
-        ctrl_.pOff(s2, s) = ctrl_.pOff(ctrl_.canon(s2), ctrl_.canon(s));
+      ctrl_.hOff(s2, s) = -1;
+      if (ctrl_.off(s2) < 0 || ctrl_.off(s) < 0 || surfaces[s].block != surfaces[s2].block) continue;
+      if (ctrl_.canon(s2) != s2 || ctrl_.canon(s) != s) {  // copies: the first ones' H (made before)
+        ctrl_.hOff(s2, s) = ctrl_.hOff(ctrl_.canon(s2), ctrl_.canon(s));
         continue;
       }
+      const ContactSurface& cs2 = surfaces[s2];
+      const BSplineSurface& S2 = *cs2.surface;
       const int blk = surfaces[s].block, n = F_.blocks(blk, 1), r0 = F_.denseRow(F_.blocks(blk, 0));
-      const int nu2 = surfaces[s2].surface->nu(), nv2 = surfaces[s2].surface->nv(), nuE2 = ctrl_.dim(s2, 0);
-      const long rowsP = 3L * nv2 * nuE2, cols = 3L * ctrl_.dim(s, 0) * ctrl_.dim(s, 1);
-      ctrl_.pOff(s2, s) = static_cast<long>(P.size());
-      P.resize(P.size() + rowsP * cols, 0.0);
+      const int nu2 = S2.nu(), nv2 = S2.nv(), inNv2 = S2.inputNv(), nuE2 = ctrl_.dim(s2, 0), nvE2 = ctrl_.dim(s2, 1);
+      const std::vector<double>&Bu = S2.operatorU(), &Bv = S2.operatorV();
+      const long rowsH = 3L * nuE2 * nvE2, cols = 3L * ctrl_.dim(s, 0) * ctrl_.dim(s, 1);
+      ctrl_.hOff(s2, s) = static_cast<long>(H.size());
+      H.resize(H.size() + rowsH * cols, 0.0);
+      Y.assign(3L * nuE2 * nv2, 0.0);
       for (long c = 0; c < cols; ++c) {
         const double* g = &G[ctrl_.off(s) + c * n];
-        double* out = &P[ctrl_.pOff(s2, s) + c * rowsP];
-        for (int qe = 0; qe < 3 * nv2; ++qe)
-          for (int p = 0; p < nu2; ++p) {
-            const int j = rows[gridRowOff[s2] + static_cast<long>(qe) * nu2 + p];
-            const double y = j >= 0 ? g[j - r0] : 0.0;
-            if (y == 0.0) continue;
-            const double* b = &buT[buOff[s2] + static_cast<long>(p) * nuE2];
-            for (int A = 0; A < nuE2; ++A) out[static_cast<long>(A) * 3 * nv2 + qe] += b[A] * y;
-          }
+        std::fill(Y.begin(), Y.end(), 0.0);  // Y(A, q, e2') = sum_p B_u(A, p) G((p, q, e2'), c)
+        for (int p = 0; p < nu2; ++p)
+          for (int q = 0; q < nv2; ++q)
+            for (int e2 = 0; e2 < 3; ++e2) {
+              const int j = cs2.gridDofs[3 * (static_cast<std::size_t>(p) * inNv2 + q) + e2];
+              const double y = j >= 0 ? g[F_.denseRow(j) - r0] : 0.0;  // (-1: clamped)
+              if (y == 0.0) continue;
+              for (int A = 0; A < nuE2; ++A)
+                Y[(static_cast<long>(A) * nv2 + q) * 3 + e2] += Bu[static_cast<long>(A) * nu2 + p] * y;
+            }
+        double* out = &H[ctrl_.hOff(s2, s) + c * rowsH];  // H(A, B, e2') = sum_q B_v(B, q) Y(A, q, e2')
+        for (int A = 0; A < nuE2; ++A)
+          for (int B = 0; B < nvE2; ++B)
+            for (int q = 0; q < nv2; ++q) {
+              const double w = Bv[static_cast<long>(B) * nv2 + q];
+              if (w == 0.0) continue;
+              for (int e2 = 0; e2 < 3; ++e2)
+                out[(static_cast<long>(A) * nvE2 + B) * 3 + e2] += w * Y[(static_cast<long>(A) * nv2 + q) * 3 + e2];
+            }
       }
     }
   }
-  ctrl_.P = Kokkos::View<double*>("epaphe::contact::control_columns_on_grids", P.size());
-  for (std::size_t i = 0; i < P.size(); ++i) ctrl_.P(i) = P[i];
+  H.resize(H.size() + kRunChunk, 0.0);  // relativeColumns reads up to kRunChunk past a run's end
+  ctrl_.H = Kokkos::View<double*>("epaphe::contact::control_flexibility", H.size());
+  for (std::size_t i = 0; i < H.size(); ++i) ctrl_.H(i) = H[i];
   ctrl_.coef = Kokkos::View<double*>("epaphe::contact::control_coefficients", coefs);
 }
 
@@ -371,96 +371,115 @@ void RelativeFlexibility::motionEntries(const DetectionViews& dv) {
       });
 }
 
-void RelativeFlexibility::relativeColumns(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
-                                          const Kokkos::View<int*>::HostMirror& surfH, const DetectionViews& dv) {
-  // For the active nodes: what C_ab = D_a F D_b^T needs of F D_b^T beyond F itself. Its part on
-  // node b's own (dense) block is F's columns at b's DOFs, read in place; a carried surface on a
-  // diagonal block has no dense rows; so only a patch node (its surface's block has control
-  // columns) has a part to form: T on the grids of that block (eq. 2.26), and its patch's basis.
-  // Then C_ab = D_a (F D_b^T).
-  const int nA = static_cast<int>(activeH.size());
-  const auto surf = dv.selected;
-  const auto info = unmanaged(carried_.info);
-  const auto patch = unmanaged(patch_);
-  const auto pbasis = unmanaged(pbasis_);
-  const auto pcell = unmanaged(pcell_);
-  const auto ctrlDim = unmanaged(ctrl_.dim);
-  const auto rot = unmanaged(D_.rot);
-  const auto T = unmanaged(T_);
-  const auto tOff = unmanaged(ctrl_.tOff);
-  const auto need = unmanaged(needRange_);
-  const auto Pm = unmanaged(ctrl_.P);
-  const auto pOff = unmanaged(ctrl_.pOff);
-  const auto canon = unmanaged(ctrl_.canon);
+void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokkos::View<int*>::HostMirror& surfH,
+                                     const DetectionViews& dv) {
+  // per active patch node, its patch: the first control point (i, j) and the cubic basis of the foot
+  // point (eq. 2.22), read by C and by the correction; and U, the control points of the patches
+  // (per canonical surface, in the order of H's rows)
   const int ns = static_cast<int>(carried_.info.extent(0));
-  if (ctrl_.tRows > 0) {
-    // per patch node, its patch: the first control point (i, j) and the cubic basis of the foot
-    // point (eq. 2.22), read below, by C and by the correction; per surface, the rows of B_u that
-    // the patches of the active nodes read
-    for (int s = 0; s < ns; ++s) {
-      needRangeH_(s, 0) = 1 << 30;
-      needRangeH_(s, 1) = -1;
+  for (std::size_t x = 0; x < uMap_.extent(0); ++x) uMap_(x) = -1;
+  for (const int k : activeH) {
+    const int s = surfH(k);
+    if (patch_(k) < 0) continue;
+    int i, j;
+    double tu, tv, bu[4], bv[4], d1[4], d2[4];
+    surface_detail::locate(dv.foot(k, 0), carried_.info(s, 1), carried_.info(s, 4) != 0, i, tu);
+    surface_detail::locate(dv.foot(k, 1), carried_.info(s, 2), carried_.info(s, 5) != 0, j, tv);
+    surface_detail::cubicBasis(tu, bu, d1, d2);
+    surface_detail::cubicBasis(tv, bv, d1, d2);
+    pcell_(k, 0) = i;
+    pcell_(k, 1) = j;
+    for (int r = 0; r < 4; ++r) {
+      pbasis_(k, r) = bu[r];
+      pbasis_(k, 4 + r) = bv[r];
     }
-    for (int a = 0; a < nA; ++a) {
-      const int k = activeH[a], s = surfH(k);
-      if (patch_(k) < 0) continue;
-      int i, j;
-      double tu, tv, bu[4], bv[4], d1[4], d2[4];
-      surface_detail::locate(dv.foot(k, 0), carried_.info(s, 1), carried_.info(s, 4) != 0, i, tu);
-      surface_detail::locate(dv.foot(k, 1), carried_.info(s, 2), carried_.info(s, 5) != 0, j, tv);
-      surface_detail::cubicBasis(tu, bu, d1, d2);
-      surface_detail::cubicBasis(tv, bv, d1, d2);
-      pcell_(k, 0) = i;
-      pcell_(k, 1) = j;
-      for (int r = 0; r < 4; ++r) {
-        pbasis_(k, r) = bu[r];
-        pbasis_(k, 4 + r) = bv[r];
+    const int c = ctrl_.canon(s), nvE = ctrl_.dim(c, 1);
+    if (uMapOff_(c) < 0) continue;
+    for (int r = 0; r < 4; ++r)
+      for (int t = 0; t < 4; ++t) uMap_(uMapOff_(c) + static_cast<long>(i + r) * nvE + j + t) = 0;
+  }
+  int u = 0, x = 0;
+  for (int s = 0; s < ns; ++s) {
+    uRuns_(s, 0) = uRuns_(s, 1) = x;
+    if (uMapOff_(s) < 0) continue;
+    const int nuE = ctrl_.dim(s, 0), nvE = ctrl_.dim(s, 1);
+    for (int A = 0; A < nuE; ++A)
+      for (int B = 0; B < nvE; ++B) {
+        int& m = uMap_(uMapOff_(s) + static_cast<long>(A) * nvE + B);
+        if (m < 0) continue;
+        if (B == 0 || uMap_(uMapOff_(s) + static_cast<long>(A) * nvE + B - 1) < 0) {  // a new run
+          uRun_(x, 0) = u;
+          uRun_(x, 1) = 3 * (A * nvE + B);
+          uRun_(x, 2) = 0;
+          ++x;
+        }
+        ++uRun_(x - 1, 2);
+        m = u++;
       }
-      const int c = ctrl_.canon(s);  // the rows of T a copy's nodes read are its first one's
-      needRangeH_(c, 0) = std::min(needRangeH_(c, 0), i);
-      needRangeH_(c, 1) = std::max(needRangeH_(c, 1), i + 3);
-    }
-    copy(needRange_, needRangeH_);
-    const long work = 600L * carried_.maxGrid[1] + 10;
-    forEach(
-        "epaphe::contact::relative_columns", 3 * nA, work, KOKKOS_LAMBDA(const int ae) {
-          const int k = active(ae / 3), e = ae % 3, c = 3 * k + e;
-          const int s = surf(k), pb = patch(k);
-          // a patch node's part on its surface's block comes from the 4 x 4 control points of its
-          // patch, w_ab = -R(e, e2) b_a b_b (D_k's grid part: -R sum w_pq u_pq), instead of the grid
-          // nodes' entries
-          // T(:, c): column c on the grid of each carried surface s2 with control columns on the
-          // block of node k's surface, contracted with the rows A of B_u that the active patches
-          // read (eq. 2.26): T(s2; A, q, e2) = sum_p B_u(A, p) (F D_k^T)(grid DOF (p, q, e2), e),
-          // 16 columns of P. (F D_k^T has no other part on a grid: no contact node is on a body
-          // that carries a surface, so k's own block carries none.)
-          for (int s2 = 0; s2 < ns; ++s2) {
-            const int blk2 = info(s2, 0), lo = need(s2, 0), hi = need(s2, 1);
-            if (tOff(s2) < 0 || canon(s2) != s2 || hi < lo || !(s >= 0 && info(s, 0) == blk2)) continue;
-            const int nv = info(s2, 2), nuE = ctrlDim(s2, 0);
-            const int m = 3 * nv;  // T's rows A = lo..hi: one run of (hi - lo + 1) m
-            double* t = &T(tOff(s2) + static_cast<long>(lo) * m, c);
-            for (int x = 0; x < (hi - lo + 1) * m; ++x) t[x] = 0.0;
-            if (pb != blk2) continue;
-            const long rowsP = 3L * nv * nuE;
-            const int nuEs = ctrlDim(s, 0), nvEs = ctrlDim(s, 1);
-            for (int e2 = 0; e2 < 3; ++e2) {
-              const double w = -rot(k, e, e2);
-              if (w == 0.0) continue;
-              for (int a = 0; a < 4; ++a)
-                for (int b = 0; b < 4; ++b) {
-                  const double wab = w * pbasis(k, a) * pbasis(k, 4 + b);
-                  const double* pc =
-                      &Pm(pOff(s2, s) +
-                          ((static_cast<long>(e2) * nuEs + pcell(k, 0) + a) * nvEs + pcell(k, 1) + b) * rowsP) +
-                      static_cast<long>(lo) * m;
-                  for (int x = 0; x < (hi - lo + 1) * m; ++x) t[x] += wab * pc[x];
+    uRuns_(s, 1) = x;
+  }
+  nU_ = u;
+  EPAPHE_REQUIRE(9L * u <= static_cast<long>(Y_.extent(1)) || u == 0,
+                 "contact: " << u << " control points read, room for " << Y_.extent(1) / 9);
+}
+
+void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv) {
+  // Y_b = sum_r's' b_r' b_s' H(U, (., i_b + r', j_b + s')) of every active patch node b, on U of each
+  // canonical surface of b's block: 48 columns of H on the rows of U (3 a point), one node a thread
+  if (Y_.extent(0) == 0) return;
+  const auto surf = dv.selected;
+  const auto patch = unmanaged(patch_);
+  const auto pcell = unmanaged(pcell_);
+  const auto pbasis = unmanaged(pbasis_);
+  const auto ctrlDim = unmanaged(ctrl_.dim);
+  const auto H = unmanaged(ctrl_.H);
+  const auto hOff = unmanaged(ctrl_.hOff);
+  const auto uRuns = unmanaged(uRuns_);
+  const auto uRun = unmanaged(uRun_);
+  const auto uMapOff = unmanaged(uMapOff_);
+  const auto Y = unmanaged(Y_);
+  const int ns = static_cast<int>(carried_.info.extent(0));
+  const int nU = nU_;
+  forEach(
+      "epaphe::contact::relative_columns", nA, 48L * 3 * nU + 10, KOKKOS_LAMBDA(const int b) {
+        const int k = active(b), sb = surf(k);
+        if (patch(k) < 0) return;
+        double* y = &Y(k, 0);
+        for (int x = 0; x < 9 * nU; ++x) y[x] = 0.0;
+        const int nuEb = ctrlDim(sb, 0), nvEb = ctrlDim(sb, 1);
+        for (int s2 = 0; s2 < ns; ++s2) {
+          const int x0 = uRuns(s2, 0), x1 = uRuns(s2, 1);
+          if (uMapOff(s2) < 0 || x1 == x0 || hOff(s2, sb) < 0) continue;
+          const long rowsH = 3L * ctrlDim(s2, 0) * ctrlDim(s2, 1);
+          double w[16];
+          for (int rp = 0; rp < 4; ++rp)
+            for (int sp = 0; sp < 4; ++sp) w[4 * rp + sp] = pbasis(k, rp) * pbasis(k, 4 + sp);
+          for (int e2p = 0; e2p < 3; ++e2p) {
+            const double* col[16];  // the columns (e2', i_k + r', j_k + s')
+            for (int c = 0; c < 16; ++c)
+              col[c] = &H(hOff(s2, sb) +
+                          ((static_cast<long>(e2p) * nuEb + pcell(k, 0) + c / 4) * nvEb + pcell(k, 1) + c % 4) * rowsH);
+            for (int x = x0; x < x1; ++x) {  // a run: consecutive rows of H, consecutive entries of Y
+              double* yu = y + 9L * uRun(x, 0) + 3 * e2p;
+              // 24 entries at a time (8 points) summed over the 16 columns in registers: a shorter run reads
+              // past its end (H is padded) and keeps its own
+              for (int i0 = 0; i0 < 3 * uRun(x, 2); i0 += kRunChunk) {
+                double acc[kRunChunk];
+                const int row = uRun(x, 1) + i0;
+                for (int i = 0; i < kRunChunk; ++i) {
+                  double a = 0.0;
+#pragma GCC unroll 16
+                  for (int c = 0; c < 16; ++c) a += w[c] * col[c][row + i];
+                  acc[i] = a;
                 }
+                const int len = 3 * uRun(x, 2) - i0 < kRunChunk ? 3 * uRun(x, 2) - i0 : kRunChunk;
+                for (int i = 0; i < len; ++i) yu[9 * ((i0 + i) / 3) + (i0 + i) % 3] = acc[i];  // (point, e2)
+              }
             }
           }
-        });
-    fence();
-  }
+        }
+      });
+  fence();
 }
 
 void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
@@ -469,14 +488,16 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
   const auto surf = dv.selected;
   const auto info = unmanaged(carried_.info);
   const auto F = F_.untracked();
-  const auto T = unmanaged(T_);
-  const auto tOff = unmanaged(ctrl_.tOff);
+  const auto Y = unmanaged(Y_);
+  const auto uMap = unmanaged(uMap_);
+  const auto uMapOff = unmanaged(uMapOff_);
+  const auto canon = unmanaged(ctrl_.canon);
+  const auto ctrlDim = unmanaged(ctrl_.dim);
   const Kokkos::View<int*> nodeBlk = unmanaged(nodeBlk_);  // (FlexibleColumn refers to it)
   const auto patch = unmanaged(patch_);
   const auto blocks = unmanaged(blocks_);
   const auto pcell = unmanaged(pcell_);
   const auto pbasis = unmanaged(pbasis_);
-  const auto wv = unmanaged(wv_);
   const auto C = unmanaged(C_);
   const auto known = unmanaged(known_);
   const auto fixed = unmanaged(fixedC_);
@@ -486,15 +507,18 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
   // Node a's own part reads F D_b^T at a's DOFs: F's block at (a's DOFs, b's) when both are in one
   // dense block, else 0 (a's body carries no surface: no patch of b's is on it), FlexibleColumn in
   // a diagonal block. On a carried surface with control columns its grid part is
-  // -R_a sum_pq w_p w_q (F D_b^T)(grid node pq) = -R_a sum_r b_r sum_q w_q T_b(i + r, q), the cubic
-  // basis b_r of the foot point's patch i (eqs. 2.22, 2.26); on one with none (a diagonal block)
+  // -R_a sum_pq w_p w_q (F D_b^T)(grid node pq), w_p w_q = sum_rs b_r b_s B_u(i + r, p) B_v(j + s, q)
+  // (eqs. 2.22, 2.26), and F D_b^T on that grid is nonzero only for a patch node b of the same block,
+  // -sum_r's' b_r' b_s' F (B_u x B_v)^T(:, ., i_b + r', j_b + s') R_b^T: so the part is
+  // R_a X R_b^T with X = sum b_r b_s b_r' b_s' H((i_a + r, j_a + s), (i_b + r', j_b + s')) =
+  // sum_rs b_r b_s Y_b(i_a + r, j_a + s) (relativeColumns); on a surface with none (a diagonal block)
   // D_a's entries are walked.
   // Two nodes whose D has its own entry alone (a body's node against a rigid or turning surface:
   // weight 1 on its DOFs, the turn applied to the gap's normal, not to D) have C_ab = F's block at
   // their DOFs, the same at every step: made once and kept (fixedC_), where it was made again at
   // every step with contact (rotor37-massless, frictionless: 7 % of its loop, 117 pairs a step).
   forEach(
-      "epaphe::contact::relative_flexibility", nA, 30L * static_cast<long>(D_.w.extent(1)) * nA,
+      "epaphe::contact::relative_flexibility", nA, (30L * static_cast<long>(D_.w.extent(1)) + 160) * nA,
       KOKKOS_LAMBDA(const int a) {
         const int ka = active(a), sa = surf(ka), pa = patch(ka);
         const bool direct = D.count(ka) == 1 || pa >= 0;
@@ -508,8 +532,16 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
           for (int e = 0; e < 3; ++e) R[d][e] = D.rot(ka, d, e);
         }
         const bool dense = F.denseRow(dof[0]) >= 0;  // a's block is dense
-        const int nv = pa >= 0 ? info(sa, 2) : 0;
-        const long t0 = pa >= 0 ? tOff(sa) + 3L * nv * pcell(ka, 0) : 0;  // (its patch: relativeColumns)
+        double wa[16];                               // a's patch: b_r b_s and the points' indices in U (patchBases)
+        int ua[16];
+        for (int r = 0; r < 4; ++r)
+          for (int t = 0; t < 4; ++t) {
+            wa[4 * r + t] = pa >= 0 ? pbasis(ka, r) * pbasis(ka, 4 + t) : 0.0;
+            ua[4 * r + t] =
+                pa >= 0 && uMapOff(canon(sa)) >= 0
+                    ? uMap(uMapOff(canon(sa)) + static_cast<long>(pcell(ka, 0) + r) * ctrlDim(sa, 1) + pcell(ka, 1) + t)
+                    : -1;
+          }
         for (int b = 0; b < nA; ++b) {
           const int kb = active(b);
           const bool constant = ownOnly && D.count(kb) == 1 && patch(kb) < 0;
@@ -538,23 +570,20 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
             for (int e = 0; e < 3; ++e)
               for (int d = 0; d < 3; ++d) own[d][e] = w0 * FlexibleColumn{F, D, nodeBlk, kb, e}(dof[d]);
           }
-          if (pa >= 0) {                                                           // the grid part, R_a g
-            double g[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // g[e][e2]
-            if (surf(kb) >= 0 && info(surf(kb), 0) == pa) {
-              for (int e = 0; e < 3; ++e) {  // T's rows of the patch, (r, q, e2), are one run of 12 nv
-                const double* tc = &T(t0, 3 * kb + e);
-                for (int r = 0; r < 4; ++r, tc += 3 * nv)
-                  for (int q = 0; q < nv; ++q) {
-                    const double w = pbasis(ka, r) * wv(ka, q);
-                    g[e][0] -= w * tc[3 * q];
-                    g[e][1] -= w * tc[3 * q + 1];
-                    g[e][2] -= w * tc[3 * q + 2];
-                  }
-              }
+          if (pa >= 0 && patch(kb) == pa) {                                        // the grid part, R_a X R_b^T
+            double X[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // X[e2][e2']
+            for (int x = 0; x < 16; ++x) {
+              const double* y = &Y(kb, 9 * ua[x]);  // (e2', e2)
+              for (int e2p = 0; e2p < 3; ++e2p)
+                for (int e2 = 0; e2 < 3; ++e2) X[e2][e2p] += wa[x] * y[3 * e2p + e2];
             }
+            double g[3][3];  // g[d][e2'] = (R_a X)[d][e2']
+            for (int d = 0; d < 3; ++d)
+              for (int e2p = 0; e2p < 3; ++e2p)
+                g[d][e2p] = R[d][0] * X[0][e2p] + R[d][1] * X[1][e2p] + R[d][2] * X[2][e2p];
             for (int d = 0; d < 3; ++d)
               for (int e = 0; e < 3; ++e)
-                own[d][e] = own[d][e] + R[d][0] * g[e][0] + R[d][1] * g[e][1] + R[d][2] * g[e][2];
+                own[d][e] += g[d][0] * D.rot(kb, e, 0) + g[d][1] * D.rot(kb, e, 1) + g[d][2] * D.rot(kb, e, 2);
           }
           for (int d = 0; d < 3; ++d)
             for (int e = 0; e < 3; ++e) C(ka, kb, d, e) = own[d][e];

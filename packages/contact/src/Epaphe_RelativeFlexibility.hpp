@@ -10,10 +10,12 @@
 // F D_b^T is never formed. Its part on node b's own dense block is F's columns at b's DOFs, read in
 // place; a carried surface on a diagonal block has no dense rows (its part is a scaling of D's
 // entries). A node on a carried surface of a dense block (a "patch node") reads its surface's grid
-// through the 4 x 4 control points of its patch: the control columns G = F (B_u x B_v), made once
+// through the 4 x 4 control points of its patch: the control columns G = F (B_u x B_v)^T, made once
 // (ControlColumns), give -R sum_rs b_r b_s G(:, ., i + r, j + s), 16 columns instead of up to 46 x 46
-// grid nodes; T, per step, is that on the grids of the same block contracted with the rows of B_u the
-// active patches read (made from P, G on those grids, once).
+// grid nodes; and two patch nodes on one block meet through H = (B_u x B_v) G on the grid, the
+// flexibility between control points (made once). Per step, Y_b = H's 48 columns at b's patch,
+// weighted by its basis, on the control points the active patches read (U); then C_ab's grid part
+// reads Y_b at a's 16 points.
 #include "Epaphe_ContactDetection.hpp"
 #include "Epaphe_DenseTypes.hpp"
 #include "Epaphe_Flexibility.hpp"
@@ -71,20 +73,19 @@ struct ControlColumns {
   Kokkos::View<double*> G;
   Kokkos::View<long*> off;     ///< [s] where surface s's columns start in G (-1: none)
   Kokkos::View<int* [2]> dim;  ///< [s] nuE, nvE of surface s's extended control grid
-  /// per such surface, T's rows: tOff(s) + 3 nv A + 3 q + e2 (tRows in all)
-  Kokkos::View<long*> tOff;
-  long tRows = 0;  ///< rows of T in all
-  /// ...the columns of s on the grid of a carried surface s2 of the same block, contracted with B_u as
-  /// T is: P(s2, s) at pOff(s2, s), column (e2, a, b) of s, row 3 nv2 A + 3 q + e2'
-  Kokkos::View<double*> P;
-  Kokkos::View<long**> pOff;  ///< [s2][s] where P(s2, s) starts (-1: none)
+  /// ...the flexibility between the control points of s2 and of s, two such surfaces of one block:
+  /// H(s2, s) = (B_u x B_v) of s2 applied to s's columns G on s2's grid, at hOff(s2, s), column
+  /// (e2, a, b) of s as in G, row 3 nvE2 A + 3 B + e2' ((A, B) a control point of s2: a patch's
+  /// 4 x 4 points are 4 runs of 12)
+  Kokkos::View<double*> H;
+  Kokkos::View<long**> hOff;  ///< [s2][s] where H(s2, s) starts (-1: none)
   /// per such surface: the active nodes' coefficients on its control columns at coefOff(s) +
   /// (e2 nuE + a) nvE + b (summed over the nodes, then applied by the correction)
   Kokkos::View<double*> coef;
   Kokkos::View<long*> coefOff;  ///< [s] where surface s's coefficients start in coef (-1: none)
   /// [s] the first surface carried by the same moving surface (s itself but for the copies a stage
-  /// makes, one per instance, ContactSurface::onlyBlock): a copy shares its G, T rows, P and
-  /// coefficients, which are made and applied once
+  /// makes, one per instance, ContactSurface::onlyBlock): a copy shares its G, H and coefficients,
+  /// which are made and applied once
   Kokkos::View<int*> canon;
 };
 
@@ -133,8 +134,9 @@ private:
   void initCarriedSurfaces(const ContactNodes& nodes, std::vector<ContactSurface>& surfaces);
   void controlColumns(const std::vector<ContactSurface>& surfaces);
   void gridColumns(const std::vector<ContactSurface>& surfaces, const std::vector<double>& G);
-  void relativeColumns(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
-                       const Kokkos::View<int*>::HostMirror& surfH, const DetectionViews& dv);
+  void patchBases(const std::vector<int>& activeH, const Kokkos::View<int*>::HostMirror& surfH,
+                  const DetectionViews& dv);
+  void relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv);
   void relativePairs(const std::vector<int>& activeH, const Kokkos::View<int*>& active, const DetectionViews& dv);
 
   Flexibility::Packed F_;
@@ -145,16 +147,22 @@ private:
   RelativeMotion D_;                // D_k's entries: DOF triples, weights, count, R of the surface
   Kokkos::View<double**> wu_, wv_;  // spline weights of the nodes' foot points
   Kokkos::View<int*> patch_;        // per node: its surface's block if that has control columns, else -1
-  // per patch node (made by relativeColumns for the active ones): its patch's cubic basis, b(u) then
+  // per patch node (made by patchBases for the active ones): its patch's cubic basis, b(u) then
   // b(v), and first control point
   Kokkos::View<double* [8]> pbasis_;
   Kokkos::View<int* [2]> pcell_;
-  // T: per carried surface with control columns, F D_k^T on its grid contracted with the rows
-  // [needRange_(s, 0), needRange_(s, 1)] of B_u that the active nodes' patches read, at rows
-  // ctrl_.tOff(s) + 3 nv A + 3 q + e2
-  Kokkos::View<double**, Kokkos::LayoutLeft> T_;
-  Kokkos::View<int* [2]> needRange_;
-  Kokkos::View<int* [2]>::HostMirror needRangeH_;
+  // U, the control points the active patches read (made by patchBases): per canonical surface s with
+  // H, uMap_(uMapOff_(s) + A nvE + B) its index u in U (-1: not read); U's points in runs of
+  // consecutive B (consecutive rows of H), run x = {its first u, its first row in a column of H,
+  // its points} at uRun_(x), those of s in [uRuns_(s, 0), uRuns_(s, 1))
+  Kokkos::View<int*> uMap_;
+  Kokkos::View<int* [3]> uRun_;
+  Kokkos::View<long*> uMapOff_;
+  Kokkos::View<int* [2]> uRuns_;
+  int nU_ = 0;  // U's points
+  // per active patch node k: Y_k(e2', u, e2) = sum_r's' b_r' b_s' H((u, e2), (e2', i_k + r', j_k + s'))
+  // at 9 u + 3 e2' + e2 (relativeColumns)
+  Kokkos::View<double**> Y_;
   Kokkos::View<double** [3][3]> C_;  // C_ab = D_a F D_b^T (active pairs)
   Kokkos::View<int*> known_;         // per node: its row and column of C made at this step
   Kokkos::View<int**> fixedC_;       // per pair: C_ab made from their own entries alone (constant)
