@@ -58,7 +58,8 @@ Scenes (the online-step issue's):
   cube-flexible-rings        E = 2.1 GPa for all bodies, h = 1e-6 s, 20 ms (the thesis' effective stiffness)
   stage-flexible-casing      8 instances of a massless blade (128 contact nodes) in a thin massless
                              casing: the relative flexibility couples every active node through the
-                             casing (reported, not guarded: see 'reported_only' in the reference file)
+                             casing through its control points, which the bound does not count (its
+                             ceiling in the reference file says what that work is)
   bar-on-wall                launch overhead: the deck run to 2 ms (20,000 steps; the deck's 2,000
                              loop in about 13 ms, too short to time)
 """
