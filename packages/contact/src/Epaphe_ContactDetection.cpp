@@ -120,6 +120,10 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   for (int k = 0; k < nc; ++k) v.block(k) = blocks.empty() ? 0 : blocks[k];
   v.onlyBlock = Kokkos::View<int*>("epaphe::contact::only_block", ns);
   for (int s = 0; s < ns; ++s) v.onlyBlock(s) = surfaces_[s].onlyBlock;
+  surfacesOf_.assign(nc, 0);
+  for (int k = 0; k < nc; ++k)
+    for (int s = 0; s < ns; ++s) surfacesOf_[k] += surfaces_[s].onlyBlock < 0 || surfaces_[s].onlyBlock == v.block(k);
+  for (const int m : surfacesOf_) projectionsUnskipped_ += m;
   for (int s = 0; s < ns; ++s) {
     ContactSurface& cs = surfaces_[s];
     if (cs.moving) cs.surface = cs.moving;
@@ -503,9 +507,9 @@ void ContactDetection::project(bool all, bool refineOnly) {
   const double rampEnd = t < rampEnd_ ? rampEnd_ : 0.0;  // 0: no offsets any more
   // about 0.6 us per projection of a node on a surface on one thread (warm-started Newton on a
   // bicubic patch), 30 ns per skipped node; as many projections expected as at the last step
-  const long expected = skip && !refineOnly ? std::max(lastProjected_, 1) : nc;
+  const long long expected = skip && !refineOnly ? std::max(lastProjections_, 1LL) : projectionsUnskipped_;
   forEach(
-      "epaphe::contact::detect", nc, 30L + 600L * ns * expected / nc, KOKKOS_LAMBDA(const int k) {
+      "epaphe::contact::detect", nc, 30L + static_cast<long>(600 * expected / nc), KOKKOS_LAMBDA(const int k) {
         if (refineOnly && !v.skip.refine(k)) return;
         double x[3];
         for (int d = 0; d < 3; ++d) x[d] = v.X(k, d) + q(v.dof(k, d));
@@ -609,11 +613,14 @@ void ContactDetection::project(bool all, bool refineOnly) {
       });
   fence();
   int projected = 0, iters = 0;
+  long long projections = 0;
   for (int k = 0; k < nc; ++k) {
     projected += v.iterations(k) > 0;
+    projections += v.iterations(k) > 0 ? surfacesOf_[k] : 0;
     iters = std::max(iters, v.iterations(k));
   }
   lastProjected_ = projected;  // after refine(): this step's projections so far
+  lastProjections_ = projections;
   lastIterations_ = iters;
 }
 

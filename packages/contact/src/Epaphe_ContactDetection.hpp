@@ -220,6 +220,11 @@ public:
   double penetrationRampEnd() const { return rampEnd_; }
   /// Nodes projected by the last detect() (with refine()), and their Newton iterations (max).
   int lastProjected() const { return lastProjected_; }
+  /// Projections (a node on a surface) of the last detect() (with refine()): a projected node counts
+  /// once per surface it is projected on, every surface but another instance's copy.
+  long long lastProjections() const { return lastProjections_; }
+  /// The projections of a detect() that skips no node.
+  long long projectionsUnskipped() const { return projectionsUnskipped_; }
   /// The largest Newton iteration count of the last detect().
   int lastIterations() const { return lastIterations_; }
   /// Warm starts, surface s and node k at 2 (s numNodes() + k) (see SurfaceContact::warmStarts).
@@ -244,6 +249,8 @@ private:
   double smallestPatch_ = 1e300;
   int smallestPatchSurface_ = -1;
   int lastProjected_ = 0, lastIterations_ = 0;
+  std::vector<int> surfacesOf_;  // per node: the surfaces it is projected on
+  long long lastProjections_ = 0, projectionsUnskipped_ = 0;
   bool anyCarried_ = false;
   DenseVector q_;  // the coordinates of the last detect() (for refine())
 };

@@ -210,9 +210,9 @@ bool SurfaceContact::startStep() {
     if (host_.surf(k) >= 0 && host_.gap(k) < 0.0) activeH_.push_back(k);
   }
   numActive_ = static_cast<int>(activeH_.size());
-  const long long ns = detection_->numSurfaces(), projected = detection_->lastProjected();
-  projections_ += ns * projected;  // a node not skipped is projected on every surface
-  projectionsSkipped_ += ns * (nc - projected);
+  const long long projected = detection_->lastProjections();  // a node on each surface but another instance's
+  projections_ += projected;
+  projectionsSkipped_ += detection_->projectionsUnskipped() - projected;
   if (numActive_ > 0) return true;
   enforcement_->commit(v_, activeH_);
   const auto tangent = unmanaged(v_.tangent);

@@ -58,6 +58,30 @@ std::vector<int> dofsOf(int n) {
 
 }  // namespace
 
+TEST(ContactDetection, CountsTheProjectionsOfEachNodeOnItsOwnSurfacesOnly) {
+  // A stage's copies of a surface are each for one instance's nodes (onlyBlock): a node is projected on
+  // its own copy and on the shared surfaces, and the projections counted (the step's bound, the work a
+  // detection expects) are those, not every node on every surface.
+  const double ex[3] = {1, 0, 0}, ey[3] = {0, 1, 0}, ez[3] = {0, 0, 1};
+  const double o1[3] = {0, 0, -1}, o2[3] = {0, 0, 1}, o3[3] = {1, 0, 0};
+  auto floor = plane("floor", o1, ex, ey, 1), ceiling = plane("ceiling", o2, ex, ey, -1),
+       wall = plane("wall", o3, ey, ez, -1);
+  std::vector<ContactSurface> all(3);
+  all[0].surface = floor.get();
+  all[0].onlyBlock = 0;
+  all[1].surface = ceiling.get();
+  all[1].onlyBlock = 1;
+  all[2].surface = wall.get();
+  const std::vector<double> X = {0.1, 0.2, -0.7, 0.3, -0.1, 0.8, 0.0, -0.6, 0.05};
+  ContactDetection d(dofsOf(3), X, all, {}, {0, 0, 1});
+  DenseVector q("q", 9);
+  d.detect(q, 0.0, true);
+  EXPECT_EQ(d.lastProjected(), 3);
+  EXPECT_EQ(d.lastProjections(), 2 + 2 + 2);  // each node: its block's copy and the wall (not 3 x 3)
+  EXPECT_EQ(d.projectionsUnskipped(), 6);
+  EXPECT_EQ(d.views().selected(1), 2);  // node 1 (block 0): the wall, 0.7 away; the ceiling, 0.2 away, is block 1's
+}
+
 TEST(ContactDetection, SelectsTheNearestOfAnyNumberOfSurfaces) {
   // Four surfaces around the nodes: floor z = -1 (normal +z), ceiling z = 1 (normal -z), wall
   // x = 1 (normal -x) and a wall y = -1 turned by 30 degrees about z (normal +y before turning).
