@@ -10,8 +10,6 @@ namespace epaphe {
 
 namespace {
 
-constexpr int kRunChunk = 24;  // relativeColumns' entries of Y in registers
-
 /// True when system DOF `dof` lies in block b, [offset, offset + size) of the blocks' host copy bH.
 bool inBlock(const Kokkos::View<int* [2]>::HostMirror& bH, int dof, int b) {
   const int nb = static_cast<int>(bH.extent(0));
@@ -300,7 +298,6 @@ void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surface
       }
     }
   }
-  H.resize(H.size() + kRunChunk, 0.0);  // relativeColumns reads up to kRunChunk past a run's end
   ctrl_.H = Kokkos::View<double*>("epaphe::contact::control_flexibility", H.size());
   for (std::size_t i = 0; i < H.size(); ++i) ctrl_.H(i) = H[i];
   ctrl_.coef = Kokkos::View<double*>("epaphe::contact::control_coefficients", coefs);
@@ -418,14 +415,14 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
       }
     uRuns_(s, 1) = x;
   }
-  nU_ = u;
-  EPAPHE_REQUIRE(9L * u <= static_cast<long>(Y_.extent(1)) || u == 0,
-                 "contact: " << u << " control points read, room for " << Y_.extent(1) / 9);
+  nU_ = u;  // at most every control point and 16 a node: Y_'s room (constructor)
 }
 
 void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv) {
-  // Y_b = sum_r's' b_r' b_s' H(U, (., i_b + r', j_b + s')) of every active patch node b, on U of each
-  // canonical surface of b's block: 48 columns of H on the rows of U (3 a point), one node a thread
+  // Y_b(u, e2', e2) = sum_r's' b_r' b_s' H((u, e2), (e2', i_b + r', j_b + s')) of every active patch node b,
+  // on U of each canonical surface s2 of b's block. Read by rows of H's transpose: H(s2, s_b)((u, e2), .) =
+  // H(s_b, s2)(., (u, e2)) (F is symmetric), whose rows at b's patch are 4 runs of 12 (s', e2') in the
+  // column (u, e2): 48 contiguous entries a column, one node a thread
   if (Y_.extent(0) == 0) return;
   const auto surf = dv.selected;
   const auto patch = unmanaged(patch_);
@@ -441,42 +438,35 @@ void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int 
   const int ns = static_cast<int>(carried_.info.extent(0));
   const int nU = nU_;
   forEach(
-      "epaphe::contact::relative_columns", nA, 48L * 3 * nU + 10, KOKKOS_LAMBDA(const int b) {
+      "epaphe::contact::relative_columns", nA, 16L * 3 * nU + 10, KOKKOS_LAMBDA(const int b) {
         const int k = active(b), sb = surf(k);
         if (patch(k) < 0) return;
         double* y = &Y(k, 0);
         for (int x = 0; x < 9 * nU; ++x) y[x] = 0.0;
         const int nuEb = ctrlDim(sb, 0), nvEb = ctrlDim(sb, 1);
+        const long rowsB = 3L * nuEb * nvEb;  // rows of H(s_b, s2): s_b's control points
+        double w[4][12];                      // w[r'][3 s' + e2'] = b_r' b_s'
+        for (int rp = 0; rp < 4; ++rp)
+          for (int x = 0; x < 12; ++x) w[rp][x] = pbasis(k, rp) * pbasis(k, 4 + x / 3);
         for (int s2 = 0; s2 < ns; ++s2) {
           const int x0 = uRuns(s2, 0), x1 = uRuns(s2, 1);
-          if (uMapOff(s2) < 0 || x1 == x0 || hOff(s2, sb) < 0) continue;
-          const long rowsH = 3L * ctrlDim(s2, 0) * ctrlDim(s2, 1);
-          double w[16];
-          for (int rp = 0; rp < 4; ++rp)
-            for (int sp = 0; sp < 4; ++sp) w[4 * rp + sp] = pbasis(k, rp) * pbasis(k, 4 + sp);
-          for (int e2p = 0; e2p < 3; ++e2p) {
-            const double* col[16];  // the columns (e2', i_k + r', j_k + s')
-            for (int c = 0; c < 16; ++c)
-              col[c] = &H(hOff(s2, sb) +
-                          ((static_cast<long>(e2p) * nuEb + pcell(k, 0) + c / 4) * nvEb + pcell(k, 1) + c % 4) * rowsH);
-            for (int x = x0; x < x1; ++x) {  // a run: consecutive rows of H, consecutive entries of Y
-              double* yu = y + 9L * uRun(x, 0) + 3 * e2p;
-              // 24 entries at a time (8 points) summed over the 16 columns in registers: a shorter run reads
-              // past its end (H is padded) and keeps its own
-              for (int i0 = 0; i0 < 3 * uRun(x, 2); i0 += kRunChunk) {
-                double acc[kRunChunk];
-                const int row = uRun(x, 1) + i0;
-                for (int i = 0; i < kRunChunk; ++i) {
-                  double a = 0.0;
-#pragma GCC unroll 16
-                  for (int c = 0; c < 16; ++c) a += w[c] * col[c][row + i];
-                  acc[i] = a;
-                }
-                const int len = 3 * uRun(x, 2) - i0 < kRunChunk ? 3 * uRun(x, 2) - i0 : kRunChunk;
-                for (int i = 0; i < len; ++i) yu[9 * ((i0 + i) / 3) + (i0 + i) % 3] = acc[i];  // (point, e2)
+          if (uMapOff(s2) < 0 || x1 == x0 || hOff(sb, s2) < 0) continue;
+          const int nuE2 = ctrlDim(s2, 0), nvE2 = ctrlDim(s2, 1);
+          // b's patch in a column of H(s_b, s2): rows 3 nvEb (i + r') + 3 j + (3 s' + e2')
+          const double* patchRows = &H(hOff(sb, s2) + 3L * nvEb * pcell(k, 0) + 3L * pcell(k, 1));
+          for (int x = x0; x < x1; ++x)
+            for (int p = 0; p < uRun(x, 2); ++p) {
+              const int point = uRun(x, 1) / 3 + p, A = point / nvE2, B = point % nvE2;  // (A, B) of s2
+              double* yu = y + 9L * (uRun(x, 0) + p);
+              for (int e2 = 0; e2 < 3; ++e2) {
+                const double* h = patchRows + ((static_cast<long>(e2) * nuE2 + A) * nvE2 + B) * rowsB;
+                double acc[12] = {};
+                for (int rp = 0; rp < 4; ++rp, h += 3L * nvEb)
+                  for (int i = 0; i < 12; ++i) acc[i] += w[rp][i] * h[i];
+                for (int e2p = 0; e2p < 3; ++e2p)
+                  yu[3 * e2p + e2] = acc[e2p] + acc[3 + e2p] + acc[6 + e2p] + acc[9 + e2p];
               }
             }
-          }
         }
       });
   fence();
