@@ -240,13 +240,15 @@ void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surface
   const int ns = static_cast<int>(surfaces.size());
   ctrl_.G = Kokkos::View<double*>("epaphe::contact::control_columns", G.size());
   for (std::size_t i = 0; i < G.size(); ++i) ctrl_.G(i) = G[i];
-  // H(s2, s) for two surfaces with control columns on one block: s's control columns G on s2's grid
-  // rows, interpolated as s2's control points are (eq. 2.26): H(:, c) = sum_pq B_u(A, p) B_v(B, q)
-  // G(grid row (p, q, e2'), c), B_u first (into one column Y(A, q, e2') at a time), then B_v. It is
-  // about G's size (s2's grid rows are most of the block's).
+  // H(s, s2) for two surfaces with control columns on one block, from s's control columns G on s2's
+  // grid rows interpolated as s2's control points are (eq. 2.26): M(:, c) = sum_pq B_u(A, p) B_v(B, q)
+  // G(grid row (p, q, e2'), c), B_u first (into one column Y(A, q, e2') at a time), then B_v; stored
+  // transposed, H(s, s2) = M^T = (B_u x B_v)_s F^T (B_u x B_v)_s2^T, so that relativeColumns reads a
+  // column of s2 at a patch of s as contiguous runs (the transpose of what it needs, H(s2, s), for any
+  // F). It is about G's size (s2's grid rows are most of the block's).
   ctrl_.hOff = Kokkos::View<long**>("epaphe::contact::H_offset", ns, ns);
   ctrl_.coefOff = Kokkos::View<long*>("epaphe::contact::coefficient_offset", ns);
-  std::vector<double> H, Y;
+  std::vector<double> H, Y, M;
   long coefs = 0;
   for (int s2 = 0; s2 < ns; ++s2) {
     ctrl_.coefOff(s2) = -1;
@@ -258,23 +260,25 @@ void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surface
         coefs += 3L * ctrl_.dim(s2, 0) * ctrl_.dim(s2, 1);
       }
     }
+  }
+  for (int s2 = 0; s2 < ns; ++s2)
+    for (int s = 0; s < ns; ++s) ctrl_.hOff(s, s2) = -1;
+  for (int s2 = 0; s2 < ns; ++s2) {
     for (int s = 0; s < ns; ++s) {
-      ctrl_.hOff(s2, s) = -1;
       if (ctrl_.off(s2) < 0 || ctrl_.off(s) < 0 || surfaces[s].block != surfaces[s2].block) continue;
-      if (ctrl_.canon(s2) != s2 || ctrl_.canon(s) != s) {  // copies: the first ones' H (made before)
-        ctrl_.hOff(s2, s) = ctrl_.hOff(ctrl_.canon(s2), ctrl_.canon(s));
-        continue;
-      }
+      if (ctrl_.canon(s2) != s2 || ctrl_.canon(s) != s) continue;  // copies: the first ones' H (below)
       const ContactSurface& cs2 = surfaces[s2];
       const BSplineSurface& S2 = *cs2.surface;
       const int blk = surfaces[s].block, n = F_.blocks(blk, 1), r0 = F_.denseRow(F_.blocks(blk, 0));
       const int nu2 = S2.nu(), nv2 = S2.nv(), inNv2 = S2.inputNv(), nuE2 = ctrl_.dim(s2, 0), nvE2 = ctrl_.dim(s2, 1);
+      const int nuE = ctrl_.dim(s, 0), nvE = ctrl_.dim(s, 1);
       const std::vector<double>&Bu = S2.operatorU(), &Bv = S2.operatorV();
-      const long rowsH = 3L * nuE2 * nvE2, cols = 3L * ctrl_.dim(s, 0) * ctrl_.dim(s, 1);
-      ctrl_.hOff(s2, s) = static_cast<long>(H.size());
-      H.resize(H.size() + rowsH * cols, 0.0);
+      const long rows = 3L * nuE * nvE, cols = 3L * nuE2 * nvE2;  // H(s, s2)'s
+      ctrl_.hOff(s, s2) = static_cast<long>(H.size());
+      H.resize(H.size() + rows * cols, 0.0);
       Y.assign(3L * nuE2 * nv2, 0.0);
-      for (long c = 0; c < cols; ++c) {
+      M.assign(static_cast<std::size_t>(cols), 0.0);
+      for (long c = 0; c < rows; ++c) {  // c: s's control column (e2, a, b) as in G
         const double* g = &G[ctrl_.off(s) + c * n];
         std::fill(Y.begin(), Y.end(), 0.0);  // Y(A, q, e2') = sum_p B_u(A, p) G((p, q, e2'), c)
         for (int p = 0; p < nu2; ++p)
@@ -286,18 +290,30 @@ void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surface
               for (int A = 0; A < nuE2; ++A)
                 Y[(static_cast<long>(A) * nv2 + q) * 3 + e2] += Bu[static_cast<long>(A) * nu2 + p] * y;
             }
-        double* out = &H[ctrl_.hOff(s2, s) + c * rowsH];  // H(A, B, e2') = sum_q B_v(B, q) Y(A, q, e2')
+        std::fill(M.begin(), M.end(), 0.0);  // M(A, B, e2') = sum_q B_v(B, q) Y(A, q, e2')
         for (int A = 0; A < nuE2; ++A)
           for (int B = 0; B < nvE2; ++B)
             for (int q = 0; q < nv2; ++q) {
               const double w = Bv[static_cast<long>(B) * nv2 + q];
               if (w == 0.0) continue;
               for (int e2 = 0; e2 < 3; ++e2)
-                out[(static_cast<long>(A) * nvE2 + B) * 3 + e2] += w * Y[(static_cast<long>(A) * nv2 + q) * 3 + e2];
+                M[(static_cast<long>(A) * nvE2 + B) * 3 + e2] += w * Y[(static_cast<long>(A) * nv2 + q) * 3 + e2];
             }
+        // H(s, s2): row 3 nvE a + 3 b + e2 of s's point (c = (e2 nuE + a) nvE + b), column (e2', A, B) of s2
+        const long e2 = c / (static_cast<long>(nuE) * nvE), a = (c / nvE) % nuE, b = c % nvE;
+        const long row = 3 * (a * nvE + b) + e2;
+        for (int A = 0; A < nuE2; ++A)
+          for (int B = 0; B < nvE2; ++B)
+            for (int e2p = 0; e2p < 3; ++e2p)
+              H[ctrl_.hOff(s, s2) + ((static_cast<long>(e2p) * nuE2 + A) * nvE2 + B) * rows + row] =
+                  M[(static_cast<long>(A) * nvE2 + B) * 3 + e2p];
       }
     }
   }
+  for (int s2 = 0; s2 < ns; ++s2)  // copies: the first ones' H
+    for (int s = 0; s < ns; ++s)
+      if (ctrl_.hOff(s, s2) < 0 && ctrl_.off(s2) >= 0 && ctrl_.off(s) >= 0 && surfaces[s].block == surfaces[s2].block)
+        ctrl_.hOff(s, s2) = ctrl_.hOff(ctrl_.canon(s), ctrl_.canon(s2));
   ctrl_.H = Kokkos::View<double*>("epaphe::contact::control_flexibility", H.size());
   for (std::size_t i = 0; i < H.size(); ++i) ctrl_.H(i) = H[i];
   ctrl_.coef = Kokkos::View<double*>("epaphe::contact::control_coefficients", coefs);
@@ -419,10 +435,9 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
 }
 
 void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv) {
-  // Y_b(u, e2', e2) = sum_r's' b_r' b_s' H((u, e2), (e2', i_b + r', j_b + s')) of every active patch node b,
-  // on U of each canonical surface s2 of b's block. Read by rows of H's transpose: H(s2, s_b)((u, e2), .) =
-  // H(s_b, s2)(., (u, e2)) (F is symmetric), whose rows at b's patch are 4 runs of 12 (s', e2') in the
-  // column (u, e2): 48 contiguous entries a column, one node a thread
+  // Y_b(u, e2', e2) = sum_r's' b_r' b_s' (B_s2 F B_sb^T)((u, e2), (e2', i_b + r', j_b + s')) of every active
+  // patch node b, on U of each canonical surface s2 of b's block, read from its transpose H(s_b, s2)
+  // (gridColumns): in the column (u, e2), b's patch is 4 runs of 12 (s', e2'), one node a thread
   if (Y_.extent(0) == 0) return;
   const auto surf = dv.selected;
   const auto patch = unmanaged(patch_);

@@ -73,12 +73,12 @@ struct ControlColumns {
   Kokkos::View<double*> G;
   Kokkos::View<long*> off;     ///< [s] where surface s's columns start in G (-1: none)
   Kokkos::View<int* [2]> dim;  ///< [s] nuE, nvE of surface s's extended control grid
-  /// ...the flexibility between the control points of s2 and of s, two such surfaces of one block:
-  /// H(s2, s) = (B_u x B_v) of s2 applied to s's columns G on s2's grid, at hOff(s2, s), column
-  /// (e2, a, b) of s as in G, row 3 nvE2 A + 3 B + e2' ((A, B) a control point of s2: a patch's
-  /// 4 x 4 points are 4 runs of 12)
+  /// ...the flexibility between the control points of s and of s2, two such surfaces of one block:
+  /// H(s, s2) = (B_u x B_v)_s F^T (B_u x B_v)_s2^T on their grids (F^T: what C needs, stored by its
+  /// transpose), at hOff(s, s2): row 3 nvE A + 3 B + e2 ((A, B) a control point of s: a patch's
+  /// 4 x 4 points are 4 runs of 12), column (e2', A', B') of s2 as in G
   Kokkos::View<double*> H;
-  Kokkos::View<long**> hOff;  ///< [s2][s] where H(s2, s) starts (-1: none)
+  Kokkos::View<long**> hOff;  ///< [s][s2] where H(s, s2) starts (-1: none)
   /// per such surface: the active nodes' coefficients on its control columns at coefOff(s) +
   /// (e2 nuE + a) nvE + b (summed over the nodes, then applied by the correction)
   Kokkos::View<double*> coef;

@@ -260,9 +260,9 @@ TEST(SmallDense, EliminationWithPivotingSolvesAsLapackDoes) {
 namespace {
 
 /// Three nodes pressed into a plane carried by a second body (a 6 x 5 grid in z = 0, turned by
-/// 0.3 rad about z), the carrier's flexibility diagonal d_i: as a dense block (C_ab from the
-/// patch's rows of T = B_u F D^T, eq. 2.26) or as a diagonal block (C_ab by walking D_a's grid
-/// entries). Both must give the same forces and correction.
+/// 0.3 rad about z), the carrier's flexibility diagonal d_i: as a dense block (C_ab through the
+/// flexibility between the patches' control points, H = (B_u x B_v) F (B_u x B_v)^T, eq. 2.26) or as
+/// a diagonal block (C_ab by walking D_a's grid entries). Both must give the same forces and correction.
 struct CarriedPlane {
   static constexpr int kNu = 6, kNv = 5, kNodes = 3, kGridDofs = 3 * kNu * kNv, kN = 3 * kNodes + kGridDofs;
   std::vector<double> grid;
