@@ -55,6 +55,21 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
   C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
   known_ = Kokkos::View<int*>("epaphe::contact::known_rows", nc);
   fixedC_ = Kokkos::View<int**>("epaphe::contact::fixed_pairs", nc, nc);
+  // F symmetric (every body but one with gyroscopic terms): relativePairs makes half the pairs
+  symmetric_ = true;
+  for (std::size_t b = 0; b < F_.blocks.extent(0) && symmetric_; ++b) {
+    const int n = F_.blocks(b, 1);
+    if (F_.denseRow(F_.blocks(b, 0)) < 0) continue;  // a diagonal block
+    const double* f = &F_.dense(F_.start(b));
+    double largest = 0.0, skew = 0.0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        largest = std::max(largest, std::fabs(f[static_cast<std::size_t>(j) * n + i]));
+        skew =
+            std::max(skew, std::fabs(f[static_cast<std::size_t>(j) * n + i] - f[static_cast<std::size_t>(i) * n + j]));
+      }
+    symmetric_ = skew <= 1e-12 * largest;
+  }
 }
 
 void RelativeFlexibility::update(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
@@ -522,9 +537,13 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
   // weight 1 on its DOFs, the turn applied to the gap's normal, not to D) have C_ab = F's block at
   // their DOFs, the same at every step: made once and kept (fixedC_), where it was made again at
   // every step with contact (rotor37-massless, frictionless: 7 % of its loop, 117 pairs a step).
+  // With F symmetric, C_ba = C_ab^T: node a makes its pairs with b >= a and writes both (nodes taken
+  // from both ends of the list in turn, so that the threads' blocks hold as many pairs)
+  const bool symmetric = symmetric_;
   forEach(
       "epaphe::contact::relative_flexibility", nA, (30L * static_cast<long>(D_.w.extent(1)) + 160) * nA,
-      KOKKOS_LAMBDA(const int a) {
+      KOKKOS_LAMBDA(const int i) {
+        const int a = symmetric ? (i % 2 == 0 ? i / 2 : nA - 1 - i / 2) : i;
         const int ka = active(a), sa = surf(ka), pa = patch(ka);
         const bool direct = D.count(ka) == 1 || pa >= 0;
         const bool ownOnly = D.count(ka) == 1 && pa < 0;  // D_a is its own entry alone
@@ -547,17 +566,21 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
                     ? uMap(uMapOff(canon(sa)) + static_cast<long>(pcell(ka, 0) + r) * ctrlDim(sa, 1) + pcell(ka, 1) + t)
                     : -1;
           }
-        for (int b = 0; b < nA; ++b) {
+        for (int b = symmetric ? a : 0; b < nA; ++b) {
           const int kb = active(b);
           const bool constant = ownOnly && D.count(kb) == 1 && patch(kb) < 0;
           if ((known(ka) && known(kb)) || (constant && fixed(ka, kb))) continue;
           fixed(ka, kb) = constant ? 1 : 0;
+          if (symmetric) fixed(kb, ka) = fixed(ka, kb);
           if (!direct) {
             for (int e = 0; e < 3; ++e) {
               const FlexibleColumn col{F, D, nodeBlk, kb, e};
               double r[3];
               D.apply(ka, col, r);
-              for (int d = 0; d < 3; ++d) C(ka, kb, d, e) = r[d];
+              for (int d = 0; d < 3; ++d) {
+                C(ka, kb, d, e) = r[d];
+                if (symmetric && b != a) C(kb, ka, e, d) = r[d];
+              }
             }
             continue;
           }
@@ -591,7 +614,10 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
                 own[d][e] += g[d][0] * D.rot(kb, e, 0) + g[d][1] * D.rot(kb, e, 1) + g[d][2] * D.rot(kb, e, 2);
           }
           for (int d = 0; d < 3; ++d)
-            for (int e = 0; e < 3; ++e) C(ka, kb, d, e) = own[d][e];
+            for (int e = 0; e < 3; ++e) {
+              C(ka, kb, d, e) = own[d][e];
+              if (symmetric && b != a) C(kb, ka, e, d) = own[d][e];
+            }
         }
       });
   fence();

@@ -166,6 +166,7 @@ private:
   Kokkos::View<double** [3][3]> C_;  // C_ab = D_a F D_b^T (active pairs)
   Kokkos::View<int*> known_;         // per node: its row and column of C made at this step
   Kokkos::View<int**> fixedC_;       // per pair: C_ab made from their own entries alone (constant)
+  bool symmetric_ = false;           // F symmetric (to 1e-12 of its largest entry): C_ba = C_ab^T
 };
 
 }  // namespace epaphe
