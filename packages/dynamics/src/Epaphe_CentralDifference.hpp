@@ -144,10 +144,9 @@ private:
   /// products), made once per q: a step reads z of q_{n+1} (the exchange), of q_{n-1} (the predictor)
   /// and at a record of q_n and q_{n+1} (the energy). Found by q's values, not its buffer: whatever
   /// wrote a buffer, a q with other values is a new entry. Four kept, the least recently used
-  /// replaced: a reference stays valid over the next call. Four, not three: step n makes z of q_{n+1}
-  /// and reads that of q_{n-1}, made at step n-2; with three, the third-last q made (q_{n-1}) was the
-  /// least recently used when q_n came, and the predictor made it again (1.8 products a step instead
-  /// of 1 on the stage's casing, its 864 x 864 G^{-1}).
+  /// replaced: a reference stays valid over the next call. Four, because step n makes z of q_{n+1} and
+  /// reads that of q_{n-1}, made at step n-2: with three, q_{n-1} is the least recently used when q_n
+  /// comes, and the predictor would make it again.
   struct Residual {
     std::vector<double> q, r, z;
     long long used = 0;  ///< the call that last returned it (0: empty)
