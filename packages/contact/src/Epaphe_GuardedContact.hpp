@@ -26,6 +26,7 @@ public:
   double workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const override {
     return contact_.workIncrement(qNext, qPrev);
   }
+  void generalizedForce(const DenseVector& g) const override { contact_.generalizedForce(g); }
   double totalForce() const override { return contact_.totalForce(); }
   int numActive() const override { return contact_.numActive(); }
   Kokkos::View<double*>::HostMirror forces() const override { return contact_.force(); }

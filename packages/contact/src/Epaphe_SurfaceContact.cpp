@@ -311,6 +311,39 @@ double SurfaceContact::workIncrement(const DenseVector& qNext, const DenseVector
   return w;
 }
 
+void SurfaceContact::generalizedForce(const DenseVector& gOut) const {
+  const auto g = unmanaged(gOut);
+  const auto dir = unmanaged(v_.dir);
+  const auto force = unmanaged(v_.force);
+  const RelativeMotion D = flex_->motion();
+  const int* active = activeH_.data();  // ascending (correctImpl)
+  const int nA = numActive_;
+  fill(g, 0.0);
+  if (nA == 0) return;
+  // D_k^T c_k (RelativeMotion::apply transposed): w_0 c_k at the node's own DOFs, w_m R_k^T c_k at a
+  // grid node's. On the calling thread: nodes share grid DOFs, and the sums run in node order on any
+  // number of threads.
+  forEach(
+      "epaphe::contact::generalized_force", 1, 0, KOKKOS_LAMBDA(const int) {
+        for (int a = 0; a < nA; ++a) {
+          const int k = active[a];
+          const double l = force(k);
+          if (l == 0.0) continue;
+          double c[3], rc[3];
+          for (int d = 0; d < 3; ++d) c[d] = l * dir(k, d);
+          for (int e = 0; e < 3; ++e) rc[e] = D.rot(k, 0, e) * c[0] + D.rot(k, 1, e) * c[1] + D.rot(k, 2, e) * c[2];
+          for (int d = 0; d < 3; ++d)
+            if (D.dof(k, 0, d) >= 0) g(D.dof(k, 0, d)) += D.w(k, 0) * c[d];
+          for (int m = 1; m < D.count(k); ++m)
+            for (int e = 0; e < 3; ++e) {
+              const int i = D.dof(k, m, e);
+              if (i >= 0) g(i) += D.w(k, m) * rc[e];
+            }
+        }
+      });
+  fence();
+}
+
 std::array<double, 2> SurfaceContact::workIncrementSplit(const DenseVector& qNext, const DenseVector& qPrev) const {
   double friction = 0.0;
   if (numActive_ == 0) return {0.0, 0.0};

@@ -138,6 +138,9 @@ public:
   /// sum_a lambda_a c_a . D_a (qNext - qPrev) / 2 (on both bodies when the surface is carried), c_a = n_a + mu_a t_a
   /// the direction the correction used (so friction dissipation is negative contact work and the balance is exact).
   double workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const;
+  /// The last correction's forces on the system's coordinates, g = sum_a lambda_a D_a^T c_a (eq. 2.33),
+  /// into `g` (q's size): the force on each DOF, which workIncrement() is g . (qNext - qPrev) / 2 of.
+  void generalizedForce(const DenseVector& g) const;
   /// workIncrement() split into the normal forces' part (lambda_a n_a) and the friction forces'
   /// (lambda_a mu_a t_a), in that order; for diagnoses (a run that stops), not called by the loop.
   std::array<double, 2> workIncrementSplit(const DenseVector& qNext, const DenseVector& qPrev) const;

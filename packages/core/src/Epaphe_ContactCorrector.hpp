@@ -32,6 +32,9 @@ public:
   virtual std::string checkStep(const DenseVector& qNext, const DenseVector& qCurrent, double t, double h) const = 0;
   /// True when the deck lets a step beyond the guards' bound go on (a warning, counted).
   virtual bool largeMotionAllowed() const = 0;
+  /// The contact forces of the last correction on the system's coordinates, G lambda = sum_k D_k^T
+  /// c_k lambda_k (eq. 2.33; q's layout), into `g`.
+  virtual void generalizedForce(const DenseVector& g) const = 0;
   /// Work of the contact forces of the last correction over [t_{n-1}, t_{n+1}] / 2.
   virtual double workIncrement(const DenseVector& qNext, const DenseVector& qPrev) const = 0;
   /// Sum of the normal forces of the last correction (N) and the number of active nodes.

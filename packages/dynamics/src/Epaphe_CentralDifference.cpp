@@ -51,9 +51,10 @@ struct MasslessOperators {
 // cancelling, 2 q_n - q_{n-1} + A q_n + B (q_n - q_{n-1}) is eta* = (I + A_e) eta_n + (I + B_e)
 // (eta_n - eta_{n-1}) + P_e Phi_b^T z_{n-1} / 2, u_b* = Phi_b eta*, where z = G^{-1} r = G^{-1} L q is
 // the residual's force; dq^T (D + h S) dq = sum_k d_k deta_k^2 + h du^T (z_{n+1} - z_{n-1}); and the
-// residual's stored energy r^T G^{-1} r = r . z. A step makes z once, for q_{n+1}
-// (CentralDifference::residual): the exchange reads it at once, the energy record at this step and
-// the next, the predictor two steps later.
+// residual's stored energy r^T G^{-1} r = r . z. A step has z once, for q_{n+1}: the contact's force
+// f_n (plus the loads' boundary part at t_{n+1}), which r_{n+1} = G f_n makes it, when the loop gives it
+// (setContactForce), else G^{-1} r (CentralDifference::residual). The exchange reads it at once, the
+// energy record at this step and the next, the predictor two steps later.
 MasslessOperators masslessOperators(const ReducedModel& model, double h, const DampingOptions& damping) {
   const int n = model.size;
   const int nb = model.boundarySize(), m = model.numModes;
@@ -327,9 +328,10 @@ void CentralDifference::predict(const DenseVector& qn, const DenseVector& qnm1, 
   }
 }
 
-const CentralDifference::Residual& CentralDifference::residual(const double* q) const {
+CentralDifference::Residual& CentralDifference::entry(const double* q, bool& made) const {
   const std::size_t n = static_cast<std::size_t>(massless_.boundary + massless_.modes);
   ++massless_.uses;
+  made = false;
   for (Residual& s : massless_.cache)  // the same values give the same z: a pure function of q
     if (s.used > 0 && std::memcmp(s.q.data(), q, n * sizeof(double)) == 0) {
       s.used = massless_.uses;
@@ -339,15 +341,24 @@ const CentralDifference::Residual& CentralDifference::residual(const double* q) 
   Residual& s = *std::min_element(massless_.cache.begin(), massless_.cache.end(),
                                   [](const Residual& x, const Residual& y) { return x.used < y.used; });
   s.used = massless_.uses;
+  made = true;
   const int nb = massless_.boundary, m = massless_.modes;
   std::copy(q, q + n, s.q.data());
   std::copy(q, q + nb, s.r.data());
   Teuchos::BLAS<int, double> blas;
   blas.GEMV(Teuchos::NO_TRANS, nb, m, -1.0, massless_.phiB.data(), nb, q + nb, 1, 1.0, s.r.data(),
             1);  // r = u_b - Phi_b eta
+  return s;
+}
+
+const CentralDifference::Residual& CentralDifference::residual(const double* q) const {
+  bool made = false;
+  Residual& s = entry(q, made);
+  if (!made) return s;
   // z = G^{-1} r, one block of rows per thread of the team when it pays (forRowBlocks: G^{-1} is
   // symmetric, so rows r0..r1 are columns r0..r1 of its storage, one contiguous piece each thread
   // streams; blocks at multiples of 8 rows, the same bits on 1 and 2 threads as BodyOperator's)
+  const int nb = massless_.boundary;
   const double* ginv = massless_.ginv.data();
   const double* r = s.r.data();
   double* z = s.z.data();
@@ -358,6 +369,33 @@ const CentralDifference::Residual& CentralDifference::residual(const double* q) 
                });
   fence();
   return s;
+}
+
+void CentralDifference::setContactForce(const DenseVector& qNext, const DenseVector& g) const {
+  if (!massless_.on) return;
+  fence();
+  bool made = false;
+  Residual& s = entry(qNext.data(), made);
+  // z = g_b + f_b(t_{n+1}): the loads' boundary part of this step's predict(..., t) (fLoad_'s first
+  // nb entries hold g_k(t_{n+1}) times it, addLoad())
+  const double* gb = g.data();
+  for (int c = 0; c < massless_.boundary; ++c) s.z[c] = gb[c] + (loads_.empty() ? 0.0 : fLoad_[c]);
+}
+
+std::vector<double> CentralDifference::residualForces(const double* qn, const double* qnm1) const {
+  if (!massless_.on) return {};
+  std::vector<double> z(residual(qnm1).z);
+  const std::vector<double>& zn = residual(qn).z;
+  z.insert(z.end(), zn.begin(), zn.end());
+  return z;
+}
+
+void CentralDifference::restoreResidualForces(const double* qn, const double* qnm1, const double* z) const {
+  if (!massless_.on) return;
+  const int nb = massless_.boundary;
+  bool made = false;
+  std::copy(z, z + nb, entry(qnm1, made).z.begin());
+  std::copy(z + nb, z + 2 * nb, entry(qn, made).z.begin());
 }
 
 void CentralDifference::setStiffness(const std::vector<double>& K) {

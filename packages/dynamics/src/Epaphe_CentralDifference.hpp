@@ -103,12 +103,30 @@ public:
   /// massless boundary (whose exchange with its residual counts as damping).
   bool damped() const { return damped_; }
   /// Bytes of the operators one predict() reads (A, and B when damped): the memory traffic floor of
-  /// a step's integration.
+  /// a step's integration. A massless boundary reads Phi_b; its residual's force comes from the contact
+  /// (setContactForce), G^{-1} is not read in a step that gives it.
   std::size_t predictBytes() const {
-    if (massless_.on)
-      return (massless_.ginv.size() + massless_.phiB.size()) * sizeof(double);   // Phi_b, and G^{-1} for z_{n-1}
+    if (massless_.on) return massless_.phiB.size() * sizeof(double);
     return (kqn_.extent(0) > 0 ? K_ : A_).bytes() + (damped_ ? B_.bytes() : 0);  // lumped: K, not A
   }
+
+  /// True for a massless boundary, whose step reads the contact force the correction applied
+  /// (setContactForce).
+  bool wantsContactForce() const { return massless_.on; }
+  /// After the correction of step n: `g`, the contact force it applied on this body's coordinates
+  /// (G lambda, q's layout), and `qNext` = q_{n+1}. A massless boundary's residual is then r_{n+1} =
+  /// G (g_b + f_b(t_{n+1})), the loads' boundary part at t_{n+1} (predict(..., t)), so its force z =
+  /// G^{-1} r is g_b + f_b(t_{n+1}), kept for q_{n+1} without G^{-1}'s product (nb^2 multiply-adds).
+  /// Nothing on other models.
+  void setContactForce(const DenseVector& qNext, const DenseVector& g) const;
+  /// A massless boundary's residual forces z of q_{n-1} then of q_n (2 nb values; empty on other
+  /// models): the state a checkpoint keeps, since a restart making them by G^{-1} r would differ from
+  /// the contact's by round-off.
+  std::vector<double> residualForces(const double* qn, const double* qnm1) const;
+  /// The number of residualForces()' values.
+  std::size_t residualForceCount() const { return massless_.on ? 2 * static_cast<std::size_t>(massless_.boundary) : 0; }
+  /// Restores residualForces()'s values (residualForceCount() from `z`) for these q_n and q_{n-1}.
+  void restoreResidualForces(const double* qn, const double* qnm1, const double* z) const;
 
   /// Energy terms of the identity above.
   double halfStepEnergy(const DenseVector& qn, const DenseVector& qnp1) const;  ///< E_{n+1/2}
@@ -140,13 +158,13 @@ private:
   bool dissipative_ = false;  // damping (D != 0): dampingIncrement() is not 0
   bool gyroscopic_ = false;   // the Coriolis terms Omega G_r are kept (ReducedModel::coriolis)
   bool forced_ = false;
-  /// Massless boundary: the residual r = u_b - Phi_b eta of a q and its force z = G^{-1} r (nb m + nb^2
-  /// products), made once per q: a step reads z of q_{n+1} (the exchange), of q_{n-1} (the predictor)
-  /// and at a record of q_n and q_{n+1} (the energy). Found by q's values, not its buffer: whatever
-  /// wrote a buffer, a q with other values is a new entry. Four kept, the least recently used
-  /// replaced: a reference stays valid over the next call. Four, because step n makes z of q_{n+1} and
-  /// reads that of q_{n-1}, made at step n-2: with three, q_{n-1} is the least recently used when q_n
-  /// comes, and the predictor would make it again.
+  /// Massless boundary: the residual r = u_b - Phi_b eta of a q and its force z = G^{-1} r, made once
+  /// per q: a step reads z of q_{n+1} (the exchange), of q_{n-1} (the predictor) and at a record of q_n
+  /// and q_{n+1} (the energy). z is the contact's force when setContactForce() gave it (nb m products),
+  /// else G^{-1} r (nb m + nb^2). Found by q's values, not its buffer: whatever wrote a buffer, a q with
+  /// other values is a new entry. Four kept, the least recently used replaced: a reference stays valid
+  /// over the next call. Four, because step n makes z of q_{n+1} and reads that of q_{n-1}, made at
+  /// step n-2: with three, q_{n-1} is the least recently used when q_n comes.
   struct Residual {
     std::vector<double> q, r, z;
     long long used = 0;  ///< the call that last returned it (0: empty)
@@ -166,6 +184,8 @@ private:
     mutable long long uses = 0;
   };
   const Residual& residual(const double* q) const;
+  /// q's entry, `made` false, or else a new one (the least recently used) with q and r made and `made` true.
+  Residual& entry(const double* q, bool& made) const;
   Massless massless_;
   BodyOperator K_, M_, D_, P_, A_, B_, Kmid_;
   std::vector<double> pDense_, aDense_;  // a dense model's P (column-major) and setStiffness()'s -P K

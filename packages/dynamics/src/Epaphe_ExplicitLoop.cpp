@@ -76,6 +76,9 @@ ExplicitLoop::ExplicitLoop(std::vector<LoopBody> bodies, double h, long long num
     v_.emplace_back("epaphe::loop::v", b.size);
   }
   for (int i = 0; i < 3; ++i) Q_[i] = DenseVector("epaphe::system::q" + std::to_string(i), size);
+  if (contact_ &&
+      std::any_of(bodies_.begin(), bodies_.end(), [](const LoopBody& b) { return b.integrator->wantsContactForce(); }))
+    contactForce_ = DenseVector("epaphe::system::contact_force", size);
   vReady_.assign(bodies_.size(), false);
   acc_.damping.assign(bodies_.size(), 0.0);
   acc_.externalWork.assign(bodies_.size(), 0.0);
@@ -139,6 +142,12 @@ bool ExplicitLoop::advance() {
     if (const std::string large = contact_->checkStep(Q_[iNext_], Q_[iCur_], t, h_); !large.empty()) {
       if (!contact_->largeMotionAllowed()) fail(large);
       if (acc_.largeMotionSteps++ == 0) out_ << "warning: " << large << " (further such steps are counted)\n";
+    }
+    if (contactForce_.extent(0) > 0) {
+      ScopedPhase phase(cost_, "integration");  // a massless boundary's residual force (setContactForce)
+      contact_->generalizedForce(contactForce_);
+      for (std::size_t b = 0; b < bodies_.size(); ++b)
+        bodies_[b].integrator->setContactForce(part(Q_[iNext_], b), part(contactForce_, b));
     }
   }
   {

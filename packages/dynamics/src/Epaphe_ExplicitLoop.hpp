@@ -190,6 +190,7 @@ private:
   std::ostream& out_;
   std::vector<LoopObserver*> observers_;
   DenseVector Q_[3];
+  DenseVector contactForce_;  // the correction's G lambda, when a body's step reads it (else empty)
   int iPrev_ = 0, iCur_ = 1, iNext_ = 2;
   std::vector<DenseVector> v_;
   std::vector<bool> vReady_;

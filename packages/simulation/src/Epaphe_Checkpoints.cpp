@@ -62,6 +62,13 @@ void Checkpoints::write(const ExplicitLoop& loop, long long nextStep) {
     contact->resetWarmStarts();  // as a restart from here will: friction starts anew
   }
   if (heat_) file_.writeDoubles(c + "/thermal_state", heat_->state());
+  std::vector<double> residual;  // the massless boundaries' residual forces (CentralDifference::residualForces)
+  const std::vector<double> q = hostCopy(loop.current()), qPrev = hostCopy(loop.previous());
+  for (const LoopBody& b : loop.bodies()) {
+    const std::vector<double> z = b.integrator->residualForces(q.data() + b.offset, qPrev.data() + b.offset);
+    residual.insert(residual.end(), z.begin(), z.end());
+  }
+  if (!residual.empty()) file_.writeDoubles(c + "/residual_forces", residual);
   std::vector<long long> lengths;
   for (const io::Series* s : series_) lengths.push_back(static_cast<long long>(s->size()));
   file_.writeInts(c + "/series_lengths", lengths);
@@ -114,6 +121,21 @@ long long Checkpoints::restore(ExplicitLoop& loop, const std::string& what) {
       EPAPHE_REQUIRE(file_.exists(c + "/coating_state"),
                      what << ": " << c << " has no coating state; run the deck anew");
       contact->setCoatingState(file_.readDoubles(c + "/coating_state"));
+    }
+  }
+  std::size_t count = 0;
+  for (const LoopBody& b : loop.bodies()) count += b.integrator->residualForceCount();
+  if (count > 0) {
+    const std::string path = c + "/residual_forces";
+    const std::vector<double> z = file_.exists(path) ? file_.readDoubles(path) : std::vector<double>{};
+    EPAPHE_REQUIRE(z.size() == count, what << ": " << path << " holds " << z.size()
+                                           << " values where the massless boundaries' residual forces are " << count
+                                           << "; run the deck anew");
+    const std::vector<double> q = hostCopy(loop.current()), qPrev = hostCopy(loop.previous());
+    std::size_t at = 0;
+    for (const LoopBody& b : loop.bodies()) {
+      b.integrator->restoreResidualForces(q.data() + b.offset, qPrev.data() + b.offset, z.data() + at);
+      at += b.integrator->residualForceCount();
     }
   }
   if (heat_) {
