@@ -11,8 +11,13 @@ Per scene, on 1 and 2 OpenMP threads: the loop's wall time, steps per second, th
 2 threads, in a run of their own that is not timed: on 1 thread every loop runs serially), and the
 bound
 
-    bound = bytes of the step's integration matrices / measured bandwidth
+    bound = (bytes of the step's integration matrices
+             + bytes the correction must read of the flexibility) / measured bandwidth
           + projections per step x measured cost of one projection,
+
+the flexibility's bytes being those between the active nodes (RelativeFlexibility::leastBytes: the
+own columns of F at an active node of a dense block, and on a carried flexible surface F between the
+control points its active patches hold and F's columns there), averaged over the steps,
 
 both measured by bench_step_probe on this machine, then measured/bound (1 thread). Each run is
 repeated N times (--repeat, default 3) and the fastest loop kept: on this project's 2-core VM the
@@ -58,8 +63,9 @@ Scenes (the online-step issue's):
   cube-flexible-rings        E = 2.1 GPa for all bodies, h = 1e-6 s, 20 ms (the thesis' effective stiffness)
   stage-flexible-casing      8 instances of a massless blade (128 contact nodes) in a thin massless
                              casing: the relative flexibility couples every active node through the
-                             casing through its control points, which the bound does not count (its
-                             ceiling in the reference file says what that work is)
+                             casing through its control points (the bound counts the data, not the
+                             multiply-adds of forming C_ab: its ceiling in the reference file says
+                             what that work is)
   bar-on-wall                launch overhead: the deck run to 2 ms (20,000 steps; the deck's 2,000
                              loop in about 13 ms, too short to time)
 """
@@ -196,6 +202,7 @@ def run_once(exe, deck, workdir, tag, threads, count):
         "allocations": int(r["kernel_allocations"]) if "kernel_allocations" in r else None,
         "projections_per_step": float(r["projections"]) / steps if "projections" in r else None,
         "matrix_bytes": int(r["step_matrix_bytes"]) if "step_matrix_bytes" in r else None,
+        "flexibility_bytes_per_step": float(r["flexibility_bytes"]) / steps if "flexibility_bytes" in r else 0.0,
         "parallel_fraction": float(r["parallel_fraction"]) if "parallel_fraction" in r else None,
     }
 
@@ -363,7 +370,9 @@ def measure_scene(a, name, builds, bw, proj_ns):
         res["now-2"], launches_per_step=counted["launches_per_step"], allocations=counted["allocations"]
     )
     per_step = now1["loop"] / now1["steps"]
-    bound = (now1["matrix_bytes"] or 0) / (bw * 1e9) + (now1["projections_per_step"] or 0) * proj_ns * 1e-9
+    bound = ((now1["matrix_bytes"] or 0) + now1["flexibility_bytes_per_step"]) / (bw * 1e9) + (
+        now1["projections_per_step"] or 0
+    ) * proj_ns * 1e-9
     # measured/bound and loop/reference of the loop at a full core (run_once): the probe and the
     # reference kernel are the machine at its best too
     full = now1["loop_full_core"]
@@ -373,7 +382,8 @@ def measure_scene(a, name, builds, bw, proj_ns):
         f"{name}: 1 thread {now1['loop']:.3f} s ({now1['steps_per_second']:.0f} steps/s, {1e6 * per_step:.2f} us/step; "
         f"{split} us), 2 threads {now2['loop']:.3f} s ({now2['steps_per_second'] / now1['steps_per_second']:.2f}x); "
         f"{now2['launches_per_step']:.2f} parallel regions/step on 2 threads, {now2['allocations']} allocations in the loop; "
-        f"projections/step {now1['projections_per_step'] or 0:.1f}; bound {1e6 * bound:.2f} us/step, "
+        f"projections/step {now1['projections_per_step'] or 0:.1f}, flexibility read {1e-3 * now1['flexibility_bytes_per_step']:.1f} kB/step; "
+        f"bound {1e6 * bound:.2f} us/step, "
         f"measured/bound {over_bound:.2f}"
     )
     if min(now1["shares"]) < 0.97:

@@ -427,9 +427,11 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
       for (int t = 0; t < 4; ++t) uMap_(uMapOff_(c) + static_cast<long>(i + r) * nvE + j + t) = 0;
   }
   int u = 0, x = 0;
+  std::vector<int> uOf(static_cast<std::size_t>(ns), 0);  // |U_s|
   for (int s = 0; s < ns; ++s) {
     uRuns_(s, 0) = uRuns_(s, 1) = x;
     if (uMapOff_(s) < 0) continue;
+    const int u0 = u;
     const int nuE = ctrl_.dim(s, 0), nvE = ctrl_.dim(s, 1);
     for (int A = 0; A < nuE; ++A)
       for (int B = 0; B < nvE; ++B) {
@@ -445,8 +447,24 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
         m = u++;
       }
     uRuns_(s, 1) = x;
+    uOf[s] = u - u0;
   }
   nU_ = u;  // at most every control point and 16 a node: Y_'s room (constructor)
+  // leastBytes(): H on U x U, F's columns at U, and the own columns of the active nodes of dense blocks
+  double entries = 0;
+  for (int s = 0; s < ns; ++s) {
+    if (uOf[s] == 0) continue;
+    const int blk = carried_.info(s, 0);
+    entries += 3.0 * uOf[s] * blocks_(blk, 1);
+    for (int s2 = 0; s2 < ns; ++s2)
+      if (uOf[s2] > 0 && carried_.info(s2, 0) == blk) entries += 9.0 * uOf[s] * uOf[s2];
+  }
+  std::vector<int> own(blocks_.extent(0), 0);  // active nodes of each dense block
+  for (const int k : activeH)
+    if (F_.denseRow(blocks_(nodeBlk_(k), 0)) >= 0) ++own[nodeBlk_(k)];
+  for (std::size_t b = 0; b < own.size(); ++b)
+    entries += static_cast<double>(std::min(3 * own[b], blocks_(b, 1))) * blocks_(b, 1);
+  leastBytes_ = entries * sizeof(double);
 }
 
 void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv) {

@@ -121,6 +121,12 @@ public:
   RelativeMotion motion() const {
     return RelativeMotion{unmanaged(D_.dof), unmanaged(D_.w), unmanaged(D_.count), unmanaged(D_.rot)};
   }
+  /// The least the last update() and a correction of its nodes must read of F (bytes): H between the
+  /// control points U the active patches hold, (3 |U_s|) (3 |U_s2|) entries for each pair of surfaces of
+  /// a block, F's columns at U for the correction (3 |U_s| a surface, its block's rows), and the
+  /// correction's own columns of an active node on a dense block (3 a node, or the whole block when
+  /// smaller). benchmark.step's bound counts it with the integration's matrices.
+  double leastBytes() const { return leastBytes_; }
   /** \fn const Flexibility::Packed& RelativeFlexibility::flexibility() const
       The system flexibility F, packed as the kernels read it. */
   /// C_ab of the active pairs, unmanaged (see motion()).
@@ -159,7 +165,8 @@ private:
   Kokkos::View<int* [3]> uRun_;
   Kokkos::View<long*> uMapOff_;
   Kokkos::View<int* [2]> uRuns_;
-  int nU_ = 0;  // U's points
+  int nU_ = 0;             // U's points
+  double leastBytes_ = 0;  // leastBytes() of the last patchBases()
   // per active patch node k: Y_k(e2', u, e2) = sum_r's' b_r' b_s' H((u, e2), (e2', i_k + r', j_k + s'))
   // at 9 u + 3 e2' + e2 (relativeColumns)
   Kokkos::View<double**> Y_;

@@ -199,6 +199,7 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
     if (!enforcement_->closesGaps() || pass == kMaxAddPasses || !addPenetrating()) break;
     lastAddPasses_ = pass + 1;
   }
+  flexibilityBytes_ += flex_->leastBytes();
   finishStep(q);
 }
 

@@ -133,6 +133,9 @@ public:
   long long projections() const { return projections_; }
   /// Projections skipped because the node was certified out of contact.
   long long projectionsSkipped() const { return projectionsSkipped_; }
+  /// The least the corrections of this run had to read of the flexibility (bytes, summed over the steps;
+  /// RelativeFlexibility::leastBytes at each step's last pass).
+  double flexibilityBytes() const { return flexibilityBytes_; }
 
   /// Work of the contact forces of the last correction over [t_{n-1}, t_{n+1}] / 2:
   /// sum_a lambda_a c_a . D_a (qNext - qPrev) / 2 (on both bodies when the surface is carried), c_a = n_a + mu_a t_a
@@ -257,6 +260,7 @@ private:
   double gapTolerance_ = 0.0;     // a corrected gap above -gapTolerance_ adds no node
   double time_ = 0.0;
   long long projections_ = 0, projectionsSkipped_ = 0;
+  double flexibilityBytes_ = 0;
   std::vector<int> activeH_;  // indices of the active nodes
   int numActive_ = 0, lastIterations_ = 0;
   static constexpr int kMaxAddPasses = 10;

@@ -296,6 +296,7 @@ void Simulation::writeRunFigures(io::Hdf5File& file, const ExplicitLoop& loop, c
           scene_->contact()) {  // the correction's detections of this run (output steps' measurements not counted)
     file.setAttribute("/run", "projections", contact->projections());
     file.setAttribute("/run", "projections_skipped", contact->projectionsSkipped());
+    file.setAttribute("/run", "flexibility_bytes", contact->flexibilityBytes());
   }
   for (const auto& [phase, s] : summary_.cost.all()) file.setAttribute("/run/cost", phase, s);
 }
