@@ -1,5 +1,6 @@
 #include "Epaphe_BSplineSurface.hpp"
 
+#include <Teuchos_BLAS.hpp>
 #include <Teuchos_LAPACK.hpp>
 #include <algorithm>
 #include <cmath>
@@ -203,15 +204,13 @@ void BSplineSurface::computeControlPoints() {
   const int mu = view_.nu, mv = view_.nv;
   // T = B_u P  (nuExt x nv x 3), then Qext = T B_v^T (nuExt x nvExt x 3); T is kept between updates
   // (a carried surface is updated at every step: no allocation there).
+  // T (row-major nuExt x 3 nv) = B_u (row-major nuExt x nu) P (row-major nu x 3 nv): one GEMM, read
+  // column-major as T^T = P^T B_u^T (B_u is dense for a closed direction: nuExt nu 3 nv multiply-adds,
+  // 66,000 on the stage's casing at every step)
   std::vector<double>& T = work_;
-  T.assign(std::size_t(nuExt_) * mv * 3, 0.0);
-  for (int a = 0; a < nuExt_; ++a)
-    for (int i = 0; i < mu; ++i) {
-      const double w = Bu_[std::size_t(a) * mu + i];
-      if (w == 0.0) continue;
-      for (int j = 0; j < mv; ++j)
-        for (int c = 0; c < 3; ++c) T[(std::size_t(a) * mv + j) * 3 + c] += w * hostGrid_(i, j, c);
-    }
+  T.resize(std::size_t(nuExt_) * mv * 3);
+  Teuchos::BLAS<int, double>().GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, 3 * mv, nuExt_, mu, 1.0, hostGrid_.data(),
+                                    3 * mv, Bu_.data(), mu, 0.0, T.data(), 3 * mv);
   for (int a = 0; a < nuExt_; ++a)
     for (int b = 0; b < nvExt_; ++b) {
       double q[3] = {0.0, 0.0, 0.0};
