@@ -29,7 +29,6 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
   {  // U's map over the canonical surfaces with H; Y holds at most every control point or 16 per node
     const int ns = static_cast<int>(surfaces.size());
     uMapOff_ = Kokkos::View<long*>("epaphe::contact::U_map_offset", ns);
-    uRuns_ = Kokkos::View<int* [2]>("epaphe::contact::U_runs", ns);
     long points = 0;
     for (int s = 0; s < ns; ++s) {
       uMapOff_(s) = -1;
@@ -38,7 +37,8 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
       points += static_cast<long>(ctrl_.dim(s, 0)) * ctrl_.dim(s, 1);
     }
     uMap_ = Kokkos::View<int*>("epaphe::contact::U_map", points);
-    uRun_ = Kokkos::View<int* [3]>("epaphe::contact::U_run", points);
+    uPoint_ = Kokkos::View<int* [2]>("epaphe::contact::U_point", points);
+    uEnd_ = Kokkos::View<int*>("epaphe::contact::U_end", nc);
     fill(uMap_, -1);
     Y_ = Kokkos::View<double**>("epaphe::contact::Y", points > 0 ? nc : 0, 9 * std::min(points, 16L * nc));
   }
@@ -403,7 +403,6 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
                                      const DetectionViews& dv) {
   // per active patch node, its patch: the first control point (i, j) and the cubic basis of the foot
   // point (eq. 2.22), read by C and by the correction; and U, the control points of the patches
-  // (per canonical surface, in the order of H's rows)
   const int ns = static_cast<int>(carried_.info.extent(0));
   for (std::size_t x = 0; x < uMap_.extent(0); ++x) uMap_(x) = -1;
   for (const int k : activeH) {
@@ -421,33 +420,28 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
       pbasis_(k, r) = bu[r];
       pbasis_(k, 4 + r) = bv[r];
     }
-    const int c = ctrl_.canon(s), nvE = ctrl_.dim(c, 1);
-    if (uMapOff_(c) < 0) continue;
-    for (int r = 0; r < 4; ++r)
-      for (int t = 0; t < 4; ++t) uMap_(uMapOff_(c) + static_cast<long>(i + r) * nvE + j + t) = 0;
   }
-  int u = 0, x = 0;
+  // U in the order the active nodes' patches first read its points, so that the points of nodes 0..a
+  // are U's first uEnd_(a) (relativeColumns)
+  int u = 0;
   std::vector<int> uOf(static_cast<std::size_t>(ns), 0);  // |U_s|
-  for (int s = 0; s < ns; ++s) {
-    uRuns_(s, 0) = uRuns_(s, 1) = x;
-    if (uMapOff_(s) < 0) continue;
-    const int u0 = u;
-    const int nuE = ctrl_.dim(s, 0), nvE = ctrl_.dim(s, 1);
-    for (int A = 0; A < nuE; ++A)
-      for (int B = 0; B < nvE; ++B) {
-        int& m = uMap_(uMapOff_(s) + static_cast<long>(A) * nvE + B);
-        if (m < 0) continue;
-        if (B == 0 || uMap_(uMapOff_(s) + static_cast<long>(A) * nvE + B - 1) < 0) {  // a new run
-          uRun_(x, 0) = u;
-          uRun_(x, 1) = 3 * (A * nvE + B);
-          uRun_(x, 2) = 0;
-          ++x;
+  for (std::size_t a = 0; a < activeH.size(); ++a) {
+    const int k = activeH[a], c = patch_(k) >= 0 ? ctrl_.canon(surfH(k)) : 0;
+    if (patch_(k) >= 0 && uMapOff_(c) >= 0) {
+      const int nvE = ctrl_.dim(c, 1);
+      for (int r = 0; r < 4; ++r)
+        for (int t = 0; t < 4; ++t) {
+          const int point = (pcell_(k, 0) + r) * nvE + pcell_(k, 1) + t;
+          int& m = uMap_(uMapOff_(c) + point);
+          if (m >= 0) continue;
+          m = u;
+          uPoint_(u, 0) = c;
+          uPoint_(u, 1) = point;
+          ++uOf[c];
+          ++u;
         }
-        ++uRun_(x - 1, 2);
-        m = u++;
-      }
-    uRuns_(s, 1) = x;
-    uOf[s] = u - u0;
+    }
+    uEnd_(a) = u;
   }
   nU_ = u;  // at most every control point and 16 a node: Y_'s room (constructor)
   // leastBytes(): H on U x U, F's columns at U, and the own columns of the active nodes of dense blocks
@@ -469,8 +463,10 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
 
 void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv) {
   // Y_b(u, e2', e2) = sum_r's' b_r' b_s' (B_s2 F B_sb^T)((u, e2), (e2', i_b + r', j_b + s')) of every active
-  // patch node b, on U of each canonical surface s2 of b's block, read from its transpose H(s_b, s2)
-  // (gridColumns): in the column (u, e2), b's patch is 4 runs of 12 (s', e2'), one node a thread
+  // patch node b, on the points u of U on a surface s2 of b's block, read from its transpose H(s_b, s2)
+  // (gridColumns): in the column (u, e2), b's patch is 4 runs of 12 (s', e2'), one node a thread. With F
+  // symmetric, node b's pairs with the nodes a <= b read Y_b at their patches alone (relativePairs):
+  // U's first uEnd_(b) points (patchBases' order), about half of U on average
   if (Y_.extent(0) == 0) return;
   const auto surf = dv.selected;
   const auto patch = unmanaged(patch_);
@@ -479,42 +475,40 @@ void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int 
   const auto ctrlDim = unmanaged(ctrl_.dim);
   const auto H = unmanaged(ctrl_.H);
   const auto hOff = unmanaged(ctrl_.hOff);
-  const auto uRuns = unmanaged(uRuns_);
-  const auto uRun = unmanaged(uRun_);
-  const auto uMapOff = unmanaged(uMapOff_);
+  const auto uPoint = unmanaged(uPoint_);
+  const auto uEnd = unmanaged(uEnd_);
   const auto Y = unmanaged(Y_);
-  const int ns = static_cast<int>(carried_.info.extent(0));
   const int nU = nU_;
+  const bool symmetric = symmetric_;
   forEach(
-      "epaphe::contact::relative_columns", nA, 16L * 3 * nU + 10, KOKKOS_LAMBDA(const int b) {
+      "epaphe::contact::relative_columns", nA, 16L * 3 * nU / 2 + 10, KOKKOS_LAMBDA(const int i) {
+        // (with F symmetric, the nodes from both ends of the list in turn: the threads' blocks of i then
+        // hold as many columns)
+        const int b = symmetric ? (i % 2 == 0 ? i / 2 : nA - 1 - i / 2) : i;
         const int k = active(b), sb = surf(k);
         if (patch(k) < 0) return;
+        const int end = symmetric ? uEnd(b) : nU;
         double* y = &Y(k, 0);
-        for (int x = 0; x < 9 * nU; ++x) y[x] = 0.0;
+        for (int x = 0; x < 9 * end; ++x) y[x] = 0.0;
         const int nuEb = ctrlDim(sb, 0), nvEb = ctrlDim(sb, 1);
         const long rowsB = 3L * nuEb * nvEb;  // rows of H(s_b, s2): s_b's control points
         double w[4][12];                      // w[r'][3 s' + e2'] = b_r' b_s'
         for (int rp = 0; rp < 4; ++rp)
           for (int x = 0; x < 12; ++x) w[rp][x] = pbasis(k, rp) * pbasis(k, 4 + x / 3);
-        for (int s2 = 0; s2 < ns; ++s2) {
-          const int x0 = uRuns(s2, 0), x1 = uRuns(s2, 1);
-          if (uMapOff(s2) < 0 || x1 == x0 || hOff(sb, s2) < 0) continue;
-          const int nuE2 = ctrlDim(s2, 0), nvE2 = ctrlDim(s2, 1);
+        for (int u = 0; u < end; ++u) {
+          const int s2 = uPoint(u, 0), point = uPoint(u, 1);
+          if (hOff(sb, s2) < 0) continue;  // (another block: not read)
+          const long nE2 = static_cast<long>(ctrlDim(s2, 0)) * ctrlDim(s2, 1);
           // b's patch in a column of H(s_b, s2): rows 3 nvEb (i + r') + 3 j + (3 s' + e2')
           const double* patchRows = &H(hOff(sb, s2) + 3L * nvEb * pcell(k, 0) + 3L * pcell(k, 1));
-          for (int x = x0; x < x1; ++x)
-            for (int p = 0; p < uRun(x, 2); ++p) {
-              const int point = uRun(x, 1) / 3 + p, A = point / nvE2, B = point % nvE2;  // (A, B) of s2
-              double* yu = y + 9L * (uRun(x, 0) + p);
-              for (int e2 = 0; e2 < 3; ++e2) {
-                const double* h = patchRows + ((static_cast<long>(e2) * nuE2 + A) * nvE2 + B) * rowsB;
-                double acc[12] = {};
-                for (int rp = 0; rp < 4; ++rp, h += 3L * nvEb)
-                  for (int i = 0; i < 12; ++i) acc[i] += w[rp][i] * h[i];
-                for (int e2p = 0; e2p < 3; ++e2p)
-                  yu[3 * e2p + e2] = acc[e2p] + acc[3 + e2p] + acc[6 + e2p] + acc[9 + e2p];
-              }
-            }
+          double* yu = y + 9L * u;
+          for (int e2 = 0; e2 < 3; ++e2) {
+            const double* h = patchRows + (e2 * nE2 + point) * rowsB;
+            double acc[12] = {};
+            for (int rp = 0; rp < 4; ++rp, h += 3L * nvEb)
+              for (int i = 0; i < 12; ++i) acc[i] += w[rp][i] * h[i];
+            for (int e2p = 0; e2p < 3; ++e2p) yu[3 * e2p + e2] = acc[e2p] + acc[3 + e2p] + acc[6 + e2p] + acc[9 + e2p];
+          }
         }
       });
   fence();

@@ -158,13 +158,13 @@ private:
   Kokkos::View<double* [8]> pbasis_;
   Kokkos::View<int* [2]> pcell_;
   // U, the control points the active patches read (made by patchBases): per canonical surface s with
-  // H, uMap_(uMapOff_(s) + A nvE + B) its index u in U (-1: not read); U's points in runs of
-  // consecutive B (consecutive rows of H), run x = {its first u, its first row in a column of H,
-  // its points} at uRun_(x), those of s in [uRuns_(s, 0), uRuns_(s, 1))
+  // H, uMap_(uMapOff_(s) + A nvE + B) its index u in U (-1: not read); U's point u is point
+  // uPoint_(u, 1) = A nvE + B of surface uPoint_(u, 0), in the order the active nodes' patches first
+  // read them: active node a's and its predecessors' are U's first uEnd_(a)
   Kokkos::View<int*> uMap_;
-  Kokkos::View<int* [3]> uRun_;
   Kokkos::View<long*> uMapOff_;
-  Kokkos::View<int* [2]> uRuns_;
+  Kokkos::View<int* [2]> uPoint_;
+  Kokkos::View<int*> uEnd_;
   int nU_ = 0;             // U's points
   double leastBytes_ = 0;  // leastBytes() of the last patchBases()
   // per active patch node k: Y_k(e2', u, e2) = sum_r's' b_r' b_s' H((u, e2), (e2', i_k + r', j_k + s'))
