@@ -4,6 +4,7 @@
 #include "Epaphe_Parallel.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace epaphe {
@@ -14,6 +15,61 @@ namespace {
 bool inBlock(const Kokkos::View<int* [2]>::HostMirror& bH, int dof, int b) {
   const int nb = static_cast<int>(bH.extent(0));
   return b >= 0 && b < nb && dof >= bH(b, 0) && dof < bH(b, 0) + bH(b, 1);
+}
+
+/// Appends to `win` the windows of one direction of a surface (CarriedSurfaceViews::window): B its
+/// interpolation operator (row-major, nExt x n), one window {first, count} per interval i, the rows
+/// i..i+3 a foot point there reads. Why a node p outside it has no entry: with the cubic basis b_r >= 0,
+/// sum b_r = 1 (eq. 2.22), the weight w_p = sum_r b_r B(i + r, p) has |w_p| <= max_r |B(i + r, p)|, and
+/// sum_p w_p = sum_r b_r rowsum(i + r) >= min_r rowsum(i + r) (1: the spline of constant data is that
+/// constant), so max_p |w_p| >= min_r rowsum / n. Outside the window max_r |B(i + r, p)| < 0.5e-12
+/// min_r rowsum / n, so |w_p| < 0.5e-12 max |w|, below the 1e-12 at which motionEntries zeroes a weight:
+/// the window loses no entry. (The rows decay like 0.27^distance: about 56 nodes of a closed direction.)
+void appendWindows(const std::vector<double>& B, int n, bool periodic, std::vector<int>& win, int& maxLen) {
+  const int nExt = static_cast<int>(B.size()) / n;
+  std::vector<char> in(n);
+  for (int i = 0; i + 3 < nExt; ++i) {
+    double least = HUGE_VAL;
+    for (int r = 0; r < 4; ++r) {
+      double sum = 0.0;
+      for (int p = 0; p < n; ++p) sum += B[std::size_t(i + r) * n + p];
+      least = std::min(least, sum);
+    }
+    int first = 0, count = n;
+    if (least > 0.0) {
+      const double cut = 0.5e-12 * least / n;
+      for (int p = 0; p < n; ++p) {
+        double big = 0.0;
+        for (int r = 0; r < 4; ++r) big = std::max(big, std::fabs(B[std::size_t(i + r) * n + p]));
+        in[p] = big >= cut;
+      }
+      if (!periodic) {
+        int lo = 0, hi = n - 1;
+        while (lo < hi && !in[lo]) ++lo;
+        while (hi > lo && !in[hi]) --hi;
+        first = lo;
+        count = hi - lo + 1;
+      } else {  // the complement of the longest run of nodes out, round the circle
+        int bestStart = 0, bestLen = 0;
+        for (int p = 0; p < n; ++p) {
+          if (in[p] || in[(p + n - 1) % n] == 0) continue;  // a run of nodes out starts at p
+          int len = 0;
+          while (len < n && !in[(p + len) % n]) ++len;
+          if (len > bestLen) {
+            bestLen = len;
+            bestStart = p;
+          }
+        }
+        if (bestLen > 0) {
+          first = (bestStart + bestLen) % n;
+          count = n - bestLen;
+        }
+      }
+    }
+    win.push_back(first);
+    win.push_back(count);
+    maxLen = std::max(maxLen, count);
+  }
 }
 
 }  // namespace
@@ -42,14 +98,17 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
     fill(uMap_, -1);
     Y_ = Kokkos::View<double**>("epaphe::contact::Y", points > 0 ? nc : 0, 9 * std::min(points, 16L * nc));
   }
-  wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, carried_.maxGrid[0]);
-  wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, carried_.maxGrid[1]);
+  wu_ = Kokkos::View<double**>("epaphe::contact::weights_u", nc, carried_.maxWindow[0]);
+  wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, carried_.maxWindow[1]);
   pbasis_ = Kokkos::View<double* [8]>("epaphe::contact::patch_basis", nc);
   pcell_ = Kokkos::View<int* [2]>("epaphe::contact::patch_cell", nc);
-  const int maxEntries = 1 + std::min(carried_.maxGrid[0], 46) * std::min(carried_.maxGrid[1], 46);
-  D_.dof = Kokkos::View<int** [3]>("epaphe::contact::entry_dof", nc, maxEntries);
-  D_.w = Kokkos::View<double**>("epaphe::contact::entry_weight", nc, maxEntries);
-  D_.count = Kokkos::View<int*>("epaphe::contact::entries", nc);
+  D_.own = Kokkos::View<int* [3]>("epaphe::contact::node_dof", nc);
+  D_.grid = Kokkos::View<int* [4]>("epaphe::contact::node_grid", nc);
+  D_.pu = Kokkos::View<int**>("epaphe::contact::grid_u", nc, carried_.maxWindow[0]);
+  D_.pv = Kokkos::View<int**>("epaphe::contact::grid_v", nc, carried_.maxWindow[1]);
+  D_.wu = Kokkos::View<double**>("epaphe::contact::grid_weight_u", nc, carried_.maxWindow[0]);
+  D_.wv = Kokkos::View<double**>("epaphe::contact::grid_weight_v", nc, carried_.maxWindow[1]);
+  D_.gridDof = carried_.gridDof;
   patch_ = Kokkos::View<int*>("epaphe::contact::patch_block", nc);
   D_.rot = Kokkos::View<double* [3][3]>("epaphe::contact::entry_rotation", nc);
   C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
@@ -135,8 +194,9 @@ void RelativeFlexibility::initCarriedSurfaces(const ContactNodes& nodes, std::ve
   auto infoH = Kokkos::create_mirror_view(carried_.info);
   auto goH = Kokkos::create_mirror_view(carried_.gridOff);
   auto ooH = Kokkos::create_mirror_view(carried_.opOff);
-  std::vector<int> gd;
+  std::vector<int> gd, win;
   std::vector<double> ops;
+  std::vector<std::array<int, 2>> woH(ns, {-1, -1});
   for (int s = 0; s < ns; ++s) {
     ContactSurface& cs = surfaces[s];
     if (cs.moving) cs.surface = cs.moving;
@@ -154,6 +214,10 @@ void RelativeFlexibility::initCarriedSurfaces(const ContactNodes& nodes, std::ve
     ooH(s, 1) = static_cast<int>(ops.size());
     ops.insert(ops.end(), S.operatorV().begin(), S.operatorV().end());
     if (!cs.moving) continue;
+    woH[s][0] = static_cast<int>(win.size() / 2);
+    appendWindows(S.operatorU(), S.nu(), S.periodicU(), win, carried_.maxWindow[0]);
+    woH[s][1] = static_cast<int>(win.size() / 2);
+    appendWindows(S.operatorV(), S.nv(), S.periodicV(), win, carried_.maxWindow[1]);
     const std::size_t ng = std::size_t(S.inputNu()) * S.inputNv();
     EPAPHE_REQUIRE(cs.gridDofs.size() == 3 * ng && cs.gridX.size() == 3 * ng,
                    "contact: surface '" << S.name() << "' has " << ng << " grid nodes but " << cs.gridDofs.size() / 3
@@ -182,6 +246,16 @@ void RelativeFlexibility::initCarriedSurfaces(const ContactNodes& nodes, std::ve
   Kokkos::deep_copy(carried_.info, infoH);
   Kokkos::deep_copy(carried_.gridOff, goH);
   Kokkos::deep_copy(carried_.opOff, ooH);
+  carried_.window = Kokkos::View<int* [2]>("epaphe::contact::weight_window", win.size() / 2);
+  carried_.winOff = Kokkos::View<int* [2]>("epaphe::contact::weight_window_offset", ns);
+  auto wH = Kokkos::create_mirror_view(carried_.window);
+  auto wOffH = Kokkos::create_mirror_view(carried_.winOff);
+  for (std::size_t w = 0; w < win.size() / 2; ++w)
+    for (int d = 0; d < 2; ++d) wH(w, d) = win[2 * w + d];
+  for (int s = 0; s < ns; ++s)
+    for (int d = 0; d < 2; ++d) wOffH(s, d) = woH[s][d];
+  Kokkos::deep_copy(carried_.window, wH);
+  Kokkos::deep_copy(carried_.winOff, wOffH);
 }
 
 void RelativeFlexibility::controlColumns(const std::vector<ContactSurface>& surfaces) {
@@ -343,58 +417,68 @@ void RelativeFlexibility::motionEntries(const DetectionViews& dv) {
   const auto info = unmanaged(carried_.info);
   const auto surf = dv.selected;
   const auto gridOff = unmanaged(carried_.gridOff);
-  const auto gridDof = unmanaged(carried_.gridDof);
   const auto dof = dv.dof;
   const auto wu = unmanaged(wu_), wv = unmanaged(wv_);
-  const auto entDof = unmanaged(D_.dof);
-  const auto entW = unmanaged(D_.w);
-  const auto entN = unmanaged(D_.count);
+  const auto own = unmanaged(D_.own);
+  const auto grid = unmanaged(D_.grid);
+  const auto pu = unmanaged(D_.pu), pv = unmanaged(D_.pv);
+  const auto gu = unmanaged(D_.wu), gv = unmanaged(D_.wv);
   const auto entRot = unmanaged(D_.rot);
   const auto rot = dv.rot;
   const auto patch = unmanaged(patch_);
   const auto ctrlOff = unmanaged(ctrl_.off);
-  const int maxE = static_cast<int>(D_.w.extent(1));
+  const auto window = unmanaged(carried_.window);
+  const auto winOff = unmanaged(carried_.winOff);
   forEach(
       "epaphe::contact::relative_motion", static_cast<long>(dv.gap.extent(0)),
-      30L + 20L * (maxE > 1 ? 2 * (wu.extent(1) + wv.extent(1)) + maxE : 0), KOKKOS_LAMBDA(const int k) {
-        for (int d = 0; d < 3; ++d) entDof(k, 0, d) = dof(k, d);
-        entW(k, 0) = 1.0;
-        int m = 1;
+      30L + 40L * (carried_.maxWindow[0] + carried_.maxWindow[1]), KOKKOS_LAMBDA(const int k) {
+        for (int d = 0; d < 3; ++d) own(k, d) = dof(k, d);
+        for (int x = 0; x < 4; ++x) grid(k, x) = 0;
         const int s = surf(k);
         for (int d = 0; d < 3; ++d)  // R of the surface at this detection (identity when it does not turn)
           for (int e = 0; e < 3; ++e) entRot(k, d, e) = s >= 0 ? rot(s, d, e) : (d == e ? 1.0 : 0.0);
         if (s >= 0 && info(s, 0) >= 0) {
           // w_p = sum_r b_r B(i + r, p): the cubic basis (eq. 2.22) contracted with the rows of the
-          // interpolation operator (eq. 2.26, row-major n_ext x n) the patch reads
+          // interpolation operator (eq. 2.26, row-major n_ext x n) the patch reads, on the grid nodes of
+          // the interval's window (the others' weights count as zero: appendWindows); wgt(k, j) holds
+          // node first + j (mod n). Those above 1e-12 of the largest are kept, in ascending order
           for (int dir = 0; dir < 2; ++dir) {
             const int n = info(s, 1 + dir);
             const auto& wgt = dir == 0 ? wu : wv;
+            const auto& keptP = dir == 0 ? pu : pv;
+            const auto& keptW = dir == 0 ? gu : gv;
             int i;
             double t, bs[4], db[4], ddb[4], wmax = 0.0;
             surface_detail::locate(foot(k, dir), n, info(s, 4 + dir) != 0, i, t);
             surface_detail::cubicBasis(t, bs, db, ddb);
-            for (int p = 0; p < n; ++p) {
+            int first = 0, count = n;
+            if (t >= 0.0 && t <= 1.0) {  // (b_r >= 0: the window's premise)
+              first = window(winOff(s, dir) + i, 0);
+              count = window(winOff(s, dir) + i, 1);
+            }
+            const double* B = &ops(opOff(s, dir) + i * n);
+            for (int j = 0; j < count; ++j) {
+              const int p = first + j < n ? first + j : first + j - n;
               double x = 0.0;
-              for (int r = 0; r < 4; ++r) x += bs[r] * ops(opOff(s, dir) + (i + r) * n + p);
-              wgt(k, p) = x;
+              for (int r = 0; r < 4; ++r) x += bs[r] * B[r * n + p];
+              wgt(k, j) = x;
               wmax = ::fabs(x) > wmax ? ::fabs(x) : wmax;
             }
-            for (int p = 0; p < n; ++p)  // they decay like 0.27^distance: at most 46 are kept
-              if (::fabs(wgt(k, p)) < 1e-12 * wmax) wgt(k, p) = 0.0;
-          }
-          const int nu = info(s, 1), nv = info(s, 2), inNv = info(s, 3), off = gridOff(s);
-          for (int p = 0; p < nu; ++p) {
-            if (wu(k, p) == 0.0) continue;
-            for (int q = 0; q < nv && m < maxE; ++q) {
-              if (wv(k, q) == 0.0) continue;
-              const int g = off + p * inNv + q;
-              for (int d = 0; d < 3; ++d) entDof(k, m, d) = gridDof(g, d);
-              entW(k, m) = -wu(k, p) * wv(k, q);
-              ++m;
+            const int shift = first + count > n ? n - first : 0;  // node order: j = idx + shift (mod count)
+            int kept = 0;
+            for (int idx = 0; idx < count; ++idx) {  // they decay like 0.27^distance: at most 46 are kept
+              const int j = idx + shift < count ? idx + shift : idx + shift - count;
+              if (::fabs(wgt(k, j)) < 1e-12 * wmax || wgt(k, j) == 0.0) continue;
+              keptP(k, kept) = first + j < n ? first + j : first + j - n;
+              keptW(k, kept) = wgt(k, j);
+              ++kept;
             }
+            grid(k, 2 + dir) = kept;
           }
+          grid(k, 0) = gridOff(s);
+          grid(k, 1) = info(s, 3);
         }
-        entN(k) = m;
+        const int m = 1 + grid(k, 2) * grid(k, 3);
         patch(k) = s >= 0 && ctrlOff(s) >= 0 && m > 1 ? info(s, 0) : -1;
       });
 }
@@ -553,18 +637,17 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
   // from both ends of the list in turn, so that the threads' blocks hold as many pairs)
   const bool symmetric = symmetric_;
   forEach(
-      "epaphe::contact::relative_flexibility", nA, (30L * static_cast<long>(D_.w.extent(1)) + 160) * nA,
-      KOKKOS_LAMBDA(const int i) {
+      "epaphe::contact::relative_flexibility", nA,
+      (30L * (1 + carried_.maxWindow[0] * carried_.maxWindow[1]) + 160) * nA, KOKKOS_LAMBDA(const int i) {
         const int a = symmetric ? (i % 2 == 0 ? i / 2 : nA - 1 - i / 2) : i;
         const int ka = active(a), sa = surf(ka), pa = patch(ka);
         const bool direct = D.count(ka) == 1 || pa >= 0;
         const bool ownOnly = D.count(ka) == 1 && pa < 0;  // D_a is its own entry alone
-        const double w0 = D.w(ka, 0);
         const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
         int dof[3];
         double R[3][3];
         for (int d = 0; d < 3; ++d) {
-          dof[d] = D.dof(ka, 0, d);
+          dof[d] = D.ownDof(ka, d);
           for (int e = 0; e < 3; ++e) R[d][e] = D.rot(ka, d, e);
         }
         const bool dense = F.denseRow(dof[0]) >= 0;  // a's block is dense
@@ -598,17 +681,16 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
           }
           double own[3][3];
           if (dense && nodeBlk(kb) == blk) {  // F's block
-            const double wb = D.w(kb, 0);
-            for (int e = 0; e < 3; ++e) {
-              const double* col = &F.dense(F.start(blk) + static_cast<std::size_t>(D.dof(kb, 0, e) - b0) * n);
-              for (int d = 0; d < 3; ++d) own[d][e] = w0 * (wb * col[dof[d] - b0]);
+            for (int e = 0; e < 3; ++e) {     // (D's own entries have weight 1)
+              const double* col = &F.dense(F.start(blk) + static_cast<std::size_t>(D.ownDof(kb, e) - b0) * n);
+              for (int d = 0; d < 3; ++d) own[d][e] = col[dof[d] - b0];
             }
           } else if (dense) {
             for (int e = 0; e < 3; ++e)
               for (int d = 0; d < 3; ++d) own[d][e] = 0.0;
           } else {
             for (int e = 0; e < 3; ++e)
-              for (int d = 0; d < 3; ++d) own[d][e] = w0 * FlexibleColumn{F, D, nodeBlk, kb, e}(dof[d]);
+              for (int d = 0; d < 3; ++d) own[d][e] = FlexibleColumn{F, D, nodeBlk, kb, e}(dof[d]);
           }
           if (pa >= 0 && patch(kb) == pa) {                                        // the grid part, R_a X R_b^T
             double X[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // X[e2][e2']
@@ -652,7 +734,7 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
   const int T = Kokkos::DefaultHostExecutionSpace().concurrency();
   const auto blocks = unmanaged(blocks_);
   const Kokkos::View<int*> nodeBlk = unmanaged(nodeBlk_);  // (FlexibleColumn refers to it)
-  const auto dof = unmanaged(D_.dof);                      // entry 0: the node's own DOFs
+  const auto dof = unmanaged(D_.own);                      // the node's own DOFs
   const auto patch = unmanaged(patch_);
   const auto coefOff = unmanaged(ctrl_.coefOff);
   const auto ctrlOff = unmanaged(ctrl_.off);
@@ -698,9 +780,9 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
           const double l = force(k);
           if (l == 0.0 || F.denseRow(b0) < 0) continue;
           const double d0 = dir(k, 0), d1 = dir(k, 1), d2 = dir(k, 2);
-          const double* f0 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0, 0) - b0) * n);
-          const double* f1 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0, 1) - b0) * n);
-          const double* f2 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0, 2) - b0) * n);
+          const double* f0 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 0) - b0) * n);
+          const double* f1 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 1) - b0) * n);
+          const double* f2 = &F.dense(F.start(blk) + static_cast<std::size_t>(dof(k, 2) - b0) * n);
           const int lo = i0 > b0 ? i0 : b0, hi = i1 < b0 + n ? i1 : b0 + n;
           for (int i = lo; i < hi; ++i) dq(i) += l * (f0[i - b0] * d0 + f1[i - b0] * d1 + f2[i - b0] * d2);
         }
@@ -726,14 +808,17 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
             const double l = force(k);
             if (l == 0.0) continue;
             // (D_k^T c)_i at DOF i = (m, e)
-            for (int m = 0; m < Dk.count(k); ++m)
+            Dk.forEachEntry(static_cast<int>(k), [&](int m, const int* dof, double w) {
               for (int e = 0; e < 3; ++e) {
-                const int i = Dk.dof(k, m, e);
+                const int i = dof[e];
                 if (i < 0 || F.denseRow(i) >= 0) continue;
-                const double c = Dk.coefficient(k, m, 0, e) * dir(k, 0) + Dk.coefficient(k, m, 1, e) * dir(k, 1) +
-                                 Dk.coefficient(k, m, 2, e) * dir(k, 2);
+                const int kk = static_cast<int>(k);
+                const double c = Dk.coefficient(kk, m, w, 0, e) * dir(k, 0) +
+                                 Dk.coefficient(kk, m, w, 1, e) * dir(k, 1) +
+                                 Dk.coefficient(kk, m, w, 2, e) * dir(k, 2);
                 dq(i) += F.diag(i) * l * c;
               }
+            });
           }
         });
   }

@@ -64,6 +64,12 @@ struct CarriedSurfaceViews {
   Kokkos::View<double*> ops;       ///< the operators B_u, B_v of every carried surface, row-major
   Kokkos::View<int* [6]> info;     ///< [s] block, nu, nv, input nv, periodic u, periodic v
   int maxGrid[2] = {0, 0};         ///< largest nu, nv of a carried surface
+  /// [winOff(s, dir) + i] the grid nodes whose weight at a foot point in interval i of direction dir
+  /// of surface s can reach 1e-12 of the largest: {first, count}, a run of grid nodes (wrapping round
+  /// a closed direction); the others' weights are below that and count as zero (motionEntries)
+  Kokkos::View<int* [2]> window;
+  Kokkos::View<int* [2]> winOff;  ///< [s][dir] where surface s's windows start in `window`
+  int maxWindow[2] = {0, 0};      ///< the longest window of each direction
 };
 
 /// F times the carried surfaces' interpolation and its offsets, made once (offsets -1: none).
@@ -119,7 +125,8 @@ public:
   /// D_k's entries and C_ab, unmanaged (Epaphe_Parallel.hpp): views shared with the enforcement,
   /// copied by the step's kernels; this object keeps the memory.
   RelativeMotion motion() const {
-    return RelativeMotion{unmanaged(D_.dof), unmanaged(D_.w), unmanaged(D_.count), unmanaged(D_.rot)};
+    return RelativeMotion{unmanaged(D_.own), unmanaged(D_.grid), unmanaged(D_.pu),      unmanaged(D_.pv),
+                          unmanaged(D_.wu),  unmanaged(D_.wv),   unmanaged(D_.gridDof), unmanaged(D_.rot)};
   }
   /// The least the last update() and a correction of its nodes must read of F (bytes): H between the
   /// control points U the active patches hold, (3 |U_s|) (3 |U_s2|) entries for each pair of surfaces of
@@ -150,8 +157,8 @@ private:
   Kokkos::View<int*> nodeBlk_;     // block of each node
   CarriedSurfaceViews carried_;
   ControlColumns ctrl_;
-  RelativeMotion D_;                // D_k's entries: DOF triples, weights, count, R of the surface
-  Kokkos::View<double**> wu_, wv_;  // spline weights of the nodes' foot points
+  RelativeMotion D_;                // D_k's entries: the node's DOFs, its grid nodes' weights, R of the surface
+  Kokkos::View<double**> wu_, wv_;  // spline weights of the nodes' foot points on their windows (motionEntries)
   Kokkos::View<int*> patch_;        // per node: its surface's block if that has control columns, else -1
   // per patch node (made by patchBases for the active ones): its patch's cubic basis, b(u) then
   // b(v), and first control point

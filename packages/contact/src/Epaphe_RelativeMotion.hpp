@@ -7,33 +7,60 @@
 
 namespace epaphe {
 
-/// D_k as a list of entries (DOF triple, weight): the node itself with weight 1, then the grid
-/// nodes of a carried surface with weights -w_p w_q (DOF -1: clamped, fixed), whose motion is in
-/// the carrying body's frame and turned into the node's by rot(k) (R of a turning surface, else the
-/// identity). Copy into kernels by value.
+/// D_k as a list of entries (DOF triple, weight): entry 0 the node itself with weight 1, then the
+/// grid nodes (p, q) of a carried surface with weights -w_p w_q (DOF -1: clamped, fixed), whose motion
+/// is in the carrying body's frame and turned into the node's by rot(k) (R of a turning surface, else
+/// the identity). The grid part is kept as its two factors: the grid nodes along u with a weight w_p
+/// (not zero, ascending p) and those along v; entry m >= 1 is the pair (a, b) = ((m - 1) / nv_k,
+/// (m - 1) % nv_k) of them, in the order forEachEntry() visits. Copy into kernels by value.
 struct RelativeMotion {
-  Kokkos::View<int** [3]> dof;       ///< [k][m] the DOF triple of entry m (-1: clamped)
-  Kokkos::View<double**> w;          ///< [k][m] the weight of entry m
-  Kokkos::View<int*> count;          ///< [k] the number of entries
+  Kokkos::View<int* [3]> own;        ///< [k] the node's DOF triple (entry 0)
+  Kokkos::View<int* [4]> grid;       ///< [k] its surface's first grid node in gridDof, input nv, nu_k, nv_k
+  Kokkos::View<int**> pu;            ///< [k][a] the a-th grid index along u with a weight
+  Kokkos::View<int**> pv;            ///< [k][b] the b-th grid index along v with a weight
+  Kokkos::View<double**> wu;         ///< [k][a] its weight w_p
+  Kokkos::View<double**> wv;         ///< [k][b] its weight w_q
+  Kokkos::View<int* [3]> gridDof;    ///< [grid node] its DOF triple in q (-1: clamped)
   Kokkos::View<double* [3][3]> rot;  ///< [k] R_k turning the grid's motion into the node's frame
 
+  /// The number of entries of D_k (1: the node alone).
+  KOKKOS_INLINE_FUNCTION int count(int k) const { return 1 + grid(k, 2) * grid(k, 3); }
+  /// The node's own DOF d (entry 0's).
+  KOKKOS_INLINE_FUNCTION int ownDof(int k, int d) const { return own(k, d); }
+  /// Calls f(m, dof, w) for every entry m of D_k in order: dof its DOF triple, w its weight.
+  template <class Fn>
+  KOKKOS_INLINE_FUNCTION void forEachEntry(int k, const Fn& f) const {
+    f(0, &own(k, 0), 1.0);
+    const int first = grid(k, 0), inNv = grid(k, 1), nu = grid(k, 2), nv = grid(k, 3);
+    int m = 1;
+    for (int a = 0; a < nu; ++a) {
+      const int row = first + pu(k, a) * inNv;
+      const double w = -wu(k, a);
+      for (int b = 0; b < nv; ++b, ++m) f(m, &gridDof(row + pv(k, b), 0), w * wv(k, b));
+    }
+  }
   /// r = D_k v for any accessor v(i) of the system coordinates:
   ///   r_d = v(node DOF d) + sum_e R_k(d, e) sum_(m >= 1) w_m v(grid DOF (m, e)).
   template <class V>
   KOKKOS_INLINE_FUNCTION void apply(int k, const V& v, double r[3]) const {
     double g[3] = {0.0, 0.0, 0.0};
-    for (int m = 1; m < count(k); ++m)
-      for (int e = 0; e < 3; ++e) {
-        const int i = dof(k, m, e);
-        if (i >= 0) g[e] += w(k, m) * v(i);
+    const int first = grid(k, 0), inNv = grid(k, 1), nu = grid(k, 2), nv = grid(k, 3);
+    for (int a = 0; a < nu; ++a) {
+      const int row = first + pu(k, a) * inNv;
+      const double wa = -wu(k, a);
+      for (int b = 0; b < nv; ++b) {
+        const double w = wa * wv(k, b);
+        const int* dof = &gridDof(row + pv(k, b), 0);
+        for (int e = 0; e < 3; ++e)
+          if (dof[e] >= 0) g[e] += w * v(dof[e]);
       }
-    for (int d = 0; d < 3; ++d)
-      r[d] = w(k, 0) * v(dof(k, 0, d)) + rot(k, d, 0) * g[0] + rot(k, d, 1) * g[1] + rot(k, d, 2) * g[2];
+    }
+    for (int d = 0; d < 3; ++d) r[d] = v(own(k, d)) + rot(k, d, 0) * g[0] + rot(k, d, 1) * g[1] + rot(k, d, 2) * g[2];
   }
-  /// The entry of D_k in row e at DOF (m, e2): w_0 at the node's own DOF e, w_m R_k(e, e2) at a
-  /// grid node's (turned into the node's frame).
-  KOKKOS_INLINE_FUNCTION double coefficient(int k, int m, int e, int e2) const {
-    return m == 0 ? (e2 == e ? w(k, 0) : 0.0) : w(k, m) * rot(k, e, e2);
+  /// The entry of D_k in row e at DOF (m, e2), given its weight w: w at the node's own DOF e (m = 0),
+  /// w R_k(e, e2) at a grid node's (turned into the node's frame).
+  KOKKOS_INLINE_FUNCTION double coefficient(int k, int m, double w, int e, int e2) const {
+    return m == 0 ? (e2 == e ? w : 0.0) : w * rot(k, e, e2);
   }
 };
 
@@ -57,13 +84,16 @@ struct FlexibleColumn {
     if (F.denseRow(i) >= 0) {
       const int own = nodeBlock(k), b0 = F.blocks(own, 0), n = F.blocks(own, 1);
       return i >= b0 && i < b0 + n  // (a dense row: its block is dense)
-                 ? D.w(k, 0) * F.dense(F.start(own) + static_cast<std::size_t>(D.dof(k, 0, e) - b0) * n + (i - b0))
+                 ? F.dense(F.start(own) + static_cast<std::size_t>(D.ownDof(k, e) - b0) * n + (i - b0))
                  : 0.0;
     }
     double s = 0.0;
-    for (int m = 0; m < D.count(k); ++m)
+    const RelativeMotion& Dk = D;
+    const int node = k, dir = e;
+    D.forEachEntry(k, [&](int m, const int* dof, double w) {
       for (int e2 = 0; e2 < 3; ++e2)
-        if (D.dof(k, m, e2) == i) s += D.coefficient(k, m, e, e2);
+        if (dof[e2] == i) s += Dk.coefficient(node, m, w, dir, e2);
+    });
     return F.diag(i) * s;
   }
 };

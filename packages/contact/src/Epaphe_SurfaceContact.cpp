@@ -333,13 +333,10 @@ void SurfaceContact::generalizedForce(const DenseVector& gOut) const {
           double c[3], rc[3];
           for (int d = 0; d < 3; ++d) c[d] = l * dir(k, d);
           for (int e = 0; e < 3; ++e) rc[e] = D.rot(k, 0, e) * c[0] + D.rot(k, 1, e) * c[1] + D.rot(k, 2, e) * c[2];
-          for (int d = 0; d < 3; ++d)
-            if (D.dof(k, 0, d) >= 0) g(D.dof(k, 0, d)) += D.w(k, 0) * c[d];
-          for (int m = 1; m < D.count(k); ++m)
-            for (int e = 0; e < 3; ++e) {
-              const int i = D.dof(k, m, e);
-              if (i >= 0) g(i) += D.w(k, m) * rc[e];
-            }
+          D.forEachEntry(k, [&](int m, const int* dof, double w) {
+            for (int e = 0; e < 3; ++e)
+              if (dof[e] >= 0) g(dof[e]) += w * (m == 0 ? c[e] : rc[e]);
+          });
         }
       });
   fence();
