@@ -3,13 +3,22 @@
 #include "Epaphe_Error.hpp"
 #include "Epaphe_Parallel.hpp"
 
+#include <Kokkos_Core.hpp>
+
+#include <sched.h>
+
 #include <algorithm>
 #include <climits>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
 
 namespace epaphe {
 
-ParallelChoice::ParallelChoice(Options options) : o_(options) {
+ParallelChoice::ParallelChoice(Options options, std::function<bool()> crowded)
+    : o_(options), crowded_(std::move(crowded)) {
   EPAPHE_REQUIRE(o_.blockSteps >= 1 && o_.blockSeconds >= 0 && o_.pairs >= 1 && o_.holdFactor > 0,
                  "parallel choice: blocks of " << o_.blockSteps << " steps and " << o_.blockSeconds << " s, "
                                                << o_.pairs << " pairs, hold factor " << o_.holdFactor
@@ -21,6 +30,13 @@ bool ParallelChoice::stepStarts(double now) {
   if (!probing_ && now >= holdUntil_) {  // a new probe: the load may have changed
     probing_ = true;
     block_ = inBlock_ = 0;
+  }
+  if (probing_ && block_ == 0 && inBlock_ == 0 && crowded_ && crowded_()) {
+    // the cores are taken: the calling thread, without a probe, until the machine is looked at again
+    probing_ = false;
+    chosen_ = false;
+    ++crowdedLooks_;
+    holdUntil_ = now + 2 * o_.pairs * o_.blockSeconds;
   }
   if (probing_) {
     if (block_ == 0 && inBlock_ == 0) probeStart_ = now;
@@ -56,7 +72,52 @@ void ParallelChoice::stepEnds(double now) {
 }
 
 ParallelChooser::ParallelChooser(long threshold, ParallelChoice::Options options)
-    : threshold_(threshold), choice_(options) {}
+    : threshold_(threshold),
+      choice_(options, [team = Kokkos::DefaultHostExecutionSpace().concurrency()] { return crowded(team); }) {}
+
+namespace {
+
+/// Threads of other processes running or ready to run: /proc/loadavg's running count less this
+/// process's own threads in state R (/proc/self/task/*/stat); -1 where /proc cannot tell.
+int othersRunning() {
+  std::ifstream la("/proc/loadavg");
+  double l1, l5, l15;
+  std::string running;
+  if (!(la >> l1 >> l5 >> l15 >> running) || running.find('/') == std::string::npos) return -1;
+  int all = 0;
+  try {
+    all = std::stoi(running.substr(0, running.find('/')));
+  } catch (const std::exception&) {
+    return -1;
+  }
+  int own = 0;
+  std::error_code ec;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task", ec)) {
+    std::ifstream st(task.path() / "stat");
+    std::string line;
+    std::getline(st, line);
+    const std::size_t close = line.rfind(')');  // "tid (name) S ...": the name may hold spaces
+    if (close != std::string::npos && close + 2 < line.size() && line[close + 2] == 'R') ++own;
+  }
+  if (ec) return -1;
+  return all - own;
+}
+
+}  // namespace
+
+bool ParallelChooser::crowded(int team) {
+  cpu_set_t set;
+  if (team < 2 || sched_getaffinity(0, sizeof set, &set) != 0) return false;
+  const int cores = CPU_COUNT(&set);
+  int least = INT_MAX;
+  for (int look = 0; look < 3; ++look) {
+    if (look > 0) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    const int others = othersRunning();
+    if (others < 0) return false;
+    least = std::min(least, others);
+  }
+  return cores - least < team;
+}
 
 double ParallelChooser::now() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - origin_).count();
@@ -80,11 +141,13 @@ void ParallelChooser::failed(ExplicitLoop&, const std::string&) {
 
 std::string ParallelChooser::summary() const {
   const ParallelChoice& c = choice_;
-  char line[200];
+  char line[320];
   std::snprintf(
       line, sizeof line,
-      "threads: the loops on the team on %.1f %% of the steps (%d of %d probes chose it; last team/alone time %.3g)",
-      c.steps() ? 100.0 * c.parallelSteps() / c.steps() : 0.0, c.parallelChoices(), c.probes(), c.lastRatio());
+      "threads: the loops on the team on %.1f %% of the steps (%d of %d probes chose it; last team/alone time %.3g; "
+      "%d looks found the cores taken by other processes)",
+      c.steps() ? 100.0 * c.parallelSteps() / c.steps() : 0.0, c.parallelChoices(), c.probes(), c.lastRatio(),
+      c.crowdedLooks());
   return line;
 }
 

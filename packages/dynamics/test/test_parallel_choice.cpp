@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sched.h>
+
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -113,6 +115,59 @@ TEST(ParallelChoice, BlocksLastLongEnoughToTime) {
     EXPECT_GE(n, 6 * perBlock * 2 / 3) << "step " << step;  // serial blocks need fewer steps for their time
     EXPECT_LE(n, 6 * perBlock + 6) << "step " << step;
   }
+}
+
+TEST(ParallelChoice, CrowdedCoresSkipTheProbe) {
+  // the team's steps cost 3 times the calling thread's (another process holds a core). With `crowded`
+  // saying so, no step runs on the team; once the cores are free again, the next look lets a probe run
+  // and choose the team, which is then faster
+  bool taken = true;
+  int looks = 0;
+  ParallelChoice::Options o = bySteps();
+  o.blockSeconds = 1e-3;  // (a look every 2 pairs x 1 ms)
+  ParallelChoice c(o, [&] {
+    ++looks;
+    return taken;
+  });
+  const long steps = 20000;
+  const auto par = [&](long) { return taken ? 3e-5 : 1e-5; };
+  const auto ser = [&](long) { return 2e-5; };
+  double now = runSteps(c, steps, par, ser);
+  EXPECT_EQ(c.parallelSteps(), 0);
+  EXPECT_EQ(c.probes(), 0);
+  EXPECT_GT(c.crowdedLooks(), 10);
+  EXPECT_EQ(c.crowdedLooks(), looks);
+  EXPECT_NEAR(now, steps * 2e-5, 1e-12);
+  taken = false;
+  for (long n = 0; n < steps; ++n) {
+    now += c.stepStarts(now) ? par(n) : ser(n);
+    c.stepEnds(now);
+  }
+  EXPECT_GE(c.probes(), 1);
+  EXPECT_EQ(c.parallelChoices(), c.probes());
+  EXPECT_GT(c.parallelSteps(), steps / 2);
+}
+
+TEST(ParallelChoice, FreeCoresLetTheProbeDecide) {
+  // `crowded` saying no changes nothing: the same verdicts and counts as without it
+  for (const bool parallelFaster : {true, false}) {
+    ParallelChoice with(bySteps(), [] { return false; }), without(bySteps());
+    const auto par = [&](long) { return parallelFaster ? 1e-5 : 2e-5; };
+    const auto ser = [&](long) { return parallelFaster ? 2e-5 : 1e-5; };
+    EXPECT_EQ(runSteps(with, 50000, par, ser), runSteps(without, 50000, par, ser));
+    EXPECT_EQ(with.parallelSteps(), without.parallelSteps());
+    EXPECT_EQ(with.probes(), without.probes());
+    EXPECT_EQ(with.crowdedLooks(), 0);
+  }
+}
+
+TEST(ParallelChooser, LooksAtTheMachine) {
+  // this process's own running thread is not counted as another's: with 1 thread wanted nothing is
+  // crowded, and a team larger than the machine's cores always is
+  EXPECT_FALSE(ParallelChooser::crowded(1));
+  cpu_set_t set;
+  ASSERT_EQ(sched_getaffinity(0, sizeof set, &set), 0);
+  EXPECT_TRUE(ParallelChooser::crowded(CPU_COUNT(&set) + 1));
 }
 
 TEST(ParallelChoice, RefusesNonsense) {

@@ -41,8 +41,9 @@ void addRunParameters(Teuchos::ParameterList& pl) {
   addBool(run, "Adaptive threads", true,
           "With more than one thread: time the step's loops on the thread team against the calling "
           "thread alone while the run runs (alternating blocks of steps), run the faster, and time "
-          "them again now and then (the machine's load may change). The results are the same bits "
-          "either way (Epaphe_ParallelChooser.hpp)");
+          "them again now and then (the machine's load may change); when other processes' threads "
+          "already hold the cores the team would need (Linux /proc), the calling thread without timing "
+          "the team. The results are the same bits either way (Epaphe_ParallelChooser.hpp)");
   addDouble(run, "Progress interval", 2.0, "Wall-clock seconds between progress lines (0: none)", 0.0);
   addBool(run, "Divergence step check", true,
           "When a run stops with its energy growing without bound, run the deck "
