@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <thread>
 
 namespace epaphe {
 
@@ -27,23 +26,29 @@ ParallelChoice::ParallelChoice(Options options, std::function<bool()> crowded)
 }
 
 bool ParallelChoice::stepStarts(double now) {
-  if (!probing_ && now >= holdUntil_) {  // a new probe: the load may have changed
-    probing_ = true;
+  if (!probing_ && !looking_ && now >= holdUntil_) {  // the load may have changed
+    looking_ = static_cast<bool>(crowded_);
+    looks_ = 0;
+    probing_ = !looking_;
     block_ = inBlock_ = 0;
   }
-  if (probing_ && block_ == 0 && inBlock_ == 0 && crowded_ && crowded_()) {
-    // the cores are taken: the calling thread, without a probe, until the machine is looked at again
-    probing_ = false;
-    chosen_ = false;
-    ++crowdedLooks_;
-    holdUntil_ = now + 2 * o_.pairs * o_.blockSeconds;
+  if (looking_) {  // before a probe, up to kLooks steps on the calling thread, each a look at the machine
+    if (!crowded_()) {
+      looking_ = false;
+      probing_ = true;
+    } else if (++looks_ == kLooks) {  // taken at every look: the calling thread without a probe
+      looking_ = false;
+      chosen_ = false;
+      ++crowdedSkips_;
+      holdUntil_ = now + 2 * o_.pairs * o_.blockSeconds;
+    }
   }
   if (probing_) {
     if (block_ == 0 && inBlock_ == 0) probeStart_ = now;
     if (inBlock_ == 0) blockStart_ = now;
     parallel_ = block_ % 2 == 0;
   } else {
-    parallel_ = chosen_;
+    parallel_ = !looking_ && chosen_;
   }
   ++steps_;
   if (parallel_) ++parallelSteps_;
@@ -108,15 +113,8 @@ int othersRunning() {
 bool ParallelChooser::crowded(int team) {
   cpu_set_t set;
   if (team < 2 || sched_getaffinity(0, sizeof set, &set) != 0) return false;
-  const int cores = CPU_COUNT(&set);
-  int least = INT_MAX;
-  for (int look = 0; look < 3; ++look) {
-    if (look > 0) std::this_thread::sleep_for(std::chrono::microseconds(200));
-    const int others = othersRunning();
-    if (others < 0) return false;
-    least = std::min(least, others);
-  }
-  return cores - least < team;
+  const int others = othersRunning();
+  return others >= 0 && CPU_COUNT(&set) - others < team;
 }
 
 double ParallelChooser::now() const {
@@ -145,9 +143,9 @@ std::string ParallelChooser::summary() const {
   std::snprintf(
       line, sizeof line,
       "threads: the loops on the team on %.1f %% of the steps (%d of %d probes chose it; last team/alone time %.3g; "
-      "%d looks found the cores taken by other processes)",
+      "%d probes skipped: other processes held the cores)",
       c.steps() ? 100.0 * c.parallelSteps() / c.steps() : 0.0, c.parallelChoices(), c.probes(), c.lastRatio(),
-      c.crowdedLooks());
+      c.crowdedSkips());
   return line;
 }
 

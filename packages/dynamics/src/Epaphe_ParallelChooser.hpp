@@ -21,11 +21,11 @@
 // A probe's team blocks are what the adaptive run pays for its choice, and they cost most when the
 // answer is plain: beside a busy process a team step on a 2-core machine is 2-3 times slower, and the
 // first probe's three team blocks alone cost a short run 13 % of its time. So before a probe, the
-// chooser looks at the machine (ParallelChoice's `crowded`): when other processes' threads ready to
-// run, at the least of three looks, leave fewer free cores than the team has threads (Linux:
-// /proc/loadavg's running threads less this process's own), the calling thread's mode is kept without a
-// probe, and the machine looked at again after a probe's least length. Where /proc cannot tell, or the
-// cores look free, the probe decides as above.
+// chooser looks at the machine (ParallelChoice's `crowded`) at the start of up to 3 steps run on the
+// calling thread: when at every look other processes' threads ready to run leave fewer free cores than
+// the team has threads (Linux: /proc/loadavg's running threads less this process's own), the calling
+// thread's mode is kept without a probe, and the machine looked at again after a probe's least length.
+// One look that finds the cores free, or /proc that cannot tell, lets the probe decide as above.
 //
 // Switching changes no result: the step's loops write per item and reduce() sums in fixed chunks in
 // index order (Epaphe_Parallel.hpp), so a run gives the same bits in either mode.
@@ -51,8 +51,9 @@ public:
   /// With the default options.
   ParallelChoice() : ParallelChoice(Options{}) {}
   /// Throws epaphe::Error on options out of range (blocks of no step, no pair, no hold). `crowded`
-  /// (optional) is asked where a probe would start: true (other processes hold the cores the team
-  /// needs) keeps the calling thread's mode without a probe until 2 pairs x blockSeconds later.
+  /// (optional), one look at the machine, is asked at the start of up to 3 steps before a probe, run
+  /// on the calling thread: true at all of them (other processes hold the cores the team needs) keeps
+  /// the calling thread's mode without a probe until 2 pairs x blockSeconds later.
   explicit ParallelChoice(Options options, std::function<bool()> crowded = {});
 
   /// A step starts at wall time `now` (s); returns true when it must run its loops in parallel.
@@ -72,20 +73,22 @@ public:
   ///@}
   /// The median parallel/serial wall-time ratio of the last probe (0 before the first).
   double lastRatio() const { return lastRatio_; }
-  /// Probes not run because `crowded` said the cores were taken.
-  int crowdedLooks() const { return crowdedLooks_; }
+  /// Probes not run because every look found the cores taken.
+  int crowdedSkips() const { return crowdedSkips_; }
 
 private:
   Options o_;
-  bool probing_ = true, parallel_ = true, chosen_ = true;
+  bool probing_ = false, parallel_ = true, chosen_ = true;
   int block_ = 0, inBlock_ = 0;  // block of the probe (even: parallel), steps done in it
   double blockStart_ = 0, probeStart_ = 0, holdUntil_ = 0;
   std::vector<double> perStep_;  // the probe's blocks' wall times
   long long parallelSteps_ = 0, steps_ = 0;
   int probes_ = 0, parallelChoices_ = 0;
   double lastRatio_ = 0;
+  static constexpr int kLooks = 3;
   std::function<bool()> crowded_;
-  int crowdedLooks_ = 0;
+  bool looking_ = false;
+  int looks_ = 0, crowdedSkips_ = 0;
 };
 
 /// The loop observer that applies ParallelChoice: sets serialWorkNs() before each step (the
@@ -94,8 +97,8 @@ class ParallelChooser : public LoopObserver {
 public:
   /// `threshold`: the serialWorkNs() of parallel mode (the configured one).
   explicit ParallelChooser(long threshold, ParallelChoice::Options options = {});
-  /// True when other processes' threads ready to run leave fewer free cores than `team` threads
-  /// (Linux /proc; false where it cannot tell): the least of three looks 0.2 ms apart.
+  /// One look at the machine: true when other processes' threads ready to run leave fewer free cores
+  /// than `team` threads (Linux /proc; false where it cannot tell).
   static bool crowded(int team);
   void beginStep(ExplicitLoop&) override;
   void endStep(ExplicitLoop&) override;
