@@ -232,6 +232,7 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.coat = makeCoatingViews(coated, materials);
   v.element = Kokkos::View<int*>("epaphe::contact::coating_element", nc);
   Kokkos::deep_copy(v.element, -1);
+  u_ = v_.untracked();
 }
 
 void ContactDetection::setPenetrationOffsets(const std::vector<double>& depth, double rampEnd) {
@@ -496,7 +497,7 @@ DetectionViews DetectionViews::untracked() const {
 
 void ContactDetection::project(bool all, bool refineOnly) {
   // local copies of the views it owns, unmanaged (no reference counted); nothing allocated
-  const DetectionViews v = v_.untracked();
+  const DetectionViews& v = u_;
   const DenseVector q = unmanaged(q_);
   const int nc = numNodes(), ns = numSurfaces();
   const double tol = opt_.nrTolerance;

@@ -199,6 +199,8 @@ public:
 
   /// The views the kernels read and write (gaps, normals, foot points, skipping).
   const DetectionViews& views() const { return v_; }
+  /// The same views, unmanaged (DetectionViews::untracked(), made once: the views are not reallocated).
+  const DetectionViews& untrackedViews() const { return u_; }
   /// The number of contact nodes.
   int numNodes() const { return static_cast<int>(v_.gap.extent(0)); }
   /// The number of surfaces.
@@ -239,6 +241,7 @@ private:
   DetectionOptions opt_;
   std::vector<ContactSurface> surfaces_;
   DetectionViews v_;
+  DetectionViews u_;                                       // v_.untracked()
   std::vector<Kokkos::View<double*[3]>> gridX_, gridPos_;  // [s] carried surfaces' grid (empty: rigid)
   std::vector<Kokkos::View<int* [3]>> gridDof_;
   std::vector<Kokkos::View<double* [3]>::HostMirror> gridPosH_;

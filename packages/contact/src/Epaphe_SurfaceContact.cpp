@@ -181,7 +181,7 @@ void SurfaceContact::correctImpl(const DenseVector& q, const DenseVector* qCurre
   // From here the step copies unmanaged views into locals and kernel captures (Epaphe_Parallel.hpp:
   // unmanaged; no reference counted) and allocates none (contact.step-budget).
   if (!startStep()) return;
-  const DetectionViews dv = detection_->views().untracked();
+  const DetectionViews& dv = detection_->untrackedViews();
   flex_->motionEntries(dv);
   flex_->forgetPairs();  // D (and so C) changed
   // Active set (Lagrange): the nodes the predictor made penetrate, less those the surface would
@@ -234,7 +234,7 @@ bool SurfaceContact::addPenetrating() {
   // g + n . D_k dq >= bound - |D_k dq|); when the bound does not decide, it is projected (refine)
   // and tested again with its exact gap
   const int nc = numNodes();
-  const DetectionViews dv = detection_->views().untracked();
+  const DetectionViews& dv = detection_->untrackedViews();
   const auto dq = unmanaged(dq_);
   const auto force = unmanaged(v_.force);
   int added = 0;
@@ -382,7 +382,7 @@ void SurfaceContact::frictionHeatByNode(const DenseVector& qNext, const DenseVec
   const auto tangent = unmanaged(v_.tangent);
   const auto force = unmanaged(v_.force);
   const auto dir = unmanaged(v_.dir);
-  const DetectionViews views = detection_->views().untracked();
+  const DetectionViews& views = detection_->untrackedViews();
   const auto turn = views.turn;
   const auto selected = views.selected;
   const auto foot = views.footX;
