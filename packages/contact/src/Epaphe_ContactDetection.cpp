@@ -200,6 +200,7 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.uv = Kokkos::View<double** [2]>("epaphe::contact::uv", nc, ns);
   Kokkos::deep_copy(v.uv, std::nan(""));  // cold start from the nearest grid node
   v.uvRate = Kokkos::View<double** [2]>("epaphe::contact::uv_rate", nc, ns);
+  v.found = Kokkos::View<Projection**>("epaphe::contact::found", nc, ns);
   v.gap = Kokkos::View<double*>("epaphe::contact::gap", nc);
   v.selected = Kokkos::View<int*>("epaphe::contact::surface", nc);
   v.normal = DetectionViews::Vec3("epaphe::contact::normal", nc);
@@ -478,6 +479,7 @@ DetectionViews DetectionViews::untracked() const {
   u.block = unmanaged(block);
   u.uv = unmanaged(uv);
   u.uvRate = unmanaged(uvRate);
+  u.found = unmanaged(found);
   u.gap = unmanaged(gap);
   u.selected = unmanaged(selected);
   u.normal = unmanaged(normal);
@@ -509,108 +511,147 @@ void ContactDetection::project(bool all, bool refineOnly) {
   // about 0.6 us per projection of a node on a surface on one thread (warm-started Newton on a
   // bicubic patch), 30 ns per skipped node; as many projections expected as at the last step
   const long long expected = skip && !refineOnly ? std::max(lastProjections_, 1LL) : projectionsUnskipped_;
+  // The nodes in blocks of kDetectBlock: a block's projections (a node on a surface) are gathered
+  // and made kProjectionLanes at a time, their Newton iterations interleaved (closestPoints(): each
+  // projection's result depends on its own node alone, on any number of threads), then each node
+  // picks its surface from its projections, in the surfaces' order.
+  constexpr int kDetectBlock = 16, W = kProjectionLanes;
+  const int blocks = (nc + kDetectBlock - 1) / kDetectBlock;
   forEach(
-      "epaphe::contact::detect", nc, 30L + static_cast<long>(600 * expected / nc), KOKKOS_LAMBDA(const int k) {
-        if (refineOnly && !v.skip.refine(k)) return;
-        double x[3];
-        for (int d = 0; d < 3; ++d) x[d] = v.X(k, d) + q(v.dof(k, d));
-        for (int d = 0; d < 3; ++d) v.x(k, d) = x[d];
-        if (skip && v.skip.eligible(k)) {
-          double dx = 0.0;
-          for (int d = 0; d < 3; ++d) dx += (x[d] - v.skip.xLast(k, d)) * (x[d] - v.skip.xLast(k, d));
-          double move = ::sqrt(dx);
-          for (int s = 0; s < ns; ++s)
-            if (v.onlyBlock(s) < 0 || v.onlyBlock(s) == v.block(k))
-              move += ::fabs(v.turn(s, 0)) * (t - v.skip.tLast(k)) * v.turn(s, 7) +
-                      (v.skip.travel(s) - v.skip.travelLast(k, s));
-          // The distance to a surface is 1-Lipschitz in the node's position and moves by at most the
-          // surface's own motion: the gap now is at least the last one less `move`, and the node cannot
-          // have crossed the surface (a crossing needs a segment at least gLast long). A lower bound of
-          // the gap, b > 0: out of contact for certain (b is kept for the add passes' refine test).
-          const double b = v.skip.gLast(k) - move;
-          if (b > 0.0) {
-            v.skip.skipped(k) = 1;
-            v.skip.bound(k) = b;
-            v.iterations(k) = 0;
-            return;
+      "epaphe::contact::detect", blocks, kDetectBlock * (30L + static_cast<long>(600 * expected / nc)),
+      KOKKOS_LAMBDA(const int blk) {
+        const int k0 = blk * kDetectBlock, k1 = k0 + kDetectBlock < nc ? k0 + kDetectBlock : nc;
+        bool todo[kDetectBlock];
+        double lx[W][3], lu[W], lv[W];
+        int lk[W], ls[W], n = 0;
+        Projection lp[W];
+        auto flush = [&]() {
+          closestPoints(v.surf(ls[0]), n, lx, lu, lv, tol, maxIt, lp);
+          for (int l = 0; l < n; ++l) v.found(lk[l], ls[l]) = lp[l];
+          n = 0;
+        };
+        for (int k = k0; k < k1; ++k) {
+          todo[k - k0] = false;
+          if (refineOnly && !v.skip.refine(k)) continue;
+          double x[3];
+          for (int d = 0; d < 3; ++d) x[d] = v.X(k, d) + q(v.dof(k, d));
+          for (int d = 0; d < 3; ++d) v.x(k, d) = x[d];
+          if (skip && v.skip.eligible(k)) {
+            double dx = 0.0;
+            for (int d = 0; d < 3; ++d) dx += (x[d] - v.skip.xLast(k, d)) * (x[d] - v.skip.xLast(k, d));
+            double move = ::sqrt(dx);
+            for (int s = 0; s < ns; ++s)
+              if (v.onlyBlock(s) < 0 || v.onlyBlock(s) == v.block(k))
+                move += ::fabs(v.turn(s, 0)) * (t - v.skip.tLast(k)) * v.turn(s, 7) +
+                        (v.skip.travel(s) - v.skip.travelLast(k, s));
+            // The distance to a surface is 1-Lipschitz in the node's position and moves by at most the
+            // surface's own motion: the gap now is at least the last one less `move`, and the node cannot
+            // have crossed the surface (a crossing needs a segment at least gLast long). A lower bound of
+            // the gap, b > 0: out of contact for certain (b is kept for the add passes' refine test).
+            const double b = v.skip.gLast(k) - move;
+            if (b > 0.0) {
+              v.skip.skipped(k) = 1;
+              v.skip.bound(k) = b;
+              v.iterations(k) = 0;
+              continue;
+            }
           }
+          todo[k - k0] = true;
+          v.skip.skipped(k) = 0;
+          v.skip.refine(k) = 0;
         }
-        v.skip.skipped(k) = 0;
-        v.skip.refine(k) = 0;
-        int best = -1, its = 0, element = -1;
-        double g = 1e300, gmin = 1e300;
-        bool eligible = true;
-        for (int s = 0; s < ns; ++s) {
-          if (v.onlyBlock(s) >= 0 && v.onlyBlock(s) != v.block(k)) continue;  // another instance's copy
+        for (int s = 0; s < ns; ++s) {       // by surface: a batch projects on one surface
           const SurfaceView& S = v.surf(s);  // a reference: a copy would copy its 4 views per node and surface
-          double xs[3] = {x[0], x[1], x[2]};
-          if (v.turn(s, 8) != 0.0) {
-            // in the surface's frame: x_s = c + R^T (x - c)
-            const double c0 = v.turn(s, 4), c1 = v.turn(s, 5), c2 = v.turn(s, 6);
-            const double r[3] = {x[0] - c0, x[1] - c1, x[2] - c2}, cc[3] = {c0, c1, c2};
-            for (int i = 0; i < 3; ++i)
-              xs[i] = cc[i] + v.rot(s, 0, i) * r[0] + v.rot(s, 1, i) * r[1] + v.rot(s, 2, i) * r[2];
+          for (int k = k0; k < k1; ++k) {
+            if (!todo[k - k0] || (v.onlyBlock(s) >= 0 && v.onlyBlock(s) != v.block(k)))
+              continue;  // (another instance's copy)
+            double* xs = lx[n];
+            for (int d = 0; d < 3; ++d) xs[d] = v.x(k, d);
+            if (v.turn(s, 8) != 0.0) {
+              // in the surface's frame: x_s = c + R^T (x - c)
+              const double c0 = v.turn(s, 4), c1 = v.turn(s, 5), c2 = v.turn(s, 6);
+              const double r[3] = {xs[0] - c0, xs[1] - c1, xs[2] - c2}, cc[3] = {c0, c1, c2};
+              for (int i = 0; i < 3; ++i)
+                xs[i] = cc[i] + v.rot(s, 0, i) * r[0] + v.rot(s, 1, i) * r[1] + v.rot(s, 2, i) * r[2];
+            }
+            const double uLast = v.uv(k, s, 0), vLast = v.uv(k, s, 1), dt = t - v.skip.tLast(k);
+            double u0 = uLast, v0 = vLast;
+            if (!(uLast == uLast && vLast == vLast)) {
+              nearestGridPoint(S, xs, u0, v0);
+            } else if (dt != 0.0) {
+              // predicted: moved on by its last rate, if by less than a patch; or back, for an output
+              // step's measurement at t_n after the step's detection at t_n+1 (dt = -h): the foot the
+              // detection at t_n found, x having moved since only by the correction
+              const double du = v.uvRate(k, s, 0) * dt, dv = v.uvRate(k, s, 1) * dt;
+              if (::fabs(du) < 1.0 && ::fabs(dv) < 1.0) {
+                u0 += du;
+                v0 += dv;
+              }
+            }
+            lu[n] = u0;
+            lv[n] = v0;
+            lk[n] = k;
+            ls[n] = s;
+            if (++n == W) flush();
           }
-          const double uLast = v.uv(k, s, 0), vLast = v.uv(k, s, 1), dt = t - v.skip.tLast(k);
-          const bool warm = uLast == uLast && vLast == vLast;
-          double u0 = uLast, v0 = vLast;
-          if (!warm) {
-            nearestGridPoint(S, xs, u0, v0);
-          } else if (dt != 0.0) {
-            // predicted: moved on by its last rate, if by less than a patch; or back, for an output
-            // step's measurement at t_n after the step's detection at t_n+1 (dt = -h): the foot the
-            // detection at t_n found, x having moved since only by the correction
-            const double du = v.uvRate(k, s, 0) * dt, dv = v.uvRate(k, s, 1) * dt;
-            if (::fabs(du) < 1.0 && ::fabs(dv) < 1.0) {
-              u0 += du;
-              v0 += dv;
+          if (n > 0) flush();
+        }
+        for (int k = k0; k < k1; ++k) {
+          if (!todo[k - k0]) continue;
+          int best = -1, its = 0, element = -1;
+          double g = 1e300, gmin = 1e300;
+          bool eligible = true;
+          for (int s = 0; s < ns; ++s) {
+            if (v.onlyBlock(s) >= 0 && v.onlyBlock(s) != v.block(k)) continue;
+            const SurfaceView& S = v.surf(s);
+            const Projection& p = v.found(k, s);
+            const double uLast = v.uv(k, s, 0), vLast = v.uv(k, s, 1), dt = t - v.skip.tLast(k);
+            if (uLast == uLast && vLast == vLast &&
+                dt > 0.0) {  // a closed direction's parameter wraps: the shortest way round
+              double du = p.u - uLast, dv = p.v - vLast;
+              if (S.periodicU) du -= S.nu * ::floor(du / S.nu + 0.5);
+              if (S.periodicV) dv -= S.nv * ::floor(dv / S.nv + 0.5);
+              v.uvRate(k, s, 0) = du / dt;
+              v.uvRate(k, s, 1) = dv / dt;
+            }
+            v.uv(k, s, 0) = p.u;
+            v.uv(k, s, 1) = p.v;
+            its = p.iterations > its ? p.iterations : its;
+            eligible = eligible && p.converged && !(p.beyond > 0.0);
+            v.skip.travelLast(k, s) = v.skip.travel(s);
+            // through a coating: the gap to its current profile; the bound's to the unworn one
+            const int e = v.coat.element(s, S, p.u, p.v, v.selected(k) == s ? v.element(k) : -1);
+            const double pg = p.gap - v.coat.offset(s, e);
+            const double gUnworn = e < 0 ? p.gap : p.gap - v.coat.law(s, 0);
+            gmin = gUnworn < gmin ? gUnworn : gmin;
+            if (!(p.beyond > edgeTol) && pg < g) {
+              g = pg;
+              best = s;
+              element = e;
+              for (int d = 0; d < 3; ++d) {  // back to the bodies' frame: n = R n_s, S = c + R (S_s - c)
+                v.normal(k, d) =
+                    v.rot(s, d, 0) * p.normal[0] + v.rot(s, d, 1) * p.normal[1] + v.rot(s, d, 2) * p.normal[2];
+                double y = v.turn(s, 4 + d);
+                for (int e = 0; e < 3; ++e) y += v.rot(s, d, e) * (p.point[e] - v.turn(s, 4 + e));
+                v.footX(k, d) = y;
+              }
+              v.foot(k, 0) = p.u;
+              v.foot(k, 1) = p.v;
             }
           }
-          const Projection p = closestPoint(S, xs, u0, v0, tol, maxIt);
-          if (warm && dt > 0.0) {  // a closed direction's parameter wraps: the shortest way round
-            double du = p.u - uLast, dv = p.v - vLast;
-            if (S.periodicU) du -= S.nu * ::floor(du / S.nu + 0.5);
-            if (S.periodicV) dv -= S.nv * ::floor(dv / S.nv + 0.5);
-            v.uvRate(k, s, 0) = du / dt;
-            v.uvRate(k, s, 1) = dv / dt;
+          if (rampEnd > 0.0 && best >= 0 && best == v.offsetSurf(k)) {
+            g += v.offset(k) * (1.0 - t / rampEnd);  // a gently resolved initial penetration
+            eligible = false;
           }
-          v.uv(k, s, 0) = p.u;
-          v.uv(k, s, 1) = p.v;
-          its = p.iterations > its ? p.iterations : its;
-          eligible = eligible && p.converged && !(p.beyond > 0.0);
-          v.skip.travelLast(k, s) = v.skip.travel(s);
-          // through a coating: the gap to its current profile; the bound's to the unworn one
-          const int e = v.coat.element(s, S, p.u, p.v, v.selected(k) == s ? v.element(k) : -1);
-          const double pg = p.gap - v.coat.offset(s, e);
-          const double gUnworn = e < 0 ? p.gap : p.gap - v.coat.law(s, 0);
-          gmin = gUnworn < gmin ? gUnworn : gmin;
-          if (!(p.beyond > edgeTol) && pg < g) {
-            g = pg;
-            best = s;
-            element = e;
-            for (int d = 0; d < 3; ++d) {  // back to the bodies' frame: n = R n_s, S = c + R (S_s - c)
-              v.normal(k, d) =
-                  v.rot(s, d, 0) * p.normal[0] + v.rot(s, d, 1) * p.normal[1] + v.rot(s, d, 2) * p.normal[2];
-              double y = v.turn(s, 4 + d);
-              for (int e = 0; e < 3; ++e) y += v.rot(s, d, e) * (p.point[e] - v.turn(s, 4 + e));
-              v.footX(k, d) = y;
-            }
-            v.foot(k, 0) = p.u;
-            v.foot(k, 1) = p.v;
-          }
+          v.gap(k) = g;
+          v.selected(k) = best;
+          v.element(k) = element;
+          v.iterations(k) = its;
+          for (int d = 0; d < 3; ++d) v.skip.xLast(k, d) = v.x(k, d);
+          v.skip.tLast(k) = t;
+          v.skip.gLast(k) = gmin;
+          v.skip.eligible(k) = eligible && gmin > 0.0 ? 1 : 0;
         }
-        if (rampEnd > 0.0 && best >= 0 && best == v.offsetSurf(k)) {
-          g += v.offset(k) * (1.0 - t / rampEnd);  // a gently resolved initial penetration
-          eligible = false;
-        }
-        v.gap(k) = g;
-        v.selected(k) = best;
-        v.element(k) = element;
-        v.iterations(k) = its;
-        for (int d = 0; d < 3; ++d) v.skip.xLast(k, d) = x[d];
-        v.skip.tLast(k) = t;
-        v.skip.gLast(k) = gmin;
-        v.skip.eligible(k) = eligible && gmin > 0.0 ? 1 : 0;
       });
   fence();
   int projected = 0, iters = 0;

@@ -144,6 +144,7 @@ struct DetectionViews {
   Kokkos::View<int*> block;           ///< [k] the node's block (body)
   Kokkos::View<double** [2]> uv;      ///< [k][s] warm start (NaN: cold start from the nearest grid node)
   Kokkos::View<double** [2]> uvRate;  ///< [k][s] d(u, v)/dt of the foot point between its last two projections
+  Kokkos::View<Projection**> found;   ///< [k][s] this detection's projections (the kernel's scratch)
   Kokkos::View<double*> gap;          ///< selected gap (1e300: beyond every surface)
   Kokkos::View<int*> selected;        ///< selected surface (-1: none)
   Vec3 normal;                        ///< unit normal n_k at the foot point, bodies' frame

@@ -115,6 +115,36 @@ KOKKOS_INLINE_FUNCTION int binCoord(const BasicSurfaceView<MemorySpace>& s, doub
 
 }  // namespace surface_detail
 
+namespace surface_detail {
+
+/// The patch's 16 control points contracted with the basis along u (b*) and along v (c*): the point
+/// and its first and second derivatives (eq. 2.21-2.22). P: the patch's first control point; its 4
+/// rows (along u) of 4 points each hold 12 contiguous coordinates (LayoutRight [nu_ext][nv_ext][3]),
+/// rows rowStride apart. The rows are first combined along u, 12 coordinates at a time (a loop the
+/// compiler vectorises: 36 vector products instead of 144 scalar ones), then along v.
+KOKKOS_INLINE_FUNCTION void contractPatch(const double* P, std::size_t rowStride, const double bu[4],
+                                          const double dbu[4], const double ddbu[4], const double bv[4],
+                                          const double dbv[4], const double ddbv[4], double S[3], double Su[3],
+                                          double Sv[3], double Suu[3], double Suv[3], double Svv[3]) {
+  double r[12], ru[12], ruu[12];  // the 4 rows combined along u: value, d/du, d2/du2
+  for (int e = 0; e < 12; ++e) {
+    const double q0 = P[e], q1 = P[rowStride + e], q2 = P[2 * rowStride + e], q3 = P[3 * rowStride + e];
+    r[e] = bu[0] * q0 + bu[1] * q1 + bu[2] * q2 + bu[3] * q3;
+    ru[e] = dbu[0] * q0 + dbu[1] * q1 + dbu[2] * q2 + dbu[3] * q3;
+    ruu[e] = ddbu[0] * q0 + ddbu[1] * q1 + ddbu[2] * q2 + ddbu[3] * q3;
+  }
+  for (int c = 0; c < 3; ++c) {
+    S[c] = bv[0] * r[c] + bv[1] * r[3 + c] + bv[2] * r[6 + c] + bv[3] * r[9 + c];
+    Sv[c] = dbv[0] * r[c] + dbv[1] * r[3 + c] + dbv[2] * r[6 + c] + dbv[3] * r[9 + c];
+    Svv[c] = ddbv[0] * r[c] + ddbv[1] * r[3 + c] + ddbv[2] * r[6 + c] + ddbv[3] * r[9 + c];
+    Su[c] = bv[0] * ru[c] + bv[1] * ru[3 + c] + bv[2] * ru[6 + c] + bv[3] * ru[9 + c];
+    Suv[c] = dbv[0] * ru[c] + dbv[1] * ru[3 + c] + dbv[2] * ru[6 + c] + dbv[3] * ru[9 + c];
+    Suu[c] = bv[0] * ruu[c] + bv[1] * ruu[3 + c] + bv[2] * ruu[6 + c] + bv[3] * ruu[9 + c];
+  }
+}
+
+}  // namespace surface_detail
+
 /// Surface point and first and second derivatives w.r.t. the global parameters (eq. 2.21-2.22).
 template <class MemorySpace>
 KOKKOS_INLINE_FUNCTION void evaluate(const BasicSurfaceView<MemorySpace>& s, double u, double v, double S[3],
@@ -126,28 +156,8 @@ KOKKOS_INLINE_FUNCTION void evaluate(const BasicSurfaceView<MemorySpace>& s, dou
   double bu[4], dbu[4], ddbu[4], bv[4], dbv[4], ddbv[4];
   surface_detail::cubicBasis(t, bu, dbu, ddbu);
   surface_detail::cubicBasis(w, bv, dbv, ddbv);
-  // The patch's 4 rows of 4 control points: each row's 12 coordinates are contiguous (LayoutRight
-  // [nu_ext][nv_ext][3]), rows stride(0) apart.
-  const double* P = &s.ctrl(i, j, 0);
-  const std::size_t rowStride = s.ctrl.stride(0);
-  double r[4][3], rv[4][3], rvv[4][3];  // row a contracted along v: value, d/dv, d2/dv2
-  for (int a = 0; a < 4; ++a) {
-    const double* row = P + a * rowStride;
-    for (int c = 0; c < 3; ++c) {
-      const double q0 = row[c], q1 = row[3 + c], q2 = row[6 + c], q3 = row[9 + c];
-      r[a][c] = bv[0] * q0 + bv[1] * q1 + bv[2] * q2 + bv[3] * q3;
-      rv[a][c] = dbv[0] * q0 + dbv[1] * q1 + dbv[2] * q2 + dbv[3] * q3;
-      rvv[a][c] = ddbv[0] * q0 + ddbv[1] * q1 + ddbv[2] * q2 + ddbv[3] * q3;
-    }
-  }
-  for (int c = 0; c < 3; ++c) {
-    S[c] = bu[0] * r[0][c] + bu[1] * r[1][c] + bu[2] * r[2][c] + bu[3] * r[3][c];
-    Su[c] = dbu[0] * r[0][c] + dbu[1] * r[1][c] + dbu[2] * r[2][c] + dbu[3] * r[3][c];
-    Suu[c] = ddbu[0] * r[0][c] + ddbu[1] * r[1][c] + ddbu[2] * r[2][c] + ddbu[3] * r[3][c];
-    Sv[c] = bu[0] * rv[0][c] + bu[1] * rv[1][c] + bu[2] * rv[2][c] + bu[3] * rv[3][c];
-    Suv[c] = dbu[0] * rv[0][c] + dbu[1] * rv[1][c] + dbu[2] * rv[2][c] + dbu[3] * rv[3][c];
-    Svv[c] = bu[0] * rvv[0][c] + bu[1] * rvv[1][c] + bu[2] * rvv[2][c] + bu[3] * rvv[3][c];
-  }
+  surface_detail::contractPatch(&s.ctrl(i, j, 0), s.ctrl.stride(0), bu, dbu, ddbu, bv, dbv, ddbv, S, Su, Sv, Suu, Suv,
+                                Svv);
 }
 
 /// Surface point only (cheaper than evaluate()).

@@ -45,6 +45,34 @@ KOKKOS_INLINE_FUNCTION void evalFoot(const BasicSurfaceView<MemorySpace>& s, con
   st.f = 0.5 * dot3(st.d, st.d);
 }
 
+/// evalFoot() of the lanes l < n with on[l], phase by phase across the lanes (each lane's patch
+/// and basis, then each lane's contraction), so that the lanes' chains overlap.
+template <int W, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void evalFeet(const BasicSurfaceView<MemorySpace>& s, int n, const bool on[W],
+                                     const double (*x)[3], const double u[W], const double v[W], FootState st[W]) {
+  int i[W], j[W];
+  double b[W][6][4];  // along u: value, d, d2; along v: value, d, d2
+  for (int l = 0; l < n; ++l) {
+    if (!on[l]) continue;
+    double t, w;
+    locate(u[l], s.nu, s.periodicU, i[l], t);
+    locate(v[l], s.nv, s.periodicV, j[l], w);
+    cubicBasis(t, b[l][0], b[l][1], b[l][2]);
+    cubicBasis(w, b[l][3], b[l][4], b[l][5]);
+  }
+  const std::size_t rowStride = s.ctrl.stride(0);
+  for (int l = 0; l < n; ++l) {
+    if (!on[l]) continue;
+    FootState& f = st[l];
+    f.u = u[l];
+    f.v = v[l];
+    contractPatch(&s.ctrl(i[l], j[l], 0), rowStride, b[l][0], b[l][1], b[l][2], b[l][3], b[l][4], b[l][5], f.S, f.Su,
+                  f.Sv, f.Suu, f.Suv, f.Svv);
+    for (int c = 0; c < 3; ++c) f.d[c] = f.S[c] - x[l][c];
+    f.f = 0.5 * dot3(f.d, f.d);
+  }
+}
+
 }  // namespace surface_detail
 
 /// Initial guess by brute force: parameters (i, j) of the nearest grid node, the lowest i*nv + j
@@ -170,98 +198,157 @@ KOKKOS_INLINE_FUNCTION void nearestGridPoint(const BasicSurfaceView<MemorySpace>
   v = double(bestK % s.nv);
 }
 
-/// Newton-Raphson closest point (eq. of section 2.5.1), warm-started from (u0, v0).
+namespace surface_detail {
+
+/// One Newton iteration's direction from the iterate `cur` (section 2.5.1), shared by closestPoint()
+/// and closestPoints():
 ///  - gradient g = ((S-x).S_u, (S-x).S_v), Hessian H = [S_u.S_u + (S-x).S_uu, ...];
-///  - H not positive definite: Gauss-Newton step (second-derivative terms dropped), lengthened by
-///    doubling while f decreases (flat or concave model far from the surface);
+///  - H not positive definite: Gauss-Newton (second-derivative terms dropped);
 ///  - open directions are box constraints [0, n-1]: a bound whose gradient pushes outwards is held
-///    fixed (1-D Newton in the other parameter), steps are clamped to the domain;
-///  - steps are capped at one patch and halved (at most 30 times) until f does not increase;
-///  - converged when the parameter step norm < tol (thesis crit_NR) or the projected gradient is
-///    ~0 relative to |S_u||S_v|.
+///    fixed (1-D Newton in the other parameter);
+///  - the step is capped at one patch; (un1, vn1) is the full step's point in the domain and step1
+///    the squared length of the step actually taken to it (clamped in open directions): lengths are
+///    only compared with tol, squares with tol^2 need no square root on the iteration's critical path.
+struct NewtonDirection {
+  double du, dv;     ///< the step (at most one patch along each parameter)
+  double big;        ///< max(|du|, |dv|)
+  double un1, vn1;   ///< cur + (du, dv) in the domain
+  double step1;      ///< squared length of the step from cur to (un1, vn1)
+  bool gaussNewton;  ///< H was not positive definite
+  bool stationary;   ///< |projected gradient| <= 1e-14 |S_u| |S_v|: converged, no step
+};
+
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION NewtonDirection newtonDirection(const BasicSurfaceView<MemorySpace>& s, const FootState& cur) {
+  const bool openU = !s.periodicU, openV = !s.periodicV;
+  NewtonDirection r;
+  const double gu = dot3(cur.d, cur.Su), gv = dot3(cur.d, cur.Sv);
+  const double a = dot3(cur.Su, cur.Su), b = dot3(cur.Su, cur.Sv), c = dot3(cur.Sv, cur.Sv);
+  double Huu = a + dot3(cur.d, cur.Suu), Huv = b + dot3(cur.d, cur.Suv), Hvv = c + dot3(cur.d, cur.Svv);
+  r.gaussNewton = !(Huu > 0.0 && Hvv > 0.0 && Huu * Hvv - Huv * Huv > 1e-12 * Huu * Hvv);
+  if (r.gaussNewton) {  // drop the second-derivative terms: J^T J, positive definite
+    Huu = a;
+    Huv = b;
+    Hvv = c;
+  }
+  // Active bounds of the open directions (KKT: the gradient pushes out of the domain).
+  const double umax = s.uMax(), vmax = s.vMax();
+  const bool fixU = openU && ((cur.u <= 0.0 && gu > 0.0) || (cur.u >= umax && gu < 0.0));
+  const bool fixV = openV && ((cur.v <= 0.0 && gv > 0.0) || (cur.v >= vmax && gv < 0.0));
+  const double pgu = fixU ? 0.0 : gu, pgv = fixV ? 0.0 : gv;
+  r.stationary = pgu * pgu + pgv * pgv <= 1e-28 * (a * c);
+  double du = 0.0, dv = 0.0;
+  if (fixU) {
+    dv = -gv / (Hvv > 0.0 ? Hvv : c + 1e-300);
+  } else if (fixV) {
+    du = -gu / (Huu > 0.0 ? Huu : a + 1e-300);
+  } else {
+    const double det = Huu * Hvv - Huv * Huv;
+    if (det > 1e-14 * Huu * Hvv) {
+      du = -(Hvv * gu - Huv * gv) / det;
+      dv = -(Huu * gv - Huv * gu) / det;
+    } else {  // degenerate metric (S_u // S_v): steepest descent
+      const double m = a + c + 1e-300;
+      du = -gu / m;
+      dv = -gv / m;
+    }
+  }
+  double big = ::fabs(du) > ::fabs(dv) ? ::fabs(du) : ::fabs(dv);
+  if (big > 1.0) {  // at most one patch per iteration
+    du /= big;
+    dv /= big;
+    big = 1.0;
+  }
+  r.du = du;
+  r.dv = dv;
+  r.big = big;
+  r.un1 = toDomain(cur.u + du, s.nu, s.periodicU);
+  r.vn1 = toDomain(cur.v + dv, s.nv, s.periodicV);
+  const double su = openU ? r.un1 - cur.u : du, sv = openV ? r.vn1 - cur.v : dv;
+  r.step1 = su * su + sv * sv;
+  return r;
+}
+
+/// The last step, shorter than tol, taken by Taylor's formula instead of a new evaluation. The point,
+/// tangents and gap it gives differ from an evaluation at the new parameters by O(step^2) x the
+/// surface's second and third derivatives (1e-12 of a patch at tol = 1e-6), and a warm-started
+/// projection usually ends here after one or two iterations: it saves one of its two or three
+/// evaluations.
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION void taylorStep(const BasicSurfaceView<MemorySpace>& s, const double x[3],
+                                       const NewtonDirection& r, FootState& cur) {
+  const double su = !s.periodicU ? r.un1 - cur.u : r.du, sv = !s.periodicV ? r.vn1 - cur.v : r.dv;
+  for (int c = 0; c < 3; ++c) {
+    cur.S[c] += cur.Su[c] * su + cur.Sv[c] * sv;
+    cur.Su[c] += cur.Suu[c] * su + cur.Suv[c] * sv;
+    cur.Sv[c] += cur.Suv[c] * su + cur.Svv[c] * sv;
+    cur.d[c] = cur.S[c] - x[c];
+  }
+  cur.u = r.un1;
+  cur.v = r.vn1;
+  cur.f = 0.5 * dot3(cur.d, cur.d);
+}
+
+/// The projection of the last iterate: foot point, normal, gap, and whether it lies beyond an open
+/// edge (on the bound, and the unconstrained Gauss-Newton step would leave the domain by more than tol).
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION Projection footProjection(const BasicSurfaceView<MemorySpace>& s, const FootState& cur,
+                                                 double tol, int iterations, bool converged) {
+  const bool openU = !s.periodicU, openV = !s.periodicV;
+  const double umax = s.uMax(), vmax = s.vMax();
+  Projection p;
+  p.iterations = iterations;
+  p.converged = converged;
+  p.u = cur.u;
+  p.v = cur.v;
+  unitNormal(s, cur.Su, cur.Sv, p.normal);
+  for (int k = 0; k < 3; ++k) p.point[k] = cur.S[k];
+  p.gap = -dot3(cur.d, p.normal);  // (x - S) . n
+  const double gu = dot3(cur.d, cur.Su), gv = dot3(cur.d, cur.Sv);
+  const double a = dot3(cur.Su, cur.Su), c = dot3(cur.Sv, cur.Sv);
+  const double bu = !openU ? 0.0 : (cur.u <= 0.0 && gu > 0.0 ? gu / a : (cur.u >= umax && gu < 0.0 ? -gu / a : 0.0));
+  const double bv = !openV ? 0.0 : (cur.v <= 0.0 && gv > 0.0 ? gv / c : (cur.v >= vmax && gv < 0.0 ? -gv / c : 0.0));
+  p.beyond = bu > bv ? bu : bv;
+  p.outside = p.beyond > tol;
+  return p;
+}
+
+}  // namespace surface_detail
+
+/// Newton-Raphson closest point (eq. of section 2.5.1), warm-started from (u0, v0).
+///  - each iteration's direction: surface_detail::newtonDirection() (Newton, or Gauss-Newton where
+///    H is not positive definite; active bounds of open directions held; at most one patch);
+///  - H not positive definite: the Gauss-Newton step is lengthened by doubling while f decreases
+///    (flat or concave model far from the surface);
+///  - steps are halved (at most 30 times) until f does not increase;
+///  - converged when the parameter step norm < tol (thesis crit_NR; the last such step by Taylor's
+///    formula) or the projected gradient is ~0 relative to |S_u||S_v|.
 template <class MemorySpace>
 KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpace>& s, const double x[3], double u0,
                                                double v0, double tol, int maxIter) {
   using surface_detail::dot3;
   using surface_detail::evalFoot;
   using surface_detail::toDomain;
-  const double umax = s.uMax(), vmax = s.vMax();
   const bool openU = !s.periodicU, openV = !s.periodicV;
   surface_detail::FootState cur, trial;
   evalFoot(s, x, toDomain(u0, s.nu, s.periodicU), toDomain(v0, s.nv, s.periodicV), cur);
-  // Squared length of the parameter step actually taken from cur to (un, vn) (clamped in open
-  // directions): lengths are only compared with tol, squares with tol^2 need no square root (a
-  // square root on the iteration's critical path was 15 % of this function's time).
   auto stepLength2 = [&](double un, double vn, double du, double dv) {
     const double su = openU ? un - cur.u : du, sv = openV ? vn - cur.v : dv;
     return su * su + sv * sv;
   };
   const double tol2 = tol * tol;
-  Projection p;
-  p.iterations = 0;
-  p.converged = false;
+  int iterations = 0;
+  bool converged = false;
   for (int it = 0; it < maxIter; ++it) {
-    p.iterations = it + 1;
-    const double gu = dot3(cur.d, cur.Su), gv = dot3(cur.d, cur.Sv);
-    const double a = dot3(cur.Su, cur.Su), b = dot3(cur.Su, cur.Sv), c = dot3(cur.Sv, cur.Sv);
-    double Huu = a + dot3(cur.d, cur.Suu), Huv = b + dot3(cur.d, cur.Suv), Hvv = c + dot3(cur.d, cur.Svv);
-    const bool gaussNewton = !(Huu > 0.0 && Hvv > 0.0 && Huu * Hvv - Huv * Huv > 1e-12 * Huu * Hvv);
-    if (gaussNewton) {  // drop the second-derivative terms: J^T J, positive definite
-      Huu = a;
-      Huv = b;
-      Hvv = c;
-    }
-    // Active bounds of the open directions (KKT: the gradient pushes out of the domain).
-    const bool fixU = openU && ((cur.u <= 0.0 && gu > 0.0) || (cur.u >= umax && gu < 0.0));
-    const bool fixV = openV && ((cur.v <= 0.0 && gv > 0.0) || (cur.v >= vmax && gv < 0.0));
-    const double pgu = fixU ? 0.0 : gu, pgv = fixV ? 0.0 : gv;
-    if (pgu * pgu + pgv * pgv <= 1e-28 * (a * c)) {  // |projected gradient| <= 1e-14 |S_u| |S_v|
-      p.converged = true;
+    iterations = it + 1;
+    const surface_detail::NewtonDirection r = surface_detail::newtonDirection(s, cur);
+    if (r.stationary) {
+      converged = true;
       break;
     }
-    double du = 0.0, dv = 0.0;
-    if (fixU) {
-      dv = -gv / (Hvv > 0.0 ? Hvv : c + 1e-300);
-    } else if (fixV) {
-      du = -gu / (Huu > 0.0 ? Huu : a + 1e-300);
-    } else {
-      const double det = Huu * Hvv - Huv * Huv;
-      if (det > 1e-14 * Huu * Hvv) {
-        du = -(Hvv * gu - Huv * gv) / det;
-        dv = -(Huu * gv - Huv * gu) / det;
-      } else {  // degenerate metric (S_u // S_v): steepest descent
-        const double m = a + c + 1e-300;
-        du = -gu / m;
-        dv = -gv / m;
-      }
-    }
-    double big = ::fabs(du) > ::fabs(dv) ? ::fabs(du) : ::fabs(dv);
-    if (big > 1.0) {  // at most one patch per iteration
-      du /= big;
-      dv /= big;
-      big = 1.0;
-    }
-    // The full step's parameters (the line search's first trial).
-    const double un1 = toDomain(cur.u + du, s.nu, s.periodicU);
-    const double vn1 = toDomain(cur.v + dv, s.nv, s.periodicV);
-    const double step1 = stepLength2(un1, vn1, du, dv);  // squared
-    if (step1 < tol2) {
-      // The last step, shorter than tol: taken by Taylor's formula instead of a new evaluation. The
-      // point, tangents and gap it gives differ from an evaluation at the new parameters by
-      // O(step^2) x the surface's second and third derivatives (1e-12 of a patch at tol = 1e-6),
-      // and a warm-started projection usually ends here after one or two iterations: it saves one
-      // of its two or three evaluations.
-      const double su = openU ? un1 - cur.u : du, sv = openV ? vn1 - cur.v : dv;
-      for (int c = 0; c < 3; ++c) {
-        cur.S[c] += cur.Su[c] * su + cur.Sv[c] * sv;
-        cur.Su[c] += cur.Suu[c] * su + cur.Suv[c] * sv;
-        cur.Sv[c] += cur.Suv[c] * su + cur.Svv[c] * sv;
-        cur.d[c] = cur.S[c] - x[c];
-      }
-      cur.u = un1;
-      cur.v = vn1;
-      cur.f = 0.5 * dot3(cur.d, cur.d);
-      p.converged = true;
+    if (r.step1 < tol2) {
+      surface_detail::taylorStep(s, x, r, cur);
+      converged = true;
       break;
     }
     // Line search: halve (at most 30 times) until f does not increase, with a slack for round-off
@@ -270,9 +357,9 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
     double alpha = 1.0, stepNorm = 0.0;  // (squared)
     bool accepted = false;
     for (int ls = 0; ls <= 30; ++ls) {
-      const double un = ls == 0 ? un1 : toDomain(cur.u + alpha * du, s.nu, s.periodicU);
-      const double vn = ls == 0 ? vn1 : toDomain(cur.v + alpha * dv, s.nv, s.periodicV);
-      stepNorm = ls == 0 ? step1 : stepLength2(un, vn, alpha * du, alpha * dv);
+      const double un = ls == 0 ? r.un1 : toDomain(cur.u + alpha * r.du, s.nu, s.periodicU);
+      const double vn = ls == 0 ? r.vn1 : toDomain(cur.v + alpha * r.dv, s.nv, s.periodicV);
+      stepNorm = ls == 0 ? r.step1 : stepLength2(un, vn, alpha * r.du, alpha * r.dv);
       evalFoot(s, x, un, vn, trial);
       bool decrease = trial.f <= cur.f;
       if (!decrease) {
@@ -289,38 +376,99 @@ KOKKOS_INLINE_FUNCTION Projection closestPoint(const BasicSurfaceView<MemorySpac
     if (!accepted) break;  // no decrease along a descent direction: stuck, not converged
     // Gauss-Newton on a flat or concave model (node beyond the centres of curvature): the step is
     // too short; extrapolate by doubling while f keeps decreasing, up to one patch.
-    if (gaussNewton && alpha == 1.0 && stepNorm >= tol2) {
+    if (r.gaussNewton && alpha == 1.0 && stepNorm >= tol2) {
       surface_detail::FootState ext;
-      for (double beta = 2.0; beta * big <= 1.0; beta *= 2.0) {
-        const double un = toDomain(cur.u + beta * du, s.nu, s.periodicU);
-        const double vn = toDomain(cur.v + beta * dv, s.nv, s.periodicV);
+      for (double beta = 2.0; beta * r.big <= 1.0; beta *= 2.0) {
+        const double un = toDomain(cur.u + beta * r.du, s.nu, s.periodicU);
+        const double vn = toDomain(cur.v + beta * r.dv, s.nv, s.periodicV);
         evalFoot(s, x, un, vn, ext);
         if (!(ext.f < trial.f)) break;
         trial = ext;
-        stepNorm = stepLength2(un, vn, beta * du, beta * dv);
+        stepNorm = stepLength2(un, vn, beta * r.du, beta * r.dv);
       }
     }
     cur = trial;
     if (stepNorm < tol2) {
-      p.converged = true;
+      converged = true;
       break;
     }
   }
+  return surface_detail::footProjection(s, cur, tol, iterations, converged);
+}
 
-  p.u = cur.u;
-  p.v = cur.v;
-  unitNormal(s, cur.Su, cur.Sv, p.normal);
-  for (int k = 0; k < 3; ++k) p.point[k] = cur.S[k];
-  p.gap = -dot3(cur.d, p.normal);  // (x - S) . n
-  // Beyond an open edge: on the bound, and the unconstrained (Gauss-Newton) step would leave the
-  // domain by more than tol.
-  const double gu = dot3(cur.d, cur.Su), gv = dot3(cur.d, cur.Sv);
-  const double a = dot3(cur.Su, cur.Su), c = dot3(cur.Sv, cur.Sv);
-  const double bu = !openU ? 0.0 : (cur.u <= 0.0 && gu > 0.0 ? gu / a : (cur.u >= umax && gu < 0.0 ? -gu / a : 0.0));
-  const double bv = !openV ? 0.0 : (cur.v <= 0.0 && gv > 0.0 ? gv / c : (cur.v >= vmax && gv < 0.0 ? -gv / c : 0.0));
-  p.beyond = bu > bv ? bu : bv;
-  p.outside = p.beyond > tol;
-  return p;
+/// Lanes of closestPoints(): how many projections it interleaves.
+constexpr int kProjectionLanes = 4;
+
+/// closestPoint() of n <= kProjectionLanes nodes at once, their Newton iterations interleaved: a
+/// warm-started projection is a chain of dependent operations (evaluate, direction, division, the
+/// next evaluation's patch), and one node's chain leaves most of the core idle; the lanes' chains
+/// are independent. Each lane follows closestPoint()'s path while it is the common one (full Newton
+/// steps accepted without a line search, ended by Taylor's formula or a stationary point); a lane
+/// that would take another path (a step that does not decrease f, a Gauss-Newton extrapolation, no
+/// convergence within maxIter) is projected again by closestPoint() itself. A lane's result
+/// therefore depends on its own node alone, never on the other lanes (the same bits wherever a
+/// node falls in a batch, on any number of threads), and is closestPoint()'s.
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION void closestPoints(const BasicSurfaceView<MemorySpace>& s, int n, const double (*x)[3],
+                                          const double* u0, const double* v0, double tol, int maxIter,
+                                          Projection* out) {
+  using surface_detail::toDomain;
+  constexpr int W = kProjectionLanes;
+  enum : int { kIterating, kDone, kAlone };
+  surface_detail::FootState cur[W], trial[W];
+  surface_detail::NewtonDirection dir[W];
+  int lane[W], iterations[W];
+  const double tol2 = tol * tol;
+  for (int l = 0; l < W; ++l) {
+    lane[l] = l < n ? kIterating : kDone;
+    iterations[l] = 0;
+  }
+  bool on[W] = {};
+  double u[W] = {}, v[W] = {};
+  for (int l = 0; l < n; ++l) {
+    on[l] = true;
+    u[l] = toDomain(u0[l], s.nu, s.periodicU);
+    v[l] = toDomain(v0[l], s.nv, s.periodicV);
+  }
+  surface_detail::evalFeet<W>(s, n, on, x, u, v, cur);
+  for (int it = 0; it < maxIter; ++it) {
+    bool trials = false;
+    for (int l = 0; l < n; ++l) {
+      if (lane[l] != kIterating) continue;
+      iterations[l] = it + 1;
+      dir[l] = surface_detail::newtonDirection(s, cur[l]);
+      if (dir[l].stationary) {
+        lane[l] = kDone;
+      } else if (dir[l].step1 < tol2) {
+        surface_detail::taylorStep(s, x[l], dir[l], cur[l]);
+        lane[l] = kDone;
+      } else if (dir[l].gaussNewton) {
+        lane[l] = kAlone;  // closestPoint() extrapolates its step
+      } else {
+        trials = true;
+      }
+    }
+    if (!trials) break;
+    for (int l = 0; l < n; ++l) {
+      on[l] = lane[l] == kIterating;
+      u[l] = dir[l].un1;
+      v[l] = dir[l].vn1;
+    }
+    surface_detail::evalFeet<W>(s, n, on, x, u, v, trial);
+    for (int l = 0; l < n; ++l) {
+      if (lane[l] != kIterating) continue;
+      if (trial[l].f <= cur[l].f)  // accepted at the full step, which is at least tol long
+        cur[l] = trial[l];
+      else
+        lane[l] = kAlone;  // closestPoint()'s line search
+    }
+  }
+  for (int l = 0; l < n; ++l) {
+    if (lane[l] == kDone)
+      out[l] = surface_detail::footProjection(s, cur[l], tol, iterations[l], true);
+    else
+      out[l] = closestPoint(s, x[l], u0[l], v0[l], tol, maxIter);  // another path, or maxIter reached
+  }
 }
 
 /// Projects every node x(k) on the surface in one named kernel on the default execution space.

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <random>
@@ -617,6 +618,103 @@ TEST(ClosestPoint, NodesBeyondAnOpenEdgeAreOutside) {
   EXPECT_TRUE(epaphe::closestPoint(c, below, u, v, 1e-10, 30).outside);
   epaphe::nearestGridPoint(c, within, u, v);
   EXPECT_FALSE(epaphe::closestPoint(c, within, u, v, 1e-10, 30).outside);
+}
+
+// closestPoints() interleaves kProjectionLanes projections: a node's result must not depend on the
+// other lanes nor on where it falls in the batch (the same bits: the detection's result on any
+// number of threads), and must be closestPoint()'s: the same iterations and outcome, the same
+// numbers to round-off (the compiler may fuse a multiply and an add in one place and not in the
+// other). Nodes warm-started near the surface (the lanes' common path), far ones (Gauss-Newton
+// extrapolation), ones beyond an open edge (bounds held), started far from their foot (line search)
+// and a maxIter too small to converge.
+TEST(ClosestPoint, LanesGiveEachNodeItsOwnProjection) {
+  BSplineSurface wave("wave", kWaveNu, kWaveNv, waveGrid());
+  BSplineSurface cyl("cylinder", kCylN + 1, kCylNv, cylinderGrid(true));
+  constexpr int W = epaphe::kProjectionLanes;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const BSplineSurface* surf : {&wave, &cyl}) {
+    const HostSurfaceView h = surf->hostView();
+    struct Node {
+      double x[3], u0, v0;
+      int maxIter;
+    };
+    std::vector<Node> nodes;
+    int kinds[5] = {0, 0, 0, 0, 0};
+    for (const Probe& pr : probesNear(h, 40, 7)) {  // near: started at a nearby foot, or far from it
+      Node n{{pr.x[0], pr.x[1], pr.x[2]}, 0.0, 0.0, 30};
+      epaphe::nearestGridPoint(h, n.x, n.u0, n.v0);
+      const int kind = nodes.size() % 4;
+      if (kind == 1) n.u0 += 0.3 * (unit(rng) - 0.5);               // a warm start's small miss
+      if (kind == 2) n.u0 += 2.5 * (unit(rng) < 0.5 ? -1.0 : 1.0);  // far from the foot
+      if (kind == 3) n.maxIter = 1;                                 // stopped before converging
+      const Projection ref = epaphe::closestPoint(h, n.x, n.u0, n.v0, 1e-10, n.maxIter);
+      ++kinds[ref.converged ? (ref.iterations > 2 ? 1 : 0) : 2];
+      nodes.push_back(n);
+    }
+    for (int k = 0; k < 30; ++k) {  // far from the surface, and beyond its open edges
+      Node n{{6.0 * unit(rng) - 1.5, 5.0 * unit(rng) - 1.0, 8.0 * unit(rng) - 4.0}, 0.0, 0.0, 30};
+      epaphe::nearestGridPoint(h, n.x, n.u0, n.v0);
+      const Projection ref = epaphe::closestPoint(h, n.x, n.u0, n.v0, 1e-10, n.maxIter);
+      ++kinds[ref.outside ? 3 : 4];
+      nodes.push_back(n);
+    }
+    EXPECT_GT(kinds[1], 0) << "no projection needed more than 2 iterations";
+    EXPECT_GT(kinds[2], 0) << "no projection stopped at maxIter";
+    if (!h.periodicU || !h.periodicV) {
+      EXPECT_GT(kinds[3], 0) << "no node beyond an edge";
+    }
+    // Every offset of the list against the batches, and batches of every size up to W.
+    std::vector<Projection> first(nodes.size());
+    std::vector<bool> seen(nodes.size(), false);
+    for (int n = 1; n <= W; ++n)
+      for (int offset = 0; offset < n; ++offset)
+        for (std::size_t k0 = offset; k0 < nodes.size(); k0 += n) {
+          const int m = static_cast<int>(std::min<std::size_t>(n, nodes.size() - k0));
+          double x[W][3], u0[W], v0[W];
+          Projection out[W];
+          for (int l = 0; l < m; ++l) {
+            for (int c = 0; c < 3; ++c) x[l][c] = nodes[k0 + l].x[c];
+            u0[l] = nodes[k0 + l].u0;
+            v0[l] = nodes[k0 + l].v0;
+          }
+          const int maxIter = nodes[k0].maxIter;  // (a batch shares it: the others' is 30 or 1)
+          epaphe::closestPoints(h, m, x, u0, v0, 1e-10, maxIter, out);
+          for (int l = 0; l < m; ++l) {
+            if (nodes[k0 + l].maxIter != maxIter) continue;
+            const std::size_t k = k0 + l;
+            const Projection& p = out[l];
+            if (!seen[k]) {
+              seen[k] = true;
+              first[k] = p;
+              const Projection ref = epaphe::closestPoint(h, x[l], u0[l], v0[l], 1e-10, maxIter);
+              ASSERT_EQ(ref.iterations, p.iterations) << surf->name() << " node " << k;
+              ASSERT_EQ(ref.converged, p.converged);
+              ASSERT_EQ(ref.outside, p.outside);
+              const double scale = 1.0 + std::fabs(ref.u) + std::fabs(ref.v);
+              EXPECT_NEAR(ref.u, p.u, 1e-14 * scale) << surf->name() << " node " << k;
+              EXPECT_NEAR(ref.v, p.v, 1e-14 * scale);
+              EXPECT_NEAR(ref.gap, p.gap, 1e-14 * (1.0 + std::fabs(ref.gap)));
+              EXPECT_NEAR(ref.beyond, p.beyond, 1e-14 * (1.0 + ref.beyond));
+              for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(ref.point[c], p.point[c], 1e-14 * (1.0 + std::fabs(ref.point[c])));
+                EXPECT_NEAR(ref.normal[c], p.normal[c], 1e-14);
+              }
+              continue;
+            }
+            const Projection& q = first[k];
+            ASSERT_EQ(std::memcmp(&q.u, &p.u, sizeof(double)), 0)
+                << surf->name() << " node " << k << ", lane " << l << " of " << m;
+            ASSERT_EQ(std::memcmp(&q.v, &p.v, sizeof(double)), 0);
+            ASSERT_EQ(std::memcmp(q.point, p.point, sizeof q.point), 0);
+            ASSERT_EQ(std::memcmp(q.normal, p.normal, sizeof q.normal), 0);
+            ASSERT_EQ(std::memcmp(&q.gap, &p.gap, sizeof(double)), 0);
+            ASSERT_EQ(std::memcmp(&q.beyond, &p.beyond, sizeof(double)), 0);
+            ASSERT_EQ(q.iterations, p.iterations);
+          }
+        }
+    for (std::size_t k = 0; k < nodes.size(); ++k) EXPECT_TRUE(seen[k]) << "node " << k << " never projected";
+  }
 }
 
 // ---- 7b. broad phase of the cold start (bucket grid) ------------------------------------------
