@@ -792,12 +792,29 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
           const int blk = info(s, 0), b0 = blocks(blk, 0), n = blocks(blk, 1);
           const int lo = i0 > b0 ? i0 : b0, hi = i1 < b0 + n ? i1 : b0 + n;
           const long nc = 3L * ctrlDim(s, 0) * ctrlDim(s, 1);
+          // the columns with a coefficient, four at a time: dq_i is loaded and stored once per four
+          // (the same sum, in the same order, as column by column)
+          double c[4];
+          const double* g[4];
+          int m = 0;
+          auto add = [&](int count) {
+            for (int i = lo; i < hi; ++i) {
+              double y = dq(i);
+              for (int q = 0; q < count; ++q) y += c[q] * g[q][i - b0];
+              dq(i) = y;
+            }
+          };
           for (long x = 0; x < nc; ++x) {
-            const double c = coef(coefOff(s) + x);
-            if (c == 0.0) continue;
-            const double* g = &ctrl(ctrlOff(s) + x * n);
-            for (int i = lo; i < hi; ++i) dq(i) += c * g[i - b0];
+            const double cx = coef(coefOff(s) + x);
+            if (cx == 0.0) continue;
+            c[m] = cx;
+            g[m] = &ctrl(ctrlOff(s) + x * n);
+            if (++m == 4) {
+              add(4);
+              m = 0;
+            }
           }
+          if (m > 0) add(m);
         }
       });
   if (F.denseRows < F.size()) {
