@@ -134,6 +134,10 @@ public:
   /// correction's own columns of an active node on a dense block (3 a node, or the whole block when
   /// smaller). benchmark.step's bound counts it with the integration's matrices.
   double leastBytes() const { return leastBytes_; }
+  /// An upper estimate of one RelativeMotion::apply (ns): about 1 ns per entry of D_k, its own and
+  /// the longest windows' product on a carried surface (the kernels' work estimates: a loop over the
+  /// nodes applying D pays for the thread team on a flexible casing, not on a rigid one).
+  double applyNs() const { return 1.0 + static_cast<double>(carried_.maxWindow[0]) * carried_.maxWindow[1]; }
   /** \fn const Flexibility::Packed& RelativeFlexibility::flexibility() const
       The system flexibility F, packed as the kernels read it. */
   /// C_ab of the active pairs, unmanaged (see motion()).
