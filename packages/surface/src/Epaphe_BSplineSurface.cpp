@@ -224,10 +224,16 @@ void BSplineSurface::computeControlPoints() {
   copy(view_.grid, hostGrid_);
 }
 
-void BSplineSurface::update(const double* points) {
+void BSplineSurface::update(const double* points, bool bins) {
   loadGrid(points, "update");
   computeControlPoints();
-  buildBins();
+  if (bins) {
+    buildBins();
+  } else {
+    view_.binStart = SurfaceView::Indices();
+    view_.binNodes = SurfaceView::Indices();
+    bins_ = false;
+  }
 }
 
 void BSplineSurface::buildBins() {
@@ -283,13 +289,16 @@ void BSplineSurface::buildBins() {
   const int cells = view_.binDims[0] * view_.binDims[1] * view_.binDims[2];
 
   if (hostBinStart_.extent(0) != std::size_t(cells) + 1) {
-    view_.binStart = SurfaceView::Indices("epaphe::surface::" + name_ + "::binStart", cells + 1);
-    hostBinStart_ = Kokkos::create_mirror_view(view_.binStart);
+    binStart_ = SurfaceView::Indices("epaphe::surface::" + name_ + "::binStart", cells + 1);
+    hostBinStart_ = Kokkos::create_mirror_view(binStart_);
   }
   if (hostBinNodes_.extent(0) != std::size_t(n)) {
-    view_.binNodes = SurfaceView::Indices("epaphe::surface::" + name_ + "::binNodes", n);
-    hostBinNodes_ = Kokkos::create_mirror_view(view_.binNodes);
+    binNodes_ = SurfaceView::Indices("epaphe::surface::" + name_ + "::binNodes", n);
+    hostBinNodes_ = Kokkos::create_mirror_view(binNodes_);
   }
+  view_.binStart = binStart_;
+  view_.binNodes = binNodes_;
+  bins_ = true;
   // Counting sort by cell, stable: nodes ascending within a cell.
   std::vector<int> cellOf(n);
   for (int c = 0; c <= cells; ++c) hostBinStart_(c) = 0;
@@ -337,8 +346,10 @@ HostSurfaceView BSplineSurface::hostView() const {
   h.periodicV = view_.periodicV;
   h.orientation = view_.orientation;
   h.id = view_.id;
-  h.binStart = hostBinStart_;
-  h.binNodes = hostBinNodes_;
+  if (bins_) {
+    h.binStart = hostBinStart_;
+    h.binNodes = hostBinNodes_;
+  }
   for (int c = 0; c < 3; ++c) {
     h.binOrigin[c] = view_.binOrigin[c];
     h.binUpper[c] = view_.binUpper[c];

@@ -214,8 +214,11 @@ public:
 
   /// Recomputes the control points for moved nodes (flexible surface), same layout and size as the
   /// constructor input (a repeated closing row/column is read but ignored: the first one wins).
-  /// Reuses the interpolation operators B_u, B_v (eq. 2.26): no factorisation.
-  void update(const double* points);
+  /// Reuses the interpolation operators B_u, B_v (eq. 2.26): no factorisation. `bins`: rebuild the
+  /// broad phase's bucket grid; false drops it (the views then have none, and a cold-start
+  /// nearestGridPoint() takes the brute force, the same node): a surface carried by a body is
+  /// updated at every step and warm-started almost always, and the grid cost more than its use.
+  void update(const double* points, bool bins = true);
   /// Same, from a vector laid out as the constructor's.
   void update(const std::vector<double>& points);
 
@@ -268,7 +271,9 @@ private:
   std::vector<double> work_;  ///< computeControlPoints' B_u P
   SurfaceView view_;
   SurfaceView::Points::HostMirror hostCtrl_, hostGrid_;
+  SurfaceView::Indices binStart_, binNodes_;  // the bucket grid's storage (view_'s when it has one)
   SurfaceView::Indices::HostMirror hostBinStart_, hostBinNodes_;
+  bool bins_ = false;  // view_ holds a bucket grid of the current nodes
 };
 
 }  // namespace epaphe

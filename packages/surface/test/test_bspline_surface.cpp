@@ -827,6 +827,35 @@ TEST(BroadPhase, RebuiltByUpdate) {
   EXPECT_EQ(wave.view().binStart.extent(0), h.binStart.extent(0));
 }
 
+TEST(BroadPhase, DroppedByAnUpdateWithoutIt) {
+  // A carried surface's update at every step leaves the bucket grid out: the views have none, the
+  // cold start then takes the brute force (the same node); a later update with it brings it back.
+  BSplineSurface wave("bigwave", kBigNu, kBigNv, makeGrid(kBigNu, kBigNv, bigWaveNode));
+  const auto moved = makeGrid(kBigNu, kBigNv, [](int i, int j) {
+    const Vec3 p = bigWaveNode(i, j);
+    return Vec3{10.0 + 0.5 * p[0], -3.0 + 2.0 * p[1], 4.0 * p[2] + 0.3 * p[1]};
+  });
+  wave.update(moved.data(), false);
+  const HostSurfaceView h = wave.hostView();
+  EXPECT_EQ(h.binStart.extent(0), 0u);
+  EXPECT_EQ(wave.view().binStart.extent(0), 0u);
+  EXPECT_EQ(wave.view().binNodes.extent(0), 0u);
+  for (const Vec3& x : broadPhaseProbes(h, 200, 35)) {
+    double u, v, ub, vb;
+    int evaluations = 0;
+    epaphe::nearestGridPoint(h, x.data(), u, v, &evaluations);
+    epaphe::nearestGridPointBruteForce(h, x.data(), ub, vb);
+    EXPECT_EQ(u, ub);
+    EXPECT_EQ(v, vb);
+    EXPECT_EQ(evaluations, kBigNu * kBigNv);  // the brute force
+  }
+  wave.update(moved);
+  const HostSurfaceView g = wave.hostView();
+  EXPECT_GT(g.binStart.extent(0), 1u);
+  EXPECT_EQ(wave.view().binStart.extent(0), g.binStart.extent(0));
+  expectSameNodeAsBruteForce(g, broadPhaseProbes(g, 500, 36), "moved bigwave, grid back");
+}
+
 TEST(BroadPhase, TestsFewNodesNearTheSurface) {
   BSplineSurface wave("bigwave", kBigNu, kBigNv, makeGrid(kBigNu, kBigNv, bigWaveNode));
   const HostSurfaceView h = wave.hostView();
