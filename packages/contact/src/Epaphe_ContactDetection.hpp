@@ -2,10 +2,11 @@
 // Contact detection (thesis section 2.5.1, eq. 2.28): where each contact node is, which surface
 // it faces, its closest point there and its gap, for any number of surfaces.
 //
-// One fused kernel per step over the contact nodes does, per node k:
+// One fused kernel per step over blocks of 16 contact nodes does, per node k:
 //   x_k = X_k + u_k(q)                        (contact nodes are retained DOFs)
 //   for each surface s:  x_s = c_s + R_s^T (x_k - c_s)   (a turning surface: its own frame)
-//                        Newton-Raphson closest point from the last foot point (warm start)
+//                        Newton-Raphson closest point from the last foot point (warm start),
+//                        made for the block's nodes on s four at a time (closestPoints)
 //   select the surface of smallest gap among those the node is not beyond (an open edge),
 //   and turn its normal and foot point back into the bodies' frame (n = R n_s).
 // Carried surfaces (on a flexible body) are rebuilt from their moved grid nodes before it.
