@@ -527,11 +527,11 @@ void ContactDetection::project(bool all, bool refineOnly) {
         const int k0 = blk * kDetectBlock, k1 = k0 + kDetectBlock < nc ? k0 + kDetectBlock : nc;
         bool todo[kDetectBlock];
         double lx[W][3], lu[W], lv[W];
-        int lk[W], ls[W], n = 0;
+        int lk[W], n = 0;
         Projection lp[W];
-        auto flush = [&]() {
-          closestPoints(v.surf(ls[0]), n, lx, lu, lv, tol, maxIt, lp);
-          for (int l = 0; l < n; ++l) v.found(lk[l], ls[l]) = lp[l];
+        auto flush = [&](int s) {  // the gathered projections on surface s
+          closestPoints(v.surf(s), n, lx, lu, lv, tol, maxIt, lp);
+          for (int l = 0; l < n; ++l) v.found(lk[l], s) = lp[l];
           n = 0;
         };
         for (int k = k0; k < k1; ++k) {
@@ -595,10 +595,9 @@ void ContactDetection::project(bool all, bool refineOnly) {
             lu[n] = u0;
             lv[n] = v0;
             lk[n] = k;
-            ls[n] = s;
-            if (++n == W) flush();
+            if (++n == W) flush(s);
           }
-          if (n > 0) flush();
+          if (n > 0) flush(s);
         }
         for (int k = k0; k < k1; ++k) {
           if (!todo[k - k0]) continue;

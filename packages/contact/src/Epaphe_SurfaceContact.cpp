@@ -237,7 +237,6 @@ bool SurfaceContact::addPenetrating() {
   const DetectionViews& dv = detection_->untrackedViews();
   const auto dq = unmanaged(dq_);
   const auto force = unmanaged(v_.force);
-  int added = 0;
   for (int attempt = 0;; ++attempt) {
     const RelativeMotion D = flex_->motion();
     const auto normal = dv.normal;
@@ -268,6 +267,7 @@ bool SurfaceContact::addPenetrating() {
     flex_->motionEntries(dv);  // the refined nodes' foot points
   }
   auto addH = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), corrected_);
+  int added = 0;
   for (int k = 0; k < nc; ++k) added += addH(k);
   if (added == 0) return false;
   activeH_.clear();

@@ -232,7 +232,6 @@ void BSplineSurface::update(const double* points, bool bins) {
   } else {
     view_.binStart = SurfaceView::Indices();
     view_.binNodes = SurfaceView::Indices();
-    bins_ = false;
   }
 }
 
@@ -298,7 +297,6 @@ void BSplineSurface::buildBins() {
   }
   view_.binStart = binStart_;
   view_.binNodes = binNodes_;
-  bins_ = true;
   // Counting sort by cell, stable: nodes ascending within a cell.
   std::vector<int> cellOf(n);
   for (int c = 0; c <= cells; ++c) hostBinStart_(c) = 0;
@@ -346,7 +344,7 @@ HostSurfaceView BSplineSurface::hostView() const {
   h.periodicV = view_.periodicV;
   h.orientation = view_.orientation;
   h.id = view_.id;
-  if (bins_) {
+  if (view_.binStart.extent(0) > 0) {  // (none after an update without it)
     h.binStart = hostBinStart_;
     h.binNodes = hostBinNodes_;
   }

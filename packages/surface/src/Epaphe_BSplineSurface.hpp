@@ -115,17 +115,22 @@ KOKKOS_INLINE_FUNCTION int binCoord(const BasicSurfaceView<MemorySpace>& s, doub
 
 }  // namespace surface_detail
 
-namespace surface_detail {
-
-/// The patch's 16 control points contracted with the basis along u (b*) and along v (c*): the point
-/// and its first and second derivatives (eq. 2.21-2.22). P: the patch's first control point; its 4
-/// rows (along u) of 4 points each hold 12 contiguous coordinates (LayoutRight [nu_ext][nv_ext][3]),
-/// rows rowStride apart. The rows are first combined along u, 12 coordinates at a time (a loop the
-/// compiler vectorises: 36 vector products instead of 144 scalar ones), then along v.
-KOKKOS_INLINE_FUNCTION void contractPatch(const double* P, std::size_t rowStride, const double bu[4],
-                                          const double dbu[4], const double ddbu[4], const double bv[4],
-                                          const double dbv[4], const double ddbv[4], double S[3], double Su[3],
-                                          double Sv[3], double Suu[3], double Suv[3], double Svv[3]) {
+/// Surface point and first and second derivatives w.r.t. the global parameters (eq. 2.21-2.22).
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION void evaluate(const BasicSurfaceView<MemorySpace>& s, double u, double v, double S[3],
+                                     double Su[3], double Sv[3], double Suu[3], double Suv[3], double Svv[3]) {
+  int i, j;
+  double t, w;
+  surface_detail::locate(u, s.nu, s.periodicU, i, t);
+  surface_detail::locate(v, s.nv, s.periodicV, j, w);
+  double bu[4], dbu[4], ddbu[4], bv[4], dbv[4], ddbv[4];
+  surface_detail::cubicBasis(t, bu, dbu, ddbu);
+  surface_detail::cubicBasis(w, bv, dbv, ddbv);
+  // The patch's 4 rows (along u) of 4 control points: each row's 12 coordinates are contiguous
+  // (LayoutRight [nu_ext][nv_ext][3]), rows stride(0) apart. The rows are first combined along u,
+  // 12 coordinates at a time (a loop the compiler vectorises), then along v.
+  const double* P = &s.ctrl(i, j, 0);
+  const std::size_t rowStride = s.ctrl.stride(0);
   double r[12], ru[12], ruu[12];  // the 4 rows combined along u: value, d/du, d2/du2
   for (int e = 0; e < 12; ++e) {
     const double q0 = P[e], q1 = P[rowStride + e], q2 = P[2 * rowStride + e], q3 = P[3 * rowStride + e];
@@ -141,23 +146,6 @@ KOKKOS_INLINE_FUNCTION void contractPatch(const double* P, std::size_t rowStride
     Suv[c] = dbv[0] * ru[c] + dbv[1] * ru[3 + c] + dbv[2] * ru[6 + c] + dbv[3] * ru[9 + c];
     Suu[c] = bv[0] * ruu[c] + bv[1] * ruu[3 + c] + bv[2] * ruu[6 + c] + bv[3] * ruu[9 + c];
   }
-}
-
-}  // namespace surface_detail
-
-/// Surface point and first and second derivatives w.r.t. the global parameters (eq. 2.21-2.22).
-template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION void evaluate(const BasicSurfaceView<MemorySpace>& s, double u, double v, double S[3],
-                                     double Su[3], double Sv[3], double Suu[3], double Suv[3], double Svv[3]) {
-  int i, j;
-  double t, w;
-  surface_detail::locate(u, s.nu, s.periodicU, i, t);
-  surface_detail::locate(v, s.nv, s.periodicV, j, w);
-  double bu[4], dbu[4], ddbu[4], bv[4], dbv[4], ddbv[4];
-  surface_detail::cubicBasis(t, bu, dbu, ddbu);
-  surface_detail::cubicBasis(w, bv, dbv, ddbv);
-  surface_detail::contractPatch(&s.ctrl(i, j, 0), s.ctrl.stride(0), bu, dbu, ddbu, bv, dbv, ddbv, S, Su, Sv, Suu, Suv,
-                                Svv);
 }
 
 /// Surface point only (cheaper than evaluate()).
@@ -273,7 +261,6 @@ private:
   SurfaceView::Points::HostMirror hostCtrl_, hostGrid_;
   SurfaceView::Indices binStart_, binNodes_;  // the bucket grid's storage (view_'s when it has one)
   SurfaceView::Indices::HostMirror hostBinStart_, hostBinNodes_;
-  bool bins_ = false;  // view_ holds a bucket grid of the current nodes
 };
 
 }  // namespace epaphe

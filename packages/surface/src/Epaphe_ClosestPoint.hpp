@@ -45,34 +45,6 @@ KOKKOS_INLINE_FUNCTION void evalFoot(const BasicSurfaceView<MemorySpace>& s, con
   st.f = 0.5 * dot3(st.d, st.d);
 }
 
-/// evalFoot() of the lanes l < n with on[l], phase by phase across the lanes (each lane's patch
-/// and basis, then each lane's contraction), so that the lanes' chains overlap.
-template <int W, class MemorySpace>
-KOKKOS_INLINE_FUNCTION void evalFeet(const BasicSurfaceView<MemorySpace>& s, int n, const bool on[W],
-                                     const double (*x)[3], const double u[W], const double v[W], FootState st[W]) {
-  int i[W], j[W];
-  double b[W][6][4];  // along u: value, d, d2; along v: value, d, d2
-  for (int l = 0; l < n; ++l) {
-    if (!on[l]) continue;
-    double t, w;
-    locate(u[l], s.nu, s.periodicU, i[l], t);
-    locate(v[l], s.nv, s.periodicV, j[l], w);
-    cubicBasis(t, b[l][0], b[l][1], b[l][2]);
-    cubicBasis(w, b[l][3], b[l][4], b[l][5]);
-  }
-  const std::size_t rowStride = s.ctrl.stride(0);
-  for (int l = 0; l < n; ++l) {
-    if (!on[l]) continue;
-    FootState& f = st[l];
-    f.u = u[l];
-    f.v = v[l];
-    contractPatch(&s.ctrl(i[l], j[l], 0), rowStride, b[l][0], b[l][1], b[l][2], b[l][3], b[l][4], b[l][5], f.S, f.Su,
-                  f.Sv, f.Suu, f.Suv, f.Svv);
-    for (int c = 0; c < 3; ++c) f.d[c] = f.S[c] - x[l][c];
-    f.f = 0.5 * dot3(f.d, f.d);
-  }
-}
-
 }  // namespace surface_detail
 
 /// Initial guess by brute force: parameters (i, j) of the nearest grid node, the lowest i*nv + j
@@ -402,16 +374,18 @@ constexpr int kProjectionLanes = 4;
 /// closestPoint() of n <= kProjectionLanes nodes at once, their Newton iterations interleaved: a
 /// warm-started projection is a chain of dependent operations (evaluate, direction, division, the
 /// next evaluation's patch), and one node's chain leaves most of the core idle; the lanes' chains
-/// are independent. Each lane follows closestPoint()'s path while it is the common one (full Newton
-/// steps accepted without a line search, ended by Taylor's formula or a stationary point); a lane
-/// that would take another path (a step that does not decrease f, a Gauss-Newton extrapolation, no
-/// convergence within maxIter) is projected again by closestPoint() itself. A lane's result
-/// therefore depends on its own node alone, never on the other lanes (the same bits wherever a
-/// node falls in a batch, on any number of threads), and is closestPoint()'s.
+/// are independent, and evaluated one after the other they overlap in the core. Each lane follows
+/// closestPoint()'s path while it is the common one (full Newton steps accepted without a line
+/// search, ended by Taylor's formula or a stationary point); a lane that would take another path (a
+/// step that does not decrease f, a Gauss-Newton extrapolation, no convergence within maxIter) is
+/// projected again by closestPoint() itself. A lane's result therefore depends on its own node
+/// alone, never on the other lanes (the same bits wherever a node falls in a batch, on any number
+/// of threads), and is closestPoint()'s.
 template <class MemorySpace>
 KOKKOS_INLINE_FUNCTION void closestPoints(const BasicSurfaceView<MemorySpace>& s, int n, const double (*x)[3],
                                           const double* u0, const double* v0, double tol, int maxIter,
                                           Projection* out) {
+  using surface_detail::evalFoot;
   using surface_detail::toDomain;
   constexpr int W = kProjectionLanes;
   enum : int { kIterating, kDone, kAlone };
@@ -423,14 +397,8 @@ KOKKOS_INLINE_FUNCTION void closestPoints(const BasicSurfaceView<MemorySpace>& s
     lane[l] = l < n ? kIterating : kDone;
     iterations[l] = 0;
   }
-  bool on[W] = {};
-  double u[W] = {}, v[W] = {};
-  for (int l = 0; l < n; ++l) {
-    on[l] = true;
-    u[l] = toDomain(u0[l], s.nu, s.periodicU);
-    v[l] = toDomain(v0[l], s.nv, s.periodicV);
-  }
-  surface_detail::evalFeet<W>(s, n, on, x, u, v, cur);
+  for (int l = 0; l < n; ++l)
+    evalFoot(s, x[l], toDomain(u0[l], s.nu, s.periodicU), toDomain(v0[l], s.nv, s.periodicV), cur[l]);
   for (int it = 0; it < maxIter; ++it) {
     bool trials = false;
     for (int l = 0; l < n; ++l) {
@@ -449,12 +417,8 @@ KOKKOS_INLINE_FUNCTION void closestPoints(const BasicSurfaceView<MemorySpace>& s
       }
     }
     if (!trials) break;
-    for (int l = 0; l < n; ++l) {
-      on[l] = lane[l] == kIterating;
-      u[l] = dir[l].un1;
-      v[l] = dir[l].vn1;
-    }
-    surface_detail::evalFeet<W>(s, n, on, x, u, v, trial);
+    for (int l = 0; l < n; ++l)
+      if (lane[l] == kIterating) evalFoot(s, x[l], dir[l].un1, dir[l].vn1, trial[l]);
     for (int l = 0; l < n; ++l) {
       if (lane[l] != kIterating) continue;
       if (trial[l].f <= cur[l].f)  // accepted at the full step, which is at least tol long
