@@ -327,7 +327,9 @@ void RelativeFlexibility::controlColumns(const std::vector<ContactSurface>& surf
 
 void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surfaces, const std::vector<double>& G) {
   const int ns = static_cast<int>(surfaces.size());
-  ctrl_.G = Kokkos::View<double*>("epaphe::contact::control_columns", G.size());
+  LargeTable g = largeTable("epaphe::contact::control_columns", G.size());
+  ctrl_.G = g.view;
+  ctrl_.memoryG = g.memory;
   for (std::size_t i = 0; i < G.size(); ++i) ctrl_.G(i) = G[i];
   // H(s, s2) for two surfaces with control columns on one block, from s's control columns G on s2's
   // grid rows interpolated as s2's control points are (eq. 2.26): M(:, c) = sum_pq B_u(A, p) B_v(B, q)
@@ -403,7 +405,9 @@ void RelativeFlexibility::gridColumns(const std::vector<ContactSurface>& surface
     for (int s = 0; s < ns; ++s)
       if (ctrl_.hOff(s, s2) < 0 && ctrl_.off(s2) >= 0 && ctrl_.off(s) >= 0 && surfaces[s].block == surfaces[s2].block)
         ctrl_.hOff(s, s2) = ctrl_.hOff(ctrl_.canon(s), ctrl_.canon(s2));
-  ctrl_.H = Kokkos::View<double*>("epaphe::contact::control_flexibility", H.size());
+  LargeTable h = largeTable("epaphe::contact::control_flexibility", H.size());
+  ctrl_.H = h.view;
+  ctrl_.memoryH = h.memory;
   for (std::size_t i = 0; i < H.size(); ++i) ctrl_.H(i) = H[i];
   ctrl_.coef = Kokkos::View<double*>("epaphe::contact::control_coefficients", coefs);
 }

@@ -24,6 +24,7 @@
 
 #include <Kokkos_Core.hpp>
 
+#include <memory>
 #include <vector>
 
 namespace epaphe {
@@ -93,6 +94,8 @@ struct ControlColumns {
   /// makes, one per instance, ContactSurface::onlyBlock): a copy shares its G, H and coefficients,
   /// which are made and applied once
   Kokkos::View<int*> canon;
+  std::shared_ptr<void> memoryG;  ///< keeps G (a LargeTable, Epaphe_Parallel.hpp)
+  std::shared_ptr<void> memoryH;  ///< keeps H (a LargeTable)
 };
 
 /// The relative flexibility of the contact nodes and the correction (see the file's opening comment):

@@ -8,6 +8,10 @@
 #include <mutex>
 #include <string>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 namespace epaphe {
 
 namespace {
@@ -32,6 +36,31 @@ long serialWorkNs() {
 void setSerialWorkNs(long ns) {
   EPAPHE_REQUIRE(ns >= 0, "serial work threshold " << ns << " ns; give 0 or more");
   gSerialWorkNs = ns;
+}
+
+LargeTable largeTable(const std::string& label, std::size_t n) {
+  LargeTable t;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::size_t kHuge = kHugePageBytes;
+  if (std::is_same<Kokkos::DefaultExecutionSpace::memory_space, Kokkos::HostSpace>::value &&
+      n * sizeof(double) >= kHuge) {
+    const std::size_t bytes = (n * sizeof(double) + kHuge - 1) / kHuge * kHuge;
+    const std::size_t length = bytes + kHuge;  // room to start on a 2 MiB boundary
+    void* base = mmap(nullptr, length, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (base != MAP_FAILED) {
+      const auto start = (reinterpret_cast<std::uintptr_t>(base) + kHuge - 1) / kHuge * kHuge;
+      void* aligned = reinterpret_cast<void*>(start);
+      // before the first touch, so that the pages are made huge as they are faulted in (fresh
+      // anonymous pages are zero); refused (a kernel without THP): ordinary pages, the same table
+      t.hugePagesAsked = madvise(aligned, bytes, MADV_HUGEPAGE) == 0;
+      t.memory = std::shared_ptr<void>(base, [length](void* p) { munmap(p, length); });
+      t.view = Kokkos::View<double*>(static_cast<double*>(aligned), n);
+      return t;
+    }
+  }
+#endif
+  t.view = Kokkos::View<double*>(label, n);
+  return t;
 }
 
 namespace {

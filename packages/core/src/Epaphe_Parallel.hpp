@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <type_traits>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -197,6 +198,27 @@ void fill(const X& x, T value) {
   forEach(
       "epaphe::fill", static_cast<long>(x.extent(0)), 1, KOKKOS_LAMBDA(const int i) { x(i) = value; });
 }
+
+/// The size of a huge page (x86-64 Linux's transparent huge pages): a LargeTable's alignment.
+constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
+
+/// A table of megabytes that the step reads in short runs at scattered places (a body's flexibility,
+/// the control columns of a carried surface and the flexibility between its control points): n
+/// doubles, zeroed. On host memory, from kHugePageBytes up, it is mapped on its own, aligned to 2 MiB
+/// and marked for transparent huge pages (Linux madvise), which the kernel grants where it can: on
+/// 4 KiB pages such a table spans more pages than the TLB holds, and its scattered reads pay page
+/// walks (docs/performance.md). `view` is then unmanaged and `memory` keeps the table (copies share
+/// it). Smaller, or elsewhere (a device backend, another system), `view` is an ordinary view and
+/// `memory` empty.
+struct LargeTable {
+  Kokkos::View<double*> view;    ///< the n doubles
+  std::shared_ptr<void> memory;  ///< owns the mapping (empty: `view` owns its memory)
+  /// Whether the kernel was asked for huge pages for this table and agreed to try (it may still
+  /// give fewer, when it has no free 2 MiB of contiguous memory).
+  bool hugePagesAsked = false;
+};
+/// A zeroed LargeTable of n doubles (`label`: its name where it is an ordinary view).
+LargeTable largeTable(const std::string& label, std::size_t n);
 
 /// Counts, while alive, the Kokkos parallel regions (for, reduce, scan), allocations and deep
 /// copies of this process through Kokkos Tools callbacks: the budget tests of the explicit step use

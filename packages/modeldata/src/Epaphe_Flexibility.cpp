@@ -42,7 +42,9 @@ Flexibility::Packed Flexibility::pack() const {
   std::size_t denseEntries = 0;
   for (const Block& b : blocks_)
     if (b.dense.extent(0) > 0) denseEntries += static_cast<std::size_t>(b.size) * b.size;
-  p.dense = Kokkos::View<double*>("epaphe::flexibility::dense", denseEntries);
+  LargeTable dense = largeTable("epaphe::flexibility::dense", denseEntries);
+  p.dense = dense.view;
+  p.memory = dense.memory;
   auto fH = Kokkos::create_mirror_view(p.dense);
   std::size_t start = 0;
   for (int ib = 0; ib < nb; ++ib) {

@@ -10,6 +10,7 @@
 
 #include <Kokkos_Core.hpp>
 
+#include <memory>
 #include <vector>
 
 namespace epaphe {
@@ -45,14 +46,15 @@ public:
     Kokkos::View<double*> diag;        ///< per system row: F_ii of a diagonal block (0 in a dense block)
     Kokkos::View<int*> denseRow;       ///< per system row: its dense row, or -1 in a diagonal block
     int denseRows = 0;                 ///< the rows of all dense blocks
+    std::shared_ptr<void> memory;      ///< keeps `dense` (a LargeTable, Epaphe_Parallel.hpp); empty in a copy
 
     /// The system's size.
     int size() const { return static_cast<int>(denseRow.extent(0)); }
     /// The same views, unmanaged (Epaphe_Parallel.hpp: unmanaged): what a step copies into its
-    /// kernels, counting no references; this Packed keeps the memory.
+    /// kernels, counting no references (no `memory` either); this Packed keeps the memory.
     Packed untracked() const {
-      return Packed{unmanaged(blocks), unmanaged(start),    unmanaged(dense),
-                    unmanaged(diag),   unmanaged(denseRow), denseRows};
+      return Packed{unmanaged(blocks),   unmanaged(start), unmanaged(dense), unmanaged(diag),
+                    unmanaged(denseRow), denseRows,        nullptr};
     }
   };
   /// The packed copy (built at each call: at setup).
