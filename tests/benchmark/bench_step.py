@@ -35,12 +35,12 @@ no code with Epaphe, timed in its thread's CPU time) is run right before and rig
 scene's 1-thread runs, and the 1-thread loop is also given in units of it: loop / reference, the
 machine's speed cancelled. --assert REFERENCE.json (tests/benchmark/step_reference.json) then fails
 the test when
-  - a scene's measured/bound (1 thread) is above its ceiling: the one the file states for it, or
-    1.5x the median of this machine class's recorded measured/bound where that is higher (the
-    ratio depends on the machine's balance of bandwidth and latency), or
+  - a scene's measured/bound (1 thread) is above the ceiling the file states for it, or
   - a scene's loop / reference is above `loop_factor` (1.5) times the figure the file records for
-    this machine class (vendor, family, model, CPU count).
-A machine class without a record has both checks reported, not judged, and says so.
+    this machine class (vendor, family, model, CPU count; without a record for the class this check
+    is skipped, and says so).
+A machine class the file lists under `unjudged_machines` (with the figures that put it there: its
+host moves the same build's loops by more than the checks' margins) has both reported, not judged.
 A scene that fails either check is measured once more (the same runs) and judged on its faster
 round: another process taking the machine for a minute fails one round, a slower step both.
 The file says how its figures were measured and why each ceiling is where it is. --record
@@ -242,19 +242,20 @@ def guard(results, ref, machine, where, quiet=False):
     times this machine class's record. Prints each scene's figures against its limits (unless quiet)."""
     failures = []
     say = (lambda *_: None) if quiet else print
-    factor = float(ref["loop_factor"])
+    ceilings, factor = ref["measured_over_bound_ceiling"], float(ref["loop_factor"])
     record = ref.get("machines", {}).get(machine)
-    ceilings = class_ceilings(ref, record)
+    unjudged = ref.get("unjudged_machines", {}).get(machine)
     say(
         f"guard ({where}): measured/bound against its ceiling; loop / reference kernel against "
         f"{factor:g}x the record of machine class '{machine}'"
     )
-    if record is None:
+    if unjudged:
+        say(f"  this machine class's figures are reported, not judged ({where}, 'unjudged_machines'): {unjudged}")
+    elif record is None:
         say(
-            f"  no figures recorded for this machine class in {where} (classes recorded: "
-            f"{', '.join(ref.get('machines', {})) or 'none'}): both checks are reported, not judged (a ceiling "
-            f"holds for the balance of bandwidth, latency and compute of the machines it was set on); record "
-            f"them with three runs with --record {where}, alone on the machine"
+            f"  no loop figures recorded for this machine class in {where} (classes recorded: "
+            f"{', '.join(ref.get('machines', {})) or 'none'}): the loop-time check is skipped; record them with "
+            f"three runs with --record {where}, alone on the machine"
         )
     for name, s in results["scenes"].items():
         ratio, ceiling = s["measured_over_bound"], ceilings.get(name)
@@ -267,8 +268,8 @@ def guard(results, ref, machine, where, quiet=False):
                 f"{name}: {where} states no measured/bound ceiling for it; add one to "
                 f"'measured_over_bound_ceiling' (its reason in 'ceiling_reason')"
             )
-        elif record is None:
-            line += f" (ceiling {ceiling:g} where it was set: {'under' if ratio <= ceiling else 'above'} it)"
+        elif unjudged:
+            line += f" (ceiling {ceiling:g}: {'under' if ratio <= ceiling else 'above'} it, not judged)"
         elif not ratio <= ceiling:  # NaN (no bound) fails too
             line += f" > ceiling {ceiling:g}  FAIL"
             failures.append(
@@ -282,7 +283,7 @@ def guard(results, ref, machine, where, quiet=False):
         norm = s["loop_over_reference"]
         line += f"; loop {s['now-1']['loop_full_core']:.3f} s / reference {s['reference_ms']:.2f} ms = {norm:.2f}"
         recorded = record["loop_over_reference"].get(name) if record else None
-        if recorded is not None:
+        if recorded is not None and not unjudged:
             line += f" ({norm / recorded:.2f}x the recorded {recorded:.2f}"
             if not norm <= factor * recorded:
                 line += f", limit {factor:g}x)  FAIL"
@@ -303,24 +304,6 @@ def guard(results, ref, machine, where, quiet=False):
 
 
 RECORDINGS = 3  # a machine class's record: the median of its last 3 recordings, scene by scene
-CLASS_CEILING = 1.5  # a class's measured/bound ceiling: at least this times its recorded median
-
-
-def class_ceilings(ref, record):
-    """The measured/bound ceilings on a machine class: the file's, raised to CLASS_CEILING times the
-    median of the class's recorded measured/bound where that is higher. The bound counts bytes at the
-    machine's measured bandwidth; a step partly bound by latency or by work the bound does not count
-    (writing the history) does not speed up with the bandwidth, so its ratio is a property of the
-    machine class as much as of the code (a class with 2.3x the bandwidth of the one the ceilings were
-    set on measured up to 1.3x their ratios). 1.5x, as loop_factor: on a class whose host shares its
-    caches with other machines, the same build's stage-flexible-casing measured 3.08-4.40 (1.43x)."""
-    ceilings = dict(ref["measured_over_bound_ceiling"])
-    runs = (record or {}).get("recordings", [])
-    for name in ceilings:
-        figures = [r["measured_over_bound"][name] for r in runs if name in r.get("measured_over_bound", {})]
-        if figures:
-            ceilings[name] = max(ceilings[name], round(CLASS_CEILING * statistics.median(figures), 2))
-    return ceilings
 
 
 def record_figures(path, results, machine, repeat):
