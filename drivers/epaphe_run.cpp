@@ -1,6 +1,6 @@
 // epaphe-run: runs one deck.
 //
-//   epaphe-run DECK.xml [--threads N] [--output FILE] [--check] [--restart FILE.h5]
+//   epaphe-run DECK.xml [--threads N] [--output FILE] [--check] [--restart FILE.h5] [--kernel-times]
 //   epaphe-run DECK.xml --speeds W1,W2,... [--revolutions R] [--threads N]
 //   epaphe-run --print-parameters[=xml]
 //
@@ -12,7 +12,10 @@
 // the run at the end of the current step with a checkpoint and the status "stopped: interrupted by
 // ..."; the exit code is then 128 + the signal (130, 143). Errors go to stderr on rank 0 as one
 // message, and the exit code is 1 (2 for a wrong command line; 3 after --stop-after-steps N, a
-// testing option that stops like SIGTERM after N steps).
+// testing option that stops like SIGTERM after N steps). --kernel-times times the run's loop kernel
+// by kernel (each forEach and reduce by its name, on the team or on the calling thread,
+// Epaphe_Parallel.hpp) and prints them after the summary, the longest first: where a step's time
+// goes, and which kernels two threads speed up.
 //
 // --speeds runs the deck once per rotation speed (rad/s; every turning surface takes it, with its
 // own sign), the speeds dealt round-robin to the MPI ranks (mpirun -np P epaphe-run ...): each
@@ -22,6 +25,7 @@
 #include "Epaphe_Deck.hpp"
 #include "Epaphe_DeckSchema.hpp"
 #include "Epaphe_Error.hpp"
+#include "Epaphe_Parallel.hpp"
 #include "Epaphe_Runtime.hpp"
 #include "Epaphe_SceneCheck.hpp"
 #include "Epaphe_Simulation.hpp"
@@ -30,6 +34,7 @@
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -40,7 +45,7 @@
 
 namespace {
 const char* usage =
-    "usage: epaphe-run DECK.xml [--threads N] [--output FILE] [--check] [--restart FILE.h5]\n"
+    "usage: epaphe-run DECK.xml [--threads N] [--output FILE] [--check] [--restart FILE.h5] [--kernel-times]\n"
     "       epaphe-run DECK.xml --speeds W1,W2,... [--revolutions R] [--threads N]\n"
     "       epaphe-run --print-parameters[=xml]\n";
 
@@ -54,6 +59,31 @@ bool parseList(const std::string& text, std::vector<double>& values) {
     values.push_back(v);
   }
   return !values.empty();
+}
+
+/// The kernels timed in a loop of `loopSeconds` (--kernel-times): one line each, the longest first.
+void printKernelTimes(std::ostream& out, double loopSeconds) {
+  const std::vector<epaphe::KernelTime> kernels = epaphe::kernelTimes();
+  double total = 0;
+  long launches = 0;
+  for (const epaphe::KernelTime& k : kernels) {
+    total += k.seconds;
+    launches += k.launches;
+  }
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "kernels: %ld launches, %.1f ms of the loop's %.1f ms (the rest: code between them)\n", launches,
+                1e3 * total, 1e3 * loopSeconds);
+  out << line;
+  std::snprintf(line, sizeof line, "  %-52s %9s %8s %10s %11s %7s\n", "kernel", "launches", "on team", "time (ms)",
+                "us/launch", "% loop");
+  out << line;
+  for (const epaphe::KernelTime& k : kernels) {
+    std::snprintf(line, sizeof line, "  %-52s %9ld %7.1f%% %10.2f %11.2f %6.1f%%\n", k.name.c_str(), k.launches,
+                  100.0 * k.onTeam / k.launches, 1e3 * k.seconds, 1e6 * k.seconds / k.launches,
+                  loopSeconds > 0 ? 100.0 * k.seconds / loopSeconds : 0.0);
+    out << line;
+  }
 }
 
 /// The speed sweep: this rank's share of `speeds`, each run alone. Returns the exit code.
@@ -91,7 +121,7 @@ int main(int argc, char** argv) {
   epaphe::Runtime rt(&argc, &argv);
   std::string deckPath, output;
   int threads = -1;
-  bool check = false;
+  bool check = false, kernelTimes = false;
   std::string restart;
   long long stopAfter = -1;
   std::vector<double> speeds;
@@ -128,6 +158,8 @@ int main(int argc, char** argv) {
         if (rt.rank() == 0) std::cerr << "epaphe-run: --revolutions " << argv[i] << ": give a number > 0\n";
         return 2;
       }
+    } else if (a == "--kernel-times") {
+      kernelTimes = true;
     } else if (a == "--check") {
       check = true;
     } else if (a == "--help" || a == "-h") {
@@ -176,8 +208,11 @@ int main(int argc, char** argv) {
       sim.setStopAfterSteps(stopAfter);
       sim.setup();
       epaphe::Simulation::catchSignals();  // from here on, SIGINT/SIGTERM stop with a checkpoint
+      epaphe::timeKernels(kernelTimes);
       const epaphe::RunSummary& s = sim.run();
+      epaphe::timeKernels(false);
       sim.printSummary(rt.out());
+      if (kernelTimes) printKernelTimes(rt.out(), s.loopSeconds);
       if (s.stopSignal != 0)
         code = 128 + s.stopSignal;
       else if (s.stoppedEarly)

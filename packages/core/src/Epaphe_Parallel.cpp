@@ -2,6 +2,7 @@
 
 #include "Epaphe_Error.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <map>
@@ -31,6 +32,60 @@ long serialWorkNs() {
   long v = gSerialWorkNs.load(std::memory_order_relaxed);
   if (v < 0) gSerialWorkNs = v = readSerialWorkNs();
   return v;
+}
+
+namespace parallel_detail {
+std::atomic<bool> gTimeKernels{false};
+}  // namespace parallel_detail
+
+namespace {
+struct KernelTimes {
+  std::mutex mutex;
+  std::map<const char*, KernelTime> byName;  // by the name's address: the names are literals
+};
+KernelTimes& kernelTimesTable() {
+  static KernelTimes t;
+  return t;
+}
+}  // namespace
+
+void parallel_detail::addKernelTime(const char* name, bool onTeam, double seconds) {
+  KernelTimes& t = kernelTimesTable();
+  const std::lock_guard<std::mutex> lock(t.mutex);
+  KernelTime& k = t.byName[name];
+  ++k.launches;
+  if (onTeam) ++k.onTeam;
+  k.seconds += seconds;
+}
+
+void timeKernels(bool on) {
+  parallel_detail::gTimeKernels = on;
+}
+
+std::vector<KernelTime> kernelTimes() {
+  KernelTimes& t = kernelTimesTable();
+  std::map<std::string, KernelTime> merged;  // one name at two addresses (two translation units) is one kernel
+  {
+    const std::lock_guard<std::mutex> lock(t.mutex);
+    for (const auto& [name, k] : t.byName) {
+      KernelTime& m = merged[name];
+      m.name = name;
+      m.launches += k.launches;
+      m.onTeam += k.onTeam;
+      m.seconds += k.seconds;
+    }
+  }
+  std::vector<KernelTime> out;
+  for (auto& [name, k] : merged) out.push_back(k);
+  std::stable_sort(out.begin(), out.end(),
+                   [](const KernelTime& a, const KernelTime& b) { return a.seconds > b.seconds; });
+  return out;
+}
+
+void clearKernelTimes() {
+  KernelTimes& t = kernelTimesTable();
+  const std::lock_guard<std::mutex> lock(t.mutex);
+  t.byName.clear();
 }
 
 void setSerialWorkNs(long ns) {

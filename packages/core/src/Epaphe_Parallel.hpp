@@ -18,6 +18,8 @@
 #include <Kokkos_Core.hpp>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <type_traits>
 #include <map>
@@ -50,7 +52,48 @@ Unmanaged<V> unmanaged(const V& v) {
   return Unmanaged<V>(v);
 }
 
+/// One kernel's launches while kernel timing was on (timeKernels): how many, how many of them on the
+/// thread team, and their wall time in all (s).
+struct KernelTime {
+  std::string name;      ///< the kernel's name, as forEach or reduce was given it
+  long launches = 0;     ///< launches timed
+  long onTeam = 0;       ///< ...of which on the thread team (the others on the calling thread)
+  double seconds = 0.0;  ///< wall time of the timed launches (s)
+};
+/// Starts (true) or stops timing each forEach and reduce by its name: a launch on the team is timed
+/// from its fork to its join, one on the calling thread from its first item to its last. Off by
+/// default, when a launch pays one test of a flag. The times gather over every thread that launches.
+void timeKernels(bool on);
+/// The kernels timed since the last clearKernelTimes(), the longest first.
+std::vector<KernelTime> kernelTimes();
+/// Forgets the times gathered so far.
+void clearKernelTimes();
+
 namespace parallel_detail {
+/// Kernel timing is on (timeKernels).
+extern std::atomic<bool> gTimeKernels;
+/// Adds one launch of kernel `name` (a literal: its address is the key) to the kernel times.
+void addKernelTime(const char* name, bool onTeam, double seconds);
+/// Times the scope as a launch of kernel `name` when kernel timing is on.
+class KernelTimer {
+public:
+  KernelTimer(const char* name, bool onTeam)
+      : name_(gTimeKernels.load(std::memory_order_relaxed) ? name : nullptr), onTeam_(onTeam) {
+    if (name_) start_ = std::chrono::steady_clock::now();
+  }
+  ~KernelTimer() {
+    if (name_)
+      addKernelTime(name_, onTeam_, std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
+  }
+  KernelTimer(const KernelTimer&) = delete;
+  KernelTimer& operator=(const KernelTimer&) = delete;
+
+private:
+  const char* name_;
+  bool onTeam_;
+  std::chrono::steady_clock::time_point start_;
+};
+
 constexpr bool kHostAccessible =
     Kokkos::SpaceAccessibility<Kokkos::HostSpace, Kokkos::DefaultExecutionSpace::memory_space>::accessible;
 inline bool serial(long n, long nsPerItem) {
@@ -100,7 +143,9 @@ void copy(const D& dst, const S& src) {
 template <class F>
 void forEach(const char* name, long n, long nsPerItem, const F& f) {
   if (n <= 0) return;
-  if (parallel_detail::serial(n, nsPerItem)) {
+  const bool serial = parallel_detail::serial(n, nsPerItem);
+  const parallel_detail::KernelTimer timer(name, !serial);
+  if (serial) {
     for (long i = 0; i < n; ++i) f(static_cast<int>(i));
   } else {
     Kokkos::parallel_for(name, Kokkos::RangePolicy<>(0, n), f);
@@ -152,7 +197,9 @@ void reduce(const char* name, long n, long nsPerItem, const F& f, const R& reduc
     V total;
     reducer.init(total);
     const long chunks = (std::max(n, 0L) + C - 1) / C;
-    if (chunks <= 1 || parallel_detail::serial(n, nsPerItem)) {
+    const bool serial = chunks <= 1 || parallel_detail::serial(n, nsPerItem);
+    const parallel_detail::KernelTimer timer(name, !serial);
+    if (serial) {
       for (long c = 0; c < chunks; ++c) {
         V v;
         reducer.init(v);
