@@ -20,7 +20,10 @@ the flexibility's bytes being those between the active nodes (RelativeFlexibilit
 own columns of F at an active node of a dense block, and on a carried flexible surface F between the
 control points its active patches hold and F's columns there), averaged over the steps,
 
-both measured by bench_step_probe on this machine, then measured/bound (1 thread). Each run is
+both measured by bench_step_probe on this machine, then measured/bound (1 thread). The probe also
+times a cache line's way from one core to the other (what a kernel on the thread team pays for data
+the other thread wrote), and the scenes of KERNEL_SCENES run once more on 1 and 2 threads (the team
+on every step) with epaphe-run --kernel-times, untimed: each kernel's time per step on both. Each run is
 repeated N times (--repeat, default 3) and the fastest loop kept: on this project's 2-core VM the
 same build's loop varies by up to 30 % (1 thread) and 50 % (2 threads) from run to run, and the
 fastest of three is what the code costs when nothing else takes the core. With
@@ -75,6 +78,7 @@ Scenes (the online-step issue's):
 import argparse
 import json
 import os
+import re
 import resource
 import statistics
 import subprocess
@@ -112,6 +116,8 @@ SCENES = {
 }
 # The longest scene (cube-flexible-rings, 20,000 steps) loops in 3-7 s here; a run 100x longer hangs.
 RUN_TIMEOUT = 600
+# Scenes also run with --kernel-times on 1 and 2 threads (team always), untimed: where the step goes
+KERNEL_SCENES = ("stage-flexible-casing",)
 KERNEL_TIMEOUT = 120  # the probe takes about 2 s, the reference kernel 0.2 s
 
 
@@ -136,7 +142,48 @@ def probe(exe):
     measured/bound reads low, never high (the loop-time check, in CPU-timed units, still holds)."""
     out = subprocess.run([exe], capture_output=True, text=True, check=True, timeout=KERNEL_TIMEOUT).stdout
     vals = dict(line.split() for line in out.splitlines() if len(line.split()) == 2)
-    return float(vals["bandwidth_GBps"]), float(vals["projection_ns"]), float(vals["projection_alone_ns"])
+    return (
+        float(vals["bandwidth_GBps"]),
+        float(vals["projection_ns"]),
+        float(vals["projection_alone_ns"]),
+        float(vals["core_to_core_ns"]),
+    )
+
+
+KERNEL_ROW = re.compile(r"^  (\S+)\s+(\d+)\s+([\d.]+)%\s+([\d.]+)\s+[\d.]+\s+[\d.]+%$")
+
+
+def kernel_table(exe, deck, workdir, tag, threads):
+    """The scene's loop kernel by kernel (epaphe-run --kernel-times), 2 threads with the team on every
+    step (Run->Adaptive threads false: what the team does to each kernel): per kernel its launches,
+    the share of them on the team and its time per step (us); and the loop's time per step."""
+    team = variant(deck, os.path.join(workdir, tag + ".xml"), {"Run->Adaptive threads": ("false", "bool")})
+    out = os.path.join(workdir, tag + ".h5")
+    proc = subprocess.run(
+        [exe, team, "--threads", str(threads), "--output", out, "--kernel-times"],
+        cwd=workdir,
+        env=dict(os.environ, OMP_PROC_BIND="false"),
+        capture_output=True,
+        text=True,
+        timeout=RUN_TIMEOUT,
+    )
+    if proc.returncode != 0:
+        sys.stderr.write(proc.stdout[-3000:] + proc.stderr[-3000:])
+        raise SystemExit(f"{tag}: epaphe-run --kernel-times failed ({proc.returncode})")
+    with h5py.File(out, "r") as f:
+        steps, loop = int(f["/run"].attrs["steps"]), float(f["/run"].attrs["loop_time"])
+    rows = [KERNEL_ROW.match(line) for line in proc.stdout.split("\nkernels:", 1)[-1].splitlines()]
+    kernels = [
+        {
+            "name": r.group(1),
+            "launches": int(r.group(2)),
+            "on_team": float(r.group(3)) / 100,
+            "us_per_step": 1e3 * float(r.group(4)) / steps,
+        }
+        for r in rows
+        if r
+    ]
+    return {"loop_us_per_step": 1e6 * loop / steps, "kernels": kernels}
 
 
 def reference_ms(exe):
@@ -374,6 +421,11 @@ def measure_scene(a, name, builds, bw, proj_ns):
     # the parallel regions and allocations from a run of their own: the Kokkos Tools callbacks
     # that count them cost time in every region (cube-rings on 2 threads: 0.40 -> 0.57 s)
     counted = run_once(a.run, deck, a.workdir, f"{name}-counted", 2, True)
+    kernels = (
+        {str(t): kernel_table(a.run, deck, a.workdir, f"{name}-kernels-{t}", t) for t in (1, 2)}
+        if name in KERNEL_SCENES
+        else None
+    )
     now1, now2 = res["now-1"], dict(
         res["now-2"], launches_per_step=counted["launches_per_step"], allocations=counted["allocations"]
     )
@@ -400,6 +452,13 @@ def measure_scene(a, name, builds, bw, proj_ns):
             f"{', '.join(f'{100 * x:.0f}' for x in now1['shares'])} % of one)"
         )
     scene = dict(res, bound_s=bound, measured_over_bound=over_bound)
+    if kernels:
+        scene["kernel_times"] = kernels
+        one, two = ({k["name"]: k["us_per_step"] for k in kernels[t]["kernels"]} for t in ("1", "2"))
+        top = sorted(one, key=lambda n: -one[n])[:6]
+        line += "; kernels, us/step on 1 -> 2 threads (team always): " + ", ".join(
+            f"{n.split('::')[-1]} {one[n]:.1f} -> {two.get(n, float('nan')):.1f}" for n in top
+        )
     if refs:
         scene.update(reference_ms=min(refs), reference_ms_runs=refs, loop_over_reference=full / (1e-3 * min(refs)))
         line += (
@@ -453,17 +512,19 @@ def main():
     os.makedirs(a.workdir, exist_ok=True)
     probes = [probe(a.probe) for _ in range(max(1, a.repeat))]  # the machine at its best, as the runs
     bw, proj_ns, alone_ns = max(p[0] for p in probes), min(p[1] for p in probes), min(p[2] for p in probes)
+    core_ns = min(p[3] for p in probes)
     machine = machine_class()
     print(
         f"machine: {machine}; triad bandwidth {bw:.2f} GB/s (1 thread), one warm-started projection "
-        f"{proj_ns:.0f} ns interleaved with others ({alone_ns:.0f} ns alone); each figure the fastest of "
-        f"{a.repeat} runs"
+        f"{proj_ns:.0f} ns interleaved with others ({alone_ns:.0f} ns alone), a cache line from one core to "
+        f"another {core_ns:.0f} ns; each figure the fastest of {a.repeat} runs"
     )
     results = {
         "machine": machine,
         "bandwidth_GBps": bw,
         "projection_ns": proj_ns,
         "projection_alone_ns": alone_ns,
+        "core_to_core_ns": core_ns,
         "scenes": {},
     }
     builds = [("now", a.run)] + ([("baseline", a.baseline_run)] if a.baseline_run else [])

@@ -2,15 +2,23 @@
 // thread gets streaming a triad a = b + s c over arrays much larger than the caches, and the cost
 // of one warm-started closest-point projection on a bicubic patch (a node moving a little between
 // projections on a cylinder, like a blade tip in its casing). Prints "bandwidth_GBps X" and
-// "projection_ns Y"; figures only.
+// "projection_ns Y"; figures only. And what two threads pay to share data: the time a cache line
+// written on one CPU takes to be read on another ("core_to_core_ns Z", half a round trip of a flag
+// between two threads on the first two CPUs the process may use; -1 with one CPU). Each kernel of
+// the step on the thread team reads what the other thread wrote in the kernels before it.
 #include "Epaphe_BSplineSurface.hpp"
 #include "Epaphe_ClosestPoint.hpp"
 #include "Epaphe_Runtime.hpp"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <thread>
 #include <vector>
 
 using namespace epaphe;
@@ -84,6 +92,46 @@ double projectionNs(bool lanes) {
   return 1e9 * t / (double(steps) * nodes);
 }
 
+// Half the round trip of a flag between two threads pinned to the first two CPUs of this process
+// (ns, the fastest of 5 rounds of 100,000 trips); -1 when it may use fewer than 2 CPUs.
+double coreToCoreNs() {
+  cpu_set_t allowed;
+  if (sched_getaffinity(0, sizeof allowed, &allowed) != 0 || CPU_COUNT(&allowed) < 2) return -1;
+  int cpus[2], found = 0;
+  for (int c = 0; c < CPU_SETSIZE && found < 2; ++c)
+    if (CPU_ISSET(c, &allowed)) cpus[found++] = c;
+  auto pin = [](int cpu) {
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cpu, &one);
+    pthread_setaffinity_np(pthread_self(), sizeof one, &one);
+  };
+  constexpr int trips = 100000;
+  alignas(64) std::atomic<long> flag{0};
+  double best = 1e300;
+  for (int round = 0; round < 5; ++round) {
+    flag = 0;
+    std::thread echo([&] {
+      pin(cpus[1]);
+      for (long i = 0; i < trips; ++i) {
+        while (flag.load(std::memory_order_acquire) != 2 * i + 1) {
+        }
+        flag.store(2 * i + 2, std::memory_order_release);
+      }
+    });
+    pin(cpus[0]);
+    const double t0 = seconds();
+    for (long i = 0; i < trips; ++i) {
+      flag.store(2 * i + 1, std::memory_order_release);
+      while (flag.load(std::memory_order_acquire) != 2 * i + 2) {
+      }
+    }
+    best = std::min(best, seconds() - t0);
+    echo.join();
+  }
+  return 1e9 * best / trips / 2;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,5 +140,6 @@ int main(int argc, char** argv) {
   std::printf("bandwidth_GBps %.3f\n", triadBandwidth());
   std::printf("projection_ns %.1f\n", projectionNs(true));
   std::printf("projection_alone_ns %.1f\n", projectionNs(false));
+  std::printf("core_to_core_ns %.1f\n", coreToCoreNs());
   return 0;
 }

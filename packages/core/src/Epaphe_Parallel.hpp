@@ -63,6 +63,7 @@ struct KernelTime {
 /// Starts (true) or stops timing each forEach and reduce by its name: a launch on the team is timed
 /// from its fork to its join, one on the calling thread from its first item to its last. Off by
 /// default, when a launch pays one test of a flag. The times gather over every thread that launches.
+/// (KernelCounter, below, counts Kokkos' own parallel regions, allocations and copies instead.)
 void timeKernels(bool on);
 /// The kernels timed since the last clearKernelTimes(), the longest first.
 std::vector<KernelTime> kernelTimes();
