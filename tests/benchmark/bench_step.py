@@ -153,23 +153,30 @@ def probe(exe):
 KERNEL_ROW = re.compile(r"^  (\S+)\s+(\d+)\s+([\d.]+)%\s+([\d.]+)\s+[\d.]+\s+[\d.]+%$")
 
 
-def kernel_table(exe, deck, workdir, tag, threads):
-    """The scene's loop kernel by kernel (epaphe-run --kernel-times), 2 threads with the team on every
-    step (Run->Adaptive threads false: what the team does to each kernel): per kernel its launches,
-    the share of them on the team and its time per step (us); and the loop's time per step."""
-    team = variant(deck, os.path.join(workdir, tag + ".xml"), {"Run->Adaptive threads": ("false", "bool")})
+def launch(exe, deck, workdir, tag, threads, env, options=()):
+    """epaphe-run on the deck, its history at WORKDIR/TAG.h5: (the finished process, its share of a
+    core as timed() gives it, the history's path); stops the benchmark when the run fails."""
     out = os.path.join(workdir, tag + ".h5")
-    proc = subprocess.run(
-        [exe, team, "--threads", str(threads), "--output", out, "--kernel-times"],
+    proc, share = timed(
+        [exe, deck, "--threads", str(threads), "--output", out, *options],
         cwd=workdir,
-        env=dict(os.environ, OMP_PROC_BIND="false"),
+        env=env,
         capture_output=True,
         text=True,
         timeout=RUN_TIMEOUT,
     )
     if proc.returncode != 0:
         sys.stderr.write(proc.stdout[-3000:] + proc.stderr[-3000:])
-        raise SystemExit(f"{tag}: epaphe-run --kernel-times failed ({proc.returncode})")
+        raise SystemExit(f"{tag}: epaphe-run {' '.join(options)} failed ({proc.returncode})")
+    return proc, share, out
+
+
+def kernel_table(exe, deck, workdir, tag, threads):
+    """The scene's loop kernel by kernel (epaphe-run --kernel-times), 2 threads with the team on every
+    step (Run->Adaptive threads false: what the team does to each kernel): per kernel its launches,
+    the share of them on the team and its time per step (us); and the loop's time per step."""
+    team = variant(deck, os.path.join(workdir, tag + ".xml"), {"Run->Adaptive threads": ("false", "bool")})
+    proc, _, out = launch(exe, team, workdir, tag, threads, dict(os.environ, OMP_PROC_BIND="false"), ["--kernel-times"])
     with h5py.File(out, "r") as f:
         steps, loop = int(f["/run"].attrs["steps"]), float(f["/run"].attrs["loop_time"])
     rows = [KERNEL_ROW.match(line) for line in proc.stdout.split("\nkernels:", 1)[-1].splitlines()]
@@ -226,18 +233,7 @@ def run_once(exe, deck, workdir, tag, threads, count):
     env = dict(os.environ, OMP_PROC_BIND="false")
     if count:
         env["EPAPHE_COUNT_KERNELS"] = "1"
-    out = os.path.join(workdir, tag + ".h5")
-    proc, share = timed(
-        [exe, deck, "--threads", str(threads), "--output", out],
-        cwd=workdir,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=RUN_TIMEOUT,
-    )
-    if proc.returncode != 0:
-        sys.stderr.write(proc.stdout[-3000:] + proc.stderr[-3000:])
-        raise SystemExit(f"{tag}: epaphe-run failed ({proc.returncode})")
+    proc, share, out = launch(exe, deck, workdir, tag, threads, env)
     with h5py.File(out, "r") as f:
         r = dict(f["/run"].attrs)
         cost = dict(f["/run/cost"].attrs)
