@@ -13,24 +13,14 @@ flag, and checks the table printed after the summary:
     the integration's (epaphe::dynamics::gemv) among them, some of their launches on the team;
   * without the flag, no table, and the same results (the timing changes nothing).
 """
-import argparse
 import os
 import re
-import subprocess
 import sys
 
 import h5py
 
-ROW = re.compile(r"^  (\S+)\s+(\d+)\s+([\d.]+)%\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)%$")
-
-
-def run(exe, deck, out, flag):
-    env = dict(os.environ, EPAPHE_SERIAL_WORK_NS="0", OMP_PROC_BIND="false")
-    cmd = [exe, deck, "--threads", "2", "--output", out] + (["--kernel-times"] if flag else [])
-    p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
-    if p.returncode != 0:
-        sys.exit(f"FAILED: {' '.join(cmd)} exited with {p.returncode}:\n{p.stderr}")
-    return p.stdout
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "verification"))
+from epaphe_testing import kernel_rows, parse_args, run, verdict  # noqa: E402
 
 
 def histories(path):
@@ -47,14 +37,11 @@ def histories(path):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--run", required=True)
-    ap.add_argument("--deck", required=True)
-    ap.add_argument("--workdir", required=True)
-    a = ap.parse_args()
-    os.makedirs(a.workdir, exist_ok=True)
-    timed = run(a.run, a.deck, os.path.join(a.workdir, "timed.h5"), True)
-    plain = run(a.run, a.deck, os.path.join(a.workdir, "plain.h5"), False)
+    a = parse_args()
+    os.environ.update(EPAPHE_SERIAL_WORK_NS="0", OMP_PROC_BIND="false")
+    cmd = [a.run, a.deck, "--threads", "2", "--output"]
+    timed = run(cmd + [os.path.join(a.workdir, "timed.h5"), "--kernel-times"], a.workdir, timeout=300).stdout
+    plain = run(cmd + [os.path.join(a.workdir, "plain.h5")], a.workdir, timeout=300).stdout
     print(timed)
     failures = []
 
@@ -70,31 +57,28 @@ def main():
         n, total, of = int(head.group(1)), float(head.group(2)), float(head.group(3))
         check(n > 0 and 0 < total <= of * 1.001, f"{n} launches, {total} ms of {of} ms")
         check(abs(of - loop_ms) <= 0.1 + 1e-3 * loop_ms, f"the table's loop {of} ms, the summary's {loop_ms} ms")
-        rows = [ROW.match(line) for line in timed[head.end() :].splitlines()[2:]]
-        rows = [r for r in rows if r]
+        rows = kernel_rows(timed)
         check(len(rows) >= 4, f"{len(rows)} kernel lines")
-        names = [r.group(1) for r in rows]
-        launches = [int(r.group(2)) for r in rows]
-        team = [float(r.group(3)) for r in rows]
-        ms = [float(r.group(4)) for r in rows]
-        for r, name, l, t, m in zip(rows, names, launches, team, ms):
-            us, share = float(r.group(5)), float(r.group(6))
+        names = [k["name"] for k in rows]
+        ms = [k["ms"] for k in rows]
+        for k in rows:
+            name, l, t, m = k["name"], k["launches"], 100 * k["on_team"], k["ms"]
+            us, share = k["us_per_launch"], k["loop_percent"]
             check(l >= 1 and 0 <= t <= 100, f"{name}: {l} launches, {t} % on the team")
             check(abs(us - 1e3 * m / l) <= 0.01 + 0.01 * us, f"{name}: {us} us a launch, {m} ms / {l}")
             check(abs(share - 100 * m / of) <= 0.1, f"{name}: {share} % of the loop, {m} ms of {of}")
         check(ms == sorted(ms, reverse=True), "the longest first")
-        check(sum(launches) == n, f"launches {sum(launches)} against {n}")
+        check(sum(k["launches"] for k in rows) == n, f"launches {sum(k['launches'] for k in rows)} against {n}")
         check(abs(sum(ms) - total) <= 0.01 * len(ms) + 1e-3 * total, f"times {sum(ms)} ms against {total}")
         for k in ("epaphe::contact::detect", "epaphe::contact::correction", "epaphe::dynamics::gemv"):
             check(k in names, f"{k} timed")
-        check(any(t > 0 for t in team), "some launches on the team")
+        check(any(k["on_team"] > 0 for k in rows), "some launches on the team")
     check("kernels:" not in plain, "no table without --kernel-times")
     check(
         histories(os.path.join(a.workdir, "timed.h5")) == histories(os.path.join(a.workdir, "plain.h5")),
         "the same histories (bodies, energy) with and without --kernel-times",
     )
-    print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
-    return 1 if failures else 0
+    return verdict(failures)
 
 
 if __name__ == "__main__":

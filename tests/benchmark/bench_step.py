@@ -78,7 +78,6 @@ Scenes (the online-step issue's):
 import argparse
 import json
 import os
-import re
 import resource
 import statistics
 import subprocess
@@ -90,7 +89,7 @@ import xml.etree.ElementTree as ET
 import h5py
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "verification"))
-from epaphe_testing import variant, verdict  # noqa: E402
+from epaphe_testing import kernel_rows, variant, verdict  # noqa: E402
 
 SCENES = {
     "rotor37-massless": ("rotor37-massless.xml", {}),
@@ -150,9 +149,6 @@ def probe(exe):
     )
 
 
-KERNEL_ROW = re.compile(r"^  (\S+)\s+(\d+)\s+([\d.]+)%\s+([\d.]+)\s+[\d.]+\s+[\d.]+%$")
-
-
 def launch(exe, deck, workdir, tag, threads, env, options=()):
     """epaphe-run on the deck, its history at WORKDIR/TAG.h5: (the finished process, its share of a
     core as timed() gives it, the history's path); stops the benchmark when the run fails."""
@@ -179,16 +175,9 @@ def kernel_table(exe, deck, workdir, tag, threads):
     proc, _, out = launch(exe, team, workdir, tag, threads, dict(os.environ, OMP_PROC_BIND="false"), ["--kernel-times"])
     with h5py.File(out, "r") as f:
         steps, loop = int(f["/run"].attrs["steps"]), float(f["/run"].attrs["loop_time"])
-    rows = [KERNEL_ROW.match(line) for line in proc.stdout.split("\nkernels:", 1)[-1].splitlines()]
     kernels = [
-        {
-            "name": r.group(1),
-            "launches": int(r.group(2)),
-            "on_team": float(r.group(3)) / 100,
-            "us_per_step": 1e3 * float(r.group(4)) / steps,
-        }
-        for r in rows
-        if r
+        {"name": k["name"], "launches": k["launches"], "on_team": k["on_team"], "us_per_step": 1e3 * k["ms"] / steps}
+        for k in kernel_rows(proc.stdout)
     ]
     return {"loop_us_per_step": 1e6 * loop / steps, "kernels": kernels}
 

@@ -2,6 +2,7 @@
 reading, deck and exact-solution helpers are the package's (python/epaphe), re-exported here:
 history, variant, deck_value, deck_child, exact_solution, engine_order_lines."""
 import os
+import re
 import subprocess
 import sys
 
@@ -66,6 +67,29 @@ def verdict(failures):
     """Prints PASSED, or FAILED with one line per failure; returns the exit code (0 or 1)."""
     print("FAILED:\n  " + "\n  ".join(failures) if failures else "PASSED")
     return 1 if failures else 0
+
+
+# A kernel's line of epaphe-run --kernel-times: name, launches, % on the team, ms, us a launch, % of the loop
+KERNEL_ROW = re.compile(r"^  (\S+)\s+(\d+)\s+([\d.]+)%\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)%$")
+
+
+def kernel_rows(stdout):
+    """The kernels' lines epaphe-run --kernel-times printed after its "kernels:" line, in order: per
+    kernel its name, launches, share of them on the team (0-1), ms, us a launch and % of the loop."""
+    table = stdout.split("\nkernels:", 1)[1] if "\nkernels:" in stdout else ""
+    rows = [KERNEL_ROW.match(line) for line in table.splitlines()]
+    return [
+        {
+            "name": r.group(1),
+            "launches": int(r.group(2)),
+            "on_team": float(r.group(3)) / 100,
+            "ms": float(r.group(4)),
+            "us_per_launch": float(r.group(5)),
+            "loop_percent": float(r.group(6)),
+        }
+        for r in rows
+        if r
+    ]
 
 
 def write_point_mass(workdir, stiffness, mass):
