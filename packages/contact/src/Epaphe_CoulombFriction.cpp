@@ -510,11 +510,18 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
             const double Ks[2] = {K[0][0] * sT[0] + K[0][1] * sT[1], K[1][0] * sT[0] + K[1][1] * sT[1]};
             if (ml > 0.0) {
               // t(alpha) = A^{-1} K s_trial, A = alpha I + ml K; f(alpha) = 1 / |t| - 1 rises from
-              // f(0) < 0 and is about linear in alpha (exactly so for an isotropic K = k I, whose root
-              // k (|s_trial| - ml) starts Newton here with k the mean of K's diagonal): Newton on f,
-              // f' = t.A^{-1}t / |t|^3, kept at alpha >= 0; two to four steps to |f| <= 1e-13 (the
-              // direction then within 1e-13), at most 10
-              double alpha = 0.5 * (K[0][0] + K[1][1]) * (ss - ml), tv[2] = {u[0], u[1]};
+              // f(0) < 0 and is about linear in alpha: Newton on f, f' = t.A^{-1}t / |t|^3, kept at
+              // alpha >= 0, to |f| <= 1e-13 (the direction then within 1e-13), at most 10 steps. It
+              // starts from the root to first order in ml K / alpha, g = K s_trial:
+              //   A^{-1} = (I - ml K / alpha) / alpha + O(ml^2), so |t| = 1 at
+              //   alpha = |g| - ml g.K g / |g|^2,
+              // exact for an isotropic K = k I (k (|s_trial| - ml)). When friction is a small part of
+              // the slip (ml K << alpha: rotor37-massless, |s_trial| / ml = 30-1000), one Newton step
+              // or two, where the mean of K's diagonal times |s_trial| - ml took two or three
+              const double gg = Ks[0] * Ks[0] + Ks[1] * Ks[1];
+              const double gKg =
+                  Ks[0] * (K[0][0] * Ks[0] + K[0][1] * Ks[1]) + Ks[1] * (K[1][0] * Ks[0] + K[1][1] * Ks[1]);
+              double alpha = gg > 0.0 ? ::sqrt(gg) - ml * gKg / gg : 0.0, tv[2] = {u[0], u[1]};
               if (!(alpha > 0.0)) alpha = 0.0;
               for (int it = 0; it < 10; ++it) {
                 const double a00 = alpha + ml * K[0][0], a01 = ml * K[0][1], a10 = ml * K[1][0],
