@@ -512,7 +512,7 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
               // t(alpha) = A^{-1} K s_trial, A = alpha I + ml K; f(alpha) = 1 / |t| - 1 rises from
               // f(0) < 0 and is about linear in alpha: Newton on f, f' = t.A^{-1}t / |t|^3, kept at
               // alpha >= 0, to |f| <= 1e-13 (the direction then within 1e-13), at most 10 steps. It
-              // starts from the root to first order in ml K / alpha, g = K s_trial:
+              // starts from the root to first order in ml K / alpha (eq. (74a)), g = K s_trial:
               //   A^{-1} = (I - ml K / alpha) / alpha + O(ml^2), so |t| = 1 at
               //   alpha = |g| - ml g.K g / |g|^2,
               // exact for an isotropic K = k I (k (|s_trial| - ml)). When friction is a small part of
