@@ -62,13 +62,14 @@ def main():
         names = [k["name"] for k in rows]
         ms = [k["ms"] for k in rows]
         for k in rows:
-            name, l, t, m = k["name"], k["launches"], 100 * k["on_team"], k["ms"]
+            name, l, t, m = k["name"], k["launches"], k["on_team"], k["ms"]
             us, share = k["us_per_launch"], k["loop_percent"]
-            check(l >= 1 and 0 <= t <= 100, f"{name}: {l} launches, {t} % on the team")
+            check(l >= 1 and 0 <= t <= 1, f"{name}: {l} launches, {100 * t} % on the team")
             check(abs(us - 1e3 * m / l) <= 0.01 + 0.01 * us, f"{name}: {us} us a launch, {m} ms / {l}")
             check(abs(share - 100 * m / of) <= 0.1, f"{name}: {share} % of the loop, {m} ms of {of}")
         check(ms == sorted(ms, reverse=True), "the longest first")
-        check(sum(k["launches"] for k in rows) == n, f"launches {sum(k['launches'] for k in rows)} against {n}")
+        launches = sum(k["launches"] for k in rows)
+        check(launches == n, f"launches {launches} against {n}")
         check(abs(sum(ms) - total) <= 0.01 * len(ms) + 1e-3 * total, f"times {sum(ms)} ms against {total}")
         for k in ("epaphe::contact::detect", "epaphe::contact::correction", "epaphe::dynamics::gemv"):
             check(k in names, f"{k} timed")
