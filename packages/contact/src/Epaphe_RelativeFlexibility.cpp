@@ -102,6 +102,8 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
   wv_ = Kokkos::View<double**>("epaphe::contact::weights_v", nc, carried_.maxWindow[1]);
   pbasis_ = Kokkos::View<double* [8]>("epaphe::contact::patch_basis", nc);
   pcell_ = Kokkos::View<int* [2]>("epaphe::contact::patch_cell", nc);
+  pweight_ = Kokkos::View<double* [16]>("epaphe::contact::patch_weight", nc);
+  ppoint_ = Kokkos::View<int* [16]>("epaphe::contact::patch_point", nc);
   D_.own = Kokkos::View<int* [3]>("epaphe::contact::node_dof", nc);
   D_.grid = Kokkos::View<int* [4]>("epaphe::contact::node_grid", nc);
   D_.pu = Kokkos::View<int**>("epaphe::contact::grid_u", nc, carried_.maxWindow[0]);
@@ -135,7 +137,7 @@ void RelativeFlexibility::update(const std::vector<int>& activeH, const Kokkos::
                                  const Kokkos::View<int*>::HostMirror& surfH, const DetectionViews& dv) {
   patchBases(activeH, surfH, dv);
   relativeColumns(active, static_cast<int>(activeH.size()), dv);
-  relativePairs(activeH, active, dv);
+  relativePairs(activeH, active);
 }
 
 void RelativeFlexibility::forgetPairs() {
@@ -531,7 +533,17 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
     }
     uEnd_(a) = u;
   }
-  nU_ = u;  // at most every control point and 16 a node: Y_'s room (constructor)
+  nU_ = u;
+  for (const int k : activeH) {  // a patch's 16 points: b_r b_s and their indices in U (relativePairs)
+    const int c = patch_(k) >= 0 ? ctrl_.canon(surfH(k)) : 0;
+    if (patch_(k) < 0 || uMapOff_(c) < 0) continue;
+    const int nvE = ctrl_.dim(c, 1);
+    for (int r = 0; r < 4; ++r)
+      for (int t = 0; t < 4; ++t) {
+        pweight_(k, 4 * r + t) = pbasis_(k, r) * pbasis_(k, 4 + t);
+        ppoint_(k, 4 * r + t) = uMap_(uMapOff_(c) + (pcell_(k, 0) + r) * nvE + pcell_(k, 1) + t);
+      }
+  }  // at most every control point and 16 a node: Y_'s room (constructor)
   // leastBytes(): H on U x U, F's columns at U, and the own columns of the active nodes of dense blocks
   double entries = 0;
   for (int s = 0; s < ns; ++s) {
@@ -602,28 +614,19 @@ void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int 
   fence();
 }
 
-void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const Kokkos::View<int*>& active,
-                                        const DetectionViews& dv) {
+void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const Kokkos::View<int*>& active) {
   const int nA = static_cast<int>(activeH.size());
-  const auto surf = dv.selected;
-  const auto info = unmanaged(carried_.info);
   const auto F = F_.untracked();
   const auto Y = unmanaged(Y_);
-  const auto uMap = unmanaged(uMap_);
-  const auto uMapOff = unmanaged(uMapOff_);
-  const auto canon = unmanaged(ctrl_.canon);
-  const auto ctrlDim = unmanaged(ctrl_.dim);
   const Kokkos::View<int*> nodeBlk = unmanaged(nodeBlk_);  // (FlexibleColumn refers to it)
   const auto patch = unmanaged(patch_);
   const auto blocks = unmanaged(blocks_);
-  const auto pcell = unmanaged(pcell_);
-  const auto pbasis = unmanaged(pbasis_);
   const auto C = unmanaged(C_);
   const auto known = unmanaged(known_);
   const auto fixed = unmanaged(fixedC_);
   const RelativeMotion D = motion();
-  // C_ab = D_a (F D_b^T), one active node a per iteration, every b unless both were active at the
-  // last pass of this step too (D and F do not change within a step: C_ab was made then).
+  // C_ab = D_a (F D_b^T), every pair unless both were active at the last pass of this step too (D and
+  // F do not change within a step: C_ab was made then).
   // Node a's own part reads F D_b^T at a's DOFs: F's block at (a's DOFs, b's) when both are in one
   // dense block, else 0 (a's body carries no surface: no patch of b's is on it), FlexibleColumn in
   // a diagonal block. On a carried surface with control columns its grid part is
@@ -637,41 +640,29 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
   // weight 1 on its DOFs, the turn applied to the gap's normal, not to D) have C_ab = F's block at
   // their DOFs, the same at every step: made once and kept (fixedC_), where it was made again at
   // every step with contact (rotor37-massless, frictionless: 7 % of its loop, 117 pairs a step).
-  // With F symmetric, C_ba = C_ab^T: node a makes its pairs with b >= a and writes both (nodes taken
-  // from both ends of the list in turn, so that the threads' blocks hold as many pairs)
+  // One node b an iteration, with its pairs (a, b): b is the node whose Y_b relativeColumns made at
+  // the same iteration (the same nodes, the same split of the iterations over the threads), so each
+  // thread reads the Y it wrote, from its own cache, and Y_b is read for all of b's pairs while it is
+  // there. With F symmetric, C_ba = C_ab^T: node b makes its pairs with a <= b and writes both (nodes
+  // taken from both ends of the list in turn, as relativeColumns takes them: the threads' blocks hold
+  // as many pairs)
+  const auto pweight = unmanaged(pweight_);
+  const auto ppoint = unmanaged(ppoint_);
   const bool symmetric = symmetric_;
   forEach(
       "epaphe::contact::relative_flexibility", nA,
       (30L * (1 + carried_.maxWindow[0] * carried_.maxWindow[1]) + 160) * nA, KOKKOS_LAMBDA(const int i) {
-        const int a = symmetric ? (i % 2 == 0 ? i / 2 : nA - 1 - i / 2) : i;
-        const int ka = active(a), sa = surf(ka), pa = patch(ka);
-        const bool direct = D.count(ka) == 1 || pa >= 0;
-        const bool ownOnly = D.count(ka) == 1 && pa < 0;  // D_a is its own entry alone
-        const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
-        int dof[3];
-        double R[3][3];
-        for (int d = 0; d < 3; ++d) {
-          dof[d] = D.ownDof(ka, d);
-          for (int e = 0; e < 3; ++e) R[d][e] = D.rot(ka, d, e);
-        }
-        const bool dense = F.denseRow(dof[0]) >= 0;  // a's block is dense
-        double wa[16];                               // a's patch: b_r b_s and the points' indices in U (patchBases)
-        int ua[16];
-        for (int r = 0; r < 4; ++r)
-          for (int t = 0; t < 4; ++t) {
-            wa[4 * r + t] = pa >= 0 ? pbasis(ka, r) * pbasis(ka, 4 + t) : 0.0;
-            ua[4 * r + t] =
-                pa >= 0 && uMapOff(canon(sa)) >= 0
-                    ? uMap(uMapOff(canon(sa)) + static_cast<long>(pcell(ka, 0) + r) * ctrlDim(sa, 1) + pcell(ka, 1) + t)
-                    : -1;
-          }
-        for (int b = symmetric ? a : 0; b < nA; ++b) {
-          const int kb = active(b);
-          const bool constant = ownOnly && D.count(kb) == 1 && patch(kb) < 0;
+        const int b = symmetric ? (i % 2 == 0 ? i / 2 : nA - 1 - i / 2) : i;
+        const int kb = active(b), pb = patch(kb), blkB = nodeBlk(kb);
+        const bool ownOnlyB = D.count(kb) == 1 && pb < 0;  // D_b is its own entry alone
+        for (int a = 0; a < (symmetric ? b + 1 : nA); ++a) {
+          const int ka = active(a), pa = patch(ka);
+          const bool ownOnly = D.count(ka) == 1 && pa < 0;  // D_a is its own entry alone
+          const bool constant = ownOnly && ownOnlyB;
           if ((known(ka) && known(kb)) || (constant && fixed(ka, kb))) continue;
           fixed(ka, kb) = constant ? 1 : 0;
           if (symmetric) fixed(kb, ka) = fixed(ka, kb);
-          if (!direct) {
+          if (!(D.count(ka) == 1 || pa >= 0)) {  // D_a's entries walked
             for (int e = 0; e < 3; ++e) {
               const FlexibleColumn col{F, D, nodeBlk, kb, e};
               double r[3];
@@ -683,30 +674,32 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
             }
             continue;
           }
+          const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
           double own[3][3];
-          if (dense && nodeBlk(kb) == blk) {  // F's block
-            for (int e = 0; e < 3; ++e) {     // (D's own entries have weight 1)
+          if (F.denseRow(D.ownDof(ka, 0)) >= 0 && blkB == blk) {  // F's block (a's dense)
+            for (int e = 0; e < 3; ++e) {                         // (D's own entries have weight 1)
               const double* col = &F.dense(F.start(blk) + static_cast<std::size_t>(D.ownDof(kb, e) - b0) * n);
-              for (int d = 0; d < 3; ++d) own[d][e] = col[dof[d] - b0];
+              for (int d = 0; d < 3; ++d) own[d][e] = col[D.ownDof(ka, d) - b0];
             }
-          } else if (dense) {
+          } else if (F.denseRow(D.ownDof(ka, 0)) >= 0) {
             for (int e = 0; e < 3; ++e)
               for (int d = 0; d < 3; ++d) own[d][e] = 0.0;
           } else {
             for (int e = 0; e < 3; ++e)
-              for (int d = 0; d < 3; ++d) own[d][e] = FlexibleColumn{F, D, nodeBlk, kb, e}(dof[d]);
+              for (int d = 0; d < 3; ++d) own[d][e] = FlexibleColumn{F, D, nodeBlk, kb, e}(D.ownDof(ka, d));
           }
-          if (pa >= 0 && patch(kb) == pa) {                                        // the grid part, R_a X R_b^T
+          if (pa >= 0 && pb == pa) {                                               // the grid part, R_a X R_b^T
             double X[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // X[e2][e2']
             for (int x = 0; x < 16; ++x) {
-              const double* y = &Y(kb, 9 * ua[x]);  // (e2', e2)
+              const double* y = &Y(kb, 9 * ppoint(ka, x));  // (e2', e2)
+              const double wa = pweight(ka, x);
               for (int e2p = 0; e2p < 3; ++e2p)
-                for (int e2 = 0; e2 < 3; ++e2) X[e2][e2p] += wa[x] * y[3 * e2p + e2];
+                for (int e2 = 0; e2 < 3; ++e2) X[e2][e2p] += wa * y[3 * e2p + e2];
             }
             double g[3][3];  // g[d][e2'] = (R_a X)[d][e2']
             for (int d = 0; d < 3; ++d)
               for (int e2p = 0; e2p < 3; ++e2p)
-                g[d][e2p] = R[d][0] * X[0][e2p] + R[d][1] * X[1][e2p] + R[d][2] * X[2][e2p];
+                g[d][e2p] = D.rot(ka, d, 0) * X[0][e2p] + D.rot(ka, d, 1) * X[1][e2p] + D.rot(ka, d, 2) * X[2][e2p];
             for (int d = 0; d < 3; ++d)
               for (int e = 0; e < 3; ++e)
                 own[d][e] += g[d][0] * D.rot(kb, e, 0) + g[d][1] * D.rot(kb, e, 1) + g[d][2] * D.rot(kb, e, 2);

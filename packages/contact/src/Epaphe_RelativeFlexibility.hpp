@@ -157,7 +157,7 @@ private:
   void patchBases(const std::vector<int>& activeH, const Kokkos::View<int*>::HostMirror& surfH,
                   const DetectionViews& dv);
   void relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv);
-  void relativePairs(const std::vector<int>& activeH, const Kokkos::View<int*>& active, const DetectionViews& dv);
+  void relativePairs(const std::vector<int>& activeH, const Kokkos::View<int*>& active);
 
   Flexibility::Packed F_;
   Kokkos::View<int* [2]> blocks_;  // offset, size of each block
@@ -171,6 +171,10 @@ private:
   // b(v), and first control point
   Kokkos::View<double* [8]> pbasis_;
   Kokkos::View<int* [2]> pcell_;
+  // per active patch node whose surface has H: its patch's 16 control points (r, s), b_r b_s and the
+  // point's index in U (made by patchBases, read by relativePairs)
+  Kokkos::View<double* [16]> pweight_;
+  Kokkos::View<int* [16]> ppoint_;
   // U, the control points the active patches read (made by patchBases): per canonical surface s with
   // H, uMap_(uMapOff_(s) + A nvE + B) its index u in U (-1: not read); U's point u is point
   // uPoint_(u, 1) = A nvE + B of surface uPoint_(u, 0), in the order the active nodes' patches first
