@@ -114,6 +114,9 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
   patch_ = Kokkos::View<int*>("epaphe::contact::patch_block", nc);
   D_.rot = Kokkos::View<double* [3][3]>("epaphe::contact::entry_rotation", nc);
   C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
+  rowEdge_ =
+      Kokkos::View<int*>("epaphe::contact::correction_rows", Kokkos::DefaultHostExecutionSpace().concurrency() + 1);
+  blockPoints_.assign(blocks_.extent(0), 0L);
   known_ = Kokkos::View<int*>("epaphe::contact::known_rows", nc);
   fixedC_ = Kokkos::View<int**>("epaphe::contact::fixed_pairs", nc, nc);
   // F symmetric (every body but one with gyroscopic terms): relativePairs makes half the pairs
@@ -559,6 +562,9 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
   for (std::size_t b = 0; b < own.size(); ++b)
     entries += static_cast<double>(std::min(3 * own[b], blocks_(b, 1))) * blocks_(b, 1);
   leastBytes_ = entries * sizeof(double);
+  std::fill(blockPoints_.begin(), blockPoints_.end(), 0L);  // (the correction's row blocks)
+  for (int s = 0; s < ns; ++s)
+    if (uOf[s] > 0) blockPoints_[carried_.info(s, 0)] += uOf[s];
 }
 
 void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv) {
@@ -766,11 +772,38 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
         });
   }
   // One block of rows per thread, each active node's three columns of F walked down it (F is
-  // column-major); each dq_i sums its terms in node order on any number of threads
+  // column-major); each dq_i sums its terms in node order on any number of threads. The blocks hold
+  // as much work, not as many rows: a dense row costs 3 multiply-adds per active node of its body and
+  // 3 per point of U on its body's carried surfaces (the columns with a coefficient), so that a
+  // stage's casing rows weigh several times its blades' (split by rows, the worker had 678 of the
+  // casing's 892 rows, the calling thread the blades' 464 and 214, and was waited for)
+  const auto edge = unmanaged(rowEdge_);
+  if (T > 1) {
+    std::vector<long> perRow(blocks.extent(0), 0);
+    for (int a = 0; a < nA; ++a) perRow[nodeBlk(act(a))] += 3;
+    std::vector<std::array<long, 3>> seg;  // {first row, rows, work a row}, ascending
+    for (std::size_t b = 0; b < perRow.size(); ++b)
+      seg.push_back({blocks(b, 0), blocks(b, 1),
+                     1 + (F.denseRow(blocks(b, 0)) >= 0 ? perRow[b] + 3 * (patches ? blockPoints_[b] : 0) : 0)});
+    std::sort(seg.begin(), seg.end());
+    double total = 0.0;
+    for (const auto& g : seg) total += static_cast<double>(g[1]) * g[2];
+    edge(0) = 0;
+    double sum = 0.0;
+    std::size_t g = 0;
+    for (int t = 1; t < T; ++t) {
+      const double target = total * t / T;
+      for (; g < seg.size() && sum + static_cast<double>(seg[g][1]) * seg[g][2] < target; ++g)
+        sum += static_cast<double>(seg[g][1]) * seg[g][2];
+      const long row = g < seg.size() ? seg[g][0] + static_cast<long>(std::ceil((target - sum) / seg[g][2])) : n;
+      edge(t) = static_cast<int>(std::clamp(row, static_cast<long>(edge(t - 1)), static_cast<long>(n)));
+    }
+  }
+  edge(0) = 0;
+  edge(T) = n;
   forEach(
       "epaphe::contact::correction", T, 3L * n * nA / T, KOKKOS_LAMBDA(const int t) {
-        const int i0 = static_cast<int>(static_cast<long>(n) * t / T),
-                  i1 = static_cast<int>(static_cast<long>(n) * (t + 1) / T);
+        const int i0 = edge(t), i1 = edge(t + 1);
         for (int i = i0; i < i1; ++i) dq(i) = 0.0;
         for (int a = 0; a < nA; ++a) {
           const int k = act(a), blk = nodeBlk(k), b0 = blocks(blk, 0), n = blocks(blk, 1);
