@@ -536,7 +536,7 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
     }
     uEnd_(a) = u;
   }
-  nU_ = u;
+  nU_ = u;                       // at most every control point and 16 a node: Y_'s room (constructor)
   for (const int k : activeH) {  // a patch's 16 points: b_r b_s and their indices in U (relativePairs)
     const int c = patch_(k) >= 0 ? ctrl_.canon(surfH(k)) : 0;
     if (patch_(k) < 0 || uMapOff_(c) < 0) continue;
@@ -546,7 +546,7 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
         pweight_(k, 4 * r + t) = pbasis_(k, r) * pbasis_(k, 4 + t);
         ppoint_(k, 4 * r + t) = uMap_(uMapOff_(c) + (pcell_(k, 0) + r) * nvE + pcell_(k, 1) + t);
       }
-  }  // at most every control point and 16 a node: Y_'s room (constructor)
+  }
   // leastBytes(): H on U x U, F's columns at U, and the own columns of the active nodes of dense blocks
   double entries = 0;
   for (int s = 0; s < ns; ++s) {
@@ -774,9 +774,9 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
   // One block of rows per thread, each active node's three columns of F walked down it (F is
   // column-major); each dq_i sums its terms in node order on any number of threads. The blocks hold
   // as much work, not as many rows: a dense row costs 3 multiply-adds per active node of its body and
-  // 3 per point of U on its body's carried surfaces (the columns with a coefficient), so that a
-  // stage's casing rows weigh several times its blades' (split by rows, the worker had 678 of the
-  // casing's 892 rows, the calling thread the blades' 464 and 214, and was waited for)
+  // 3 per point of U on its body's carried surfaces (the columns with a coefficient): a stage's
+  // casing rows weigh several times its blades', and a split by rows gives one thread most of the
+  // casing while the other waits for it
   const auto edge = unmanaged(rowEdge_);
   if (T > 1) {
     std::vector<long> perRow(blocks.extent(0), 0);
@@ -788,7 +788,6 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
     std::sort(seg.begin(), seg.end());
     double total = 0.0;
     for (const auto& g : seg) total += static_cast<double>(g[1]) * g[2];
-    edge(0) = 0;
     double sum = 0.0;
     std::size_t g = 0;
     for (int t = 1; t < T; ++t) {
