@@ -116,7 +116,6 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
   C_ = Kokkos::View<double** [3][3]>("epaphe::contact::relative_flexibility", nc, nc);
   rowEdge_ =
       Kokkos::View<int*>("epaphe::contact::correction_rows", Kokkos::DefaultHostExecutionSpace().concurrency() + 1);
-  blockPoints_.assign(blocks_.extent(0), 0L);
   known_ = Kokkos::View<int*>("epaphe::contact::known_rows", nc);
   fixedC_ = Kokkos::View<int**>("epaphe::contact::fixed_pairs", nc, nc);
   // F symmetric (every body but one with gyroscopic terms): relativePairs makes half the pairs
@@ -562,9 +561,34 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
   for (std::size_t b = 0; b < own.size(); ++b)
     entries += static_cast<double>(std::min(3 * own[b], blocks_(b, 1))) * blocks_(b, 1);
   leastBytes_ = entries * sizeof(double);
-  std::fill(blockPoints_.begin(), blockPoints_.end(), 0L);  // (the correction's row blocks)
-  for (int s = 0; s < ns; ++s)
-    if (uOf[s] > 0) blockPoints_[carried_.info(s, 0)] += uOf[s];
+  // The correction's blocks of rows, one a thread, of equal work rather than equal size: a row of a
+  // dense block costs 3 multiply-adds per active node of its body and 3 per point of U on its carried
+  // surfaces (the columns with a coefficient), 1 otherwise (set to 0). A stage's casing rows weigh
+  // several times its blades', and a split by rows gives one thread most of the casing while the
+  // other waits for it
+  const int T = static_cast<int>(rowEdge_.extent(0)) - 1, N = F_.size();
+  rowEdge_(0) = 0;
+  rowEdge_(T) = N;
+  if (T > 1) {
+    std::vector<long> perRow(blocks_.extent(0), 1);
+    for (std::size_t b = 0; b < own.size(); ++b) perRow[b] += 3L * own[b];
+    for (int s = 0; s < ns; ++s)
+      if (uOf[s] > 0) perRow[carried_.info(s, 0)] += 3L * uOf[s];
+    std::vector<std::array<long, 3>> seg;  // {first row, rows, work a row}, ascending
+    for (std::size_t b = 0; b < perRow.size(); ++b) seg.push_back({blocks_(b, 0), blocks_(b, 1), perRow[b]});
+    std::sort(seg.begin(), seg.end());
+    double total = 0.0;
+    for (const auto& g : seg) total += static_cast<double>(g[1]) * g[2];
+    double sum = 0.0;
+    std::size_t g = 0;
+    for (int t = 1; t < T; ++t) {
+      const double target = total * t / T;
+      for (; g < seg.size() && sum + static_cast<double>(seg[g][1]) * seg[g][2] < target; ++g)
+        sum += static_cast<double>(seg[g][1]) * seg[g][2];
+      const long row = g < seg.size() ? seg[g][0] + static_cast<long>(std::ceil((target - sum) / seg[g][2])) : N;
+      rowEdge_(t) = static_cast<int>(std::clamp(row, static_cast<long>(rowEdge_(t - 1)), static_cast<long>(N)));
+    }
+  }
 }
 
 void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv) {
@@ -771,35 +795,12 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
           }
         });
   }
-  // One block of rows per thread, each active node's three columns of F walked down it (F is
-  // column-major); each dq_i sums its terms in node order on any number of threads. The blocks hold
-  // as much work, not as many rows: a dense row costs 3 multiply-adds per active node of its body and
-  // 3 per point of U on its body's carried surfaces (the columns with a coefficient): a stage's
-  // casing rows weigh several times its blades', and a split by rows gives one thread most of the
-  // casing while the other waits for it
+  // One block of rows per thread (patchBases cut them), each active node's three columns of F walked
+  // down it (F is column-major); each dq_i sums its terms in node order on any number of threads
   const auto edge = unmanaged(rowEdge_);
-  if (T > 1) {
-    std::vector<long> perRow(blocks.extent(0), 0);
-    for (int a = 0; a < nA; ++a) perRow[nodeBlk(act(a))] += 3;
-    std::vector<std::array<long, 3>> seg;  // {first row, rows, work a row}, ascending
-    for (std::size_t b = 0; b < perRow.size(); ++b)
-      seg.push_back({blocks(b, 0), blocks(b, 1),
-                     1 + (F.denseRow(blocks(b, 0)) >= 0 ? perRow[b] + 3 * (patches ? blockPoints_[b] : 0) : 0)});
-    std::sort(seg.begin(), seg.end());
-    double total = 0.0;
-    for (const auto& g : seg) total += static_cast<double>(g[1]) * g[2];
-    double sum = 0.0;
-    std::size_t g = 0;
-    for (int t = 1; t < T; ++t) {
-      const double target = total * t / T;
-      for (; g < seg.size() && sum + static_cast<double>(seg[g][1]) * seg[g][2] < target; ++g)
-        sum += static_cast<double>(seg[g][1]) * seg[g][2];
-      const long row = g < seg.size() ? seg[g][0] + static_cast<long>(std::ceil((target - sum) / seg[g][2])) : n;
-      edge(t) = static_cast<int>(std::clamp(row, static_cast<long>(edge(t - 1)), static_cast<long>(n)));
-    }
-  }
-  edge(0) = 0;
-  edge(T) = n;
+  EPAPHE_REQUIRE(n == F_.size() && static_cast<int>(rowEdge_.extent(0)) == T + 1,
+                 "contact: the correction of " << n << " coordinates on " << T << " threads, the flexibility's "
+                                               << F_.size() << " cut for " << rowEdge_.extent(0) - 1);
   forEach(
       "epaphe::contact::correction", T, 3L * n * nA / T, KOKKOS_LAMBDA(const int t) {
         const int i0 = edge(t), i1 = edge(t + 1);

@@ -183,10 +183,9 @@ private:
   Kokkos::View<long*> uMapOff_;
   Kokkos::View<int* [2]> uPoint_;
   Kokkos::View<int*> uEnd_;
-  int nU_ = 0;                     // U's points
-  double leastBytes_ = 0;          // leastBytes() of the last patchBases()
-  std::vector<long> blockPoints_;  // per block: U's points on its carried surfaces (patchBases)
-  Kokkos::View<int*> rowEdge_;     // the correction's blocks of rows, one a thread: T + 1 edges
+  int nU_ = 0;                  // U's points
+  double leastBytes_ = 0;       // leastBytes() of the last patchBases()
+  Kokkos::View<int*> rowEdge_;  // the correction's blocks of rows, one a thread: T + 1 edges (patchBases)
   // per active patch node k: Y_k(e2', u, e2) = sum_r's' b_r' b_s' H((u, e2), (e2', i_k + r', j_k + s'))
   // at 9 u + 3 e2' + e2 (relativeColumns)
   Kokkos::View<double**> Y_;
