@@ -705,13 +705,14 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
             continue;
           }
           const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
+          const bool denseA = F.denseRow(D.ownDof(ka, 0)) >= 0;  // a's block is dense
           double own[3][3];
-          if (F.denseRow(D.ownDof(ka, 0)) >= 0 && blkB == blk) {  // F's block (a's dense)
-            for (int e = 0; e < 3; ++e) {                         // (D's own entries have weight 1)
+          if (denseA && blkB == blk) {     // F's block
+            for (int e = 0; e < 3; ++e) {  // (D's own entries have weight 1)
               const double* col = &F.dense(F.start(blk) + static_cast<std::size_t>(D.ownDof(kb, e) - b0) * n);
               for (int d = 0; d < 3; ++d) own[d][e] = col[D.ownDof(ka, d) - b0];
             }
-          } else if (F.denseRow(D.ownDof(ka, 0)) >= 0) {
+          } else if (denseA) {
             for (int e = 0; e < 3; ++e)
               for (int d = 0; d < 3; ++d) own[d][e] = 0.0;
           } else {
@@ -795,12 +796,10 @@ void RelativeFlexibility::correction(const Kokkos::View<int*>& active, int nA, c
           }
         });
   }
-  // One block of rows per thread (patchBases cut them), each active node's three columns of F walked
-  // down it (F is column-major); each dq_i sums its terms in node order on any number of threads
+  // One block of rows per thread (patchBases cut the flexibility's n rows for the T threads), each
+  // active node's three columns of F walked down it (F is column-major); each dq_i sums its terms in
+  // node order on any number of threads
   const auto edge = unmanaged(rowEdge_);
-  EPAPHE_REQUIRE(n == F_.size() && static_cast<int>(rowEdge_.extent(0)) == T + 1,
-                 "contact: the correction of " << n << " coordinates on " << T << " threads, the flexibility's "
-                                               << F_.size() << " cut for " << rowEdge_.extent(0) - 1);
   forEach(
       "epaphe::contact::correction", T, 3L * n * nA / T, KOKKOS_LAMBDA(const int t) {
         const int i0 = edge(t), i1 = edge(t + 1);
