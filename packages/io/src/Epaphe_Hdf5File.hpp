@@ -132,7 +132,8 @@ private:
 /// Time series: an extendable, chunked dataset of doubles whose first dimension is the record
 /// index, each record of the fixed shape `recordDims` (empty = one scalar per record). Chunks are
 /// compressed (shuffle + deflate level 1) when the HDF5 library has deflate and the file's
-/// setSeriesCompression is on.
+/// setSeriesCompression is on; uncompressed, a flush writes the records straight to their place in
+/// the file (no chunk cache, no fill value).
 ///
 /// Buffered: appended records are kept in memory and written in blocks of `bufferRecords`;
 /// flush() writes what is buffered, and so do the destructor, Hdf5File::flush(), close() and

@@ -340,6 +340,51 @@ TEST(Series, TruncateDropsRecordsInTheFileAndBuffered) {
   EXPECT_EQ(dims, std::vector<std::uint64_t>({4, 2}));
 }
 
+// Uncompressed, a series is written straight to the file (no chunk cache, no fill value): records
+// flushed at any count, so that a flush starts and ends inside chunks, cut by a restart and appended
+// to again, read back whole and in order.
+TEST(Series, UncompressedFlushesAtAnyRecordAndRestarts) {
+  const std::string path = fileFor("direct");
+  auto rec = [](int r) { return std::vector<double>{double(r), -0.5 * double(r), 1.0 / (r + 3.0)}; };
+  {
+    Hdf5File f(path, Hdf5File::Mode::Create);
+    f.setSeriesCompression(false);
+    Series s(f, "/bodies/b/force", {3}, 8);  // chunks of 8 records
+    for (int r = 0; r < 29; ++r) {
+      s.append(rec(r));
+      if (r == 2 || r == 12 || r == 13 || r == 22) f.flush();  // flushes of 3, 10, 1 and 9 records
+    }
+    EXPECT_EQ(s.size(), 29u);
+  }
+  {  // a checkpoint restart: reopen, cut inside a chunk, append past the next chunk
+    Hdf5File f(path, Hdf5File::Mode::ReadWrite);
+    Series s(f, "/bodies/b/force", {3}, 8);
+    ASSERT_EQ(s.size(), 29u);
+    s.truncate(11);
+    for (int r = 11; r < 26; ++r) s.append(rec(100 + r));
+  }
+  Hdf5File f(path, Hdf5File::Mode::ReadOnly);
+  Dims dims;
+  const auto data = f.readDoubles("/bodies/b/force", &dims);
+  ASSERT_EQ(dims, Dims({26, 3}));
+  for (int r = 0; r < 26; ++r) {
+    const auto want = rec(r < 11 ? r : 100 + r);
+    for (int i = 0; i < 3; ++i) ASSERT_EQ(data[3 * r + i], want[i]) << "record " << r << ", value " << i;
+  }
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const hid_t dset = H5Dopen2(file, "/bodies/b/force", H5P_DEFAULT);
+  ASSERT_GE(dset, 0);
+  const hid_t dcpl = H5Dget_create_plist(dset);
+  EXPECT_EQ(H5Pget_nfilters(dcpl), 0);
+  H5D_fill_time_t fill = H5D_FILL_TIME_ALLOC;
+  EXPECT_GE(H5Pget_fill_time(dcpl, &fill), 0);
+  EXPECT_EQ(fill, H5D_FILL_TIME_NEVER);
+  H5Pclose(dcpl);
+  H5Dclose(dset);
+  H5Fclose(file);
+}
+
 TEST(Errors, OpeningAMissingFile) {
   const std::string path = fileFor("does_not_exist");
   for (auto mode : {Hdf5File::Mode::ReadOnly, Hdf5File::Mode::ReadWrite}) {
