@@ -441,27 +441,40 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
   const auto nextTangent = unmanaged(nextTangent_);
   const auto returns = unmanaged(returns_);
   const auto column = unmanaged(column_);
+  // The nodes in blocks of kClassifyLanes: each node's classification up to its return's Newton
+  // iterations, then the block's Newton iterations interleaved (a sliding node's iteration is a
+  // chain of dependent divisions and square roots: one node's at a time leaves the core waiting on
+  // it), then each node's result. Each node's arithmetic is its own and in the same order: the same
+  // bits on any number of threads and for any block.
+  constexpr int W = kClassifyLanes;
+  const int blocks = (nA + W - 1) / W;
   int changes = 0;
   reduce(
-      "epaphe::contact::friction_classify", nA, 15L * nA,
-      KOKKOS_LAMBDA(const int a, int& count) {
-        const int ka = active(a);
-        const double lambda = sol(3 * a);
-        double t[3];
-        for (int e = 0; e < 3; ++e) t[e] = tangent(ka, e);
-        int next = state(ka);
-        if (state(ka) != slide) {
-          double s[3], ss = 0.0;
-          for (int e = 0; e < 3; ++e) {
-            s[e] = sol(3 * a + 1) * basis(ka, 1, e) + sol(3 * a + 2) * basis(ka, 2, e);
-            ss += s[e] * s[e];
+      "epaphe::contact::friction_classify", blocks, 15L * W,
+      KOKKOS_LAMBDA(const int blk, int& count) {
+        const int a0 = blk * W, a1 = a0 + W < nA ? a0 + W : nA;
+        double t[W][3], K[W][2][2], Ks[W][2], ml[W], alpha[W], tv[W][2], u[W][2];
+        int next[W];
+        bool iterate[W], returned[W];
+        for (int a = a0; a < a1; ++a) {
+          const int l = a - a0, ka = active(a);
+          const double lambda = sol(3 * a);
+          for (int e = 0; e < 3; ++e) t[l][e] = tangent(ka, e);
+          next[l] = state(ka);
+          iterate[l] = returned[l] = false;
+          if (state(ka) != slide) {
+            double s[3], ss = 0.0;
+            for (int e = 0; e < 3; ++e) {
+              s[e] = sol(3 * a + 1) * basis(ka, 1, e) + sol(3 * a + 2) * basis(ka, 2, e);
+              ss += s[e] * s[e];
+            }
+            ss = ::sqrt(ss);
+            if (ss > mu * lambda) {  // outside the cone: slide, friction along the sticking force
+              next[l] = slide;
+              for (int e = 0; e < 3; ++e) t[l][e] = s[e] / ss;
+            }
+            continue;
           }
-          ss = ::sqrt(ss);
-          if (ss > mu * lambda) {  // outside the cone: slide, friction along the sticking force
-            next = slide;
-            for (int e = 0; e < 3; ++e) t[e] = s[e] / ss;
-          }
-        } else {
           // the tangential part of w = d_a + sum_b F_ab f_b in a's basis, w_i = e_i,a^T d_a +
           // sum_b (T_ab f_b)_i, f_b in b's basis: (lambda, s1, s2) stuck, lambda c_0 sliding
           double w1 = 0.0, w2 = 0.0;
@@ -494,66 +507,97 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
           // alpha the root of |t(alpha)| = 1 (|t(0)| = |s_trial| / (mu lambda) > 1, |t| -> 0 as alpha
           // grows). An isotropic K gives t along s_trial (the radial return); along s_trial when K is
           // not isotropic, the force would leave the slip at an angle and dissipate less than mu lambda |w|.
-          const double K[2][2] = {{T(ka, ka, 1, 1), T(ka, ka, 1, 2)}, {T(ka, ka, 2, 1), T(ka, ka, 2, 2)}};
-          const double det = K[0][0] * K[1][1] - K[0][1] * K[1][0];
-          const double d1 = -(K[1][1] * w1 - K[0][1] * w2) / det, d2 = -(-K[1][0] * w1 + K[0][0] * w2) / det;
+          const double Kl[2][2] = {{T(ka, ka, 1, 1), T(ka, ka, 1, 2)}, {T(ka, ka, 2, 1), T(ka, ka, 2, 2)}};
+          const double det = Kl[0][0] * Kl[1][1] - Kl[0][1] * Kl[1][0];
+          const double d1 = -(Kl[1][1] * w1 - Kl[0][1] * w2) / det, d2 = -(-Kl[1][0] * w1 + Kl[0][0] * w2) / det;
           double sT[2] = {d1, d2};  // s_trial in (e1, e2): mu lambda t + d
           for (int e = 0; e < 3; ++e) {
-            sT[0] += mu * lambda * t[e] * basis(ka, 1, e);
-            sT[1] += mu * lambda * t[e] * basis(ka, 2, e);
+            sT[0] += mu * lambda * t[l][e] * basis(ka, 1, e);
+            sT[1] += mu * lambda * t[l][e] * basis(ka, 2, e);
           }
-          const double ss = ::sqrt(sT[0] * sT[0] + sT[1] * sT[1]), ml = mu * lambda;
-          if (!(ss > ml) && returns(ka) < kMaxReturns) {
-            next = kStick;
-          } else if (ss > 0.0) {
-            double u[2] = {sT[0] / ss, sT[1] / ss};  // the radial return (mu lambda = 0, or no root)
-            const double Ks[2] = {K[0][0] * sT[0] + K[0][1] * sT[1], K[1][0] * sT[0] + K[1][1] * sT[1]};
-            if (ml > 0.0) {
-              // t(alpha) = A^{-1} K s_trial, A = alpha I + ml K; f(alpha) = 1 / |t| - 1 rises from
-              // f(0) < 0 and is about linear in alpha: Newton on f, f' = t.A^{-1}t / |t|^3, kept at
-              // alpha >= 0, to |f| <= 1e-13 (the direction then within 1e-13), at most 10 steps. It
-              // starts from the root to first order in ml K / alpha (eq. (74a)), g = K s_trial:
-              //   A^{-1} = (I - ml K / alpha) / alpha + O(ml^2), so |t| = 1 at
-              //   alpha = |g| - ml g.K g / |g|^2,
-              // exact for an isotropic K = k I (k (|s_trial| - ml)). When friction is a small part of
-              // the slip (ml K << alpha: rotor37-massless, |s_trial| / ml = 30-1000), one Newton step
-              // or two, where the mean of K's diagonal times |s_trial| - ml took two or three
-              const double gg = Ks[0] * Ks[0] + Ks[1] * Ks[1];
-              const double gKg =
-                  Ks[0] * (K[0][0] * Ks[0] + K[0][1] * Ks[1]) + Ks[1] * (K[1][0] * Ks[0] + K[1][1] * Ks[1]);
-              double alpha = gg > 0.0 ? ::sqrt(gg) - ml * gKg / gg : 0.0, tv[2] = {u[0], u[1]};
-              if (!(alpha > 0.0)) alpha = 0.0;
-              for (int it = 0; it < 10; ++it) {
-                const double a00 = alpha + ml * K[0][0], a01 = ml * K[0][1], a10 = ml * K[1][0],
-                             a11 = alpha + ml * K[1][1];
-                const double r = 1.0 / (a00 * a11 - a01 * a10);
-                tv[0] = (a11 * Ks[0] - a01 * Ks[1]) * r;
-                tv[1] = (-a10 * Ks[0] + a00 * Ks[1]) * r;
-                const double y0 = (a11 * tv[0] - a01 * tv[1]) * r, y1 = (-a10 * tv[0] + a00 * tv[1]) * r;
-                const double in = 1.0 / ::sqrt(tv[0] * tv[0] + tv[1] * tv[1]), f = in - 1.0;
-                const double fp = (tv[0] * y0 + tv[1] * y1) * in * in * in;
-                if (!(fp > 0.0) || ::fabs(f) <= 1e-13) break;
-                const double next = alpha - f / fp;
-                const double stepped = next > 0.0 ? next : 0.5 * alpha;
-                if (::fabs(stepped - alpha) <= 1e-13 * alpha) break;
-                alpha = stepped;
-              }
-              const double n = ::sqrt(tv[0] * tv[0] + tv[1] * tv[1]);
+          const double ss = ::sqrt(sT[0] * sT[0] + sT[1] * sT[1]);
+          ml[l] = mu * lambda;
+          if (!(ss > ml[l]) && returns(ka) < kMaxReturns) {
+            next[l] = kStick;
+            continue;
+          }
+          if (!(ss > 0.0)) continue;
+          returned[l] = true;
+          u[l][0] = sT[0] / ss;  // the radial return (mu lambda = 0, or no root)
+          u[l][1] = sT[1] / ss;
+          for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j) K[l][i][j] = Kl[i][j];
+          Ks[l][0] = Kl[0][0] * sT[0] + Kl[0][1] * sT[1];
+          Ks[l][1] = Kl[1][0] * sT[0] + Kl[1][1] * sT[1];
+          if (ml[l] > 0.0) {
+            // t(alpha) = A^{-1} K s_trial, A = alpha I + ml K; f(alpha) = 1 / |t| - 1 rises from
+            // f(0) < 0 and is about linear in alpha: Newton on f, f' = t.A^{-1}t / |t|^3, kept at
+            // alpha >= 0, to |f| <= 1e-13 (the direction then within 1e-13), at most 10 steps. It
+            // starts from the root to first order in ml K / alpha (eq. (74a)), g = K s_trial:
+            //   A^{-1} = (I - ml K / alpha) / alpha + O(ml^2), so |t| = 1 at
+            //   alpha = |g| - ml g.K g / |g|^2,
+            // exact for an isotropic K = k I (k (|s_trial| - ml)). When friction is a small part of
+            // the slip (ml K << alpha: rotor37-massless, |s_trial| / ml = 30-1000), one Newton step
+            // or two, where the mean of K's diagonal times |s_trial| - ml took two or three
+            const double gg = Ks[l][0] * Ks[l][0] + Ks[l][1] * Ks[l][1];
+            const double gKg = Ks[l][0] * (Kl[0][0] * Ks[l][0] + Kl[0][1] * Ks[l][1]) +
+                               Ks[l][1] * (Kl[1][0] * Ks[l][0] + Kl[1][1] * Ks[l][1]);
+            alpha[l] = gg > 0.0 ? ::sqrt(gg) - ml[l] * gKg / gg : 0.0;
+            tv[l][0] = u[l][0];
+            tv[l][1] = u[l][1];
+            if (!(alpha[l] > 0.0)) alpha[l] = 0.0;
+            iterate[l] = true;
+          }
+        }
+        // the Newton iterations of the block's returns, interleaved
+        for (int it = 0; it < 10; ++it) {
+          bool any = false;
+          for (int l = 0; l < a1 - a0; ++l) {
+            if (!iterate[l]) continue;
+            const double m = ml[l], al = alpha[l];
+            const double a00 = al + m * K[l][0][0], a01 = m * K[l][0][1], a10 = m * K[l][1][0],
+                         a11 = al + m * K[l][1][1];
+            const double r = 1.0 / (a00 * a11 - a01 * a10);
+            tv[l][0] = (a11 * Ks[l][0] - a01 * Ks[l][1]) * r;
+            tv[l][1] = (-a10 * Ks[l][0] + a00 * Ks[l][1]) * r;
+            const double y0 = (a11 * tv[l][0] - a01 * tv[l][1]) * r, y1 = (-a10 * tv[l][0] + a00 * tv[l][1]) * r;
+            const double in = 1.0 / ::sqrt(tv[l][0] * tv[l][0] + tv[l][1] * tv[l][1]), f = in - 1.0;
+            const double fp = (tv[l][0] * y0 + tv[l][1] * y1) * in * in * in;
+            if (!(fp > 0.0) || ::fabs(f) <= 1e-13) {
+              iterate[l] = false;
+              continue;
+            }
+            const double na = al - f / fp;
+            const double stepped = na > 0.0 ? na : 0.5 * al;
+            if (::fabs(stepped - al) <= 1e-13 * al) {
+              iterate[l] = false;
+              continue;
+            }
+            alpha[l] = stepped;
+            any = true;
+          }
+          if (!any) break;
+        }
+        for (int a = a0; a < a1; ++a) {
+          const int l = a - a0, ka = active(a);
+          if (returned[l]) {
+            if (ml[l] > 0.0) {
+              const double n = ::sqrt(tv[l][0] * tv[l][0] + tv[l][1] * tv[l][1]);
               if (n > 0.0 && n == n) {
-                u[0] = tv[0] / n;
-                u[1] = tv[1] / n;
+                u[l][0] = tv[l][0] / n;
+                u[l][1] = tv[l][1] / n;
               }
             }
-            for (int e = 0; e < 3; ++e) t[e] = u[0] * basis(ka, 1, e) + u[1] * basis(ka, 2, e);
+            for (int e = 0; e < 3; ++e) t[l][e] = u[l][0] * basis(ka, 1, e) + u[l][1] * basis(ka, 2, e);
           }
+          double dt = 0.0;
+          for (int e = 0; e < 3; ++e) {
+            dt += (t[l][e] - tangent(ka, e)) * (t[l][e] - tangent(ka, e));
+            nextTangent(ka, e) = t[l][e];
+          }
+          nextState(ka) = next[l];
+          if (next[l] != state(ka) || (next[l] == slide && dt > 1e-12)) ++count;  // |t change| > 1e-6
         }
-        double dt = 0.0;
-        for (int e = 0; e < 3; ++e) {
-          dt += (t[e] - tangent(ka, e)) * (t[e] - tangent(ka, e));
-          nextTangent(ka, e) = t[e];
-        }
-        nextState(ka) = next;
-        if (next != state(ka) || (next == slide && dt > 1e-12)) ++count;  // |t change| > 1e-6
       },
       Kokkos::Sum<int>(changes));
   return changes;

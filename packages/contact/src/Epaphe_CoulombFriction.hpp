@@ -72,7 +72,8 @@ private:
 
   static constexpr int kStick = 2, kSlide = 1;
   static constexpr int kMaxFrictionPasses = 20;
-  static constexpr int kMaxReturns = 2;  // slide -> stick switches per node and solve, then it keeps sliding
+  static constexpr int kMaxReturns = 2;     // slide -> stick switches per node and solve, then it keeps sliding
+  static constexpr int kClassifyLanes = 8;  // nodes whose returns classify() iterates together
   double mu_, kp_, h_;
   bool penalty_;
   bool warm_;
