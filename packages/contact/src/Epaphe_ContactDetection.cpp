@@ -216,6 +216,7 @@ ContactDetection::ContactDetection(const std::vector<int>& dofs, const std::vect
   v.skip.bound = Kokkos::View<double*>("epaphe::contact::gap_bound", nc);
   v.skip.travel = Kokkos::View<double*>("epaphe::contact::surface_travel", ns);
   v.skip.travelLast = Kokkos::View<double**>("epaphe::contact::surface_travel_last", nc, ns);
+  v.skip.correctionMove = Kokkos::View<double*>("epaphe::contact::correction_move", nc);
   ctrlLast_.resize(static_cast<std::size_t>(ns));
   v.offset = Kokkos::View<double*>("epaphe::contact::penetration_offset", nc);
   v.offsetSurf = Kokkos::View<int*>("epaphe::contact::penetration_surface", nc);
@@ -266,7 +267,8 @@ Teuchos::RCP<const Teuchos::ParameterList> ContactDetection::getValidParameters(
                   0.0, 1.0);
   deck::addBool(*pl, "Skip distant nodes", true,
                 "Skip the Newton projection of a node whose last gap exceeds "
-                "how far it and the surfaces can have moved since (results "
+                "how far it and the surfaces can have moved since, with room for "
+                "twice the last correction's move of it (results "
                 "unchanged to round-off; output steps project every node); false "
                 "projects every node at every step");
   deck::addBool(*pl, "Allow large motion per step", false,
@@ -307,6 +309,7 @@ DetectionOptions detectionOptions(const Teuchos::ParameterList& cp) {
 void ContactDetection::reset() {
   Kokkos::deep_copy(v_.skip.eligible, 0);
   Kokkos::deep_copy(v_.skip.travel, 0.0);  // every node projects next: the motion so far no longer matters
+  Kokkos::deep_copy(v_.skip.correctionMove, 0.0);
   Kokkos::deep_copy(v_.uvRate, 0.0);
   for (auto& c : ctrlLast_) c.clear();
 }
@@ -320,6 +323,7 @@ std::vector<double> ContactDetection::skipState() const {
     for (int d = 0; d < 3; ++d) st.push_back(v_.skip.xLast(k, d));
     st.push_back(v_.skip.tLast(k));
     st.push_back(v_.skip.gLast(k));
+    st.push_back(v_.skip.correctionMove(k));
     for (int s = 0; s < ns; ++s) st.push_back(v_.skip.travelLast(k, s));
     for (int s = 0; s < ns; ++s)
       for (int c = 0; c < 2; ++c) st.push_back(v_.uvRate(k, s, c));
@@ -346,6 +350,7 @@ void ContactDetection::setSkipState(const std::vector<double>& st) {
     for (int d = 0; d < 3; ++d) v_.skip.xLast(k, d) = next();
     v_.skip.tLast(k) = next();
     v_.skip.gLast(k) = next();
+    v_.skip.correctionMove(k) = next();
     for (int s = 0; s < ns; ++s) v_.skip.travelLast(k, s) = next();
     for (int s = 0; s < ns; ++s)
       for (int c = 0; c < 2; ++c) v_.uvRate(k, s, c) = next();
@@ -490,9 +495,10 @@ DetectionViews DetectionViews::untracked() const {
   u.foot = unmanaged(foot);
   u.footX = unmanaged(footX);
   u.iterations = unmanaged(iterations);
-  u.skip = SkipViews{unmanaged(skip.xLast),    unmanaged(skip.tLast),   unmanaged(skip.gLast),
-                     unmanaged(skip.eligible), unmanaged(skip.skipped), unmanaged(skip.refine),
-                     unmanaged(skip.bound),    unmanaged(skip.travel),  unmanaged(skip.travelLast)};
+  u.skip = SkipViews{unmanaged(skip.xLast),         unmanaged(skip.tLast),   unmanaged(skip.gLast),
+                     unmanaged(skip.eligible),      unmanaged(skip.skipped), unmanaged(skip.refine),
+                     unmanaged(skip.bound),         unmanaged(skip.travel),  unmanaged(skip.travelLast),
+                     unmanaged(skip.correctionMove)};
   u.offset = unmanaged(offset);
   u.offsetSurf = unmanaged(offsetSurf);
   u.coat = CoatingViews{unmanaged(coat.law), unmanaged(coat.grid), unmanaged(coat.wear), unmanaged(coat.area),
@@ -552,8 +558,10 @@ void ContactDetection::project(bool all, bool refineOnly) {
             // surface's own motion: the gap now is at least the last one less `move`, and the node cannot
             // have crossed the surface (a crossing needs a segment at least gLast long). A lower bound of
             // the gap, b > 0: out of contact for certain (b is kept for the add passes' refine test).
+            // Skipped only with room for twice the last correction's move of the node: within b of
+            // the surface, the correction would likely send it to refine(), a projection of its own.
             const double b = v.skip.gLast(k) - move;
-            if (b > 0.0) {
+            if (b > 2.0 * v.skip.correctionMove(k)) {
               v.skip.skipped(k) = 1;
               v.skip.bound(k) = b;
               v.iterations(k) = 0;

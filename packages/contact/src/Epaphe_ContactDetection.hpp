@@ -128,6 +128,10 @@ struct SkipViews {
   Kokkos::View<double*> bound;        ///< a lower bound of a skipped node's gap
   Kokkos::View<double*> travel;       ///< [s] T_s: the carried surface's summed largest control-point motion
   Kokkos::View<double**> travelLast;  ///< [k][s] T_s at the node's last projection
+  /// [k] how far the last correction moved a node out of contact, |D_k dq| (SurfaceContact's
+  /// corrected gaps): a node is skipped only when its bound exceeds twice it, so that the step's
+  /// correction rarely sends it to refine()
+  Kokkos::View<double*> correctionMove;
 };
 
 /// Everything the detection kernel reads and writes, allocated once at setup; copied by value into

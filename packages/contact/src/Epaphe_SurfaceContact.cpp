@@ -246,6 +246,7 @@ bool SurfaceContact::addPenetrating() {
     const auto skipped = dv.skip.skipped;
     const auto refine = dv.skip.refine;
     const auto bound = dv.skip.bound;
+    const auto moved = dv.skip.correctionMove;
     const double eps = gapTolerance_;
     // (a loop over the nodes, not a sum: on the team on a flexible casing, whose D_k cost ~0.3 us)
     forEach(
@@ -254,8 +255,10 @@ bool SurfaceContact::addPenetrating() {
           if (surf(k) < 0 || force(k) != 0.0 || !(gap(k) < 1e300)) return;
           double r[3];
           D.apply(k, dq, r);
+          const double m = ::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+          moved(k) = m;
           if (skipped(k)) {
-            if (bound(k) - ::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) < -eps) refine(k) = 1;
+            if (bound(k) - m < -eps) refine(k) = 1;
             return;
           }
           double g = gap(k);
