@@ -191,7 +191,10 @@ TEST(ContactDetection, SkippingChangesNoGapOfANodeInContactAndBoundsTheOthers) {
               contacts);
 }
 
-TEST(ContactDetection, RefineProjectsExactlyTheFlaggedNodes) {
+// refine() projects the flagged nodes; a node is skipped only with room for twice the last
+// correction's move of it (SkipViews::correctionMove): nearer, the correction would send it to
+// refine(), a projection on its own.
+TEST(ContactDetection, RefineProjectsTheFlaggedNodesAndSkipLeavesRoomForTheCorrection) {
   const double ex[3] = {1, 0, 0}, ey[3] = {0, 1, 0}, o[3] = {0, 0, 0};
   auto floor = plane("floor", o, ex, ey, 1);
   std::vector<ContactSurface> surfaces(1);
@@ -212,37 +215,23 @@ TEST(ContactDetection, RefineProjectsExactlyTheFlaggedNodes) {
   EXPECT_EQ(d.views().skip.skipped(0), 0);
   EXPECT_EQ(d.views().skip.skipped(1), 1);
   EXPECT_NEAR(d.views().gap(0), 0.4, 1e-14);
-  d.reset();
+  d.views().skip.correctionMove(0) = 0.3;
+  d.reset();  // forgets the moves with the rest
+  EXPECT_EQ(d.views().skip.correctionMove(0), 0.0);
   d.detect(q, 2e-3, false);
   EXPECT_EQ(d.lastProjected(), 2);
-}
-
-// A node is skipped only with room for twice the last correction's move of it (SkipViews::
-// correctionMove): nearer, the correction would send it to refine(), a projection on its own.
-TEST(ContactDetection, SkipLeavesRoomForTheLastCorrectionsMove) {
-  const double ex[3] = {1, 0, 0}, ey[3] = {0, 1, 0}, o[3] = {0, 0, 0};
-  auto floor = plane("floor", o, ex, ey, 1);
-  std::vector<ContactSurface> surfaces(1);
-  surfaces[0].surface = floor.get();
-  const std::vector<double> X = {0, 0, 0.5, 0.5, 0, 0.8};
-  ContactDetection d(dofsOf(2), X, surfaces, {});
-  DenseVector q("q", 6);
-  d.detect(q, 0.0, false);
-  EXPECT_EQ(d.lastProjected(), 2);
   d.views().skip.correctionMove(0) = 0.3;  // node 0 moved 0.3 by the last correction, node 1 not
-  q(2) = -0.1;                             // node 0's bound: 0.5 - 0.1 = 0.4 < 2 x 0.3
-  d.detect(q, 1e-3, false);
+  q(2) = -0.2;                             // node 0's bound: 0.4 - 0.1 = 0.3 < 2 x 0.3: projected
+  d.detect(q, 3e-3, false);
   EXPECT_EQ(d.lastProjected(), 1);
   EXPECT_EQ(d.views().skip.skipped(0), 0);
   EXPECT_EQ(d.views().skip.skipped(1), 1);
-  EXPECT_NEAR(d.views().gap(0), 0.4, 1e-14);
-  d.views().skip.correctionMove(0) = 0.15;  // bound 0.4 > 2 x 0.15: skipped
-  d.detect(q, 2e-3, false);
+  EXPECT_NEAR(d.views().gap(0), 0.3, 1e-14);
+  d.views().skip.correctionMove(0) = 0.1;  // bound 0.3 > 2 x 0.1: skipped
+  d.detect(q, 4e-3, false);
   EXPECT_EQ(d.lastProjected(), 0);
   EXPECT_EQ(d.views().skip.skipped(0), 1);
-  EXPECT_NEAR(d.views().skip.bound(0), 0.4, 1e-14);
-  d.reset();  // forgets the moves with the rest
-  EXPECT_EQ(d.views().skip.correctionMove(0), 0.0);
+  EXPECT_NEAR(d.views().skip.bound(0), 0.3, 1e-14);
 }
 
 // Warm start moved on by the foot point's rate: a node at rest inside a cylinder turning 0.3 patch
