@@ -882,12 +882,12 @@ hsize_t chunkRecords(std::size_t recordSize, std::size_t bufferRecords) {
   return static_cast<hsize_t>(std::min(bufferRecords, fit));
 }
 
-/// A series' dataset access without HDF5's chunk cache. A cached chunk is a fresh 1 MiB-class
-/// allocation that HDF5 fills and copies into before it writes it at the next flush: on Linux,
-/// pages mapped and faulted in at every checkpoint (rotor37-massless: 118 faults and 2.6 ms of
-/// its 3.3 ms). Uncompressed and without a fill value, a chunk larger than the cache is written
-/// from the series' buffer straight to its place in the file, one write per chunk a flush touches.
-/// (A compressed series keeps the cache: its filters need the whole chunk.)
+/// A series' dataset access without HDF5's chunk cache. Through the cache, each chunk a flush
+/// touches is a fresh allocation of up to 1 MiB that HDF5 fills and copies into before it writes it
+/// at H5Fflush: on Linux, pages mapped and faulted in at every checkpoint, most of its time.
+/// Uncompressed and without a fill value, a chunk larger than the cache is written from the series'
+/// buffer straight to its place in the file, one write per chunk a flush touches. (A compressed
+/// series keeps the cache: its filters need the whole chunk.)
 Handle directAccess(const FileState& f) {
   Handle dapl(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
   if (!dapl.valid() || H5Pset_chunk_cache(dapl.get(), 0, 0, H5D_CHUNK_CACHE_W0_DEFAULT) < 0)
