@@ -507,7 +507,9 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
           // alpha the root of |t(alpha)| = 1 (|t(0)| = |s_trial| / (mu lambda) > 1, |t| -> 0 as alpha
           // grows). An isotropic K gives t along s_trial (the radial return); along s_trial when K is
           // not isotropic, the force would leave the slip at an angle and dissipate less than mu lambda |w|.
-          const double Kl[2][2] = {{T(ka, ka, 1, 1), T(ka, ka, 1, 2)}, {T(ka, ka, 2, 1), T(ka, ka, 2, 2)}};
+          double(&Kl)[2][2] = K[l];  // K_ij = T_aa(i, j), i, j in (e1, e2)
+          for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j) Kl[i][j] = T(ka, ka, 1 + i, 1 + j);
           const double det = Kl[0][0] * Kl[1][1] - Kl[0][1] * Kl[1][0];
           const double d1 = -(Kl[1][1] * w1 - Kl[0][1] * w2) / det, d2 = -(-Kl[1][0] * w1 + Kl[0][0] * w2) / det;
           double sT[2] = {d1, d2};  // s_trial in (e1, e2): mu lambda t + d
@@ -525,8 +527,6 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
           returned[l] = true;
           u[l][0] = sT[0] / ss;  // the radial return (mu lambda = 0, or no root)
           u[l][1] = sT[1] / ss;
-          for (int i = 0; i < 2; ++i)
-            for (int j = 0; j < 2; ++j) K[l][i][j] = Kl[i][j];
           Ks[l][0] = Kl[0][0] * sT[0] + Kl[0][1] * sT[1];
           Ks[l][1] = Kl[1][0] * sT[0] + Kl[1][1] * sT[1];
           if (ml[l] > 0.0) {

@@ -946,14 +946,14 @@ Series::Series(Hdf5File& file, const std::string& rawPath, std::vector<std::uint
   if (k == Kind::Dataset) {
     // Append to an existing series of the same record shape.
     requireNoLiveSeries(f, s.path, "create series");
-    s.dset = Handle(H5Dopen2(f.fid, s.path.c_str(), H5P_DEFAULT), H5Dclose);
-    if (!s.dset.valid()) fail(f.path, "cannot open series " + sq(s.path));
-    Handle dcpl(H5Dget_create_plist(s.dset.get()), H5Pclose);
-    if (dcpl.valid() && H5Pget_nfilters(dcpl.get()) == 0) {  // uncompressed: written straight to the file
+    auto open = [&](hid_t dapl) {
       s.dset.reset();
-      s.dset = Handle(H5Dopen2(f.fid, s.path.c_str(), directAccess(f).get()), H5Dclose);
+      s.dset = Handle(H5Dopen2(f.fid, s.path.c_str(), dapl), H5Dclose);
       if (!s.dset.valid()) fail(f.path, "cannot open series " + sq(s.path));
-    }
+    };
+    open(H5P_DEFAULT);
+    Handle dcpl(H5Dget_create_plist(s.dset.get()), H5Pclose);
+    if (dcpl.valid() && H5Pget_nfilters(dcpl.get()) == 0) open(directAccess(f).get());  // uncompressed
     Handle space(H5Dget_space(s.dset.get()), H5Sclose);
     Handle type(H5Dget_type(s.dset.get()), H5Tclose);
     if (!space.valid() || !type.valid()) fail(f.path, "cannot inspect dataset " + sq(s.path));
