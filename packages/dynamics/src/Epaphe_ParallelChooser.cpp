@@ -31,6 +31,7 @@ bool ParallelChoice::stepStarts(double now) {
     looks_ = 0;
     probing_ = !looking_;
     block_ = inBlock_ = 0;
+    warmed_ = false;
   }
   if (looking_) {  // before a probe, up to kLooks steps on the calling thread, each a look at the machine
     if (!crowded_()) {
@@ -44,8 +45,7 @@ bool ParallelChoice::stepStarts(double now) {
     }
   }
   if (probing_) {
-    if (block_ == 0 && inBlock_ == 0) probeStart_ = now;
-    if (inBlock_ == 0) blockStart_ = now;
+    if (block_ == 0 && inBlock_ == 0 && !warmed_) probeStart_ = now;
     parallel_ = block_ % 2 == 0;
   } else {
     parallel_ = !looking_ && chosen_;
@@ -56,9 +56,16 @@ bool ParallelChoice::stepStarts(double now) {
 }
 
 void ParallelChoice::stepEnds(double now) {
-  if (!probing_ || ++inBlock_ < o_.blockSteps || now - blockStart_ < o_.blockSeconds) return;
+  if (!probing_) return;
+  if (!warmed_) {  // the block's first step ended: its timed steps start now
+    warmed_ = true;
+    blockStart_ = now;
+    return;
+  }
+  if (++inBlock_ < o_.blockSteps || now - blockStart_ < o_.blockSeconds) return;
   perStep_[static_cast<std::size_t>(block_)] = (now - blockStart_) / inBlock_;
   inBlock_ = 0;
+  warmed_ = false;
   if (++block_ < 2 * o_.pairs) return;
   // the median over the pairs of (parallel block / the serial block after it)
   std::vector<double> ratio;

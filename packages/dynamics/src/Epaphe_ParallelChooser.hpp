@@ -8,19 +8,22 @@
 // while its partner waits at the join, and the same step is slower on 2 threads than on 1. A fixed
 // choice is wrong in one of the two cases.
 //
-// How: a probe runs blocks of steps alternately with the loops parallel (the configured
-// serialWorkNs threshold) and serial (every loop on the calling thread), `pairs` of each, a block
-// being at least `blockSteps` steps and `blockSeconds` of wall time (about 20 steps of a stage, some
-// 5000 of a blade; a team step slowed tenfold by a busy core ends its block after 50 ms all the same);
-// the pair's ratio of wall times per step compares the two modes on
-// neighbouring steps (the contact's work drifts slowly), and the median of the pairs' ratios
-// decides, so that one block slowed by a checkpoint or an interrupt does not. The faster mode then holds until the wall
-// time since the probe is `holdFactor` times the probe's own, and a new probe starts (the load may have changed). The
-// slower mode's share of a run is at most about 1 / (2 holdFactor) of its steps.
+// How: a probe runs short blocks of steps alternately with the loops parallel (the configured
+// serialWorkNs threshold) and serial (every loop on the calling thread), `pairs` of each. A block's
+// first step is not timed (it pays for the mode's change: the data the other mode's threads left in
+// their caches), then the block lasts at least `blockSteps` steps and `blockSeconds` of wall time
+// (2 ms: about 5 steps of a stage, some 250 of a blade). Each pair's ratio of wall times per step
+// compares the two modes on neighbouring steps. They must be near: a contact's work moves with the
+// motion (the stage's active nodes go from 0 to 32 and back within 50-70 steps), and blocks of many
+// such periods would compare steps of different work. The median of the pairs' ratios decides (the
+// pairs on the work's rise and on its fall), so that a block slowed by a checkpoint or an interrupt
+// does not. The faster mode then holds until the wall time since the probe is `holdFactor` times the
+// probe's own, and a new probe starts (the load may have changed). The slower mode's share of a run
+// is at most about 1 / (2 holdFactor) of its steps.
 //
 // A probe's team blocks are what the adaptive run pays for its choice, and they cost most when the
-// answer is plain: beside a busy process a team step on a 2-core machine is 2-3 times slower, and the
-// first probe's three team blocks alone cost a short run 13 % of its time. So before a probe, the
+// answer is plain: beside a busy process a team step on a 2-core machine is 2-3 times slower, and half
+// of a probe's steps are the team's. So before a probe, the
 // chooser looks at the machine (ParallelChoice's `crowded`) at the start of up to 3 steps run on the
 // calling thread: when at every look other processes' threads ready to run leave fewer free cores than
 // the team has threads (Linux: /proc/loadavg's running threads less this process's own), the calling
@@ -43,10 +46,10 @@ class ParallelChoice {
 public:
   /// How a probe runs and how long its verdict holds.
   struct Options {
-    int blockSteps = 1;          ///< a probe's block: at least this many steps...
-    double blockSeconds = 0.05;  ///< ...and this much wall time (s)
-    int pairs = 3;               ///< blocks of each mode in a probe
-    double holdFactor = 20;      ///< the chosen mode holds for this many times the probe's wall time
+    int blockSteps = 1;           ///< a probe's block: at least this many timed steps...
+    double blockSeconds = 0.002;  ///< ...and this much wall time (s), after its first step (not timed)
+    int pairs = 15;               ///< blocks of each mode in a probe
+    double holdFactor = 20;       ///< the chosen mode holds for this many times the probe's wall time
   };
   /// With the default options.
   ParallelChoice() : ParallelChoice(Options{}) {}
@@ -79,7 +82,8 @@ public:
 private:
   Options o_;
   bool probing_ = false, parallel_ = true, chosen_ = true;
-  int block_ = 0, inBlock_ = 0;  // block of the probe (even: parallel), steps done in it
+  bool warmed_ = false;          // the block's first step (not timed) has run
+  int block_ = 0, inBlock_ = 0;  // block of the probe (even: parallel), timed steps done in it
   double blockStart_ = 0, probeStart_ = 0, holdUntil_ = 0;
   std::vector<double> perStep_;  // the probe's blocks' wall times
   long long parallelSteps_ = 0, steps_ = 0;

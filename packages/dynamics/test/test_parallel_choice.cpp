@@ -29,7 +29,8 @@ double runSteps(ParallelChoice& c, long steps, const std::function<double(long)>
   return now;
 }
 
-/// Blocks of 32 steps whatever they last (the tests below count steps), 3 pairs, hold 20x the probe.
+/// Blocks of 32 timed steps whatever they last (the tests below count steps), the default pairs (15),
+/// hold 20x the probe.
 ParallelChoice::Options bySteps() {
   ParallelChoice::Options o;
   o.blockSteps = 32;
@@ -48,7 +49,8 @@ TEST(ParallelChoice, RunsTheFasterModeAndProbesAgain) {
     EXPECT_GE(c.probes(), 2) << "a probe after each hold";
     EXPECT_EQ(c.parallelChoices(), parallelFaster ? c.probes() : 0);
     EXPECT_NEAR(c.lastRatio(), parallelFaster ? fast / slow : slow / fast, 1e-9);
-    // the slower mode runs in half of each probe: 96 steps of every 96 + 20 x (the probe's 192 steps)
+    // the slower mode runs in half of each probe: 15 x 33 steps of every 15 x 33 + 20 x (the probe's
+    // 2 x 15 x 33 steps)
     const double slowShare =
         parallelFaster ? 1.0 - double(c.parallelSteps()) / c.steps() : double(c.parallelSteps()) / c.steps();
     EXPECT_LT(slowShare, 0.03) << "slow steps " << slowShare;
@@ -88,19 +90,19 @@ bool firstVerdict(double parallelCost, double serialCost, long slowStep) {
 }
 
 TEST(ParallelChoice, OneSlowBlockDoesNotDecide) {
-  // a probe's blocks: steps 0-31 parallel, 32-63 serial, 64-95 parallel... One step slowed 200x (a
-  // checkpoint, an interrupt) makes its pair's ratio point the wrong way; the median of the three
+  // a probe's blocks: steps 0-32 parallel (0 not timed), 33-65 serial (33 not timed)... One step slowed
+  // 200x (a checkpoint, an interrupt) makes its pair's ratio point the wrong way; the median of the
   // pairs' ratios does not follow it
   EXPECT_TRUE(firstVerdict(1e-5, 2e-5, -1));
-  EXPECT_TRUE(firstVerdict(1e-5, 2e-5, 0));  // in the first parallel block
+  EXPECT_TRUE(firstVerdict(1e-5, 2e-5, 1));  // in the first parallel block
   EXPECT_FALSE(firstVerdict(2e-5, 1e-5, -1));
   EXPECT_FALSE(firstVerdict(2e-5, 1e-5, 40));  // in the first serial block
 }
 
 TEST(ParallelChoice, BlocksLastLongEnoughToTime) {
-  // the default blocks: at least 1 step and 50 ms. Steps of 10 us (a blade): 5000 steps a block; steps
-  // of 20 ms: 3 steps a block (2 of 30 ms); the verdict compares the time per step either way
-  const double seconds = ParallelChoice::Options{}.blockSeconds;
+  // the default blocks: a first step not timed, then at least 1 step and 2 ms. Steps of 10 us (a
+  // blade): 200 timed steps a block; steps of 20 ms: 1; the verdict compares the time per step either way
+  const ParallelChoice::Options o;
   for (const double step : {1e-5, 2e-2}) {
     ParallelChoice c;
     double now = 0;
@@ -111,10 +113,33 @@ TEST(ParallelChoice, BlocksLastLongEnoughToTime) {
     }
     EXPECT_EQ(c.parallelChoices(), 1);
     EXPECT_NEAR(c.lastRatio(), 1 / 1.5, 1e-6);
-    const long perBlock = std::max(1L, static_cast<long>(std::ceil(seconds / step - 1e-9)));
-    EXPECT_GE(n, 6 * perBlock * 2 / 3) << "step " << step;  // serial blocks need fewer steps for their time
-    EXPECT_LE(n, 6 * perBlock + 6) << "step " << step;
+    auto timed = [&](double cost) { return std::max(1L, static_cast<long>(std::ceil(o.blockSeconds / cost - 1e-9))); };
+    const long expected = o.pairs * (2 + timed(step) + timed(1.5 * step));
+    EXPECT_GE(n, expected - o.pairs) << "step " << step;  // (a sum of step costs may reach 2 ms a step early...)
+    EXPECT_LE(n, expected + o.pairs) << "step " << step;  // (...or late)
   }
+}
+
+TEST(ParallelChoice, TheFirstStepOfABlockIsNotTimed) {
+  // a change of mode costs the step after it (the team wakes, data moves between the cores' caches):
+  // 20x a parallel step into the team, 5x a serial one out of it. Blocks of 4 steps timed whole
+  // would find the team at (20 + 3) / 4 = 5.75 parallel steps a step against (5 + 3 x 1.3) / 4 = 2.2,
+  // and choose the calling thread; without their first steps the blocks compare 1 to 1.3
+  ParallelChoice::Options o = bySteps();
+  o.blockSteps = 3;
+  ParallelChoice c(o);
+  const double par = 1e-5, ser = 1.3e-5;
+  double now = 0;
+  bool last = false;
+  for (long n = 0; c.probes() == 0; ++n) {
+    const bool p = c.stepStarts(now);
+    now += p ? (p != last && n > 0 ? 20 * par : par) : (p != last ? 5 * par : ser);
+    last = p;
+    c.stepEnds(now);
+  }
+  EXPECT_EQ(c.parallelChoices(), 1);
+  EXPECT_NEAR(c.lastRatio(), par / ser, 1e-9);
+  EXPECT_EQ(c.steps(), 2 * o.pairs * (1 + o.blockSteps));
 }
 
 TEST(ParallelChoice, CrowdedCoresSkipTheProbe) {
@@ -124,7 +149,7 @@ TEST(ParallelChoice, CrowdedCoresSkipTheProbe) {
   bool taken = true;
   int looks = 0;
   ParallelChoice::Options o = bySteps();
-  o.blockSeconds = 1e-3;  // (a look every 2 pairs x 1 ms)
+  o.blockSeconds = 1e-3;  // (a look every 2 x 15 pairs x 1 ms)
   ParallelChoice c(o, [&] {
     ++looks;
     return taken;
