@@ -19,6 +19,7 @@ CoulombFriction::CoulombFriction(double mu, bool penalty, double kp, double h, i
   disp_ = Kokkos::View<double* [3]>("epaphe::contact::motion", nc);
   local_ = Kokkos::View<double** [3][3]>("epaphe::contact::local_flexibility", nc, nc);
   column_ = Kokkos::View<double* [3]>("epaphe::contact::sliding_column", nc);
+  force_ = Kokkos::View<double* [3]>("epaphe::contact::node_force", nc);
   state_ = Kokkos::View<int*>("epaphe::contact::state", nc);
   nextState_ = Kokkos::View<int*>("epaphe::contact::next_state", nc);
   returns_ = Kokkos::View<int*>("epaphe::contact::slide_to_stick", nc);
@@ -402,14 +403,17 @@ void CoulombFriction::solveSystem(const ContactStepViews& v, const std::vector<i
                                   << nA << " active nodes (" << m << " unknowns) is singular (zero pivot at unknown "
                                   << info << ")");
   }
-  // (lambda, s1, s2) of every active node: the solved unknowns and the known ones
+  // (lambda, s1, s2) of every active node: the solved unknowns and the known ones; and its force in
+  // its basis, lambda c_0 sliding, (lambda, s1, s2) stuck (classify() reads it for every pair)
   for (int a = 0; a < nA; ++a) {
     const int ka = active[a], o = sys_.unknownOffsetH(a);
     const bool sl = state_(ka) == kSlide;
-    sys_.solH(3 * a) = penalty_ ? (v.rows ? v.row(ka, 2) : kp_ * (-v.gap(ka))) : sys_.rhsH(o);
+    const double lambda = penalty_ ? (v.rows ? v.row(ka, 2) : kp_ * (-v.gap(ka))) : sys_.rhsH(o);
+    sys_.solH(3 * a) = lambda;
     const int t = penalty_ ? o : o + 1;
     sys_.solH(3 * a + 1) = sl ? 0.0 : sys_.rhsH(t);
     sys_.solH(3 * a + 2) = sl ? 0.0 : sys_.rhsH(t + 1);
+    for (int j = 0; j < 3; ++j) force_(a, j) = sl ? column_(ka, j) * lambda : sys_.solH(3 * a + j);
   }
   copy(sys_.sol, sys_.solH);
 }
@@ -440,7 +444,7 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
   const auto nextState = unmanaged(nextState_);
   const auto nextTangent = unmanaged(nextTangent_);
   const auto returns = unmanaged(returns_);
-  const auto column = unmanaged(column_);
+  const auto force = unmanaged(force_);
   // The nodes in blocks of kClassifyLanes: each node's classification up to its return's Newton
   // iterations, then the block's Newton iterations interleaved (a sliding node's iteration is a
   // chain of dependent divisions and square roots: one node's at a time leaves the core waiting on
@@ -484,17 +488,10 @@ int CoulombFriction::classify(const ContactStepViews& v, const Kokkos::View<int*
           }
           const double* Ta = &T(ka, 0, 0, 0);  // T_ab: 3 x 3, contiguous
           for (int b = 0; b < nA; ++b) {
-            const int kb = active(b);
-            const double* Tab = Ta + 9L * kb;
-            double f[3];
-            if (state(kb) == slide) {
-              for (int j = 0; j < 3; ++j) f[j] = column(kb, j) * sol(3 * b);
-            } else {
-              for (int j = 0; j < 3; ++j) f[j] = sol(3 * b + j);
-            }
+            const double* Tab = Ta + 9L * active(b);
             for (int j = 0; j < 3; ++j) {
-              w1 += Tab[3 + j] * f[j];
-              w2 += Tab[6 + j] * f[j];
+              w1 += Tab[3 + j] * force(b, j);
+              w2 += Tab[6 + j] * force(b, j);
             }
           }
           // The return (docs/theory/contact.md, eq. (74)): the others' forces fixed, the node's

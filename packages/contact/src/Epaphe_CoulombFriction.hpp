@@ -83,6 +83,7 @@ private:
   Kokkos::View<double* [3]> disp_;       // d_a = u_a(q*) - u_a(q_n)
   Kokkos::View<double** [3][3]> local_;  // T_ab (localFlexibility), indexed like C
   Kokkos::View<double* [3]> column_;     // a sliding node's column c_0 in its basis (countUnknowns, per pass)
+  Kokkos::View<double* [3]> force_;      // by active position: the node's force in its basis (solveSystem, per pass)
   Kokkos::View<int*> state_, nextState_, bestState_;  // kStick, kSlide
   Kokkos::View<double*[3]> nextTangent_, bestTangent_;
   Kokkos::View<int*> returns_;

@@ -619,7 +619,6 @@ void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int 
         if (patch(k) < 0) return;
         const int end = symmetric ? uEnd(b) : nU;
         double* y = &Y(k, 0);
-        for (int x = 0; x < 9 * end; ++x) y[x] = 0.0;
         const int nuEb = ctrlDim(sb, 0), nvEb = ctrlDim(sb, 1);
         const long rowsB = 3L * nuEb * nvEb;  // rows of H(s_b, s2): s_b's control points
         double w[4][12];                      // w[r'][3 s' + e2'] = b_r' b_s'
@@ -627,11 +626,14 @@ void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int 
           for (int x = 0; x < 12; ++x) w[rp][x] = pbasis(k, rp) * pbasis(k, 4 + x / 3);
         for (int u = 0; u < end; ++u) {
           const int s2 = uPoint(u, 0), point = uPoint(u, 1);
-          if (hOff(sb, s2) < 0) continue;  // (another block: not read)
+          double* yu = y + 9L * u;  // (written whole below)
+          if (hOff(sb, s2) < 0) {   // another block: no flexibility between them
+            for (int x = 0; x < 9; ++x) yu[x] = 0.0;
+            continue;
+          }
           const long nE2 = static_cast<long>(ctrlDim(s2, 0)) * ctrlDim(s2, 1);
           // b's patch in a column of H(s_b, s2): rows 3 nvEb (i + r') + 3 j + (3 s' + e2')
           const double* patchRows = &H(hOff(sb, s2) + 3L * nvEb * pcell(k, 0) + 3L * pcell(k, 1));
-          double* yu = y + 9L * u;
           for (int e2 = 0; e2 < 3; ++e2) {
             const double* h = patchRows + (e2 * nE2 + point) * rowsB;
             double acc[12] = {};

@@ -25,6 +25,7 @@ inline int solveDense(int n, double* A, int lda, double* b, std::vector<int>& ip
     return info;
   }
   auto a = [&](int i, int j) -> double& { return A[static_cast<std::size_t>(j) * lda + i]; };
+  double inv[kSmallDense];  // 1 / u_kk, for the back substitution too
   for (int k = 0; k < n; ++k) {
     int p = k;
     for (int i = k + 1; i < n; ++i)
@@ -34,20 +35,21 @@ inline int solveDense(int n, double* A, int lda, double* b, std::vector<int>& ip
       for (int j = 0; j < n; ++j) std::swap(a(k, j), a(p, j));
       std::swap(b[k], b[p]);
     }
-    const double inv = 1.0 / a(k, k);
-    for (int i = k + 1; i < n; ++i) a(i, k) *= inv;  // multipliers l_ik
-    for (int j = k + 1; j < n; ++j) {                // trailing update, column by column
+    inv[k] = 1.0 / a(k, k);
+    for (int i = k + 1; i < n; ++i) a(i, k) *= inv[k];  // multipliers l_ik
+    for (int j = k + 1; j < n; ++j) {                   // trailing update, column by column
       const double akj = a(k, j);
       if (akj != 0.0)
         for (int i = k + 1; i < n; ++i) a(i, j) -= a(i, k) * akj;
     }
     for (int i = k + 1; i < n; ++i) b[i] -= a(i, k) * b[k];
   }
-  // U x = y column by column, as LAPACK's dgetrs (dtrsm): x_k = y_k / u_kk, then y_i -= u_ik x_k for
-  // i < k, independent updates down a contiguous column. (By rows, each x_k ended a chain of
-  // dependent subtractions: a third of the friction solve's time.)
+  // U x = y column by column, as LAPACK's dgetrs (dtrsm): x_k = y_k (1 / u_kk), then y_i -= u_ik x_k
+  // for i < k, independent updates down a contiguous column; the reciprocals were made by the
+  // factorisation, so that no division (nor, by rows, a chain of dependent subtractions) lies on the
+  // substitution's path from one x_k to the next.
   for (int k = n - 1; k >= 0; --k) {
-    b[k] /= a(k, k);
+    b[k] *= inv[k];
     const double xk = b[k];
     for (int i = 0; i < k; ++i) b[i] -= a(i, k) * xk;
   }
