@@ -30,8 +30,7 @@ bool ParallelChoice::stepStarts(double now) {
     looking_ = static_cast<bool>(crowded_);
     looks_ = 0;
     probing_ = !looking_;
-    block_ = inBlock_ = 0;
-    warmed_ = false;
+    block_ = inBlock_ = 0;  // (warmed_ is false: the last probe's last block ended)
   }
   if (looking_) {  // before a probe, up to kLooks steps on the calling thread, each a look at the machine
     if (!crowded_()) {
