@@ -104,6 +104,12 @@ RelativeFlexibility::RelativeFlexibility(const Flexibility& flexibility, const s
   pcell_ = Kokkos::View<int* [2]>("epaphe::contact::patch_cell", nc);
   pweight_ = Kokkos::View<double* [16]>("epaphe::contact::patch_weight", nc);
   ppoint_ = Kokkos::View<int* [16]>("epaphe::contact::patch_point", nc);
+  rowWeight_ = Kokkos::View<double* [48]>("epaphe::contact::row_weight", nc);
+  groupNode_ = Kokkos::View<int*>("epaphe::contact::group_node", nc);
+  groupStart_ = Kokkos::View<int*>("epaphe::contact::group_start", nc + 1);
+  groupEnd_ = Kokkos::View<int*>("epaphe::contact::group_end", nc);
+  groupOf_.reserve(static_cast<std::size_t>(nc));
+  groupFirst_.reserve(static_cast<std::size_t>(nc));
   D_.own = Kokkos::View<int* [3]>("epaphe::contact::node_dof", nc);
   D_.grid = Kokkos::View<int* [4]>("epaphe::contact::node_grid", nc);
   D_.pu = Kokkos::View<int**>("epaphe::contact::grid_u", nc, carried_.maxWindow[0]);
@@ -537,15 +543,18 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
   }
   nU_ = u;                       // at most every control point and 16 a node: Y_'s room (constructor)
   for (const int k : activeH) {  // a patch's 16 points: b_r b_s and their indices in U (relativePairs)
-    const int c = patch_(k) >= 0 ? ctrl_.canon(surfH(k)) : 0;
-    if (patch_(k) < 0 || uMapOff_(c) < 0) continue;
+    if (patch_(k) < 0) continue;
+    for (int r = 0; r < 4; ++r)
+      for (int t = 0; t < 4; ++t) pweight_(k, 4 * r + t) = pbasis_(k, r) * pbasis_(k, 4 + t);
+    for (int x = 0; x < 48; ++x) rowWeight_(k, x) = pweight_(k, x / 3);  // (r', 3 s' + e2'): b_r' b_s'
+    const int c = ctrl_.canon(surfH(k));
+    if (uMapOff_(c) < 0) continue;
     const int nvE = ctrl_.dim(c, 1);
     for (int r = 0; r < 4; ++r)
-      for (int t = 0; t < 4; ++t) {
-        pweight_(k, 4 * r + t) = pbasis_(k, r) * pbasis_(k, 4 + t);
+      for (int t = 0; t < 4; ++t)
         ppoint_(k, 4 * r + t) = uMap_(uMapOff_(c) + (pcell_(k, 0) + r) * nvE + pcell_(k, 1) + t);
-      }
   }
+  patchGroups(activeH, surfH);
   // leastBytes(): H on U x U, F's columns at U, and the own columns of the active nodes of dense blocks
   double entries = 0;
   for (int s = 0; s < ns; ++s) {
@@ -591,55 +600,125 @@ void RelativeFlexibility::patchBases(const std::vector<int>& activeH, const Kokk
   }
 }
 
+void RelativeFlexibility::patchGroups(const std::vector<int>& activeH, const Kokkos::View<int*>::HostMirror& surfH) {
+  // The active nodes by patch, in the order of their first nodes; a group's nodes ascending. The nodes
+  // of a blade's tip on one patch of the casing share its 48 rows of H: relativeColumns reads them once
+  // for the group (rotating stage: 52 active nodes on 14 patches on average)
+  const int nA = static_cast<int>(activeH.size());
+  std::vector<int>& of = groupOf_;  // per active node: its group
+  of.assign(static_cast<std::size_t>(nA), -1);
+  std::vector<int>& first = groupFirst_;  // per group: its first node
+  first.clear();
+  for (int a = 0; a < nA; ++a) {
+    const int k = activeH[a];
+    if (patch_(k) >= 0)
+      for (std::size_t g = 0; g < first.size(); ++g) {
+        const int f = activeH[first[g]];
+        if (patch_(f) >= 0 && surfH(f) == surfH(k) && pcell_(f, 0) == pcell_(k, 0) && pcell_(f, 1) == pcell_(k, 1)) {
+          of[a] = static_cast<int>(g);
+          break;
+        }
+      }
+    if (of[a] < 0) {
+      of[a] = static_cast<int>(first.size());
+      first.push_back(a);
+    }
+  }
+  nGroups_ = static_cast<int>(first.size());
+  for (int g = 0; g <= nGroups_; ++g) groupStart_(g) = 0;
+  for (int a = 0; a < nA; ++a) ++groupStart_(of[a] + 1);
+  for (int g = 0; g < nGroups_; ++g) {
+    groupStart_(g + 1) += groupStart_(g);
+    groupEnd_(g) = 0;
+  }
+  std::vector<int>& next = groupFirst_;  // (reused: per group, where its next node goes)
+  for (int g = 0; g < nGroups_; ++g) next[g] = groupStart_(g);
+  for (int a = 0; a < nA; ++a) {
+    const int g = of[a];
+    groupNode_(next[g]++) = a;
+    groupEnd_(g) = std::max(groupEnd_(g), symmetric_ ? uEnd_(a) : nU_);
+  }
+}
+
 void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv) {
   // Y_b(u, e2', e2) = sum_r's' b_r' b_s' (B_s2 F B_sb^T)((u, e2), (e2', i_b + r', j_b + s')) of every active
   // patch node b, on the points u of U on a surface s2 of b's block, read from its transpose H(s_b, s2)
-  // (gridColumns): in the column (u, e2), b's patch is 4 runs of 12 (s', e2'), one node a thread. With F
-  // symmetric, node b's pairs with the nodes a <= b read Y_b at their patches alone (relativePairs):
-  // U's first uEnd_(b) points (patchBases' order), about half of U on average
+  // (gridColumns): in the column (u, e2), b's patch is 4 runs of 12 (s', e2'). One group of nodes on one
+  // patch an iteration (patchGroups): the group's 48 entries of a column are read once, from memory,
+  // and weighed by each node's basis. With F symmetric, node b's pairs with the nodes a <= b read Y_b at
+  // their patches alone (relativePairs): U's first uEnd_(b) points (patchBases' order), about half of U
+  // on average; a group makes its nodes' Y on the most of them
   if (Y_.extent(0) == 0) return;
   const auto surf = dv.selected;
   const auto patch = unmanaged(patch_);
   const auto pcell = unmanaged(pcell_);
-  const auto pbasis = unmanaged(pbasis_);
+  const auto rowWeight = unmanaged(rowWeight_);
   const auto ctrlDim = unmanaged(ctrl_.dim);
   const auto H = unmanaged(ctrl_.H);
   const auto hOff = unmanaged(ctrl_.hOff);
   const auto uPoint = unmanaged(uPoint_);
-  const auto uEnd = unmanaged(uEnd_);
+  const auto groupNode = unmanaged(groupNode_);
+  const auto groupStart = unmanaged(groupStart_);
+  const auto groupEnd = unmanaged(groupEnd_);
   const auto Y = unmanaged(Y_);
-  const int nU = nU_;
+  const int nG = nGroups_;
   const bool symmetric = symmetric_;
   forEach(
-      "epaphe::contact::relative_columns", nA, 16L * 3 * nU / 2 + 10, KOKKOS_LAMBDA(const int i) {
-        // (with F symmetric, the nodes from both ends of the list in turn: the threads' blocks of i then
-        // hold as many columns)
-        const int b = symmetric ? (i % 2 == 0 ? i / 2 : nA - 1 - i / 2) : i;
-        const int k = active(b), sb = surf(k);
-        if (patch(k) < 0) return;
-        const int end = symmetric ? uEnd(b) : nU;
-        double* y = &Y(k, 0);
+      "epaphe::contact::relative_columns", nG, (16L * 3 * nU_ / 2 + 10) * nA / std::max(nG, 1),
+      KOKKOS_LAMBDA(const int i) {
+        // (with F symmetric, the groups from both ends of the list in turn: the threads' blocks of i
+        // then hold as many columns)
+        const int g = symmetric ? (i % 2 == 0 ? i / 2 : nG - 1 - i / 2) : i;
+        const int m0 = groupStart(g), m1 = groupStart(g + 1);
+        const int k0 = active(groupNode(m0)), sb = surf(k0);
+        if (patch(k0) < 0) return;
+        const int end = groupEnd(g);
         const int nuEb = ctrlDim(sb, 0), nvEb = ctrlDim(sb, 1);
         const long rowsB = 3L * nuEb * nvEb;  // rows of H(s_b, s2): s_b's control points
-        double w[4][12];                      // w[r'][3 s' + e2'] = b_r' b_s'
-        for (int rp = 0; rp < 4; ++rp)
-          for (int x = 0; x < 12; ++x) w[rp][x] = pbasis(k, rp) * pbasis(k, 4 + x / 3);
+        // the rows of column u + ahead asked for from memory while column u is weighed: the columns are
+        // 3 nuEb nvEb entries apart, each read at 4 runs of 12 entries, which the hardware's prefetch
+        // does not foresee (the loads of H waited for memory on two thirds of the kernel's time)
+        constexpr int ahead = 2;
+        auto prefetch = [&](int v) {
+          const int s2 = uPoint(v, 0);
+          if (hOff(sb, s2) < 0) return;
+          const long nE2 = static_cast<long>(ctrlDim(s2, 0)) * ctrlDim(s2, 1);
+          const double* rows = &H(hOff(sb, s2) + 3L * nvEb * pcell(k0, 0) + 3L * pcell(k0, 1));
+          for (int e2 = 0; e2 < 3; ++e2)
+            for (int rp = 0; rp < 4; ++rp) {
+              const double* run = rows + (e2 * nE2 + uPoint(v, 1)) * rowsB + 3L * nvEb * rp;
+              __builtin_prefetch(run);
+              __builtin_prefetch(run + 11);
+            }
+        };
+        for (int v = 0; v < ahead && v < end; ++v) prefetch(v);
         for (int u = 0; u < end; ++u) {
+          if (u + ahead < end) prefetch(u + ahead);
           const int s2 = uPoint(u, 0), point = uPoint(u, 1);
-          double* yu = y + 9L * u;  // (written whole below)
-          if (hOff(sb, s2) < 0) {   // another block: no flexibility between them
-            for (int x = 0; x < 9; ++x) yu[x] = 0.0;
+          if (hOff(sb, s2) < 0) {  // another block: no flexibility between them
+            for (int m = m0; m < m1; ++m)
+              for (int x = 0; x < 9; ++x) Y(active(groupNode(m)), 9L * u + x) = 0.0;
             continue;
           }
           const long nE2 = static_cast<long>(ctrlDim(s2, 0)) * ctrlDim(s2, 1);
-          // b's patch in a column of H(s_b, s2): rows 3 nvEb (i + r') + 3 j + (3 s' + e2')
-          const double* patchRows = &H(hOff(sb, s2) + 3L * nvEb * pcell(k, 0) + 3L * pcell(k, 1));
+          // the patch in a column of H(s_b, s2): rows 3 nvEb (i + r') + 3 j + (3 s' + e2'), read once for
+          // the group's nodes
+          const double* patchRows = &H(hOff(sb, s2) + 3L * nvEb * pcell(k0, 0) + 3L * pcell(k0, 1));
           for (int e2 = 0; e2 < 3; ++e2) {
-            const double* h = patchRows + (e2 * nE2 + point) * rowsB;
-            double acc[12] = {};
-            for (int rp = 0; rp < 4; ++rp, h += 3L * nvEb)
-              for (int i = 0; i < 12; ++i) acc[i] += w[rp][i] * h[i];
-            for (int e2p = 0; e2p < 3; ++e2p) yu[3 * e2p + e2] = acc[e2p] + acc[3 + e2p] + acc[6 + e2p] + acc[9 + e2p];
+            const double* col = patchRows + (e2 * nE2 + point) * rowsB;
+            double h[4][12];
+            for (int rp = 0; rp < 4; ++rp)
+              for (int x = 0; x < 12; ++x) h[rp][x] = col[3L * nvEb * rp + x];
+            for (int m = m0; m < m1; ++m) {
+              const int k = active(groupNode(m));
+              const double* w = &rowWeight(k, 0);
+              double acc[12] = {};
+              for (int rp = 0; rp < 4; ++rp)
+                for (int x = 0; x < 12; ++x) acc[x] += w[12 * rp + x] * h[rp][x];
+              double* yu = &Y(k, 9L * u);
+              for (int e2p = 0; e2p < 3; ++e2p)
+                yu[3 * e2p + e2] = acc[e2p] + acc[3 + e2p] + acc[6 + e2p] + acc[9 + e2p];
+            }
           }
         }
       });
@@ -672,76 +751,83 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
   // weight 1 on its DOFs, the turn applied to the gap's normal, not to D) have C_ab = F's block at
   // their DOFs, the same at every step: made once and kept (fixedC_), where it was made again at
   // every step with contact (rotor37-massless, frictionless: 7 % of its loop, 117 pairs a step).
-  // One node b an iteration, with its pairs (a, b): b is the node whose Y_b relativeColumns made at
-  // the same iteration (the same nodes, the same split of the iterations over the threads), so each
-  // thread reads the Y it wrote, from its own cache, and Y_b is read for all of b's pairs while it is
-  // there. With F symmetric, C_ba = C_ab^T: node b makes its pairs with a <= b and writes both (nodes
-  // taken from both ends of the list in turn, as relativeColumns takes them: the threads' blocks hold
-  // as many pairs)
+  // One group of nodes b an iteration (patchGroups), with their pairs (a, b): the group whose Y_b
+  // relativeColumns made at the same iteration (the same groups, the same split of the iterations over
+  // the threads), so each thread reads the Y it wrote, from its own cache, and Y_b is read for all of
+  // b's pairs while it is there. With F symmetric, C_ba = C_ab^T: node b makes its pairs with a <= b
+  // and writes both (groups taken from both ends of the list in turn, as relativeColumns takes them:
+  // the threads' blocks hold as many pairs)
   const auto pweight = unmanaged(pweight_);
   const auto ppoint = unmanaged(ppoint_);
+  const auto groupNode = unmanaged(groupNode_);
+  const auto groupStart = unmanaged(groupStart_);
+  const int nG = nGroups_;
   const bool symmetric = symmetric_;
   forEach(
-      "epaphe::contact::relative_flexibility", nA,
-      (30L * (1 + carried_.maxWindow[0] * carried_.maxWindow[1]) + 160) * nA, KOKKOS_LAMBDA(const int i) {
-        const int b = symmetric ? (i % 2 == 0 ? i / 2 : nA - 1 - i / 2) : i;
-        const int kb = active(b), pb = patch(kb), blkB = nodeBlk(kb);
-        const bool ownOnlyB = D.count(kb) == 1 && pb < 0;  // D_b is its own entry alone
-        for (int a = 0; a < (symmetric ? b + 1 : nA); ++a) {
-          const int ka = active(a), pa = patch(ka);
-          const bool ownOnly = D.count(ka) == 1 && pa < 0;  // D_a is its own entry alone
-          const bool constant = ownOnly && ownOnlyB;
-          if ((known(ka) && known(kb)) || (constant && fixed(ka, kb))) continue;
-          fixed(ka, kb) = constant ? 1 : 0;
-          if (symmetric) fixed(kb, ka) = fixed(ka, kb);
-          if (!(D.count(ka) == 1 || pa >= 0)) {  // D_a's entries walked
-            for (int e = 0; e < 3; ++e) {
-              const FlexibleColumn col{F, D, nodeBlk, kb, e};
-              double r[3];
-              D.apply(ka, col, r);
-              for (int d = 0; d < 3; ++d) {
-                C(ka, kb, d, e) = r[d];
-                if (symmetric && b != a) C(kb, ka, e, d) = r[d];
+      "epaphe::contact::relative_flexibility", nG,
+      (30L * (1 + carried_.maxWindow[0] * carried_.maxWindow[1]) + 160) * nA * nA / std::max(nG, 1),
+      KOKKOS_LAMBDA(const int i) {
+        const int g = symmetric ? (i % 2 == 0 ? i / 2 : nG - 1 - i / 2) : i;
+        for (int m = groupStart(g); m < groupStart(g + 1); ++m) {
+          const int b = groupNode(m);
+          const int kb = active(b), pb = patch(kb), blkB = nodeBlk(kb);
+          const bool ownOnlyB = D.count(kb) == 1 && pb < 0;  // D_b is its own entry alone
+          for (int a = 0; a < (symmetric ? b + 1 : nA); ++a) {
+            const int ka = active(a), pa = patch(ka);
+            const bool ownOnly = D.count(ka) == 1 && pa < 0;  // D_a is its own entry alone
+            const bool constant = ownOnly && ownOnlyB;
+            if ((known(ka) && known(kb)) || (constant && fixed(ka, kb))) continue;
+            fixed(ka, kb) = constant ? 1 : 0;
+            if (symmetric) fixed(kb, ka) = fixed(ka, kb);
+            if (!(D.count(ka) == 1 || pa >= 0)) {  // D_a's entries walked
+              for (int e = 0; e < 3; ++e) {
+                const FlexibleColumn col{F, D, nodeBlk, kb, e};
+                double r[3];
+                D.apply(ka, col, r);
+                for (int d = 0; d < 3; ++d) {
+                  C(ka, kb, d, e) = r[d];
+                  if (symmetric && b != a) C(kb, ka, e, d) = r[d];
+                }
               }
+              continue;
             }
-            continue;
-          }
-          const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
-          const bool denseA = F.denseRow(D.ownDof(ka, 0)) >= 0;  // a's block is dense
-          double own[3][3];
-          if (denseA && blkB == blk) {     // F's block
-            for (int e = 0; e < 3; ++e) {  // (D's own entries have weight 1)
-              const double* col = &F.dense(F.start(blk) + static_cast<std::size_t>(D.ownDof(kb, e) - b0) * n);
-              for (int d = 0; d < 3; ++d) own[d][e] = col[D.ownDof(ka, d) - b0];
-            }
-          } else if (denseA) {
-            for (int e = 0; e < 3; ++e)
-              for (int d = 0; d < 3; ++d) own[d][e] = 0.0;
-          } else {
-            for (int e = 0; e < 3; ++e)
-              for (int d = 0; d < 3; ++d) own[d][e] = FlexibleColumn{F, D, nodeBlk, kb, e}(D.ownDof(ka, d));
-          }
-          if (pa >= 0 && pb == pa) {                                               // the grid part, R_a X R_b^T
-            double X[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // X[e2][e2']
-            for (int x = 0; x < 16; ++x) {
-              const double* y = &Y(kb, 9 * ppoint(ka, x));  // (e2', e2)
-              const double wa = pweight(ka, x);
-              for (int e2p = 0; e2p < 3; ++e2p)
-                for (int e2 = 0; e2 < 3; ++e2) X[e2][e2p] += wa * y[3 * e2p + e2];
-            }
-            double g[3][3];  // g[d][e2'] = (R_a X)[d][e2']
-            for (int d = 0; d < 3; ++d)
-              for (int e2p = 0; e2p < 3; ++e2p)
-                g[d][e2p] = D.rot(ka, d, 0) * X[0][e2p] + D.rot(ka, d, 1) * X[1][e2p] + D.rot(ka, d, 2) * X[2][e2p];
-            for (int d = 0; d < 3; ++d)
+            const int blk = nodeBlk(ka), b0 = blocks(blk, 0), n = blocks(blk, 1);
+            const bool denseA = F.denseRow(D.ownDof(ka, 0)) >= 0;  // a's block is dense
+            double own[3][3];
+            if (denseA && blkB == blk) {     // F's block
+              for (int e = 0; e < 3; ++e) {  // (D's own entries have weight 1)
+                const double* col = &F.dense(F.start(blk) + static_cast<std::size_t>(D.ownDof(kb, e) - b0) * n);
+                for (int d = 0; d < 3; ++d) own[d][e] = col[D.ownDof(ka, d) - b0];
+              }
+            } else if (denseA) {
               for (int e = 0; e < 3; ++e)
-                own[d][e] += g[d][0] * D.rot(kb, e, 0) + g[d][1] * D.rot(kb, e, 1) + g[d][2] * D.rot(kb, e, 2);
-          }
-          for (int d = 0; d < 3; ++d)
-            for (int e = 0; e < 3; ++e) {
-              C(ka, kb, d, e) = own[d][e];
-              if (symmetric && b != a) C(kb, ka, e, d) = own[d][e];
+                for (int d = 0; d < 3; ++d) own[d][e] = 0.0;
+            } else {
+              for (int e = 0; e < 3; ++e)
+                for (int d = 0; d < 3; ++d) own[d][e] = FlexibleColumn{F, D, nodeBlk, kb, e}(D.ownDof(ka, d));
             }
+            if (pa >= 0 && pb == pa) {                                               // the grid part, R_a X R_b^T
+              double X[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // X[e2][e2']
+              for (int x = 0; x < 16; ++x) {
+                const double* y = &Y(kb, 9 * ppoint(ka, x));  // (e2', e2)
+                const double wa = pweight(ka, x);
+                for (int e2p = 0; e2p < 3; ++e2p)
+                  for (int e2 = 0; e2 < 3; ++e2) X[e2][e2p] += wa * y[3 * e2p + e2];
+              }
+              double g[3][3];  // g[d][e2'] = (R_a X)[d][e2']
+              for (int d = 0; d < 3; ++d)
+                for (int e2p = 0; e2p < 3; ++e2p)
+                  g[d][e2p] = D.rot(ka, d, 0) * X[0][e2p] + D.rot(ka, d, 1) * X[1][e2p] + D.rot(ka, d, 2) * X[2][e2p];
+              for (int d = 0; d < 3; ++d)
+                for (int e = 0; e < 3; ++e)
+                  own[d][e] += g[d][0] * D.rot(kb, e, 0) + g[d][1] * D.rot(kb, e, 1) + g[d][2] * D.rot(kb, e, 2);
+            }
+            for (int d = 0; d < 3; ++d)
+              for (int e = 0; e < 3; ++e) {
+                C(ka, kb, d, e) = own[d][e];
+                if (symmetric && b != a) C(kb, ka, e, d) = own[d][e];
+              }
+          }
         }
       });
   fence();

@@ -156,6 +156,7 @@ private:
   void gridColumns(const std::vector<ContactSurface>& surfaces, const std::vector<double>& G);
   void patchBases(const std::vector<int>& activeH, const Kokkos::View<int*>::HostMirror& surfH,
                   const DetectionViews& dv);
+  void patchGroups(const std::vector<int>& activeH, const Kokkos::View<int*>::HostMirror& surfH);
   void relativeColumns(const Kokkos::View<int*>& active, int nA, const DetectionViews& dv);
   void relativePairs(const std::vector<int>& activeH, const Kokkos::View<int*>& active);
 
@@ -186,6 +187,15 @@ private:
   int nU_ = 0;                  // U's points
   double leastBytes_ = 0;       // leastBytes() of the last patchBases()
   Kokkos::View<int*> rowEdge_;  // the correction's blocks of rows, one a thread: T + 1 edges (patchBases)
+  // the active nodes by patch (patchBases): the nodes of group g, indices in the active list
+  // (ascending), are groupNode_(groupStart_(g) .. groupStart_(g + 1) - 1), those on one surface whose
+  // patches start at one control point (a node without a patch: a group of its own); groupEnd_(g): the
+  // points of U its nodes' Y need (relativeColumns reads their rows of H once for the group)
+  Kokkos::View<int*> groupNode_, groupStart_, groupEnd_;
+  int nGroups_ = 0;
+  std::vector<int> groupOf_, groupFirst_;
+  // per active patch node: w[r'][3 s' + e2'] = b_r' b_s', as relativeColumns weighs a column's 4 runs of 12
+  Kokkos::View<double* [48]> rowWeight_;  // patchGroups' work space (room for every node: constructor)
   // per active patch node k: Y_k(e2', u, e2) = sum_r's' b_r' b_s' H((u, e2), (e2', i_k + r', j_k + s'))
   // at 9 u + 3 e2' + e2 (relativeColumns)
   Kokkos::View<double**> Y_;
