@@ -259,12 +259,14 @@ TEST(SmallDense, EliminationWithPivotingSolvesAsLapackDoes) {
 
 namespace {
 
-/// Three nodes pressed into a plane carried by a second body (a 6 x 5 grid in z = 0, turned by
+/// Five nodes pressed into a plane carried by a second body (a 6 x 5 grid in z = 0, turned by
 /// 0.3 rad about z), the carrier's flexibility diagonal d_i: as a dense block (C_ab through the
 /// flexibility between the patches' control points, H = (B_u x B_v) F (B_u x B_v)^T, eq. 2.26) or as
 /// a diagonal block (C_ab by walking D_a's grid entries). Both must give the same forces and correction.
+/// Nodes 0 and 3 are on one patch, 1 and 4 on another, 2 alone: the dense block reads H once for the
+/// nodes of a patch (RelativeFlexibility's groups), in groups whose nodes are not neighbours in the list.
 struct CarriedPlane {
-  static constexpr int kNu = 6, kNv = 5, kNodes = 3, kGridDofs = 3 * kNu * kNv, kN = 3 * kNodes + kGridDofs;
+  static constexpr int kNu = 6, kNv = 5, kNodes = 5, kGridDofs = 3 * kNu * kNv, kN = 3 * kNodes + kGridDofs;
   std::vector<double> grid;
   BSplineSurface plane;
   CarriedPlane() : grid(makeGrid()), plane("carried", kNu, kNv, grid, openOptions()) {}
@@ -281,9 +283,12 @@ struct CarriedPlane {
   }
   SurfaceContact make(bool denseCarrier, double mu) {
     ContactNodes nodes;
+    // inside the patches' spans of the grid (0.4 by 0.5), in the plane's turned frame
+    const double local[kNodes][2] = {{-0.45, 0.3}, {-0.05, -0.2}, {0.35, -0.3}, {-0.33, 0.18}, {0.08, -0.33}};
     for (int k = 0; k < kNodes; ++k) {
       const int dof[3] = {3 * k, 3 * k + 1, 3 * k + 2};
-      const double x[3] = {-0.45 + 0.4 * k, 0.13 - 0.2 * k, 0.0};
+      const double c = std::cos(0.3), s = std::sin(0.3);
+      const double x[3] = {c * local[k][0] - s * local[k][1], s * local[k][0] + c * local[k][1], 0.0};
       nodes.add(k, 0, dof, x);
     }
     DenseMatrix Fn("Fn", 3 * kNodes, 3 * kNodes);  // the nodes' body: coupled
