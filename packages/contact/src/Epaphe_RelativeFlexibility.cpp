@@ -772,6 +772,22 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
           const int b = groupNode(m);
           const int kb = active(b), pb = patch(kb), blkB = nodeBlk(kb);
           const bool ownOnlyB = D.count(kb) == 1 && pb < 0;  // D_b is its own entry alone
+          // X of b's pairs with the patch nodes a of its block first, into C_ab (the pair's own, made
+          // below), in a loop of nothing else: the 16 multiply-adds of one X wait for each other, and
+          // the processor overlaps those of the next pairs only in a short loop
+          if (pb >= 0)
+            for (int a = 0; a < (symmetric ? b + 1 : nA); ++a) {
+              const int ka = active(a);
+              if (patch(ka) != pb || (known(ka) && known(kb))) continue;  // (made: kept, as below)
+              double X[9] = {};  // X[3 e2' + e2], as Y stores it (one vector of 9 a point)
+              for (int x = 0; x < 16; ++x) {
+                const double* y = &Y(kb, 9 * ppoint(ka, x));
+                const double wa = pweight(ka, x);
+                for (int e = 0; e < 9; ++e) X[e] += wa * y[e];
+              }
+              double* c = &C(ka, kb, 0, 0);
+              for (int e = 0; e < 9; ++e) c[e] = X[e];
+            }
           for (int a = 0; a < (symmetric ? b + 1 : nA); ++a) {
             const int ka = active(a), pa = patch(ka);
             const bool ownOnly = D.count(ka) == 1 && pa < 0;  // D_a is its own entry alone
@@ -806,18 +822,13 @@ void RelativeFlexibility::relativePairs(const std::vector<int>& activeH, const K
               for (int e = 0; e < 3; ++e)
                 for (int d = 0; d < 3; ++d) own[d][e] = FlexibleColumn{F, D, nodeBlk, kb, e}(D.ownDof(ka, d));
             }
-            if (pa >= 0 && pb == pa) {                                               // the grid part, R_a X R_b^T
-              double X[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // X[e2][e2']
-              for (int x = 0; x < 16; ++x) {
-                const double* y = &Y(kb, 9 * ppoint(ka, x));  // (e2', e2)
-                const double wa = pweight(ka, x);
-                for (int e2p = 0; e2p < 3; ++e2p)
-                  for (int e2 = 0; e2 < 3; ++e2) X[e2][e2p] += wa * y[3 * e2p + e2];
-              }
-              double g[3][3];  // g[d][e2'] = (R_a X)[d][e2']
+            if (pa >= 0 && pb == pa) {             // the grid part, R_a X R_b^T
+              const double* X = &C(ka, kb, 0, 0);  // (made above)
+              double g[3][3];                      // g[d][e2'] = (R_a X)[d][e2']
               for (int d = 0; d < 3; ++d)
                 for (int e2p = 0; e2p < 3; ++e2p)
-                  g[d][e2p] = D.rot(ka, d, 0) * X[0][e2p] + D.rot(ka, d, 1) * X[1][e2p] + D.rot(ka, d, 2) * X[2][e2p];
+                  g[d][e2p] = D.rot(ka, d, 0) * X[3 * e2p] + D.rot(ka, d, 1) * X[3 * e2p + 1] +
+                              D.rot(ka, d, 2) * X[3 * e2p + 2];
               for (int d = 0; d < 3; ++d)
                 for (int e = 0; e < 3; ++e)
                   own[d][e] += g[d][0] * D.rot(kb, e, 0) + g[d][1] * D.rot(kb, e, 1) + g[d][2] * D.rot(kb, e, 2);
