@@ -26,6 +26,7 @@ void normalDirections(const ContactStepViews& v) {
 ForwardIncrementLagrange::ForwardIncrementLagrange(bool lumped, int numNodes)
     : lumped_(lumped), MC_("epaphe::contact::MC", numNodes, numNodes) {
   keep_.reserve(numNodes);
+  row_.reserve(numNodes);
   ipiv_.reserve(numNodes);
   lambda_.reserve(numNodes);
   A_.reserve(static_cast<std::size_t>(numNodes) * numNodes);
@@ -44,29 +45,33 @@ void ForwardIncrementLagrange::enforce(const ContactStepViews& v, std::vector<in
   // nodes pulled by the surface.
   int nA = static_cast<int>(active.size());
   const int nc = static_cast<int>(v.force.extent(0));
+  const auto MC = unmanaged(MC_);
+  row_.resize(static_cast<std::size_t>(nA));  // each active node's row of MC: made at the first pass
+  for (int a = 0; a < nA; ++a) row_[a] = a;
   for (int pass = 0; pass <= nc && nA > 0; ++pass) {
-    const auto act = v.upload(active);
-    const auto C = v.C;
-    const auto normal = v.normal;
-    const auto dir = v.dir;
-    const auto MC = unmanaged(MC_);
-    // MC_ab = n_a^T C_ab c_b (eq. 2.32), C_ab = D_a F D_b^T, one row per active node.
-    forEach(
-        "epaphe::contact::matrix", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
-          const int ka = act(a);
-          for (int b = 0; b < nA; ++b) {
-            const int kb = act(b);
-            double s = 0.0;
-            for (int d = 0; d < 3; ++d)
-              for (int e = 0; e < 3; ++e) s += normal(ka, d) * C(ka, kb, d, e) * dir(kb, e);
-            MC(a, b) = s;
-          }
-        });
-    fence();
+    if (pass == 0) {  // (a pass releases nodes: MC's rows and columns of the others stay as they were)
+      const auto act = v.upload(active);
+      const auto C = v.C;
+      const auto normal = v.normal;
+      const auto dir = v.dir;
+      // MC_ab = n_a^T C_ab c_b (eq. 2.32), C_ab = D_a F D_b^T, one row per active node.
+      forEach(
+          "epaphe::contact::matrix", nA, 10L * nA, KOKKOS_LAMBDA(const int a) {
+            const int ka = act(a);
+            for (int b = 0; b < nA; ++b) {
+              const int kb = act(b);
+              double s = 0.0;
+              for (int d = 0; d < 3; ++d)
+                for (int e = 0; e < 3; ++e) s += normal(ka, d) * C(ka, kb, d, e) * dir(kb, e);
+              MC(a, b) = s;
+            }
+          });
+      fence();
+    }
     std::vector<double>& A = A_;
     A.resize(static_cast<std::size_t>(nA) * nA);
     for (int b = 0; b < nA; ++b)
-      for (int a = 0; a < nA; ++a) A[static_cast<std::size_t>(b) * nA + a] = MC(a, b);
+      for (int a = 0; a < nA; ++a) A[static_cast<std::size_t>(b) * nA + a] = MC(row_[a], row_[b]);
     if (lumped_) {  // row sums on the diagonal (section 2.5.2)
       for (int a = 0; a < nA; ++a) {
         double s = 0;
@@ -91,8 +96,12 @@ void ForwardIncrementLagrange::enforce(const ContactStepViews& v, std::vector<in
                                   << nA << " active nodes is singular (zero pivot at unknown " << info
                                   << "); try lumping it ('Lump contact matrix')");
     keep_.clear();
+    int kept = 0;
     for (int a = 0; a < nA; ++a)
-      if (lambda_[a] >= 0.0) keep_.push_back(active[a]);
+      if (lambda_[a] >= 0.0) {
+        keep_.push_back(active[a]);
+        row_[kept++] = row_[a];
+      }
     if (static_cast<int>(keep_.size()) == nA) break;
     active.swap(keep_);
     nA = static_cast<int>(active.size());

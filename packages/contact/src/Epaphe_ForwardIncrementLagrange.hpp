@@ -24,8 +24,8 @@ public:
 private:
   bool lumped_;
   Kokkos::View<double**, Kokkos::LayoutLeft> MC_;  // nc x nc, the first nA x nA used
-  std::vector<int> keep_, ipiv_;
-  std::vector<double> lambda_, A_;  // work space, sized once
+  std::vector<int> keep_, ipiv_, row_;             // row_: each active node's row of MC (enforce)
+  std::vector<double> lambda_, A_;                 // work space, sized once
 };
 
 /// Penalty (thesis eq. 2.34), frictionless: lambda_a = k_p (-g*_a), c_a = n_a.

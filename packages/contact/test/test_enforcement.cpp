@@ -157,6 +157,49 @@ TEST(ContactEnforcement, LagrangeClosesEveryGapAndReleasesNothingOnAFloor) {
   }
 }
 
+TEST(ContactEnforcement, LagrangeReleasesANodeTheOthersLiftAndSolvesTheRestAlone) {
+  // Four nodes on the floor, coupled in z (F_zz(a, b) = kF / (1 + |a - b|), a != b): nodes 0, 1 and 3
+  // predicted 1e-3 below it, node 2 1e-5. The first solve pulls node 2 (lambda < 0: its neighbours'
+  // forces lift it); the second, on MC's rows and columns of nodes 0, 1 and 3, must equal the solve of
+  // those three alone, and close their gaps while node 2 ends above the floor.
+  constexpr int n = 4;
+  const auto coupling = [](int a, int b) { return a == b ? kF * 2.0 : kF / (1.0 + std::abs(a - b)); };
+  DenseMatrix Fm("F", 3 * n, 3 * n);
+  for (int i = 0; i < 3 * n; ++i) Fm(i, i) = kF;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) Fm(3 * a + 2, 3 * b + 2) = coupling(a, b);
+  BSplineSurface floor = floorPlane();
+  ContactNodes nodes;
+  for (int k = 0; k < n; ++k) {
+    const int dof[3] = {3 * k, 3 * k + 1, 3 * k + 2};
+    const double x[3] = {-1.0 + 0.5 * k, 0.1, 0.0};
+    nodes.add(k, 0, dof, x);
+  }
+  SurfaceContact c(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, 3 * n}}, options("Lagrange"),
+                   Flexibility(Fm));
+  const double depth[n] = {1e-3, 1e-3, 1e-5, 1e-3};
+  DenseVector q("q", 3 * n);
+  for (int k = 0; k < n; ++k) q(3 * k + 2) = -depth[k];
+  CostSplit cost;
+  c.correct(q, cost);
+  // the three alone: F_zz on nodes 0, 1, 3 times lambda = their depths
+  const int kept[3] = {0, 1, 3};
+  std::vector<double> A(9), lambda(3);
+  for (int i = 0; i < 3; ++i) {
+    lambda[i] = depth[kept[i]];
+    for (int j = 0; j < 3; ++j) A[3 * j + i] = coupling(kept[i], kept[j]);
+  }
+  std::vector<int> ipiv;
+  ASSERT_EQ(solveDense(3, A.data(), 3, lambda.data(), ipiv), 0);
+  EXPECT_EQ(c.numActive(), 3);
+  EXPECT_EQ(c.force()(2), 0.0);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(c.force()(kept[i]), lambda[i], 1e-12 * lambda[i]) << "node " << kept[i];
+    EXPECT_NEAR(q(3 * kept[i] + 2), 0.0, 1e-15) << "node " << kept[i];
+  }
+  EXPECT_GT(q(3 * 2 + 2), 0.0);
+}
+
 TEST(ContactEnforcement, PenaltyPushesByItsStiffnessAndLeavesTheRest) {
   Masses m(2);
   SurfaceContact c = m.make(options("Penalty"));
