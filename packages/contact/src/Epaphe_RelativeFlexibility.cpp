@@ -677,7 +677,7 @@ void RelativeFlexibility::relativeColumns(const Kokkos::View<int*>& active, int 
         const long rowsB = 3L * nuEb * nvEb;  // rows of H(s_b, s2): s_b's control points
         // the rows of column u + ahead asked for from memory while column u is weighed: the columns are
         // 3 nuEb nvEb entries apart, each read at 4 runs of 12 entries, which the hardware's prefetch
-        // does not foresee (the loads of H waited for memory on two thirds of the kernel's time)
+        // does not foresee (without it, the loads of H waited for memory on a third of the kernel's samples)
         constexpr int ahead = 2;
         auto prefetch = [&](int v) {
           const int s2 = uPoint(v, 0);
