@@ -32,16 +32,19 @@ struct Masses {
   int n;
   explicit Masses(int count) : n(count) {}
   SurfaceContact make(const ContactOptions& o) {
+    DenseVector d("F", 3 * n);
+    Kokkos::deep_copy(d, kF);
+    return make(o, Flexibility::diagonal(d));
+  }
+  /// ...with the flexibility F of the nodes' 3 n DOFs
+  SurfaceContact make(const ContactOptions& o, const Flexibility& F) {
     ContactNodes nodes;
     for (int k = 0; k < n; ++k) {
       const int dof[3] = {3 * k, 3 * k + 1, 3 * k + 2};
       const double x[3] = {-1.0 + 0.5 * k, 0.1, 0.0};
       nodes.add(k, 0, dof, x);
     }
-    DenseVector d("F", 3 * n);
-    Kokkos::deep_copy(d, kF);
-    return SurfaceContact(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, 3 * n}}, o,
-                          Flexibility::diagonal(d));
+    return SurfaceContact(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, 3 * n}}, o, F);
   }
 };
 
@@ -168,15 +171,8 @@ TEST(ContactEnforcement, LagrangeReleasesANodeTheOthersLiftAndSolvesTheRestAlone
   for (int i = 0; i < 3 * n; ++i) Fm(i, i) = kF;
   for (int a = 0; a < n; ++a)
     for (int b = 0; b < n; ++b) Fm(3 * a + 2, 3 * b + 2) = coupling(a, b);
-  BSplineSurface floor = floorPlane();
-  ContactNodes nodes;
-  for (int k = 0; k < n; ++k) {
-    const int dof[3] = {3 * k, 3 * k + 1, 3 * k + 2};
-    const double x[3] = {-1.0 + 0.5 * k, 0.1, 0.0};
-    nodes.add(k, 0, dof, x);
-  }
-  SurfaceContact c(nodes, {ContactSurface{&floor, nullptr, -1, {}, {}}}, {ContactBlock{0, 3 * n}}, options("Lagrange"),
-                   Flexibility(Fm));
+  Masses m(n);
+  SurfaceContact c = m.make(options("Lagrange"), Flexibility(Fm));
   const double depth[n] = {1e-3, 1e-3, 1e-5, 1e-3};
   DenseVector q("q", 3 * n);
   for (int k = 0; k < n; ++k) q(3 * k + 2) = -depth[k];
